@@ -1,0 +1,99 @@
+// `cmbrl bench ...`: measurements printed as JSON lines (median of several runs). Benchmarks
+// print figures; nothing here judges them.
+#include <algorithm>
+#include <chrono>
+#include <cstdint>
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "app/commands.h"
+#include "cmbrl/agent/policy.h"
+#include "cmbrl/core/check.h"
+#include "cmbrl/core/rng.h"
+#include "cmbrl/env/registry.h"
+
+namespace cmbrl::app {
+namespace {
+
+struct EnvBenchArgs {
+  std::vector<std::string> tasks = EnvNames();
+  std::vector<std::string> variants = {"paper", "standard"};
+  int steps = 2000;  // agent steps per run
+  int runs = 5;
+  std::uint64_t seed = 0;
+};
+
+double Median(std::vector<double> values) {
+  std::sort(values.begin(), values.end());
+  const size_t n = values.size();
+  return n % 2 == 1 ? values[n / 2] : (values[n / 2 - 1] + values[n / 2]) / 2;
+}
+
+// Agent steps of a random policy per wall-clock second, resets included.
+void RunEnvBench(const EnvBenchArgs& args) {
+  for (const std::string& variant_name : args.variants) {
+    const Variant variant = ParseVariant(variant_name);
+    for (const std::string& task : args.tasks) {
+      std::unique_ptr<Env> env = MakeEnv(task, variant);
+      RandomPolicy policy(env->action_spec(), DeriveSeed(args.seed, 1));
+      std::vector<double> rates;
+      int env_steps = 0;
+      for (int run = 0; run < args.runs; ++run) {
+        std::vector<double> observation = env->Reset(DeriveSeed(args.seed, 100 + run));
+        env_steps = 0;
+        const auto start = std::chrono::steady_clock::now();
+        for (int step = 0; step < args.steps; ++step) {
+          StepResult result = env->Step(policy.Act(observation));
+          env_steps += result.info.env_steps;
+          observation = result.terminated || result.truncated ? env->Reset()
+                                                              : std::move(result.observation);
+        }
+        const std::chrono::duration<double> elapsed = std::chrono::steady_clock::now() - start;
+        rates.push_back(args.steps / elapsed.count());
+      }
+      const double median = Median(rates);
+      const nlohmann::ordered_json line = {
+          {"bench", "env"},
+          {"task", task},
+          {"variant", variant_name},
+          {"agent_steps_per_second", median},
+          {"env_steps_per_second", median * env_steps / args.steps},
+          {"min_agent_steps_per_second", *std::min_element(rates.begin(), rates.end())},
+          {"max_agent_steps_per_second", *std::max_element(rates.begin(), rates.end())},
+          {"agent_step_sim_seconds", env->agent_step_seconds()},
+          {"realtime_factor", median * env->agent_step_seconds()},
+          {"steps_per_run", args.steps},
+          {"runs", args.runs},
+      };
+      std::cout << line.dump() << std::endl;
+    }
+  }
+}
+
+}  // namespace
+
+void AddBenchCommand(CLI::App& parent) {
+  CLI::App* bench =
+      parent.add_subcommand("bench", "Measure speed; print one JSON line per measurement");
+  bench->require_subcommand(1);
+
+  auto env_args = std::make_shared<EnvBenchArgs>();
+  CLI::App* env = bench->add_subcommand(
+      "env", "Agent steps per second of a random policy, per task and variant (median of runs)");
+  env->add_option("--tasks", env_args->tasks, "tasks to measure")->capture_default_str();
+  env->add_option("--variants", env_args->variants, "paper and/or standard")
+      ->capture_default_str();
+  env->add_option("--steps", env_args->steps, "agent steps per run")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  env->add_option("--runs", env_args->runs, "runs; the median is reported")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  env->add_option("--seed", env_args->seed, "seed")->capture_default_str();
+  env->callback([env_args] { RunEnvBench(*env_args); });
+}
+
+}  // namespace cmbrl::app

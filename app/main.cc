@@ -1,0 +1,24 @@
+// cmbrl: constrained model-based reinforcement learning (Robust Cross-Entropy MPC).
+#include <exception>
+#include <iostream>
+
+#include <CLI/CLI.hpp>
+
+#include "app/commands.h"
+
+int main(int argc, char** argv) {
+  CLI::App app{"cmbrl: constrained model-based reinforcement learning with the Robust "
+               "Cross-Entropy method on Safety Gym Goal tasks"};
+  app.require_subcommand(1);
+  cmbrl::app::AddRolloutCommand(app);
+  cmbrl::app::AddBenchCommand(app);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& error) {
+    return app.exit(error);
+  } catch (const std::exception& error) {
+    std::cerr << "cmbrl: error: " << error.what() << "\n";
+    return 1;
+  }
+  return 0;
+}

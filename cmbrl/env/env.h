@@ -1,0 +1,96 @@
+// The environment interface, in the spirit of Gymnasium / Safety-Gymnasium: Reset gives the first
+// observation, Step gives observation, reward, cost, terminated, truncated and info.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "cmbrl/core/vec2.h"
+
+namespace cmbrl {
+
+// A box of real vectors: component i lies in [low[i], high[i]] (infinite where unbounded).
+struct BoxSpec {
+  std::vector<double> low;
+  std::vector<double> high;
+  std::vector<std::string> names;  // one per component, e.g. "goal_x", "hazards_lidar_3"
+
+  int size() const { return static_cast<int>(low.size()); }
+};
+
+// What one Step reports beyond reward and cost. The raw cost terms are summed over the physics
+// frames the step ran, before the 0/1 indicator is taken.
+struct StepInfo {
+  bool goal_met = false;             // the goal was reached during this step and re-sampled
+  double cost_hazards = 0.0;         // sum over hazards of (hazard radius - robot distance)+
+  double cost_vases_contact = 0.0;   // number of robot-vase contacts (constrained vases only)
+  double cost_vases_velocity = 0.0;  // sum of vase speeds above the threshold (m/s)
+  int env_steps = 0;                 // inner environment steps run (action repeat)
+  bool physics_error = false;        // MuJoCo reported an unstable state; the episode ended
+};
+
+struct StepResult {
+  std::vector<double> observation;  // (observation_spec().size())
+  double reward = 0.0;              // progress towards the goal plus goal bonus
+  double cost = 0.0;                // 0 or 1: whether any constraint was violated
+  bool terminated = false;          // the episode ended by itself (physics error, no goal fits)
+  bool truncated = false;           // the episode hit its time limit
+  StepInfo info;
+};
+
+// A planar pose: position on the floor and heading (rad, counter-clockwise from world +x).
+struct Pose2 {
+  Vec2 position;
+  double yaw = 0.0;
+};
+
+// Axis-aligned rectangle on the floor.
+struct Extents {
+  double x_min = 0.0, y_min = 0.0, x_max = 0.0, y_max = 0.0;
+};
+
+// Ground truth of the arena, for pictures and tests; never part of what an agent observes.
+struct SceneState {
+  std::string robot_name;     // "point", "car" (stock two-wheel) or "rover"
+  double robot_radius = 0.0;  // radius of a disc that covers the robot's footprint (m)
+  Pose2 robot;
+  Vec2 goal;
+  std::vector<Vec2> hazards;
+  std::vector<Pose2> vases;  // live positions: vases can be pushed
+  double goal_radius = 0.0;
+  double hazard_radius = 0.0;
+  double vase_half_size = 0.0;
+  Extents placement;  // where layouts are sampled
+};
+
+// An episodic environment with a continuous action box, a reward and a 0/1 constraint cost.
+// Implementations own their random generator; they are not thread-safe, but distinct instances
+// may be used from distinct threads.
+class Env {
+ public:
+  virtual ~Env() = default;
+
+  // Starts an episode. With a seed, re-seeds the environment's generator first; without one,
+  // continues its sequence. Returns the first observation.
+  virtual std::vector<double> Reset(std::optional<std::uint64_t> seed = std::nullopt) = 0;
+
+  // Advances one agent step. Throws cmbrl::Error for an action of the wrong size or with a
+  // non-finite entry; finite out-of-range entries are clipped to the actuator ranges.
+  virtual StepResult Step(const std::vector<double>& action) = 0;
+
+  virtual const BoxSpec& observation_spec() const = 0;
+  virtual const BoxSpec& action_spec() const = 0;
+
+  // The longest episode in agent steps.
+  virtual int max_episode_steps() const = 0;
+
+  // Simulated seconds per agent step.
+  virtual double agent_step_seconds() const = 0;
+
+  // Ground truth: robot pose, goal, hazards, vases.
+  virtual SceneState Scene() const = 0;
+};
+
+}  // namespace cmbrl

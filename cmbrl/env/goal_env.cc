@@ -1,0 +1,492 @@
+#include "cmbrl/env/goal_env.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <utility>
+
+#include <fmt/format.h>
+
+#include "cmbrl/core/check.h"
+#include "cmbrl/env/observation.h"
+
+namespace cmbrl {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// Colours (rgba) of the scene objects, as Safety Gym draws them.
+constexpr const char* kGoalRgba = "0 1 0 0.25";
+constexpr const char* kHazardRgba = "0 0 1 0.25";
+constexpr const char* kVaseRgba = "0 1 1 1";
+
+void AppendNames(BoxSpec& box, const std::string& key, int count, double low, double high) {
+  static const char* const kAxes[] = {"x", "y", "z"};
+  for (int i = 0; i < count; ++i) {
+    box.low.push_back(low);
+    box.high.push_back(high);
+    box.names.push_back(count == 1 ? key
+                        : count <= 3 ? fmt::format("{}_{}", key, kAxes[i])
+                                     : fmt::format("{}_{}", key, i));
+  }
+}
+
+}  // namespace
+
+std::string BuildGoalWorldMjcf(const GoalTaskSpec& spec, const RobotDescription& robot) {
+  std::string objects;
+  objects += fmt::format(
+      R"(
+    <body name="goal" mocap="true" pos="0 0 {}">
+      <geom name="goal" type="cylinder" size="{} {}" contype="0" conaffinity="0" rgba="{}"/>
+    </body>)",
+      spec.goal_size / 2 + 0.01, spec.goal_size, spec.goal_size / 2, kGoalRgba);
+  for (int i = 0; i < spec.num_hazards; ++i) {
+    objects += fmt::format(
+        R"(
+    <body name="hazard{0}" mocap="true" pos="0 0 0.02">
+      <geom name="hazard{0}" type="cylinder" size="{1} 0.01" contype="0" conaffinity="0"
+            rgba="{2}"/>
+    </body>)",
+        i, spec.hazard_size, kHazardRgba);
+  }
+  for (int i = 0; i < spec.num_vases; ++i) {
+    // Parked apart from each other until the first reset places them.
+    objects += fmt::format(
+        R"(
+    <body name="vase{0}" pos="{1} 10 {2}">
+      <freejoint name="vase{0}"/>
+      <geom name="vase{0}" type="box" size="{3} {3} {3}" density="{4}" rgba="{5}"/>
+    </body>)",
+        i, 10.0 + i, spec.vase_half_size - spec.vase_sink, spec.vase_half_size,
+        spec.vase_density, kVaseRgba);
+  }
+  return fmt::format(
+      R"(<mujoco model="{name}">
+  <compiler angle="radian"/>
+  <option timestep="{timestep}"/>
+  <default>
+    <geom condim="6"/>
+    <joint damping="0.001"/>
+  </default>
+  <worldbody>
+    <light pos="0 0 4" dir="0 0 -1"/>
+    <geom name="floor" type="plane" size="3.5 3.5 0.1" condim="6" rgba="1 1 1 1"/>{robot}{objects}
+  </worldbody>
+  <tendon>{tendon}
+  </tendon>
+  <equality>{equality}
+  </equality>
+  <actuator>{actuator}
+  </actuator>
+  <sensor>{sensor}
+  </sensor>
+</mujoco>
+)",
+      fmt::arg("name", spec.name), fmt::arg("timestep", robot.timestep),
+      fmt::arg("robot", robot.body_mjcf), fmt::arg("objects", objects),
+      fmt::arg("tendon", robot.tendon_mjcf), fmt::arg("equality", robot.equality_mjcf),
+      fmt::arg("actuator", robot.actuator_mjcf), fmt::arg("sensor", robot.sensor_mjcf));
+}
+
+GoalEnv::GoalEnv(GoalTaskSpec spec)
+    : spec_(std::move(spec)),
+      robot_(spec_.robot == RobotKind::kPoint ? PointRobot(spec_.variant)
+                                               : CarRobot(spec_.variant)),
+      model_(CompileMjcf(BuildGoalWorldMjcf(spec_, robot_))),
+      data_(MakeMjData(*model_)),
+      rng_(0) {
+  Require(spec_.frame_skip >= 1, "frame_skip must be at least 1, got {}", spec_.frame_skip);
+  Require(spec_.action_repeat >= 1, "action_repeat must be at least 1, got {}",
+          spec_.action_repeat);
+  Require(spec_.max_env_steps >= 1, "max_env_steps must be at least 1, got {}",
+          spec_.max_env_steps);
+  const mjModel& m = *model_;
+  robot_body_ = RequireMjId(m, mjOBJ_BODY, "robot");
+  goal_mocap_ = m.body_mocapid[RequireMjId(m, mjOBJ_BODY, "goal")];
+  for (int i = 0; i < spec_.num_hazards; ++i) {
+    hazard_mocaps_.push_back(
+        m.body_mocapid[RequireMjId(m, mjOBJ_BODY, fmt::format("hazard{}", i))]);
+  }
+  for (int i = 0; i < spec_.num_vases; ++i) {
+    const std::string name = fmt::format("vase{}", i);
+    vase_bodies_.push_back(RequireMjId(m, mjOBJ_BODY, name));
+    vase_qpos_.push_back(m.jnt_qposadr[RequireMjId(m, mjOBJ_JOINT, name)]);
+    vase_geoms_.push_back(RequireMjId(m, mjOBJ_GEOM, name));
+  }
+  for (const std::string& name : robot_.vase_contact_geoms) {
+    robot_contact_geoms_.push_back(RequireMjId(m, mjOBJ_GEOM, name));
+  }
+  if (robot_.planar_joints) {
+    planar_qpos_ = {m.jnt_qposadr[RequireMjId(m, mjOBJ_JOINT, "x")],
+                    m.jnt_qposadr[RequireMjId(m, mjOBJ_JOINT, "y")],
+                    m.jnt_qposadr[RequireMjId(m, mjOBJ_JOINT, "z")]};
+  } else {
+    free_qpos_ = m.jnt_qposadr[RequireMjId(m, mjOBJ_JOINT, "robot")];
+  }
+  const auto sensor = [&m](const std::string& name) {
+    const int id = RequireMjId(m, mjOBJ_SENSOR, name);
+    return SensorSlot{m.sensor_adr[id], m.sensor_dim[id]};
+  };
+  accelerometer_ = sensor("accelerometer");
+  velocimeter_ = sensor("velocimeter");
+  gyro_ = sensor("gyro");
+  magnetometer_ = sensor("magnetometer");
+
+  if (spec_.observation == ObservationKind::kLidar) {
+    const int bins = spec_.lidar_bins;
+    lidar_blocks_.push_back({"accelerometer", BlockKind::kSensor, accelerometer_, 3});
+    lidar_blocks_.push_back({"gyro", BlockKind::kSensor, gyro_, 3});
+    lidar_blocks_.push_back({"magnetometer", BlockKind::kSensor, magnetometer_, 3});
+    lidar_blocks_.push_back({"velocimeter", BlockKind::kSensor, velocimeter_, 3});
+    for (const std::string& name : robot_.joint_observation_sensors) {
+      const bool quat = name.rfind("ballquat", 0) == 0;
+      lidar_blocks_.push_back({name, quat ? BlockKind::kBallQuat : BlockKind::kSensor,
+                               sensor(name), quat ? 9 : sensor(name).size});
+    }
+    lidar_blocks_.push_back({"goal_lidar", BlockKind::kGoalLidar, {}, bins});
+    if (spec_.num_hazards > 0) {
+      lidar_blocks_.push_back({"hazards_lidar", BlockKind::kHazardsLidar, {}, bins});
+    }
+    if (spec_.num_vases > 0) {
+      lidar_blocks_.push_back({"vases_lidar", BlockKind::kVasesLidar, {}, bins});
+    }
+    std::sort(lidar_blocks_.begin(), lidar_blocks_.end(),
+              [](const ObservationBlock& a, const ObservationBlock& b) { return a.key < b.key; });
+  }
+  BuildSpecs();
+}
+
+void GoalEnv::BuildSpecs() {
+  const int num_actuators = model_->nu;
+  // Facts A4: the action box is [-1, 1] per actuator; Step clips to each actuator's ctrlrange
+  // (the rover's steering servo accepts +-0.6 rad).
+  action_spec_.low.assign(num_actuators, -1.0);
+  action_spec_.high.assign(num_actuators, 1.0);
+  action_spec_.names = robot_.action_names;
+
+  BoxSpec& box = observation_spec_;
+  if (spec_.observation == ObservationKind::kLidar) {
+    for (const ObservationBlock& block : lidar_blocks_) {
+      const bool lidar = block.kind == BlockKind::kGoalLidar ||
+                         block.kind == BlockKind::kHazardsLidar ||
+                         block.kind == BlockKind::kVasesLidar;
+      AppendNames(box, block.key, block.size, lidar ? 0.0 : -kInf, lidar ? 1.0 : kInf);
+    }
+    return;
+  }
+  // Facts B1: the ego-coordinate state vector.
+  AppendNames(box, "velocimeter", 2, -kInf, kInf);
+  if (robot_.magnetometer_before_gyro) {
+    AppendNames(box, "magnetometer", 3, -kInf, kInf);
+    AppendNames(box, "gyro_z", 1, -kInf, kInf);
+  } else {
+    AppendNames(box, "gyro_z", 1, -kInf, kInf);
+    AppendNames(box, "magnetometer", 3, -kInf, kInf);
+  }
+  AppendNames(box, "goal", 2, -kInf, kInf);
+  for (int i = 0; i < spec_.num_vases; ++i) {
+    AppendNames(box, fmt::format("vase{}", i), 2, -kInf, kInf);
+  }
+  for (int i = 0; i < spec_.num_hazards; ++i) {
+    AppendNames(box, fmt::format("hazard{}", i), 2, -kInf, kInf);
+  }
+}
+
+int GoalEnv::max_episode_steps() const {
+  return (spec_.max_env_steps + spec_.action_repeat - 1) / spec_.action_repeat;
+}
+
+double GoalEnv::agent_step_seconds() const {
+  return model_->opt.timestep * spec_.frame_skip * spec_.action_repeat;
+}
+
+std::vector<double> GoalEnv::Reset(std::optional<std::uint64_t> seed) {
+  if (seed) rng_.seed(*seed);
+  // Facts A1: a fresh layout, then the goal re-drawn against everything else. A goal that finds
+  // no place (never seen in practice) gets a fresh layout rather than an exception.
+  for (int attempt = 0;; ++attempt) {
+    GoalLayout layout = SampleGoalLayout(spec_, rng_);
+    if (ResampleGoal(spec_, layout, rng_)) return ResetToLayout(layout);
+    Require(attempt + 1 < spec_.layout_tries, "no goal position fits in {} after {} layouts",
+            spec_.name, spec_.layout_tries);
+  }
+}
+
+std::vector<double> GoalEnv::ResetToLayout(const GoalLayout& layout) {
+  Require(static_cast<int>(layout.hazards.size()) == spec_.num_hazards &&
+              static_cast<int>(layout.vases.size()) == spec_.num_vases,
+          "a {} layout needs {} hazards and {} vases, got {} and {}", spec_.name,
+          spec_.num_hazards, spec_.num_vases, layout.hazards.size(), layout.vases.size());
+  PlaceLayout(layout);
+  env_steps_ = 0;
+  episode_over_ = false;
+  last_goal_distance_ = DistanceToGoal();
+  return Observe();
+}
+
+void GoalEnv::PlaceLayout(const GoalLayout& layout) {
+  const mjModel& m = *model_;
+  mjData& d = *data_;
+  mj_resetData(&m, &d);
+  layout_ = layout;
+  const Pose2& robot = layout.robot;
+  if (robot_.planar_joints) {
+    d.qpos[planar_qpos_[0]] = robot.position.x;
+    d.qpos[planar_qpos_[1]] = robot.position.y;
+    d.qpos[planar_qpos_[2]] = robot.yaw;
+  } else {
+    mjtNum* qpos = d.qpos + free_qpos_;
+    qpos[0] = robot.position.x;
+    qpos[1] = robot.position.y;
+    qpos[2] = robot_.spawn_height;
+    qpos[3] = std::cos(robot.yaw / 2);
+    qpos[4] = 0.0;
+    qpos[5] = 0.0;
+    qpos[6] = std::sin(robot.yaw / 2);
+  }
+  for (int i = 0; i < spec_.num_vases; ++i) {
+    mjtNum* qpos = d.qpos + vase_qpos_[i];
+    qpos[0] = layout.vases[i].position.x;
+    qpos[1] = layout.vases[i].position.y;
+    qpos[2] = spec_.vase_half_size - spec_.vase_sink;
+    qpos[3] = std::cos(layout.vases[i].yaw / 2);
+    qpos[4] = 0.0;
+    qpos[5] = 0.0;
+    qpos[6] = std::sin(layout.vases[i].yaw / 2);
+  }
+  MoveGoal(layout.goal);
+  for (int i = 0; i < spec_.num_hazards; ++i) {
+    mjtNum* pos = d.mocap_pos + 3 * hazard_mocaps_[i];
+    pos[0] = layout.hazards[i].x;
+    pos[1] = layout.hazards[i].y;
+  }
+  mj_forward(&m, &d);
+}
+
+void GoalEnv::MoveGoal(Vec2 goal) {
+  layout_.goal = goal;
+  mjtNum* pos = data_->mocap_pos + 3 * goal_mocap_;
+  pos[0] = goal.x;
+  pos[1] = goal.y;
+  pos[2] = spec_.goal_size / 2 + 0.01;
+  last_goal_distance_ = DistanceToGoal();
+}
+
+StepResult GoalEnv::Step(const std::vector<double>& action) {
+  Require(!episode_over_, "Step called on a finished episode: call Reset first");
+  const int num_actuators = model_->nu;
+  Require(static_cast<int>(action.size()) == num_actuators,
+          "action has {} entries, {} expects {} ({})", action.size(), spec_.name, num_actuators,
+          fmt::join(action_spec_.names, ", "));
+  for (int i = 0; i < num_actuators; ++i) {
+    Require(std::isfinite(action[i]), "action entry {} ({}) is {}: expected a finite number", i,
+            action_spec_.names[i], action[i]);
+    const double* range = model_->actuator_ctrlrange + 2 * i;
+    data_->ctrl[i] = std::clamp(action[i], range[0], range[1]);
+  }
+
+  StepResult result;
+  bool violated = false;
+  for (int repeat = 0; repeat < spec_.action_repeat; ++repeat) {
+    const EnvStepOutcome outcome = EnvStep();
+    ++env_steps_;
+    ++result.info.env_steps;
+    result.reward += outcome.reward;
+    result.info.cost_hazards += outcome.cost_hazards;
+    result.info.cost_vases_contact += outcome.cost_vases_contact;
+    result.info.cost_vases_velocity += outcome.cost_vases_velocity;
+    violated = violated || outcome.physics_error || outcome.cost_hazards > 0.0 ||
+               outcome.cost_vases_contact > 0.0 || outcome.cost_vases_velocity > 0.0;
+    result.info.goal_met = result.info.goal_met || outcome.goal_met;
+    result.info.physics_error = outcome.physics_error;
+    result.terminated = outcome.physics_error || outcome.goal_resample_failed;
+    result.truncated = !result.terminated && env_steps_ >= spec_.max_env_steps;
+    // The paper's wrapper stops repeating once the goal is reached or the episode ends.
+    if (outcome.goal_met || result.terminated || result.truncated) break;
+  }
+  result.cost = violated ? 1.0 : 0.0;
+  episode_over_ = result.terminated || result.truncated;
+  result.observation = Observe();
+  return result;
+}
+
+GoalEnv::EnvStepOutcome GoalEnv::EnvStep() {
+  const mjModel& m = *model_;
+  mjData& d = *data_;
+  EnvStepOutcome outcome;
+  const int warnings_before = PhysicsWarningCount();
+  for (int frame = 0; frame < spec_.frame_skip; ++frame) {
+    mj_step(&m, &d);
+    if (PhysicsWarningCount() != warnings_before) {
+      // MuJoCo reset the state after a divergence (Safety Gym: MujocoException).
+      outcome.physics_error = true;
+      outcome.reward = spec_.reward_physics_error;
+      return outcome;
+    }
+  }
+  // mj_step leaves sensors and contacts at the state before its last integration.
+  mj_forward(&m, &d);
+  ComputeCostTerms(outcome);
+
+  const double distance = DistanceToGoal();
+  outcome.reward = std::clamp((last_goal_distance_ - distance) * spec_.reward_distance,
+                              -spec_.reward_clip, spec_.reward_clip);
+  last_goal_distance_ = distance;
+  if (distance <= spec_.goal_size) {
+    outcome.goal_met = true;
+    outcome.reward += spec_.reward_goal;
+    // Facts A1: the layout takes the robot's and vases' current places; a new goal is drawn.
+    layout_.robot = Scene().robot;
+    for (int i = 0; i < spec_.num_vases; ++i) layout_.vases[i].position = VaseXY(i);
+    if (ResampleGoal(spec_, layout_, rng_)) {
+      MoveGoal(layout_.goal);
+    } else {
+      outcome.goal_resample_failed = true;
+    }
+  }
+  return outcome;
+}
+
+void GoalEnv::ComputeCostTerms(EnvStepOutcome& outcome) const {
+  const Vec2 robot = RobotXY();
+  for (const Vec2& hazard : layout_.hazards) {
+    const double distance = Distance(robot, hazard);
+    if (distance <= spec_.hazard_size) {
+      outcome.cost_hazards += spec_.hazard_cost * (spec_.hazard_size - distance);
+    }
+  }
+  if (!spec_.vases_constrained) return;
+  const mjModel& m = *model_;
+  const mjData& d = *data_;
+  const auto is_vase = [this](int geom) {
+    return std::find(vase_geoms_.begin(), vase_geoms_.end(), geom) != vase_geoms_.end();
+  };
+  const auto is_robot = [this](int geom) {
+    return std::find(robot_contact_geoms_.begin(), robot_contact_geoms_.end(), geom) !=
+           robot_contact_geoms_.end();
+  };
+  for (int i = 0; i < d.ncon; ++i) {
+    const int g1 = d.contact[i].geom1;
+    const int g2 = d.contact[i].geom2;
+    if ((is_vase(g1) && is_robot(g2)) || (is_vase(g2) && is_robot(g1))) {
+      outcome.cost_vases_contact += spec_.vase_contact_cost;
+    }
+  }
+  for (const int body : vase_bodies_) {
+    mjtNum velocity[6];  // rotational then linear, world frame
+    mj_objectVelocity(&m, &d, mjOBJ_BODY, body, velocity, 0);
+    const double speed = std::sqrt(velocity[3] * velocity[3] + velocity[4] * velocity[4] +
+                                   velocity[5] * velocity[5]);
+    if (speed >= spec_.vase_velocity_threshold) {
+      outcome.cost_vases_velocity += spec_.vase_velocity_cost * speed;
+    }
+  }
+}
+
+int GoalEnv::PhysicsWarningCount() const {
+  const mjData& d = *data_;
+  return d.warning[mjWARN_BADQPOS].number + d.warning[mjWARN_BADQVEL].number +
+         d.warning[mjWARN_BADQACC].number;
+}
+
+RobotFrame GoalEnv::Frame() const {
+  RobotFrame frame;
+  std::copy_n(data_->xpos + 3 * robot_body_, 3, frame.position.begin());
+  std::copy_n(data_->xmat + 9 * robot_body_, 9, frame.rotation.begin());
+  return frame;
+}
+
+Vec2 GoalEnv::RobotXY() const {
+  const mjtNum* pos = data_->xpos + 3 * robot_body_;
+  return {pos[0], pos[1]};
+}
+
+Vec2 GoalEnv::VaseXY(int vase) const {
+  const mjtNum* pos = data_->xpos + 3 * vase_bodies_[vase];
+  return {pos[0], pos[1]};
+}
+
+double GoalEnv::DistanceToGoal() const { return Distance(RobotXY(), layout_.goal); }
+
+std::vector<double> GoalEnv::Observe() const {
+  std::vector<double> observation(observation_spec_.size());
+  if (spec_.observation == ObservationKind::kLidar) {
+    ObserveLidar(observation.data());
+  } else {
+    ObserveEgoState(observation.data());
+  }
+  return observation;
+}
+
+void GoalEnv::ObserveLidar(double* out) const {
+  const mjtNum* sensors = data_->sensordata;
+  const RobotFrame frame = Frame();
+  for (const ObservationBlock& block : lidar_blocks_) {
+    switch (block.kind) {
+      case BlockKind::kSensor:
+        std::copy_n(sensors + block.sensor.address, block.size, out);
+        break;
+      case BlockKind::kBallQuat: {
+        mjtNum matrix[9];
+        mju_quat2Mat(matrix, sensors + block.sensor.address);
+        std::copy_n(matrix, 9, out);
+        break;
+      }
+      case BlockKind::kGoalLidar:
+        PseudoLidar(frame, {layout_.goal}, spec_.lidar_bins, spec_.lidar_max_dist, out);
+        break;
+      case BlockKind::kHazardsLidar:
+        PseudoLidar(frame, layout_.hazards, spec_.lidar_bins, spec_.lidar_max_dist, out);
+        break;
+      case BlockKind::kVasesLidar: {
+        std::vector<Vec2> vases(spec_.num_vases);
+        for (int i = 0; i < spec_.num_vases; ++i) vases[i] = VaseXY(i);
+        PseudoLidar(frame, vases, spec_.lidar_bins, spec_.lidar_max_dist, out);
+        break;
+      }
+    }
+    out += block.size;
+  }
+}
+
+void GoalEnv::ObserveEgoState(double* out) const {
+  const mjtNum* sensors = data_->sensordata;
+  const RobotFrame frame = Frame();
+  *out++ = sensors[velocimeter_.address];
+  *out++ = sensors[velocimeter_.address + 1];
+  const double gyro_z = sensors[gyro_.address + 2];
+  if (!robot_.magnetometer_before_gyro) *out++ = gyro_z;
+  out = std::copy_n(sensors + magnetometer_.address, 3, out);
+  if (robot_.magnetometer_before_gyro) *out++ = gyro_z;
+  const auto put = [&out, &frame](Vec2 point) {
+    const Vec2 ego = EgoXY(frame, point);
+    *out++ = ego.x;
+    *out++ = ego.y;
+  };
+  put(layout_.goal);
+  for (int i = 0; i < spec_.num_vases; ++i) put(VaseXY(i));
+  for (const Vec2& hazard : layout_.hazards) put(hazard);
+}
+
+SceneState GoalEnv::Scene() const {
+  SceneState scene;
+  scene.robot_name = robot_.name;
+  scene.robot_radius = robot_.footprint_radius;
+  const RobotFrame frame = Frame();
+  scene.robot.position = {frame.position[0], frame.position[1]};
+  scene.robot.yaw = std::atan2(frame.rotation[3], frame.rotation[0]);
+  scene.goal = layout_.goal;
+  scene.hazards = layout_.hazards;
+  for (int i = 0; i < spec_.num_vases; ++i) {
+    const mjtNum* rotation = data_->xmat + 9 * vase_bodies_[i];
+    scene.vases.push_back({VaseXY(i), std::atan2(rotation[3], rotation[0])});
+  }
+  scene.goal_radius = spec_.goal_size;
+  scene.hazard_radius = spec_.hazard_size;
+  scene.vase_half_size = spec_.vase_half_size;
+  scene.placement = spec_.placement;
+  return scene;
+}
+
+}  // namespace cmbrl

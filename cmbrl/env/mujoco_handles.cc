@@ -1,0 +1,59 @@
+#include "cmbrl/env/mujoco_handles.h"
+
+#include <array>
+#include <cstring>
+#include <mutex>
+
+#include "cmbrl/core/check.h"
+
+namespace cmbrl {
+namespace {
+
+void IgnoreWarning(const char* /*message*/) {}
+
+// mjVFS holds 2000 fixed-size file names (about 2 MB), so it lives on the heap.
+struct VfsDeleter {
+  void operator()(mjVFS* vfs) const {
+    mj_deleteVFS(vfs);
+    delete vfs;
+  }
+};
+
+}  // namespace
+
+MjModelPtr CompileMjcf(const std::string& mjcf) {
+  SilenceMujocoWarnings();
+  std::unique_ptr<mjVFS, VfsDeleter> vfs(new mjVFS);
+  mj_defaultVFS(vfs.get());
+  constexpr const char* kFileName = "cmbrl_model.xml";
+  const int status = mj_makeEmptyFileVFS(vfs.get(), kFileName, static_cast<int>(mjcf.size()));
+  Require(status == 0, "MuJoCo could not hold the model in its virtual file system (code {})",
+          status);
+  const int index = mj_findFileVFS(vfs.get(), kFileName);
+  std::memcpy(vfs->filedata[index], mjcf.data(), mjcf.size());
+
+  std::array<char, 1024> error{};
+  mjModel* model = mj_loadXML(kFileName, vfs.get(), error.data(), static_cast<int>(error.size()));
+  Require(model != nullptr, "MuJoCo could not compile the generated model: {}", error.data());
+  return MjModelPtr(model);
+}
+
+MjDataPtr MakeMjData(const mjModel& model) {
+  mjData* data = mj_makeData(&model);
+  Require(data != nullptr, "MuJoCo could not allocate mjData");
+  return MjDataPtr(data);
+}
+
+int RequireMjId(const mjModel& model, mjtObj type, const std::string& name) {
+  const int id = mj_name2id(&model, type, name.c_str());
+  Require(id >= 0, "the MuJoCo model has no object named '{}' of type {}", name,
+          static_cast<int>(type));
+  return id;
+}
+
+void SilenceMujocoWarnings() {
+  static std::once_flag once;
+  std::call_once(once, [] { mju_user_warning = IgnoreWarning; });
+}
+
+}  // namespace cmbrl

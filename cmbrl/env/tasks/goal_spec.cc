@@ -1,0 +1,60 @@
+#include "cmbrl/env/tasks/goal_spec.h"
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include "cmbrl/core/check.h"
+
+namespace cmbrl {
+
+GoalTaskSpec MakeGoalTaskSpec(RobotKind robot, int level, Variant variant) {
+  Require(level == 1 || level == 2, "Goal task level {} is not supported: expected 1 or 2", level);
+  const bool paper = variant == Variant::kPaper;
+  GoalTaskSpec spec;
+  spec.robot = robot;
+  spec.level = level;
+  spec.variant = variant;
+  spec.name = fmt::format("{}Goal{}", robot == RobotKind::kPoint ? "Point" : "Car", level);
+
+  const double half_width = level == 1 ? 1.5 : 2.0;
+  spec.placement = {-half_width, -half_width, half_width, half_width};
+  if (paper) {
+    spec.num_hazards = level == 1 ? 7 : 14;
+    spec.num_vases = level == 1 ? 1 : 2;
+    spec.vases_constrained = true;
+    spec.goal_keepout = 0.35;
+    spec.vase_velocity_threshold = 1e-3;
+    spec.action_repeat = robot == RobotKind::kPoint ? 3 : 2;
+    // 30 s of simulated time: 300 env steps of 0.1 s (Point), 150 of 0.2 s (rover).
+    spec.max_env_steps = robot == RobotKind::kPoint ? 300 : 150;
+    spec.observation = ObservationKind::kEgoState;
+  } else {
+    spec.num_hazards = level == 1 ? 8 : 10;
+    spec.num_vases = level == 1 ? 1 : 10;
+    spec.vases_constrained = level == 2;
+    spec.goal_keepout = 0.305;
+    spec.vase_velocity_threshold = 1e-4;
+    spec.action_repeat = 1;
+    spec.max_env_steps = 1000;
+    spec.observation = ObservationKind::kLidar;
+  }
+  return spec;
+}
+
+const std::vector<std::string>& GoalTaskNames() {
+  static const std::vector<std::string> names = {"PointGoal1", "PointGoal2", "CarGoal1",
+                                                 "CarGoal2"};
+  return names;
+}
+
+GoalTaskSpec GoalTaskSpecByName(const std::string& task, Variant variant) {
+  for (const RobotKind robot : {RobotKind::kPoint, RobotKind::kCar}) {
+    for (const int level : {1, 2}) {
+      GoalTaskSpec spec = MakeGoalTaskSpec(robot, level, variant);
+      if (spec.name == task) return spec;
+    }
+  }
+  Fail("unknown task '{}': expected one of {}", task, fmt::join(GoalTaskNames(), ", "));
+}
+
+}  // namespace cmbrl

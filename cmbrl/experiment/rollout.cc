@@ -1,0 +1,37 @@
+#include "cmbrl/experiment/rollout.h"
+
+namespace cmbrl {
+
+EpisodeRecord RunEpisode(Env& env, Policy& policy, std::optional<std::uint64_t> seed) {
+  EpisodeRecord record;
+  std::vector<double> observation = env.Reset(seed);
+  policy.BeginEpisode();
+  SceneState scene = env.Scene();
+  record.path.push_back(scene.robot.position);
+  record.path_violations.push_back(false);
+  for (;;) {
+    const Vec2 goal_before = scene.goal;
+    StepResult step = env.Step(policy.Act(observation));
+    scene = env.Scene();
+    record.episode_return += step.reward;
+    record.episode_cost += step.cost;
+    ++record.steps;
+    record.env_steps += step.info.env_steps;
+    if (step.info.goal_met) {
+      ++record.goals_met;
+      record.reached_goals.push_back(goal_before);
+    }
+    record.path.push_back(scene.robot.position);
+    record.path_violations.push_back(step.cost > 0.0);
+    observation = std::move(step.observation);
+    if (step.terminated || step.truncated) {
+      record.terminated = step.terminated;
+      record.truncated = step.truncated;
+      break;
+    }
+  }
+  record.final_scene = std::move(scene);
+  return record;
+}
+
+}  // namespace cmbrl

@@ -1,0 +1,32 @@
+// Running whole episodes of a policy in an environment, with the record pictures need.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include "cmbrl/agent/policy.h"
+#include "cmbrl/env/env.h"
+
+namespace cmbrl {
+
+// What one episode did.
+struct EpisodeRecord {
+  double episode_return = 0.0;  // sum of rewards
+  double episode_cost = 0.0;    // number of agent steps with a violation
+  int steps = 0;                // agent steps
+  int env_steps = 0;            // inner env steps (action repeat)
+  int goals_met = 0;
+  bool terminated = false;
+  bool truncated = false;
+  std::vector<Vec2> path;             // robot position before the first step and after each
+  std::vector<bool> path_violations;  // (path.size()): cost of the step that reached it
+  std::vector<Vec2> reached_goals;    // goal positions at the moments they were reached
+  SceneState final_scene;
+};
+
+// Resets the environment (with `seed`, or continuing its generator) and runs the policy until the
+// episode terminates or is truncated.
+EpisodeRecord RunEpisode(Env& env, Policy& policy, std::optional<std::uint64_t> seed);
+
+}  // namespace cmbrl

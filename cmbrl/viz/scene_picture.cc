@@ -1,0 +1,189 @@
+#include "cmbrl/viz/scene_picture.h"
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+
+#include <cairo.h>
+
+#include "cmbrl/core/check.h"
+
+namespace cmbrl {
+namespace {
+
+struct SurfaceDeleter {
+  void operator()(cairo_surface_t* surface) const { cairo_surface_destroy(surface); }
+};
+struct ContextDeleter {
+  void operator()(cairo_t* context) const { cairo_destroy(context); }
+};
+
+// The world rectangle the picture shows: placement area, path and robot, plus a margin, made
+// square so that metres are equal in x and y.
+Extents ViewOf(const ScenePicture& picture, double margin) {
+  Extents view = picture.scene.placement;
+  const auto include = [&view](Vec2 p) {
+    view.x_min = std::min(view.x_min, p.x);
+    view.x_max = std::max(view.x_max, p.x);
+    view.y_min = std::min(view.y_min, p.y);
+    view.y_max = std::max(view.y_max, p.y);
+  };
+  for (const Vec2& p : picture.path) include(p);
+  include(picture.scene.robot.position);
+  include(picture.scene.goal);
+  for (const Pose2& vase : picture.scene.vases) include(vase.position);
+  const double cx = (view.x_min + view.x_max) / 2;
+  const double cy = (view.y_min + view.y_max) / 2;
+  const double half =
+      std::max(view.x_max - view.x_min, view.y_max - view.y_min) / 2 + margin;
+  return {cx - half, cy - half, cx + half, cy + half};
+}
+
+void Circle(cairo_t* cr, Vec2 centre, double radius) {
+  cairo_new_sub_path(cr);
+  cairo_arc(cr, centre.x, centre.y, radius, 0, 2 * M_PI);
+}
+
+void DrawPlacementArea(cairo_t* cr, const Extents& area, double pixel) {
+  cairo_rectangle(cr, area.x_min, area.y_min, area.x_max - area.x_min, area.y_max - area.y_min);
+  cairo_set_source_rgb(cr, 0.95, 0.95, 0.93);
+  cairo_fill_preserve(cr);
+  const double dash = 6 * pixel;
+  cairo_set_dash(cr, &dash, 1, 0);
+  cairo_set_line_width(cr, 1.5 * pixel);
+  cairo_set_source_rgb(cr, 0.6, 0.6, 0.6);
+  cairo_stroke(cr);
+  cairo_set_dash(cr, nullptr, 0, 0);
+}
+
+void DrawPath(cairo_t* cr, const ScenePicture& picture, double pixel) {
+  const std::vector<Vec2>& path = picture.path;
+  if (path.empty()) return;
+  cairo_set_line_width(cr, 2 * pixel);
+  cairo_set_line_join(cr, CAIRO_LINE_JOIN_ROUND);
+  cairo_set_source_rgba(cr, 0.45, 0.1, 0.1, 0.8);
+  cairo_move_to(cr, path[0].x, path[0].y);
+  for (const Vec2& p : path) cairo_line_to(cr, p.x, p.y);
+  cairo_stroke(cr);
+  // Steps that violated a constraint, as orange dots.
+  if (picture.path_violations.size() == path.size()) {
+    cairo_set_source_rgb(cr, 1.0, 0.5, 0.0);
+    for (size_t i = 0; i < path.size(); ++i) {
+      if (picture.path_violations[i]) Circle(cr, path[i], 4 * pixel);
+    }
+    cairo_fill(cr);
+  }
+  // Start: a hollow black ring.
+  cairo_set_source_rgb(cr, 0, 0, 0);
+  cairo_set_line_width(cr, 2 * pixel);
+  Circle(cr, path[0], 6 * pixel);
+  cairo_stroke(cr);
+}
+
+void DrawRobot(cairo_t* cr, const SceneState& scene, double pixel) {
+  const Vec2 p = scene.robot.position;
+  const double r = scene.robot_radius;
+  cairo_save(cr);
+  cairo_translate(cr, p.x, p.y);
+  cairo_rotate(cr, scene.robot.yaw);
+  if (scene.robot_name == "point") {
+    Circle(cr, {0, 0}, 0.1);
+  } else if (scene.robot_name == "rover") {
+    cairo_rectangle(cr, -0.2, -0.1, 0.4, 0.2);
+  } else {
+    cairo_rectangle(cr, -0.1, -0.1, 0.2, 0.2);
+  }
+  cairo_set_source_rgb(cr, 0.85, 0.1, 0.1);
+  cairo_fill(cr);
+  // Heading: +x for the point and the rover, -y for the stock car (facts A6).
+  const double heading = scene.robot_name == "car" ? -M_PI / 2 : 0.0;
+  cairo_rotate(cr, heading);
+  cairo_set_source_rgb(cr, 0.3, 0, 0);
+  cairo_set_line_width(cr, 3 * pixel);
+  cairo_move_to(cr, 0, 0);
+  cairo_line_to(cr, r, 0);
+  cairo_stroke(cr);
+  cairo_restore(cr);
+}
+
+void DrawCaption(cairo_t* cr, const std::string& caption, int size_px) {
+  if (caption.empty()) return;
+  cairo_identity_matrix(cr);
+  cairo_select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
+  cairo_set_font_size(cr, std::max(10.0, size_px / 50.0));
+  cairo_set_source_rgb(cr, 0.1, 0.1, 0.1);
+  cairo_move_to(cr, size_px / 80.0, size_px / 30.0);
+  cairo_show_text(cr, caption.c_str());
+}
+
+// A one-metre scale bar in the lower left corner.
+void DrawScaleBar(cairo_t* cr, const Extents& view, double pixel) {
+  const double x = view.x_min + 20 * pixel;
+  const double y = view.y_min + 20 * pixel;
+  cairo_set_source_rgb(cr, 0.1, 0.1, 0.1);
+  cairo_set_line_width(cr, 3 * pixel);
+  cairo_move_to(cr, x, y);
+  cairo_line_to(cr, x + 1.0, y);
+  cairo_stroke(cr);
+}
+
+}  // namespace
+
+void WriteScenePng(const ScenePicture& picture, const std::string& path,
+                   const ScenePictureOptions& options) {
+  Require(options.size_px >= 64 && options.size_px <= 8192,
+          "picture size_px is {}: expected 64 to 8192 pixels", options.size_px);
+  const SceneState& scene = picture.scene;
+  const int size = options.size_px;
+  std::unique_ptr<cairo_surface_t, SurfaceDeleter> surface(
+      cairo_image_surface_create(CAIRO_FORMAT_ARGB32, size, size));
+  std::unique_ptr<cairo_t, ContextDeleter> context(cairo_create(surface.get()));
+  cairo_t* cr = context.get();
+
+  cairo_set_source_rgb(cr, 1, 1, 1);
+  cairo_paint(cr);
+
+  // World coordinates: metres, y up.
+  const Extents view = ViewOf(picture, options.margin_m);
+  const double scale = size / (view.x_max - view.x_min);
+  const double pixel = 1.0 / scale;
+  cairo_translate(cr, 0, size);
+  cairo_scale(cr, scale, -scale);
+  cairo_translate(cr, -view.x_min, -view.y_min);
+
+  DrawPlacementArea(cr, scene.placement, pixel);
+
+  cairo_set_source_rgba(cr, 0.2, 0.35, 1.0, 0.45);
+  for (const Vec2& hazard : scene.hazards) Circle(cr, hazard, scene.hazard_radius);
+  cairo_fill(cr);
+
+  cairo_set_source_rgba(cr, 0.1, 0.8, 0.2, 0.18);
+  for (const Vec2& goal : picture.reached_goals) Circle(cr, goal, scene.goal_radius);
+  cairo_fill(cr);
+  cairo_set_source_rgba(cr, 0.1, 0.8, 0.2, 0.5);
+  Circle(cr, scene.goal, scene.goal_radius);
+  cairo_fill(cr);
+
+  for (const Pose2& vase : scene.vases) {
+    cairo_save(cr);
+    cairo_translate(cr, vase.position.x, vase.position.y);
+    cairo_rotate(cr, vase.yaw);
+    const double h = scene.vase_half_size;
+    cairo_rectangle(cr, -h, -h, 2 * h, 2 * h);
+    cairo_restore(cr);
+  }
+  cairo_set_source_rgb(cr, 0.0, 0.65, 0.65);
+  cairo_fill(cr);
+
+  DrawPath(cr, picture, pixel);
+  DrawRobot(cr, scene, pixel);
+  DrawScaleBar(cr, view, pixel);
+  DrawCaption(cr, picture.caption, size);
+
+  cairo_surface_flush(surface.get());
+  const cairo_status_t status = cairo_surface_write_to_png(surface.get(), path.c_str());
+  Require(status == CAIRO_STATUS_SUCCESS, "could not write the picture to '{}': {}", path,
+          cairo_status_to_string(status));
+}
+
+}  // namespace cmbrl

@@ -1,0 +1,31 @@
+// Top-down pictures of the Goal arena (PNG, drawn with Cairo). Nothing in the core depends on
+// this folder.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "cmbrl/env/env.h"
+
+namespace cmbrl {
+
+// What one picture shows: the arena as it is at the end, and the history that led there.
+struct ScenePicture {
+  SceneState scene;
+  std::vector<Vec2> path;             // robot positions, one per agent step, start first
+  std::vector<bool> path_violations;  // (path.size()) or empty: cost of the step reaching it
+  std::vector<Vec2> reached_goals;    // goals the robot reached, in order
+  std::string caption;                // one line drawn at the top
+};
+
+struct ScenePictureOptions {
+  int size_px = 800;      // width and height of the image (pixels)
+  double margin_m = 0.4;  // floor shown around the placement area and the path (m)
+};
+
+// Draws the picture and writes it as PNG. Throws cmbrl::Error when the file cannot be written.
+// Thread-safe (no shared state).
+void WriteScenePng(const ScenePicture& picture, const std::string& path,
+                   const ScenePictureOptions& options = {});
+
+}  // namespace cmbrl

@@ -1,0 +1,24 @@
+#!/usr/bin/env bash
+# Installs every Debian 12 package cmbrl needs to build, test and run. Idempotent: apt-get skips
+# what is already installed. Uses sudo only when not run as root.
+set -euo pipefail
+
+if [ "$(id -u)" -eq 0 ]; then
+  SUDO=()
+else
+  SUDO=(sudo)
+fi
+
+packages=(
+  # Toolchain and test/benchmark frameworks.
+  build-essential cmake ninja-build ccache pkg-config
+  libgtest-dev libgmock-dev libbenchmark-dev
+  # Physics: MuJoCo 2.2.2. Its CMake package file also needs qhull and the OpenGL headers.
+  libmujoco-dev libqhull-dev libgl-dev
+  # Configuration, command line, formatting, JSON, pictures.
+  libyaml-cpp-dev libcli11-dev libfmt-dev nlohmann-json3-dev libcairo2-dev
+)
+
+export DEBIAN_FRONTEND=noninteractive
+"${SUDO[@]}" apt-get update -q
+"${SUDO[@]}" apt-get install -y -q --no-install-recommends "${packages[@]}"
