@@ -83,7 +83,8 @@ class Env {
   virtual const BoxSpec& observation_spec() const = 0;
   virtual const BoxSpec& action_spec() const = 0;
 
-  // The longest episode in agent steps.
+  // Agent steps of an episode that runs to its time limit with no step cut short (with action
+  // repeat, a step that reaches the goal ends early, so such episodes have a few more).
   virtual int max_episode_steps() const = 0;
 
   // Simulated seconds per agent step.

@@ -89,10 +89,19 @@ std::string BuildGoalWorldMjcf(const GoalTaskSpec& spec, const RobotDescription&
       fmt::arg("actuator", robot.actuator_mjcf), fmt::arg("sensor", robot.sensor_mjcf));
 }
 
-GoalEnv::GoalEnv(GoalTaskSpec spec)
+namespace {
+
+RobotDescription TaskRobot(const GoalTaskSpec& spec) {
+  return spec.robot == RobotKind::kPoint ? PointRobot(spec.variant) : CarRobot(spec.variant);
+}
+
+}  // namespace
+
+GoalEnv::GoalEnv(GoalTaskSpec spec) : GoalEnv(spec, TaskRobot(spec)) {}
+
+GoalEnv::GoalEnv(GoalTaskSpec spec, RobotDescription robot)
     : spec_(std::move(spec)),
-      robot_(spec_.robot == RobotKind::kPoint ? PointRobot(spec_.variant)
-                                               : CarRobot(spec_.variant)),
+      robot_(std::move(robot)),
       model_(CompileMjcf(BuildGoalWorldMjcf(spec_, robot_))),
       data_(MakeMjData(*model_)),
       rng_(0) {

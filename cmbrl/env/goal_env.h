@@ -26,7 +26,12 @@ namespace cmbrl {
 // wrapper). Not thread-safe; owns its model, data and generator.
 class GoalEnv final : public Env {
  public:
+  // The task's own robot (PointRobot or CarRobot of the spec's variant).
   explicit GoalEnv(GoalTaskSpec spec);
+
+  // Another robot description: a variation of a stock one (another spawn height, another
+  // actuator) or a new robot that follows the conventions of RobotDescription.
+  GoalEnv(GoalTaskSpec spec, RobotDescription robot);
 
   std::vector<double> Reset(std::optional<std::uint64_t> seed = std::nullopt) override;
   StepResult Step(const std::vector<double>& action) override;

@@ -1,0 +1,51 @@
+#include "cmbrl/env/registry.h"
+
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "cmbrl/agent/policy.h"
+#include "cmbrl/core/check.h"
+
+namespace cmbrl {
+namespace {
+
+// Every registered task in both variants: resets, runs a random episode of up to 200 steps with
+// finite observations of the declared size, 0/1 costs and a consistent ground truth.
+TEST(RegistryTest, EveryTaskRunsInBothVariants) {
+  for (const std::string& task : EnvNames()) {
+    for (const Variant variant : {Variant::kPaper, Variant::kStandard}) {
+      SCOPED_TRACE(task + " " + VariantName(variant));
+      std::unique_ptr<Env> env = MakeEnv(task, variant);
+      ASSERT_EQ(env->action_spec().size(), 2);
+      const int obs_dim = env->observation_spec().size();
+      std::vector<double> obs = env->Reset(0);
+      ASSERT_EQ(static_cast<int>(obs.size()), obs_dim);
+      RandomPolicy policy(env->action_spec(), 1);
+      for (int i = 0; i < 200; ++i) {
+        const StepResult step = env->Step(policy.Act(obs));
+        ASSERT_EQ(static_cast<int>(step.observation.size()), obs_dim);
+        for (double value : step.observation) ASSERT_TRUE(std::isfinite(value));
+        ASSERT_TRUE(step.cost == 0.0 || step.cost == 1.0);
+        ASSERT_FALSE(step.info.physics_error);
+        obs = step.observation;
+        if (step.truncated || step.terminated) break;
+      }
+      const SceneState scene = env->Scene();
+      EXPECT_EQ(static_cast<int>(scene.hazards.size()), task.back() == '1' ? 
+                (variant == Variant::kPaper ? 7 : 8) : (variant == Variant::kPaper ? 14 : 10));
+    }
+  }
+}
+
+TEST(RegistryTest, UnknownTaskIsNamed) {
+  try {
+    MakeEnv("AntGoal1");
+    FAIL() << "expected an error";
+  } catch (const Error& error) {
+    EXPECT_NE(std::string(error.what()).find("unknown task 'AntGoal1'"), std::string::npos);
+  }
+}
+
+}  // namespace
+}  // namespace cmbrl

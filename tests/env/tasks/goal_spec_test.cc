@@ -1,0 +1,72 @@
+#include "cmbrl/env/tasks/goal_spec.h"
+
+#include <gtest/gtest.h>
+
+#include "cmbrl/core/check.h"
+
+namespace cmbrl {
+namespace {
+
+TEST(GoalSpecTest, PaperSuiteCountsAndTiming) {
+  // Facts B0: 7 / 14 hazards, 1 / 2 constrained vases, goal keep-out 0.35, action repeat
+  // 3 (Point) / 2 (Car), episodes of 300 / 150 env steps, ego-state observations.
+  const GoalTaskSpec pg1 = GoalTaskSpecByName("PointGoal1", Variant::kPaper);
+  EXPECT_EQ(pg1.num_hazards, 7);
+  EXPECT_EQ(pg1.num_vases, 1);
+  EXPECT_TRUE(pg1.vases_constrained);
+  EXPECT_DOUBLE_EQ(pg1.goal_keepout, 0.35);
+  EXPECT_DOUBLE_EQ(pg1.vase_velocity_threshold, 1e-3);
+  EXPECT_EQ(pg1.action_repeat, 3);
+  EXPECT_EQ(pg1.max_env_steps, 300);
+  EXPECT_EQ(pg1.observation, ObservationKind::kEgoState);
+  EXPECT_DOUBLE_EQ(pg1.placement.x_max, 1.5);
+  const GoalTaskSpec cg2 = GoalTaskSpecByName("CarGoal2", Variant::kPaper);
+  EXPECT_EQ(cg2.num_hazards, 14);
+  EXPECT_EQ(cg2.num_vases, 2);
+  EXPECT_EQ(cg2.action_repeat, 2);
+  EXPECT_EQ(cg2.max_env_steps, 150);
+  EXPECT_DOUBLE_EQ(cg2.placement.x_min, -2.0);
+}
+
+TEST(GoalSpecTest, StandardSuiteCountsAndTiming) {
+  // Facts A1, A4: 8 hazards and 1 unconstrained vase / 10 and 10 constrained; 1000 steps.
+  const GoalTaskSpec pg1 = GoalTaskSpecByName("PointGoal1", Variant::kStandard);
+  EXPECT_EQ(pg1.num_hazards, 8);
+  EXPECT_EQ(pg1.num_vases, 1);
+  EXPECT_FALSE(pg1.vases_constrained);
+  EXPECT_DOUBLE_EQ(pg1.goal_keepout, 0.305);
+  EXPECT_EQ(pg1.action_repeat, 1);
+  EXPECT_EQ(pg1.frame_skip, 10);
+  EXPECT_EQ(pg1.max_env_steps, 1000);
+  EXPECT_EQ(pg1.observation, ObservationKind::kLidar);
+  const GoalTaskSpec cg2 = GoalTaskSpecByName("CarGoal2", Variant::kStandard);
+  EXPECT_EQ(cg2.num_hazards, 10);
+  EXPECT_EQ(cg2.num_vases, 10);
+  EXPECT_TRUE(cg2.vases_constrained);
+}
+
+TEST(GoalSpecTest, UnknownTaskAndLevelAreNamed) {
+  try {
+    GoalTaskSpecByName("PointGoal3", Variant::kPaper);
+    FAIL() << "expected an error";
+  } catch (const Error& error) {
+    EXPECT_STREQ(error.what(),
+                 "unknown task 'PointGoal3': expected one of PointGoal1, PointGoal2, CarGoal1, "
+                 "CarGoal2");
+  }
+  EXPECT_THROW(MakeGoalTaskSpec(RobotKind::kCar, 0, Variant::kPaper), Error);
+}
+
+TEST(GoalSpecTest, VariantNamesRoundTripAndUnknownOnesAreNamed) {
+  EXPECT_EQ(ParseVariant("paper"), Variant::kPaper);
+  EXPECT_EQ(ParseVariant(VariantName(Variant::kStandard)), Variant::kStandard);
+  try {
+    ParseVariant("stock");
+    FAIL() << "expected an error";
+  } catch (const Error& error) {
+    EXPECT_NE(std::string(error.what()).find("unknown variant 'stock'"), std::string::npos);
+  }
+}
+
+}  // namespace
+}  // namespace cmbrl

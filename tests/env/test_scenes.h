@@ -1,0 +1,78 @@
+// Hand-built scenes for environment tests.
+#pragma once
+
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "cmbrl/env/env.h"
+#include "cmbrl/env/tasks/goal_layout.h"
+#include "cmbrl/env/tasks/goal_spec.h"
+
+namespace cmbrl::testing {
+
+// Robot at the origin facing +x; goal, hazards and vases far away (nothing interacts).
+inline GoalLayout FarLayout(const GoalTaskSpec& spec) {
+  GoalLayout layout;
+  layout.robot = {{0.0, 0.0}, 0.0};
+  layout.goal = {100.0, 100.0};
+  for (int i = 0; i < spec.num_hazards; ++i) layout.hazards.push_back({50.0 + i, 50.0});
+  for (int i = 0; i < spec.num_vases; ++i) layout.vases.push_back({{-50.0 - i, 50.0}, 0.0});
+  return layout;
+}
+
+// Index of a named component of a box; fails the test when missing.
+inline int IndexOf(const BoxSpec& box, const std::string& name) {
+  for (int i = 0; i < box.size(); ++i) {
+    if (box.names[i] == name) return i;
+  }
+  ADD_FAILURE() << "no component named " << name;
+  return 0;
+}
+
+}  // namespace cmbrl::testing
+
+#include "cmbrl/env/goal_env.h"
+
+namespace cmbrl::testing {
+
+// The robot body's planar speed (m/s) and yaw rate (rad/s), in the world frame.
+inline double RobotSpeed(const GoalEnv& env) {
+  mjtNum velocity[6];
+  mj_objectVelocity(&env.model(), &env.data(), mjOBJ_BODY,
+                    mj_name2id(&env.model(), mjOBJ_BODY, "robot"), velocity, 0);
+  return std::hypot(velocity[3], velocity[4]);
+}
+
+inline double RobotYawRate(const GoalEnv& env) {
+  mjtNum velocity[6];
+  mj_objectVelocity(&env.model(), &env.data(), mjOBJ_BODY,
+                    mj_name2id(&env.model(), mjOBJ_BODY, "robot"), velocity, 0);
+  return velocity[2];
+}
+
+// Height of the robot body's origin and the world z of its up axis (1 when upright).
+inline double RobotHeight(const GoalEnv& env) {
+  return env.data().xpos[3 * mj_name2id(&env.model(), mjOBJ_BODY, "robot") + 2];
+}
+inline double RobotUpZ(const GoalEnv& env) {
+  return env.data().xmat[9 * mj_name2id(&env.model(), mjOBJ_BODY, "robot") + 8];
+}
+
+// Runs a constant action for `seconds` of simulated time (whole agent steps).
+inline void Hold(GoalEnv& env, const std::vector<double>& action, double seconds) {
+  const int steps = static_cast<int>(std::lround(seconds / env.agent_step_seconds()));
+  for (int i = 0; i < steps; ++i) env.Step(action);
+}
+
+// A Goal environment with everything far away, the robot at the origin facing +x, and an
+// episode long enough for physics tests.
+inline GoalEnv FarEnv(const std::string& task, Variant variant) {
+  GoalTaskSpec spec = GoalTaskSpecByName(task, variant);
+  spec.max_env_steps = 1 << 20;
+  GoalEnv env(spec);
+  env.ResetToLayout(FarLayout(spec));
+  return env;
+}
+
+}  // namespace cmbrl::testing
