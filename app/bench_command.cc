@@ -13,6 +13,7 @@
 #include "cmbrl/agent/policy.h"
 #include "cmbrl/core/check.h"
 #include "cmbrl/core/rng.h"
+#include "cmbrl/env/goal_env.h"
 #include "cmbrl/env/registry.h"
 
 namespace cmbrl::app {
@@ -32,29 +33,59 @@ double Median(std::vector<double> values) {
   return n % 2 == 1 ? values[n / 2] : (values[n / 2 - 1] + values[n / 2]) / 2;
 }
 
-// Agent steps of a random policy per wall-clock second, resets included.
+using Clock = std::chrono::steady_clock;
+
+// The ceiling of an env benchmark: bare mj_step calls on the same compiled model, from the same
+// start and with the same kind of random controls, as many per agent step as the environment
+// runs (frame_skip x action_repeat). Returns agent steps per second at that rate.
+double PhysicsCeiling(const std::string& task, Variant variant, std::uint64_t seed, int steps) {
+  GoalEnv env(GoalTaskSpecByName(task, variant));
+  env.Reset(seed);
+  const mjModel& model = env.model();
+  MjDataPtr data = MakeMjData(model);
+  mj_copyData(data.get(), &model, &env.data());
+  RandomPolicy policy(env.action_spec(), seed);
+  const int frames = env.spec().frame_skip * env.spec().action_repeat;
+  const auto start = Clock::now();
+  for (int step = 0; step < steps; ++step) {
+    const std::vector<double> action = policy.Act({});
+    for (int i = 0; i < model.nu; ++i) {
+      data->ctrl[i] = std::clamp(action[i], model.actuator_ctrlrange[2 * i],
+                                 model.actuator_ctrlrange[2 * i + 1]);
+    }
+    for (int frame = 0; frame < frames; ++frame) mj_step(&model, data.get());
+  }
+  const std::chrono::duration<double> elapsed = Clock::now() - start;
+  return steps / elapsed.count();
+}
+
+// Agent steps of a random policy per wall-clock second, resets included, beside the bare
+// physics ceiling measured in the same run.
 void RunEnvBench(const EnvBenchArgs& args) {
   for (const std::string& variant_name : args.variants) {
     const Variant variant = ParseVariant(variant_name);
     for (const std::string& task : args.tasks) {
       std::unique_ptr<Env> env = MakeEnv(task, variant);
       RandomPolicy policy(env->action_spec(), DeriveSeed(args.seed, 1));
-      std::vector<double> rates;
+      std::vector<double> rates, ceilings;
       int env_steps = 0;
       for (int run = 0; run < args.runs; ++run) {
+        ceilings.push_back(
+            PhysicsCeiling(task, variant, DeriveSeed(args.seed, 100 + run), args.steps));
         std::vector<double> observation = env->Reset(DeriveSeed(args.seed, 100 + run));
         env_steps = 0;
-        const auto start = std::chrono::steady_clock::now();
+        const auto start = Clock::now();
         for (int step = 0; step < args.steps; ++step) {
           StepResult result = env->Step(policy.Act(observation));
           env_steps += result.info.env_steps;
           observation = result.terminated || result.truncated ? env->Reset()
                                                               : std::move(result.observation);
         }
-        const std::chrono::duration<double> elapsed = std::chrono::steady_clock::now() - start;
+        const std::chrono::duration<double> elapsed = Clock::now() - start;
         rates.push_back(args.steps / elapsed.count());
       }
       const double median = Median(rates);
+      const double ceiling = Median(ceilings);
       const nlohmann::ordered_json line = {
           {"bench", "env"},
           {"task", task},
@@ -63,6 +94,8 @@ void RunEnvBench(const EnvBenchArgs& args) {
           {"env_steps_per_second", median * env_steps / args.steps},
           {"min_agent_steps_per_second", *std::min_element(rates.begin(), rates.end())},
           {"max_agent_steps_per_second", *std::max_element(rates.begin(), rates.end())},
+          {"ceiling_agent_steps_per_second", ceiling},
+          {"ratio_to_ceiling", median / ceiling},
           {"agent_step_sim_seconds", env->agent_step_seconds()},
           {"realtime_factor", median * env->agent_step_seconds()},
           {"steps_per_run", args.steps},
