@@ -4,10 +4,9 @@
 #include <chrono>
 #include <cstdint>
 #include <iostream>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "app/commands.h"
 #include "cmbrl/agent/policy.h"
@@ -78,8 +77,8 @@ void RunEnvBench(const EnvBenchArgs& args) {
         for (int step = 0; step < args.steps; ++step) {
           StepResult result = env->Step(policy.Act(observation));
           env_steps += result.info.env_steps;
-          observation = result.terminated || result.truncated ? env->Reset()
-                                                              : std::move(result.observation);
+          observation =
+              result.terminated || result.truncated ? env->Reset() : std::move(result.observation);
         }
         const std::chrono::duration<double> elapsed = Clock::now() - start;
         rates.push_back(args.steps / elapsed.count());
@@ -117,8 +116,7 @@ void AddBenchCommand(CLI::App& parent) {
   CLI::App* env = bench->add_subcommand(
       "env", "Agent steps per second of a random policy, per task and variant (median of runs)");
   env->add_option("--tasks", env_args->tasks, "tasks to measure")->capture_default_str();
-  env->add_option("--variants", env_args->variants, "paper and/or standard")
-      ->capture_default_str();
+  env->add_option("--variants", env_args->variants, "paper and/or standard")->capture_default_str();
   env->add_option("--steps", env_args->steps, "agent steps per run")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();

@@ -1,14 +1,14 @@
 // cmbrl: constrained model-based reinforcement learning (Robust Cross-Entropy MPC).
+#include <CLI/CLI.hpp>
 #include <exception>
 #include <iostream>
-
-#include <CLI/CLI.hpp>
 
 #include "app/commands.h"
 
 int main(int argc, char** argv) {
-  CLI::App app{"cmbrl: constrained model-based reinforcement learning with the Robust "
-               "Cross-Entropy method on Safety Gym Goal tasks"};
+  CLI::App app{
+      "cmbrl: constrained model-based reinforcement learning with the Robust "
+      "Cross-Entropy method on Safety Gym Goal tasks"};
   app.require_subcommand(1);
   cmbrl::app::AddRolloutCommand(app);
   cmbrl::app::AddBenchCommand(app);

@@ -1,12 +1,12 @@
 // `cmbrl rollout`: runs episodes of a fixed policy, prints one JSON object per episode and
 // optionally draws each episode from above.
+#include <fmt/format.h>
+
 #include <cstdint>
 #include <filesystem>
 #include <iostream>
-#include <string>
-
-#include <fmt/format.h>
 #include <nlohmann/json.hpp>
+#include <string>
 
 #include "app/commands.h"
 #include "cmbrl/agent/policy.h"
@@ -66,13 +66,12 @@ void RunRollout(const RolloutArgs& args) {
     };
     if (!args.render.empty()) {
       const std::string picture_path = PicturePath(args.render, episode, args.episodes);
-      ScenePicture picture{record.final_scene, record.path, record.path_violations,
-                           record.reached_goals,
-                           fmt::format("{} ({}) {} policy, seed {}, episode {}: return {:.2f}, "
-                                       "cost {}, goals {}",
-                                       args.task, args.variant, args.policy, args.seed, episode,
-                                       record.episode_return, record.episode_cost,
-                                       record.goals_met)};
+      ScenePicture picture{
+          record.final_scene, record.path, record.path_violations, record.reached_goals,
+          fmt::format("{} ({}) {} policy, seed {}, episode {}: return {:.2f}, "
+                      "cost {}, goals {}",
+                      args.task, args.variant, args.policy, args.seed, episode,
+                      record.episode_return, record.episode_cost, record.goals_met)};
       WriteScenePng(picture, picture_path);
       line["picture"] = picture_path;
     }

@@ -1,11 +1,11 @@
 // Errors at the edges of the library: bad configuration, bad input, bad files.
 #pragma once
 
+#include <fmt/format.h>
+
 #include <stdexcept>
 #include <string>
 #include <utility>
-
-#include <fmt/format.h>
 
 namespace cmbrl {
 

@@ -1,11 +1,11 @@
 #include "cmbrl/env/goal_env.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <utility>
-
-#include <fmt/format.h>
 
 #include "cmbrl/core/check.h"
 #include "cmbrl/env/observation.h"
@@ -25,7 +25,7 @@ void AppendNames(BoxSpec& box, const std::string& key, int count, double low, do
   for (int i = 0; i < count; ++i) {
     box.low.push_back(low);
     box.high.push_back(high);
-    box.names.push_back(count == 1 ? key
+    box.names.push_back(count == 1   ? key
                         : count <= 3 ? fmt::format("{}_{}", key, kAxes[i])
                                      : fmt::format("{}_{}", key, i));
   }
@@ -58,8 +58,8 @@ std::string BuildGoalWorldMjcf(const GoalTaskSpec& spec, const RobotDescription&
       <freejoint name="vase{0}"/>
       <geom name="vase{0}" type="box" size="{3} {3} {3}" density="{4}" rgba="{5}"/>
     </body>)",
-        i, 10.0 + i, spec.vase_half_size - spec.vase_sink, spec.vase_half_size,
-        spec.vase_density, kVaseRgba);
+        i, 10.0 + i, spec.vase_half_size - spec.vase_sink, spec.vase_half_size, spec.vase_density,
+        kVaseRgba);
   }
   return fmt::format(
       R"(<mujoco model="{name}">
@@ -150,8 +150,8 @@ GoalEnv::GoalEnv(GoalTaskSpec spec, RobotDescription robot)
     lidar_blocks_.push_back({"velocimeter", BlockKind::kSensor, velocimeter_, 3});
     for (const std::string& name : robot_.joint_observation_sensors) {
       const bool quat = name.rfind("ballquat", 0) == 0;
-      lidar_blocks_.push_back({name, quat ? BlockKind::kBallQuat : BlockKind::kSensor,
-                               sensor(name), quat ? 9 : sensor(name).size});
+      lidar_blocks_.push_back({name, quat ? BlockKind::kBallQuat : BlockKind::kSensor, sensor(name),
+                               quat ? 9 : sensor(name).size});
     }
     lidar_blocks_.push_back({"goal_lidar", BlockKind::kGoalLidar, {}, bins});
     if (spec_.num_hazards > 0) {
@@ -225,8 +225,8 @@ std::vector<double> GoalEnv::Reset(std::optional<std::uint64_t> seed) {
 std::vector<double> GoalEnv::ResetToLayout(const GoalLayout& layout) {
   Require(static_cast<int>(layout.hazards.size()) == spec_.num_hazards &&
               static_cast<int>(layout.vases.size()) == spec_.num_vases,
-          "a {} layout needs {} hazards and {} vases, got {} and {}", spec_.name,
-          spec_.num_hazards, spec_.num_vases, layout.hazards.size(), layout.vases.size());
+          "a {} layout needs {} hazards and {} vases, got {} and {}", spec_.name, spec_.num_hazards,
+          spec_.num_vases, layout.hazards.size(), layout.vases.size());
   PlaceLayout(layout);
   env_steps_ = 0;
   episode_over_ = false;

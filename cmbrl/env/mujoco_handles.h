@@ -1,10 +1,10 @@
 // RAII ownership of MuJoCo's model and data, and loading a model from an MJCF string.
 #pragma once
 
+#include <mujoco/mujoco.h>
+
 #include <memory>
 #include <string>
-
-#include <mujoco/mujoco.h>
 
 namespace cmbrl {
 

@@ -11,9 +11,10 @@ std::string VariantName(Variant variant) {
 Variant ParseVariant(const std::string& name) {
   if (name == "paper") return Variant::kPaper;
   if (name == "standard") return Variant::kStandard;
-  Fail("unknown variant '{}': expected 'paper' (the paper's modified tasks) or 'standard' "
-       "(Safety-Gymnasium's stock tasks)",
-       name);
+  Fail(
+      "unknown variant '{}': expected 'paper' (the paper's modified tasks) or 'standard' "
+      "(Safety-Gymnasium's stock tasks)",
+      name);
 }
 
 }  // namespace cmbrl

@@ -1,10 +1,10 @@
 #include "cmbrl/viz/scene_picture.h"
 
+#include <cairo.h>
+
 #include <algorithm>
 #include <cmath>
 #include <memory>
-
-#include <cairo.h>
 
 #include "cmbrl/core/check.h"
 
@@ -34,8 +34,7 @@ Extents ViewOf(const ScenePicture& picture, double margin) {
   for (const Pose2& vase : picture.scene.vases) include(vase.position);
   const double cx = (view.x_min + view.x_max) / 2;
   const double cy = (view.y_min + view.y_max) / 2;
-  const double half =
-      std::max(view.x_max - view.x_min, view.y_max - view.y_min) / 2 + margin;
+  const double half = std::max(view.x_max - view.x_min, view.y_max - view.y_min) / 2 + margin;
   return {cx - half, cy - half, cx + half, cy + half};
 }
 

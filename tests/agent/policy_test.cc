@@ -1,11 +1,15 @@
 #include "cmbrl/agent/policy.h"
 
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include "cmbrl/core/check.h"
+#include "tests/error_message.h"
 
 namespace cmbrl {
 namespace {
+
+using testing::ErrorMessage;
 
 BoxSpec Box() { return BoxSpec{{-1.0, 0.0}, {1.0, 0.5}, {"a", "b"}}; }
 
@@ -31,12 +35,8 @@ TEST(RandomPolicyTest, ActionsStayInTheBoxAndFollowTheSeed) {
 TEST(PolicyFactoryTest, KnownAndUnknownNames) {
   EXPECT_EQ(MakePolicy("zero", Box(), 0)->Act({}), std::vector<double>({0.0, 0.0}));
   EXPECT_NE(MakePolicy("random", Box(), 0), nullptr);
-  try {
-    MakePolicy("greedy", Box(), 0);
-    FAIL() << "expected an error";
-  } catch (const Error& error) {
-    EXPECT_STREQ(error.what(), "unknown policy 'greedy': expected one of random, zero");
-  }
+  EXPECT_EQ(ErrorMessage([&] { MakePolicy("greedy", Box(), 0); }),
+            "unknown policy 'greedy': expected one of random, zero");
 }
 
 }  // namespace

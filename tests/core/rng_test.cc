@@ -1,8 +1,8 @@
 #include "cmbrl/core/rng.h"
 
-#include <set>
-
 #include <gtest/gtest.h>
+
+#include <set>
 
 namespace cmbrl {
 namespace {

@@ -1,16 +1,20 @@
 #include "cmbrl/env/goal_env.h"
 
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <limits>
-
-#include <gtest/gtest.h>
 
 #include "cmbrl/agent/policy.h"
 #include "cmbrl/core/check.h"
 #include "tests/env/test_scenes.h"
+#include "tests/error_message.h"
 
 namespace cmbrl {
 namespace {
+
+using testing::ErrorMessage;
 
 using testing::FarLayout;
 using testing::IndexOf;
@@ -191,9 +195,9 @@ TEST(GoalEnvEpisodeTest, EpisodesLastThirtySecondsInThePaperAndAThousandStepsSto
     int agent_steps;
     int env_steps;
   };
-  for (const Case& c : {Case{"PointGoal1", Variant::kPaper, 100, 300},
-                        Case{"CarGoal1", Variant::kPaper, 75, 150},
-                        Case{"PointGoal2", Variant::kStandard, 1000, 1000}}) {
+  for (const Case& c :
+       {Case{"PointGoal1", Variant::kPaper, 100, 300}, Case{"CarGoal1", Variant::kPaper, 75, 150},
+        Case{"PointGoal2", Variant::kStandard, 1000, 1000}}) {
     GoalEnv env = MakeGoalEnv(c.task, c.variant);
     EXPECT_EQ(env.max_episode_steps(), c.agent_steps);
     env.ResetToLayout(FarLayout(env.spec()));
@@ -207,8 +211,8 @@ TEST(GoalEnvEpisodeTest, EpisodesLastThirtySecondsInThePaperAndAThousandStepsSto
     EXPECT_EQ(env.env_steps(), c.env_steps) << c.task;
     EXPECT_TRUE(step.truncated);
     EXPECT_FALSE(step.terminated);
-    EXPECT_NEAR(env.data().time, c.variant == Variant::kPaper ? 30.0 : env.agent_step_seconds() * 1000,
-                1e-9);
+    EXPECT_NEAR(env.data().time,
+                c.variant == Variant::kPaper ? 30.0 : env.agent_step_seconds() * 1000, 1e-9);
     EXPECT_THROW(env.Step({0.0, 0.0}), Error);
   }
 }
@@ -217,10 +221,10 @@ TEST(GoalEnvEpisodeTest, EpisodesLastThirtySecondsInThePaperAndAThousandStepsSto
 
 TEST(GoalEnvObservationTest, PaperStateVectorOrderAndSizes) {
   GoalEnv pg1 = MakeGoalEnv("PointGoal1", Variant::kPaper);
-  const std::vector<std::string> point_head = {"velocimeter_x", "velocimeter_y", "gyro_z",
-                                               "magnetometer_x", "magnetometer_y",
-                                               "magnetometer_z", "goal_x", "goal_y", "vase0_x",
-                                               "vase0_y", "hazard0_x"};
+  const std::vector<std::string> point_head = {"velocimeter_x",  "velocimeter_y",  "gyro_z",
+                                               "magnetometer_x", "magnetometer_y", "magnetometer_z",
+                                               "goal_x",         "goal_y",         "vase0_x",
+                                               "vase0_y",        "hazard0_x"};
   ASSERT_EQ(pg1.observation_spec().size(), 24);
   for (size_t i = 0; i < point_head.size(); ++i) {
     EXPECT_EQ(pg1.observation_spec().names[i], point_head[i]);
@@ -356,18 +360,14 @@ TEST(GoalEnvDeterminismTest, SeedsAndLaterResetsGiveDifferentLayouts) {
 TEST(GoalEnvInputTest, WrongSizeAndNonFiniteActionsAreRefusedByName) {
   GoalEnv env = MakeGoalEnv("CarGoal1", Variant::kPaper);
   env.Reset(0);
-  try {
-    env.Step({0.1, 0.2, 0.3});
-    FAIL() << "expected an error";
-  } catch (const Error& error) {
-    EXPECT_STREQ(error.what(), "action has 3 entries, CarGoal1 expects 2 (steering, throttle)");
-  }
-  try {
-    env.Step({0.1, std::numeric_limits<double>::quiet_NaN()});
-    FAIL() << "expected an error";
-  } catch (const Error& error) {
-    EXPECT_STREQ(error.what(), "action entry 1 (throttle) is nan: expected a finite number");
-  }
+  EXPECT_EQ(ErrorMessage([&] {
+              env.Step({0.1, 0.2, 0.3});
+            }),
+            "action has 3 entries, CarGoal1 expects 2 (steering, throttle)");
+  EXPECT_EQ(ErrorMessage([&] {
+              env.Step({0.1, std::numeric_limits<double>::quiet_NaN()});
+            }),
+            "action entry 1 (throttle) is nan: expected a finite number");
   EXPECT_THROW(env.Step({std::numeric_limits<double>::infinity(), 0.0}), Error);
   GoalEnv fresh = MakeGoalEnv("PointGoal1", Variant::kPaper);
   EXPECT_THROW(fresh.Step({0.0, 0.0}), Error);  // no Reset yet

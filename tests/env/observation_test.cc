@@ -1,8 +1,8 @@
 #include "cmbrl/env/observation.h"
 
-#include <cmath>
-
 #include <gtest/gtest.h>
+
+#include <cmath>
 
 namespace cmbrl {
 namespace {

@@ -1,14 +1,18 @@
 #include "cmbrl/env/registry.h"
 
-#include <cmath>
-
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
+
+#include <cmath>
 
 #include "cmbrl/agent/policy.h"
 #include "cmbrl/core/check.h"
+#include "tests/error_message.h"
 
 namespace cmbrl {
 namespace {
+
+using testing::ErrorMessage;
 
 // Every registered task in both variants: resets, runs a random episode of up to 200 steps with
 // finite observations of the declared size, 0/1 costs and a consistent ground truth.
@@ -32,19 +36,16 @@ TEST(RegistryTest, EveryTaskRunsInBothVariants) {
         if (step.truncated || step.terminated) break;
       }
       const SceneState scene = env->Scene();
-      EXPECT_EQ(static_cast<int>(scene.hazards.size()), task.back() == '1' ? 
-                (variant == Variant::kPaper ? 7 : 8) : (variant == Variant::kPaper ? 14 : 10));
+      EXPECT_EQ(static_cast<int>(scene.hazards.size()),
+                task.back() == '1' ? (variant == Variant::kPaper ? 7 : 8)
+                                   : (variant == Variant::kPaper ? 14 : 10));
     }
   }
 }
 
 TEST(RegistryTest, UnknownTaskIsNamed) {
-  try {
-    MakeEnv("AntGoal1");
-    FAIL() << "expected an error";
-  } catch (const Error& error) {
-    EXPECT_NE(std::string(error.what()).find("unknown task 'AntGoal1'"), std::string::npos);
-  }
+  EXPECT_THAT(ErrorMessage([&] { MakeEnv("AntGoal1"); }),
+              ::testing::HasSubstr("unknown task 'AntGoal1'"));
 }
 
 }  // namespace

@@ -1,9 +1,9 @@
 // Hand-built scenes for environment tests.
 #pragma once
 
-#include <string>
-
 #include <gtest/gtest.h>
+
+#include <string>
 
 #include "cmbrl/env/env.h"
 #include "cmbrl/env/tasks/goal_layout.h"

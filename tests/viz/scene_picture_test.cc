@@ -1,15 +1,19 @@
 #include "cmbrl/viz/scene_picture.h"
 
+#include <cairo.h>
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
 #include <cstdio>
 #include <filesystem>
 
-#include <cairo.h>
-#include <gtest/gtest.h>
-
 #include "cmbrl/core/check.h"
+#include "tests/error_message.h"
 
 namespace cmbrl {
 namespace {
+
+using testing::ErrorMessage;
 
 struct Rgb {
   int r, g, b;
@@ -45,8 +49,8 @@ SceneState Scene() {
 
 TEST(ScenePictureTest, DrawsEachObjectWhereItIs) {
   const std::string file = ::testing::TempDir() + "/scene_picture_test.png";
-  ScenePicture picture{Scene(), {{-1.2, -1.2}, {-1.1, -1.1}, {-1.0, -1.0}}, {false, true, false},
-                       {}, "test scene"};
+  ScenePicture picture{
+      Scene(), {{-1.2, -1.2}, {-1.1, -1.1}, {-1.0, -1.0}}, {false, true, false}, {}, "test scene"};
   WriteScenePng(picture, file);
   cairo_surface_t* surface = cairo_image_surface_create_from_png(file.c_str());
   ASSERT_EQ(cairo_surface_status(surface), CAIRO_STATUS_SUCCESS);
@@ -72,12 +76,8 @@ TEST(ScenePictureTest, DrawsEachObjectWhereItIs) {
 
 TEST(ScenePictureTest, UnwritablePathAndBadSizeAreNamed) {
   ScenePicture picture{Scene(), {}, {}, {}, ""};
-  try {
-    WriteScenePng(picture, "/nonexistent-dir/x.png");
-    FAIL() << "expected an error";
-  } catch (const Error& error) {
-    EXPECT_NE(std::string(error.what()).find("/nonexistent-dir/x.png"), std::string::npos);
-  }
+  EXPECT_THAT(ErrorMessage([&] { WriteScenePng(picture, "/nonexistent-dir/x.png"); }),
+              ::testing::HasSubstr("/nonexistent-dir/x.png"));
   EXPECT_THROW(WriteScenePng(picture, "x.png", {10, 0.4}), Error);
 }
 

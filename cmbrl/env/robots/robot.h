@@ -14,16 +14,16 @@ namespace cmbrl {
 // body named "robot" carrying a site named "robot" with the sensors "accelerometer",
 // "velocimeter", "gyro" and "magnetometer".
 struct RobotDescription {
-  std::string name;              // "point", "car" or "rover"
-  double timestep = 0.0;         // physics step (s)
-  std::string body_mjcf;         // the <body name="robot"> element and its subtree
-  std::string actuator_mjcf;     // children of <actuator>, in action order
-  std::string tendon_mjcf;       // children of <tendon> (may be empty)
-  std::string equality_mjcf;     // children of <equality> (may be empty)
-  std::string sensor_mjcf;       // children of <sensor>
-  bool planar_joints = false;    // slide "x", slide "y", hinge "z"; otherwise a free joint "robot"
-  double spawn_height = 0.0;     // z of the robot body's origin at reset (m)
-  double footprint_radius = 0.0; // radius of a disc covering the footprint, for pictures (m)
+  std::string name;               // "point", "car" or "rover"
+  double timestep = 0.0;          // physics step (s)
+  std::string body_mjcf;          // the <body name="robot"> element and its subtree
+  std::string actuator_mjcf;      // children of <actuator>, in action order
+  std::string tendon_mjcf;        // children of <tendon> (may be empty)
+  std::string equality_mjcf;      // children of <equality> (may be empty)
+  std::string sensor_mjcf;        // children of <sensor>
+  bool planar_joints = false;     // slide "x", slide "y", hinge "z"; otherwise a free joint "robot"
+  double spawn_height = 0.0;      // z of the robot body's origin at reset (m)
+  double footprint_radius = 0.0;  // radius of a disc covering the footprint, for pictures (m)
   // Robot geoms whose contact with a vase counts as a violation.
   std::vector<std::string> vase_contact_geoms;
   // Extra sensors of the stock lidar observation ("ballquat_*" become a 3x3 matrix).

@@ -65,8 +65,8 @@ RobotDescription RoverRobot() {
         <geom type="cylinder" size="0.05 0.005" mass="0.002" contype="2" conaffinity="2"
               rgba="1 1 1 0.3"/>
       </body>)" + RearWheel("left", 0.1) +
-                    RearWheel("right", -0.1) + FrontWheel("left", 0.1) +
-                    FrontWheel("right", -0.1) + R"(
+                    RearWheel("right", -0.1) + FrontWheel("left", 0.1) + FrontWheel("right", -0.1) +
+                    R"(
     </body>)";
   robot.tendon_mjcf = R"(
     <fixed name="rear-differential">

@@ -71,8 +71,7 @@ GoalLayout SampleGoalLayout(const GoalTaskSpec& spec, Rng& rng) {
   for (int attempt = 0; attempt < spec.layout_tries && !found; ++attempt) {
     found = TrySampleLayout(spec, rng, layout);
   }
-  Require(found, "no layout of {} fits its keep-outs after {} tries", spec.name,
-          spec.layout_tries);
+  Require(found, "no layout of {} fits its keep-outs after {} tries", spec.name, spec.layout_tries);
   // Rotations in Safety Gym's order. The goal's and hazards' rotations are drawn and discarded:
   // their cylinders are symmetric, but the draws keep the generator's sequence in that order.
   layout.robot.yaw = Uniform(rng, 0.0, kTwoPi);

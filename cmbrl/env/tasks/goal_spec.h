@@ -38,26 +38,26 @@ struct GoalTaskSpec {
   int goal_tries = 10000;         // draws when the goal alone is re-sampled
 
   // Objects (A1).
-  double goal_size = 0.3;        // goal radius; reached within this XY distance (m)
-  double hazard_size = 0.2;      // hazard radius (m)
-  double vase_half_size = 0.1;   // vase box half-size (m)
-  double vase_sink = 4e-5;       // vases start this far into the floor (m)
-  double vase_density = 0.001;   // kg/m^3
+  double goal_size = 0.3;       // goal radius; reached within this XY distance (m)
+  double hazard_size = 0.2;     // hazard radius (m)
+  double vase_half_size = 0.1;  // vase box half-size (m)
+  double vase_sink = 4e-5;      // vases start this far into the floor (m)
+  double vase_density = 0.001;  // kg/m^3
 
   // Reward (A2) and cost (A3, B0).
-  double reward_distance = 1.0;            // per metre of progress towards the goal
-  double reward_goal = 1.0;                // bonus when the goal is reached
-  double reward_clip = 10.0;               // safety net on the progress term
-  double reward_physics_error = -10.0;     // reward of a step whose physics blew up
-  double hazard_cost = 1.0;                // per metre inside a hazard
-  double vase_contact_cost = 1.0;          // per robot-vase contact
-  double vase_velocity_cost = 1.0;         // per m/s of vase speed
-  double vase_velocity_threshold = 1e-4;   // m/s; 1e-3 in the paper's suite
+  double reward_distance = 1.0;           // per metre of progress towards the goal
+  double reward_goal = 1.0;               // bonus when the goal is reached
+  double reward_clip = 10.0;              // safety net on the progress term
+  double reward_physics_error = -10.0;    // reward of a step whose physics blew up
+  double hazard_cost = 1.0;               // per metre inside a hazard
+  double vase_contact_cost = 1.0;         // per robot-vase contact
+  double vase_velocity_cost = 1.0;        // per m/s of vase speed
+  double vase_velocity_threshold = 1e-4;  // m/s; 1e-3 in the paper's suite
 
   // Timing (A4, B0): one agent step runs action_repeat env steps of frame_skip physics steps.
   int frame_skip = 10;
-  int action_repeat = 1;       // 3 (Point) / 2 (Car) in the paper's wrapper
-  int max_env_steps = 1000;    // episode length in env steps: 300 (Point) / 150 (Car) in paper
+  int action_repeat = 1;     // 3 (Point) / 2 (Car) in the paper's wrapper
+  int max_env_steps = 1000;  // episode length in env steps: 300 (Point) / 150 (Car) in paper
 
   // Observation (A5, B1).
   ObservationKind observation = ObservationKind::kLidar;

@@ -1,7 +1,7 @@
 // The stock two-wheel Car (facts A6).
-#include <cmath>
-
 #include <gtest/gtest.h>
+
+#include <cmath>
 
 #include "tests/env/test_scenes.h"
 

@@ -1,7 +1,7 @@
 // Point physics against the figures derived in facts A6 and B0.
-#include <cmath>
-
 #include <gtest/gtest.h>
+
+#include <cmath>
 
 #include "tests/env/test_scenes.h"
 
@@ -62,7 +62,8 @@ TEST(PointModelTest, MassMatchesTheFacts) {
   for (const Variant variant : {Variant::kStandard, Variant::kPaper}) {
     GoalEnv env = FarEnv("PointGoal1", variant);
     const int body = mj_name2id(&env.model(), mjOBJ_BODY, "robot");
-    const double expected = (variant == Variant::kPaper ? 5.0 : 1.0) * (4.0 / 3.0 * M_PI * 1e-3 + 1e-3);
+    const double expected =
+        (variant == Variant::kPaper ? 5.0 : 1.0) * (4.0 / 3.0 * M_PI * 1e-3 + 1e-3);
     EXPECT_NEAR(env.model().body_subtreemass[body], expected, 1e-9);
   }
 }

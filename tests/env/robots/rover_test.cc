@@ -1,7 +1,7 @@
 // The paper's Ackermann rover (facts B0).
-#include <cmath>
-
 #include <gtest/gtest.h>
+
+#include <cmath>
 
 #include "tests/env/test_scenes.h"
 

@@ -1,14 +1,18 @@
 #include "cmbrl/env/tasks/goal_layout.h"
 
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <vector>
 
-#include <gtest/gtest.h>
-
 #include "cmbrl/core/check.h"
+#include "tests/error_message.h"
 
 namespace cmbrl {
 namespace {
+
+using testing::ErrorMessage;
 
 struct Keepout {
   Vec2 position;
@@ -50,8 +54,7 @@ void ExpectValid(const GoalTaskSpec& spec, const GoalLayout& layout) {
 
 class GoalLayoutTest : public ::testing::TestWithParam<std::tuple<std::string, Variant>> {
  protected:
-  GoalTaskSpec spec_ =
-      GoalTaskSpecByName(std::get<0>(GetParam()), std::get<1>(GetParam()));
+  GoalTaskSpec spec_ = GoalTaskSpecByName(std::get<0>(GetParam()), std::get<1>(GetParam()));
 };
 
 TEST_P(GoalLayoutTest, KeepoutsHoldOverAThousandLayouts) {
@@ -105,25 +108,21 @@ TEST_P(GoalLayoutTest, PositionsCoverThePlacementArea) {
   for (int count : quadrants) EXPECT_GT(count, 150);
 }
 
-INSTANTIATE_TEST_SUITE_P(
-    AllTasks, GoalLayoutTest,
-    ::testing::Combine(::testing::Values("PointGoal1", "PointGoal2", "CarGoal1", "CarGoal2"),
-                       ::testing::Values(Variant::kPaper, Variant::kStandard)),
-    [](const auto& info) {
-      return std::get<0>(info.param) + VariantName(std::get<1>(info.param));
-    });
+INSTANTIATE_TEST_SUITE_P(AllTasks, GoalLayoutTest,
+                         ::testing::Combine(::testing::Values("PointGoal1", "PointGoal2",
+                                                              "CarGoal1", "CarGoal2"),
+                                            ::testing::Values(Variant::kPaper, Variant::kStandard)),
+                         [](const auto& info) {
+                           return std::get<0>(info.param) + VariantName(std::get<1>(info.param));
+                         });
 
 TEST(GoalLayoutErrorTest, ImpossibleLayoutIsReportedNotLooped) {
   GoalTaskSpec spec = MakeGoalTaskSpec(RobotKind::kPoint, 1, Variant::kPaper);
   spec.num_hazards = 200;  // cannot fit in 3 x 3 m with 0.36 m between centres
   spec.layout_tries = 20;
   Rng rng(0);
-  try {
-    SampleGoalLayout(spec, rng);
-    FAIL() << "expected an error";
-  } catch (const Error& error) {
-    EXPECT_STREQ(error.what(), "no layout of PointGoal1 fits its keep-outs after 20 tries");
-  }
+  EXPECT_EQ(ErrorMessage([&] { SampleGoalLayout(spec, rng); }),
+            "no layout of PointGoal1 fits its keep-outs after 20 tries");
 }
 
 TEST(GoalLayoutErrorTest, GoalThatCannotFitLeavesTheLayoutAlone) {

@@ -1,11 +1,15 @@
 #include "cmbrl/env/tasks/goal_spec.h"
 
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include "cmbrl/core/check.h"
+#include "tests/error_message.h"
 
 namespace cmbrl {
 namespace {
+
+using testing::ErrorMessage;
 
 TEST(GoalSpecTest, PaperSuiteCountsAndTiming) {
   // Facts B0: 7 / 14 hazards, 1 / 2 constrained vases, goal keep-out 0.35, action repeat
@@ -46,26 +50,17 @@ TEST(GoalSpecTest, StandardSuiteCountsAndTiming) {
 }
 
 TEST(GoalSpecTest, UnknownTaskAndLevelAreNamed) {
-  try {
-    GoalTaskSpecByName("PointGoal3", Variant::kPaper);
-    FAIL() << "expected an error";
-  } catch (const Error& error) {
-    EXPECT_STREQ(error.what(),
-                 "unknown task 'PointGoal3': expected one of PointGoal1, PointGoal2, CarGoal1, "
-                 "CarGoal2");
-  }
+  EXPECT_EQ(ErrorMessage([&] { GoalTaskSpecByName("PointGoal3", Variant::kPaper); }),
+            "unknown task 'PointGoal3': expected one of PointGoal1, PointGoal2, CarGoal1, "
+            "CarGoal2");
   EXPECT_THROW(MakeGoalTaskSpec(RobotKind::kCar, 0, Variant::kPaper), Error);
 }
 
 TEST(GoalSpecTest, VariantNamesRoundTripAndUnknownOnesAreNamed) {
   EXPECT_EQ(ParseVariant("paper"), Variant::kPaper);
   EXPECT_EQ(ParseVariant(VariantName(Variant::kStandard)), Variant::kStandard);
-  try {
-    ParseVariant("stock");
-    FAIL() << "expected an error";
-  } catch (const Error& error) {
-    EXPECT_NE(std::string(error.what()).find("unknown variant 'stock'"), std::string::npos);
-  }
+  EXPECT_THAT(ErrorMessage([&] { ParseVariant("stock"); }),
+              ::testing::HasSubstr("unknown variant 'stock'"));
 }
 
 }  // namespace
