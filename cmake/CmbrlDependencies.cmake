@@ -25,3 +25,23 @@ else()
   target_link_libraries(cmbrl_mujoco INTERFACE "${MUJOCO_LIBRARY}")
   message(STATUS "MuJoCo: ${MUJOCO_LIBRARY}")
 endif()
+
+# LibTorch: Debian's CPU build, or the CUDA one inside a PyTorch installation
+# (-DCMAKE_PREFIX_PATH=$(python3 -c 'import torch;print(torch.utils.cmake_prefix_path)')).
+find_package(Torch REQUIRED)
+add_library(cmbrl_torch INTERFACE)
+target_link_libraries(cmbrl_torch INTERFACE ${TORCH_LIBRARIES})
+target_compile_options(cmbrl_torch INTERFACE ${TORCH_CXX_FLAGS})
+
+# XGBoost: its package file needs the xgboost program package as well; fall back to the header
+# and library.
+find_package(xgboost CONFIG QUIET)
+add_library(cmbrl_xgboost INTERFACE)
+if(TARGET xgboost::xgboost)
+  target_link_libraries(cmbrl_xgboost INTERFACE xgboost::xgboost)
+else()
+  find_path(XGBOOST_INCLUDE_DIR xgboost/c_api.h REQUIRED)
+  find_library(XGBOOST_LIBRARY xgboost REQUIRED)
+  target_include_directories(cmbrl_xgboost SYSTEM INTERFACE "${XGBOOST_INCLUDE_DIR}")
+  target_link_libraries(cmbrl_xgboost INTERFACE "${XGBOOST_LIBRARY}")
+endif()

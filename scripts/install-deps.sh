@@ -17,6 +17,9 @@ packages=(
   libmujoco-dev libqhull-dev libgl-dev
   # Configuration, command line, formatting, JSON, pictures.
   libyaml-cpp-dev libcli11-dev libfmt-dev nlohmann-json3-dev libcairo2-dev
+  # Learned models: LibTorch (CPU) on OpenBLAS, and XGBoost. XGBoost's CMake package file fails
+  # unless the xgboost package (its command-line program) is installed too.
+  libtorch-dev libopenblas-dev libxgboost-dev xgboost
 )
 
 export DEBIAN_FRONTEND=noninteractive

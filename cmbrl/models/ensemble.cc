@@ -1,0 +1,296 @@
+#include "cmbrl/models/ensemble.h"
+
+#include <torch/torch.h>
+
+#include <chrono>
+#include <cmath>
+#include <limits>
+
+#include "cmbrl/core/check.h"
+#include "cmbrl/models/normalizer.h"
+#include "cmbrl/models/torch_util.h"
+
+namespace cmbrl {
+
+struct EnsembleDynamics::State {
+  torch::Device device{torch::kCPU};
+  std::vector<torch::Tensor> weights;  // layer l: (E, in_l, out_l)
+  std::vector<torch::Tensor> biases;   // layer l: (E, 1, out_l)
+  Normalizer input_normalizer;         // over [state, action]
+  Normalizer target_normalizer;        // over next state (or its change)
+  std::unique_ptr<torch::optim::Adam> optimizer;
+  at::Generator generator;
+  int fits = 0;
+};
+
+void ValidateEnsembleOptions(const EnsembleOptions& o) {
+  Require(o.ensemble_size >= 1, "ensemble_size is {}: expected at least 1", o.ensemble_size);
+  for (size_t i = 0; i < o.hidden_sizes.size(); ++i) {
+    Require(o.hidden_sizes[i] >= 1, "hidden_sizes[{}] is {}: expected a positive width", i,
+            o.hidden_sizes[i]);
+  }
+  Require(o.learning_rate > 0 && std::isfinite(o.learning_rate),
+          "learning_rate is {}: expected a positive number", o.learning_rate);
+  Require(o.batch_size >= 1, "batch_size is {}: expected at least 1", o.batch_size);
+  Require(o.max_epochs >= 1, "max_epochs is {}: expected at least 1", o.max_epochs);
+  Require(o.validation_fraction >= 0 && o.validation_fraction < 1,
+          "validation_fraction is {}: expected a number in [0, 1)", o.validation_fraction);
+  Require(o.member_subset_fraction > 0 && o.member_subset_fraction <= 1,
+          "member_subset_fraction is {}: expected a number in (0, 1]", o.member_subset_fraction);
+  Require(o.validate_every >= 1, "validate_every is {}: expected at least 1", o.validate_every);
+  Require(o.patience >= 1, "patience is {}: expected at least 1", o.patience);
+  Require(o.init_std > 0 && std::isfinite(o.init_std), "init_std is {}: expected a positive number",
+          o.init_std);
+  Require(o.min_std >= 0, "min_std is {}: expected a non-negative number", o.min_std);
+}
+
+EnsembleDynamics::EnsembleDynamics(int state_dim, int action_dim, EnsembleOptions options,
+                                   std::uint64_t seed)
+    : state_dim_(state_dim),
+      action_dim_(action_dim),
+      options_(std::move(options)),
+      state_(std::make_unique<State>()) {
+  Require(state_dim >= 1, "state_dim is {}: expected a positive number", state_dim);
+  Require(action_dim >= 1, "action_dim is {}: expected a positive number", action_dim);
+  ValidateEnsembleOptions(options_);
+  State& s = *state_;
+  s.device = ParseDevice(options_.device);
+  s.generator = MakeCpuGenerator(seed);
+  s.input_normalizer = Normalizer(state_dim + action_dim);
+  s.target_normalizer = Normalizer(state_dim);
+  s.input_normalizer.To(s.device);
+  s.target_normalizer.To(s.device);
+
+  // Weights N(0, init_std) (facts B3); biases as PyTorch's Linear: U(-1/sqrt(in), 1/sqrt(in)).
+  // Drawn on the CPU from the seeded generator, then moved: the same on every device.
+  std::vector<int> sizes = {state_dim + action_dim};
+  sizes.insert(sizes.end(), options_.hidden_sizes.begin(), options_.hidden_sizes.end());
+  sizes.push_back(state_dim);
+  const std::int64_t members = options_.ensemble_size;
+  std::vector<torch::Tensor> parameters;
+  for (size_t layer = 0; layer + 1 < sizes.size(); ++layer) {
+    const std::int64_t in = sizes[layer], out = sizes[layer + 1];
+    const double bound = 1.0 / std::sqrt(static_cast<double>(in));
+    torch::Tensor weight =
+        torch::empty({members, in, out}).normal_(0.0, options_.init_std, s.generator);
+    torch::Tensor bias = torch::empty({members, 1, out}).uniform_(-bound, bound, s.generator);
+    s.weights.push_back(weight.to(s.device).requires_grad_(true));
+    s.biases.push_back(bias.to(s.device).requires_grad_(true));
+    parameters.push_back(s.weights.back());
+    parameters.push_back(s.biases.back());
+  }
+  s.optimizer = std::make_unique<torch::optim::Adam>(
+      parameters, torch::optim::AdamOptions(options_.learning_rate));
+}
+
+EnsembleDynamics::~EnsembleDynamics() = default;
+
+torch::Tensor EnsembleDynamics::Forward(const torch::Tensor& x) const {
+  torch::Tensor h = x;  // (E, N, in)
+  const size_t layers = state_->weights.size();
+  for (size_t l = 0; l < layers; ++l) {
+    h = torch::baddbmm(state_->biases[l], h, state_->weights[l]);
+    if (l + 1 < layers) h = torch::relu(h);
+  }
+  return h;  // (E, N, S), normalised targets
+}
+
+torch::Tensor EnsembleDynamics::PredictUnchecked(const torch::Tensor& states,
+                                                 const torch::Tensor& actions) const {
+  const torch::NoGradGuard no_grad;
+  const State& s = *state_;
+  CheckFloatTensor(states, "states", state_dim_, s.device);
+  CheckFloatTensor(actions, "actions", action_dim_, s.device);
+  Require(states.dim() == 3 && states.size(0) == options_.ensemble_size,
+          "states have shape {}: expected (E={}, N, {})", c10::str(states.sizes()),
+          options_.ensemble_size, state_dim_);
+  Require(
+      actions.dim() == 3 && actions.size(0) == states.size(0) && actions.size(1) == states.size(1),
+      "actions have shape {}: expected (E={}, N={}, {})", c10::str(actions.sizes()),
+      options_.ensemble_size, states.size(1), action_dim_);
+  const torch::Tensor inputs = s.input_normalizer.Normalize(torch::cat({states, actions}, -1));
+  torch::Tensor next = s.target_normalizer.Denormalize(Forward(inputs));
+  if (options_.predict_delta) next = next + states;
+  return next;
+}
+
+torch::Tensor EnsembleDynamics::Predict(const torch::Tensor& states,
+                                        const torch::Tensor& actions) const {
+  CheckFloatTensor(states, "states", state_dim_, state_->device);
+  CheckFloatTensor(actions, "actions", action_dim_, state_->device);
+  CheckFinite(states, "states");
+  CheckFinite(actions, "actions");
+  return PredictUnchecked(states, actions);
+}
+
+EnsembleFitReport EnsembleDynamics::Fit(const TransitionBuffer& data) {
+  const auto start = std::chrono::steady_clock::now();
+  Require(data.state_dim() == state_dim_ && data.action_dim() == action_dim_,
+          "transition buffer is ({}, {}) but the ensemble is ({}, {}) (state, action)",
+          data.state_dim(), data.action_dim(), state_dim_, action_dim_);
+  const std::int64_t n = data.size();
+  Require(n >= 2, "a dynamics fit needs at least 2 transitions, the buffer has {}", n);
+  State& s = *state_;
+  const std::int64_t members = options_.ensemble_size;
+
+  // Data and normalisers (recomputed at every fit over the whole buffer).
+  const auto rows = [n](const float* data, std::int64_t dim) {
+    return torch::from_blob(const_cast<float*>(data), {n, dim}, torch::kFloat).clone();
+  };
+  const torch::Tensor states = rows(data.states(), state_dim_);
+  const torch::Tensor inputs = torch::cat({states, rows(data.actions(), action_dim_)}, 1);
+  torch::Tensor targets = rows(data.next_states(), state_dim_);
+  if (options_.predict_delta) targets = targets - states;
+  s.input_normalizer.Fit(inputs, options_.min_std);
+  s.target_normalizer.Fit(targets, options_.min_std);
+  const torch::Tensor x = s.input_normalizer.Normalize(inputs.to(s.device));
+  const torch::Tensor y = s.target_normalizer.Normalize(targets.to(s.device));
+
+  // A fresh train/validation split; at least one row trains.
+  std::int64_t validation_size =
+      static_cast<std::int64_t>(std::floor(options_.validation_fraction * n));
+  validation_size = std::min(validation_size, n - 1);
+  const torch::Tensor order = torch::randperm(n, s.generator, torch::kLong);
+  const torch::Tensor validation_rows = order.slice(0, 0, validation_size).to(s.device);
+  const torch::Tensor train_rows = order.slice(0, validation_size).to(s.device);
+  const std::int64_t train_size = n - validation_size;
+  const std::int64_t subset = std::max<std::int64_t>(
+      1, static_cast<std::int64_t>(options_.member_subset_fraction * train_size));
+  const torch::Tensor x_val =
+      x.index_select(0, validation_rows).unsqueeze(0).expand({members, validation_size, x.size(1)});
+  const torch::Tensor y_val = y.index_select(0, validation_rows);
+
+  EnsembleFitReport report;
+  report.train_size = static_cast<int>(train_size);
+  report.validation_size = static_cast<int>(validation_size);
+  report.validation_mse = std::numeric_limits<double>::quiet_NaN();
+  report.best_validation_mse = std::numeric_limits<double>::infinity();
+  int checks_without_improvement = 0;
+  for (int epoch = 1; epoch <= options_.max_epochs; ++epoch) {
+    // Each member's own fresh subset of the train split, without replacement: (E, subset).
+    std::vector<torch::Tensor> picks;
+    for (std::int64_t m = 0; m < members; ++m) {
+      picks.push_back(torch::randperm(train_size, s.generator, torch::kLong).slice(0, 0, subset));
+    }
+    const torch::Tensor member_rows = train_rows.index({torch::stack(picks).to(s.device)});
+    torch::Tensor epoch_loss = torch::zeros({}, torch::TensorOptions(s.device));
+    for (std::int64_t begin = 0; begin < subset; begin += options_.batch_size) {
+      const std::int64_t end = std::min(begin + options_.batch_size, subset);
+      const torch::Tensor batch = member_rows.slice(1, begin, end);  // (E, B)
+      const torch::Tensor prediction = Forward(x.index({batch}));    // (E, B, S)
+      // Sum over members of each member's mean: every member gets its own MSE gradient.
+      const torch::Tensor loss = (prediction - y.index({batch})).pow(2).mean({1, 2}).sum();
+      s.optimizer->zero_grad();
+      loss.backward();
+      s.optimizer->step();
+      epoch_loss += loss.detach() * static_cast<double>(end - begin);
+    }
+    report.epochs = epoch;
+    report.train_mse = epoch_loss.item<double>() / static_cast<double>(subset * members);
+    if (validation_size == 0 || epoch % options_.validate_every != 0) continue;
+    const torch::NoGradGuard no_grad;
+    report.validation_mse = (Forward(x_val) - y_val.unsqueeze(0)).pow(2).mean().item<double>();
+    if (report.validation_mse < report.best_validation_mse) {
+      report.best_validation_mse = report.validation_mse;
+      checks_without_improvement = 0;
+    } else if (++checks_without_improvement >= options_.patience) {
+      report.stopped_early = true;
+      break;
+    }
+  }
+  if (validation_size == 0) report.best_validation_mse = report.validation_mse;
+  ++s.fits;
+  report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return report;
+}
+
+torch::Tensor EnsembleDynamics::NormalizeInputs(const torch::Tensor& inputs) const {
+  return state_->input_normalizer.Normalize(inputs);
+}
+
+torch::Tensor EnsembleDynamics::DenormalizeInputs(const torch::Tensor& normalized) const {
+  return state_->input_normalizer.Denormalize(normalized);
+}
+
+double EnsembleDynamics::PredictFlops(std::int64_t samples) const {
+  double per_row = 0.0;
+  for (const torch::Tensor& w : state_->weights) {
+    per_row += 2.0 * static_cast<double>(w.size(1)) * static_cast<double>(w.size(2));
+  }
+  return per_row * static_cast<double>(samples) * options_.ensemble_size;
+}
+
+namespace {
+
+// Header of a saved ensemble: the dimensions a file must match.
+torch::Tensor Shape(int state_dim, int action_dim, const EnsembleOptions& options) {
+  std::vector<std::int64_t> shape = {state_dim, action_dim, options.ensemble_size,
+                                     options.predict_delta ? 1 : 0};
+  shape.insert(shape.end(), options.hidden_sizes.begin(), options.hidden_sizes.end());
+  return torch::tensor(shape, torch::kLong);
+}
+
+}  // namespace
+
+void EnsembleDynamics::Save(const std::string& path) const {
+  const State& s = *state_;
+  torch::serialize::OutputArchive archive;
+  archive.write("format", torch::tensor({1}, torch::kLong));
+  archive.write("shape", Shape(state_dim_, action_dim_, options_));
+  for (size_t l = 0; l < s.weights.size(); ++l) {
+    archive.write("weight" + std::to_string(l), s.weights[l].detach().cpu());
+    archive.write("bias" + std::to_string(l), s.biases[l].detach().cpu());
+  }
+  archive.write("input_mean", s.input_normalizer.mean().cpu());
+  archive.write("input_std", s.input_normalizer.std().cpu());
+  archive.write("target_mean", s.target_normalizer.mean().cpu());
+  archive.write("target_std", s.target_normalizer.std().cpu());
+  archive.write("generator", s.generator.get_state());
+  archive.write("fits", torch::tensor({s.fits}, torch::kLong));
+  torch::serialize::OutputArchive optimizer;
+  s.optimizer->save(optimizer);
+  archive.write("optimizer", optimizer);
+  try {
+    archive.save_to(path);
+  } catch (const c10::Error& error) {
+    Fail("could not write the ensemble to '{}': {}", path, error.what_without_backtrace());
+  }
+}
+
+void EnsembleDynamics::Load(const std::string& path) {
+  State& s = *state_;
+  torch::serialize::InputArchive archive;
+  try {
+    archive.load_from(path);
+  } catch (const c10::Error& error) {
+    Fail("could not read an ensemble from '{}': {}", path, error.what_without_backtrace());
+  }
+  const auto read = [&archive, &path](const std::string& key) {
+    torch::Tensor t;
+    Require(archive.try_read(key, t), "'{}' is not a cmbrl ensemble file: it has no '{}'", path,
+            key);
+    return t;
+  };
+  const torch::Tensor shape = read("shape");
+  const torch::Tensor expected = Shape(state_dim_, action_dim_, options_);
+  Require(shape.sizes() == expected.sizes() && torch::equal(shape, expected),
+          "ensemble file '{}' has shape {} (state, action, members, delta, hidden...), this "
+          "ensemble is {}",
+          path, c10::str(shape), c10::str(expected));
+  {
+    const torch::NoGradGuard no_grad;
+    for (size_t l = 0; l < s.weights.size(); ++l) {
+      s.weights[l].copy_(read("weight" + std::to_string(l)));
+      s.biases[l].copy_(read("bias" + std::to_string(l)));
+    }
+  }
+  s.input_normalizer.Set(read("input_mean").to(s.device), read("input_std").to(s.device));
+  s.target_normalizer.Set(read("target_mean").to(s.device), read("target_std").to(s.device));
+  s.generator.set_state(read("generator"));
+  s.fits = static_cast<int>(read("fits").item<std::int64_t>());
+  torch::serialize::InputArchive optimizer;
+  Require(archive.try_read("optimizer", optimizer), "'{}' has no optimiser state", path);
+  s.optimizer->load(optimizer);
+}
+
+}  // namespace cmbrl

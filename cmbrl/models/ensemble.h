@@ -1,0 +1,94 @@
+// The dynamics ensemble of the paper (Section IV-A and appendix "Training detail"; facts B3): E
+// MLPs from (state, action) to next state, evaluated together with batched matrix products.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "cmbrl/models/dynamics_model.h"
+#include "cmbrl/models/transition_buffer.h"
+
+namespace cmbrl {
+
+struct EnsembleOptions {
+  int ensemble_size = 4;                               // E: 4 for Point, 5 for Car in the paper
+  std::vector<int> hidden_sizes = {1024, 1024, 1024};  // ReLU hidden layers
+  bool predict_delta = false;           // false: absolute next state (paper); true: the change
+  double learning_rate = 1e-3;          // Adam
+  int batch_size = 256;                 // per member per step
+  int max_epochs = 70;                  // per fit
+  double validation_fraction = 0.15;    // held out by a fresh random split at every fit
+  double member_subset_fraction = 0.8;  // each member's fresh share of the train split per epoch
+  int validate_every = 5;               // epochs between validation checks
+  int patience = 5;                     // checks without improvement before stopping
+  double init_std = 0.02;               // weights start as N(0, init_std); biases as PyTorch's
+  double min_std = 1e-3;                // normaliser: smaller standard deviations become 1
+  std::string device = "cpu";           // "cpu", "cuda" or "cuda:i"
+};
+
+// Throws cmbrl::Error naming the first field with a bad value.
+void ValidateEnsembleOptions(const EnsembleOptions& options);
+
+// What one fit did. MSEs are in normalised target units, averaged over members.
+struct EnsembleFitReport {
+  int epochs = 0;
+  int train_size = 0;
+  int validation_size = 0;
+  double train_mse = 0.0;            // last epoch, over the members' subsets
+  double validation_mse = 0.0;       // last check (NaN when nothing was held out)
+  double best_validation_mse = 0.0;  // best check of this fit
+  bool stopped_early = false;
+  double seconds = 0.0;
+};
+
+// The ensemble. Weights live as stacked (E, in, out) tensors on one device; Predict runs all
+// members in one batched pass. Fit trains every member in the same batched step with Adam,
+// warm-starting from the previous fit (weights and optimiser state). Predict is safe to call
+// concurrently; Fit, Load and Save are not, with each other or with Predict.
+class EnsembleDynamics final : public DynamicsModel {
+ public:
+  // Throws cmbrl::Error for bad options or an unavailable device. `seed` drives weight
+  // initialisation, the data splits and the minibatch order.
+  EnsembleDynamics(int state_dim, int action_dim, EnsembleOptions options, std::uint64_t seed);
+  ~EnsembleDynamics() override;
+
+  int state_dim() const override { return state_dim_; }
+  int action_dim() const override { return action_dim_; }
+  int ensemble_size() const override { return options_.ensemble_size; }
+  const EnsembleOptions& options() const { return options_; }
+
+  torch::Tensor Predict(const torch::Tensor& states, const torch::Tensor& actions) const override;
+  torch::Tensor PredictUnchecked(const torch::Tensor& states,
+                                 const torch::Tensor& actions) const override;
+
+  // Recomputes the normalisers over the whole buffer, then trains (facts B3). Throws
+  // cmbrl::Error when the buffer has fewer than 2 transitions or other dimensions.
+  EnsembleFitReport Fit(const TransitionBuffer& data);
+
+  // Weights, normalisers, optimiser state and generator state, in one file. Load checks that
+  // the file matches this ensemble's dimensions and throws cmbrl::Error naming the difference.
+  void Save(const std::string& path) const;
+  void Load(const std::string& path);
+
+  // Normalisers, for inspection and tests: inputs are [state, action], targets the next state
+  // (or its change).
+  torch::Tensor NormalizeInputs(const torch::Tensor& inputs) const;
+  torch::Tensor DenormalizeInputs(const torch::Tensor& normalized) const;
+
+  // Floating-point operations of one Predict over E x `samples` rows (multiply-adds count 2).
+  double PredictFlops(std::int64_t samples) const;
+
+ private:
+  struct State;
+
+  torch::Tensor Forward(const torch::Tensor& normalized_inputs) const;
+
+  int state_dim_;
+  int action_dim_;
+  EnsembleOptions options_;
+  std::unique_ptr<State> state_;
+};
+
+}  // namespace cmbrl

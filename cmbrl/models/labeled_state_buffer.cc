@@ -1,0 +1,55 @@
+#include "cmbrl/models/labeled_state_buffer.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "cmbrl/core/check.h"
+
+namespace cmbrl {
+
+LabeledStateBuffer::LabeledStateBuffer(int state_dim, int safe_capacity, int unsafe_capacity)
+    : state_dim_(state_dim) {
+  Require(state_dim > 0, "state_dim is {}: expected a positive number", state_dim);
+  Require(safe_capacity > 0, "safe_capacity is {}: expected a positive number", safe_capacity);
+  Require(unsafe_capacity > 0, "unsafe_capacity is {}: expected a positive number",
+          unsafe_capacity);
+  safe_.capacity = safe_capacity;
+  safe_.rows.resize(static_cast<size_t>(safe_capacity) * state_dim);
+  unsafe_.capacity = unsafe_capacity;
+  unsafe_.rows.resize(static_cast<size_t>(unsafe_capacity) * state_dim);
+}
+
+void LabeledStateBuffer::Add(const std::vector<double>& state, bool unsafe) {
+  Require(static_cast<int>(state.size()) == state_dim_, "labeled state has {} entries, expected {}",
+          state.size(), state_dim_);
+  for (size_t i = 0; i < state.size(); ++i) {
+    Require(std::isfinite(state[i]), "labeled state entry {} is {}: expected a finite number", i,
+            state[i]);
+  }
+  Push(unsafe ? unsafe_ : safe_, state);
+}
+
+void LabeledStateBuffer::Push(Ring& ring, const std::vector<double>& state) {
+  std::copy(state.begin(), state.end(),
+            ring.rows.begin() + static_cast<size_t>(ring.next_slot) * state_dim_);
+  ring.next_slot = (ring.next_slot + 1) % ring.capacity;
+  ring.size = std::min(ring.size + 1, ring.capacity);
+}
+
+std::vector<float> LabeledStateBuffer::Newest(const Ring& ring, int count) const {
+  count = std::clamp(count, 0, ring.size);
+  std::vector<float> out(static_cast<size_t>(count) * state_dim_);
+  // The newest row sits just before next_slot; walk back `count` rows, write oldest first.
+  for (int i = 0; i < count; ++i) {
+    const int slot = ((ring.next_slot - count + i) % ring.capacity + ring.capacity) % ring.capacity;
+    std::copy_n(ring.rows.begin() + static_cast<size_t>(slot) * state_dim_, state_dim_,
+                out.begin() + static_cast<size_t>(i) * state_dim_);
+  }
+  return out;
+}
+
+std::vector<float> LabeledStateBuffer::NewestSafe(int count) const { return Newest(safe_, count); }
+
+std::vector<float> LabeledStateBuffer::AllUnsafe() const { return Newest(unsafe_, unsafe_.size); }
+
+}  // namespace cmbrl

@@ -1,0 +1,52 @@
+#include "cmbrl/models/torch_util.h"
+
+#include <ATen/CPUGeneratorImpl.h>
+
+#include "cmbrl/core/check.h"
+
+namespace cmbrl {
+
+at::Generator MakeCpuGenerator(std::uint64_t seed) {
+  return at::make_generator<at::CPUGeneratorImpl>(seed);
+}
+
+torch::Device ParseDevice(const std::string& name, const char* key) {
+  torch::Device device(torch::kCPU);
+  try {
+    device = torch::Device(name);
+  } catch (const c10::Error&) {
+    Fail("{} '{}' is not a device: expected 'cpu', 'cuda' or 'cuda:N'", key, name);
+  }
+  Require(device.is_cpu() || device.is_cuda(), "{} '{}': expected 'cpu', 'cuda' or 'cuda:N'", key,
+          name);
+  if (device.is_cuda()) {
+    Require(torch::cuda::is_available(),
+            "{} '{}' asks for CUDA, but this LibTorch has no CUDA or sees no GPU: use 'cpu'", key,
+            name);
+    const int count = static_cast<int>(torch::cuda::device_count());
+    Require(!device.has_index() || device.index() < count,
+            "{} '{}': only {} CUDA device(s) are visible", key, name, count);
+  }
+  return device;
+}
+
+void CheckFloatTensor(const torch::Tensor& t, const char* what, std::int64_t last_dim,
+                      const torch::Device& device) {
+  Require(t.defined(), "{} is an undefined tensor", what);
+  Require(t.scalar_type() == torch::kFloat, "{} has dtype {}: expected float32", what,
+          std::string(c10::toString(t.scalar_type())));
+  Require(t.dim() >= 1 && t.size(-1) == last_dim, "{} has shape {}: expected (..., {})", what,
+          c10::str(t.sizes()), last_dim);
+  Require(t.device() == device, "{} is on {}: expected {}", what, t.device().str(), device.str());
+}
+
+void CheckFinite(const torch::Tensor& t, const char* what) {
+  const torch::Tensor bad = torch::logical_not(torch::isfinite(t));
+  if (!bad.any().item<bool>()) return;
+  const std::int64_t flat = bad.flatten().nonzero()[0][0].item<std::int64_t>();
+  const std::int64_t columns = t.dim() > 0 ? t.size(-1) : 1;
+  Fail("{} has a non-finite value {} at row {}, column {}: expected finite numbers", what,
+       t.flatten()[flat].item<float>(), flat / columns, flat % columns);
+}
+
+}  // namespace cmbrl

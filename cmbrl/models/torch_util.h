@@ -1,0 +1,27 @@
+// Small LibTorch helpers shared by the models.
+#pragma once
+
+#include <torch/torch.h>
+
+#include <cstdint>
+#include <string>
+
+namespace cmbrl {
+
+// A CPU generator seeded from `seed`. Random numbers for models are drawn on the CPU and moved
+// to the device, so a seed gives the same draws on every device.
+at::Generator MakeCpuGenerator(std::uint64_t seed);
+
+// Parses "cpu", "cuda" or "cuda:i"; throws cmbrl::Error naming the key and value when the string
+// is not a device or the device is not available in this build or machine.
+torch::Device ParseDevice(const std::string& name, const char* key = "device");
+
+// Throws cmbrl::Error naming `what` unless `t` is (…, last_dim) float32 on `device`.
+void CheckFloatTensor(const torch::Tensor& t, const char* what, std::int64_t last_dim,
+                      const torch::Device& device);
+
+// Throws cmbrl::Error naming `what` and the first bad element when `t` has a NaN or infinity.
+// One host synchronisation.
+void CheckFinite(const torch::Tensor& t, const char* what);
+
+}  // namespace cmbrl

@@ -1,0 +1,46 @@
+// Ring buffer of (state, action, next state) transitions for fitting the dynamics model
+// (paper Section IV-A; facts B3).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+namespace cmbrl {
+
+// Fixed-capacity ring of transitions stored as float rows; the oldest is overwritten when full.
+// Not thread-safe.
+class TransitionBuffer {
+ public:
+  // Throws cmbrl::Error for non-positive sizes.
+  TransitionBuffer(int state_dim, int action_dim, int capacity = 500000);
+
+  // Stores a transition unless it reached the goal or ended the episode: those jump (the goal
+  // is relocated, the episode restarts) and the paper's code leaves them out. Returns whether
+  // it was stored. Throws cmbrl::Error for wrong sizes or non-finite values.
+  bool Add(const std::vector<double>& state, const std::vector<double>& action,
+           const std::vector<double>& next_state, bool goal_met = false, bool episode_end = false);
+
+  int size() const { return size_; }
+  int capacity() const { return capacity_; }
+  int state_dim() const { return state_dim_; }
+  int action_dim() const { return action_dim_; }
+  std::int64_t total_added() const { return total_added_; }  // stored ever, overwritten included
+
+  // Row i (0 <= i < size()) of each array; rows are in storage order, not time order.
+  const float* states() const { return states_.data(); }     // (size, state_dim)
+  const float* actions() const { return actions_.data(); }   // (size, action_dim)
+  const float* next_states() const { return next_.data(); }  // (size, state_dim)
+
+ private:
+  int state_dim_;
+  int action_dim_;
+  int capacity_;
+  int size_ = 0;
+  int next_slot_ = 0;
+  std::int64_t total_added_ = 0;
+  std::vector<float> states_;
+  std::vector<float> actions_;
+  std::vector<float> next_;
+};
+
+}  // namespace cmbrl

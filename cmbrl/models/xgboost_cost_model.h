@@ -1,0 +1,98 @@
+// The constraint classifier of the paper (Section IV-A, appendix "Training detail"; facts B4):
+// gradient-boosted trees on the next state, with XGBoost set to mirror the paper's LightGBM.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "cmbrl/models/cost_model.h"
+#include "cmbrl/models/labeled_state_buffer.h"
+#include "cmbrl/models/tree_ensemble.h"
+
+namespace cmbrl {
+
+struct XgbCostModelOptions {
+  int rounds = 400;            // trees (LightGBM n_estimators)
+  double learning_rate = 0.3;  // eta
+  int max_depth = 8;
+  int max_leaves = 12;                    // LightGBM num_leaves
+  std::string grow_policy = "lossguide";  // leaf-wise growth, as LightGBM
+  std::string tree_method = "hist";
+  double l2_regularization = 0.0;  // XGBoost lambda; LightGBM's lambda_l2 default is 0
+  double min_child_weight = 1e-3;  // LightGBM's min_sum_hessian_in_leaf
+  bool boost_from_average = true;  // start from the unsafe fraction (LightGBM's default)
+  double threshold = 0.5;          // violation when the probability exceeds this
+  int safe_per_unsafe = 3;         // a fit uses at most safe_per_unsafe * n_unsafe + 1 safe
+  int threads = 1;                 // XGBoost threads (the paper's n_jobs 1)
+  std::string device = "cpu";      // where PredictViolation evaluates tensors
+};
+
+// Throws cmbrl::Error naming the first field with a bad value.
+void ValidateXgbCostModelOptions(const XgbCostModelOptions& options);
+
+// What one fit did. Accuracies are over the states the fit used.
+struct CostFitReport {
+  int safe_used = 0;
+  int unsafe_used = 0;
+  bool trained = false;          // false until at least one unsafe state was seen
+  double safe_accuracy = 0.0;    // fraction of safe states classified safe
+  double unsafe_accuracy = 0.0;  // recall of the unsafe class (NaN with no unsafe state)
+  int trees = 0;
+  double seconds = 0.0;
+};
+
+// XGBoost binary classifier retrained from scratch at every fit; predictions go through the
+// exported flat trees (host) or their tensors (device), never row by row through XGBoost. Until
+// a fit has seen an unsafe state every state is predicted safe: with no violation observed there
+// is nothing to avoid yet. Predictions are safe to call concurrently; Fit and Load are not.
+class XgbCostModel final : public CostModel {
+ public:
+  // Throws cmbrl::Error for bad options or an unavailable device.
+  XgbCostModel(int state_dim, XgbCostModelOptions options, std::uint64_t seed);
+  ~XgbCostModel() override;
+
+  int state_dim() const override { return state_dim_; }
+  const XgbCostModelOptions& options() const { return options_; }
+  bool trained() const { return trained_; }
+
+  // Uses every unsafe state and the newest safe_per_unsafe * n_unsafe + 1 safe states.
+  CostFitReport Fit(const LabeledStateBuffer& data);
+
+  // The same from arrays: (safe_count, S) and (unsafe_count, S) row-major floats.
+  CostFitReport FitArrays(const float* safe, int safe_count, const float* unsafe, int unsafe_count);
+
+  torch::Tensor PredictViolation(const torch::Tensor& states) const override;
+  std::vector<std::uint8_t> PredictRows(const float* states, int rows) const override;
+
+  // Log-odds of a violation per row through the flat trees, and through XGBoost's own predictor
+  // (for checks; slow). Both need a trained model.
+  std::vector<float> Margins(const float* states, int rows) const;
+  std::vector<float> XgboostMargins(const float* states, int rows) const;
+
+  const FlatTreeEnsemble& trees() const { return trees_; }
+  float margin_threshold() const { return margin_threshold_; }
+
+  // The booster (XGBoost's JSON) and this model's settings in one JSON file. Load checks the
+  // state dimension and throws cmbrl::Error naming a mismatch.
+  void Save(const std::string& path) const;
+  void Load(const std::string& path);
+
+ private:
+  struct Booster;
+  class DeviceTrees;
+
+  void AdoptBoosterJson(const std::string& json);
+
+  int state_dim_;
+  XgbCostModelOptions options_;
+  std::uint64_t seed_;
+  bool trained_ = false;
+  float margin_threshold_ = 0.0f;  // violation when margin > this (logit of the threshold)
+  std::unique_ptr<Booster> booster_;
+  FlatTreeEnsemble trees_;
+  std::unique_ptr<DeviceTrees> device_trees_;
+};
+
+}  // namespace cmbrl

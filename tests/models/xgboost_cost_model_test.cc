@@ -1,0 +1,180 @@
+#include "cmbrl/models/xgboost_cost_model.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <torch/torch.h>
+
+#include <filesystem>
+
+#include "cmbrl/models/tree_ensemble_tensor.h"
+#include "tests/error_message.h"
+#include "tests/models/hazard_data.h"
+
+namespace cmbrl {
+namespace {
+
+using testing::ErrorMessage;
+using testing::kHazardStateDim;
+
+// One trained model shared by the tests of this file (a fit takes about a second).
+class XgbCostModelTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    // Imbalanced 1:20 as the buffers fill in the task; the fit then uses every unsafe state and
+    // the newest 3 n_unsafe + 1 safe ones.
+    const testing::HazardData data = testing::MakeHazardData(40000, 2000, 1);
+    buffer_ = new LabeledStateBuffer(kHazardStateDim, 50000, 10000);
+    for (int i = 0; i < data.safe_count; ++i) {
+      buffer_->Add(std::vector<double>(data.safe.begin() + i * kHazardStateDim,
+                                       data.safe.begin() + (i + 1) * kHazardStateDim),
+                   false);
+    }
+    for (int i = 0; i < data.unsafe_count; ++i) {
+      buffer_->Add(std::vector<double>(data.unsafe.begin() + i * kHazardStateDim,
+                                       data.unsafe.begin() + (i + 1) * kHazardStateDim),
+                   true);
+    }
+    model_ = new XgbCostModel(kHazardStateDim, XgbCostModelOptions{}, 3);
+    report_ = model_->Fit(*buffer_);
+    test_ = new testing::HazardData(testing::MakeHazardData(10000, 2000, 2));
+  }
+  static void TearDownTestSuite() {
+    delete model_;
+    delete buffer_;
+    delete test_;
+  }
+  static LabeledStateBuffer* buffer_;
+  static XgbCostModel* model_;
+  static CostFitReport report_;
+  static testing::HazardData* test_;
+};
+LabeledStateBuffer* XgbCostModelTest::buffer_ = nullptr;
+XgbCostModel* XgbCostModelTest::model_ = nullptr;
+CostFitReport XgbCostModelTest::report_;
+testing::HazardData* XgbCostModelTest::test_ = nullptr;
+
+TEST_F(XgbCostModelTest, FitUsesEveryUnsafeAndThreeTimesAsManySafeStates) {
+  EXPECT_TRUE(report_.trained);
+  EXPECT_EQ(report_.unsafe_used, 2000);
+  EXPECT_EQ(report_.safe_used, 6001);
+  EXPECT_EQ(report_.trees, 400);
+  EXPECT_GT(report_.safe_accuracy, 0.97);
+  EXPECT_GT(report_.unsafe_accuracy, 0.97);
+  EXPECT_LE(model_->trees().max_depth(), 8);
+}
+
+TEST_F(XgbCostModelTest, RecallOnHeldOutUnsafeStatesIsAtLeastNinetyFivePercent) {
+  const std::vector<std::uint8_t> unsafe =
+      model_->PredictRows(test_->unsafe.data(), test_->unsafe_count);
+  const std::vector<std::uint8_t> safe = model_->PredictRows(test_->safe.data(), test_->safe_count);
+  int caught = 0, false_alarms = 0;
+  for (std::uint8_t v : unsafe) caught += v;
+  for (std::uint8_t v : safe) false_alarms += v;
+  // Measured: 98.3% recall, 1.4% false alarms on 10,000 held-out safe states.
+  EXPECT_GE(caught, 0.95 * test_->unsafe_count);
+  EXPECT_LE(false_alarms, 0.05 * test_->safe_count);
+}
+
+TEST_F(XgbCostModelTest, FlatTreesEqualXgboostBitForBit) {
+  const std::vector<float> ours = model_->Margins(test_->safe.data(), 3000);
+  const std::vector<float> theirs = model_->XgboostMargins(test_->safe.data(), 3000);
+  EXPECT_EQ(ours, theirs);
+  const std::vector<float> ours_unsafe = model_->Margins(test_->unsafe.data(), 2000);
+  EXPECT_EQ(ours_unsafe, model_->XgboostMargins(test_->unsafe.data(), 2000));
+}
+
+TEST_F(XgbCostModelTest, TensorTreesAgreeWithTheFlatTrees) {
+  const int rows = 3000;
+  const std::vector<float> flat = model_->Margins(test_->safe.data(), rows);
+  const torch::Tensor states =
+      torch::from_blob(test_->safe.data(), {rows, kHazardStateDim}).clone();
+  const TreeEnsembleTensors tensors(model_->trees(), torch::Device(torch::kCPU));
+  const torch::Tensor margins = tensors.Margins(states);
+  const torch::Tensor expected = torch::tensor(flat);
+  // Summation order differs: margins of magnitude up to ~30 agree to 1e-4.
+  EXPECT_LT((margins - expected).abs().max().item<float>(), 1e-4f);
+  // And the class agrees on every row whose margin is not within that of the threshold.
+  const torch::Tensor clear = expected.abs() > 1e-4f;
+  EXPECT_TRUE(
+      torch::equal((margins > 0).masked_select(clear), (expected > 0).masked_select(clear)));
+  // PredictViolation keeps batch shapes: (2, 1500, S) -> (2, 1500).
+  const torch::Tensor violations = model_->PredictViolation(states.reshape({2, rows / 2, -1}));
+  ASSERT_EQ(violations.sizes(), torch::IntArrayRef({2, rows / 2}));
+  const std::vector<std::uint8_t> rows_result = model_->PredictRows(test_->safe.data(), rows);
+  for (int i = 0; i < rows; ++i) {
+    ASSERT_EQ(violations.reshape({-1})[i].item<float>(), rows_result[i]) << "row " << i;
+  }
+}
+
+TEST_F(XgbCostModelTest, TensorTreesOnCudaAgreeWhenAvailable) {
+  if (!torch::cuda::is_available()) GTEST_SKIP() << "this LibTorch has no CUDA or sees no GPU";
+  const int rows = 3000;
+  const torch::Tensor states =
+      torch::from_blob(test_->safe.data(), {rows, kHazardStateDim}).clone();
+  const TreeEnsembleTensors cpu(model_->trees(), torch::Device(torch::kCPU));
+  const TreeEnsembleTensors cuda(model_->trees(), torch::Device(torch::kCUDA));
+  EXPECT_LT((cpu.Margins(states) - cuda.Margins(states.cuda()).cpu()).abs().max().item<float>(),
+            1e-4f);
+}
+
+TEST_F(XgbCostModelTest, SaveThenLoadPredictsTheSame) {
+  const std::string path = ::testing::TempDir() + "/cost_model_test.json";
+  model_->Save(path);
+  XgbCostModel loaded(kHazardStateDim, XgbCostModelOptions{}, 99);
+  loaded.Load(path);
+  EXPECT_TRUE(loaded.trained());
+  EXPECT_EQ(loaded.Margins(test_->unsafe.data(), 500), model_->Margins(test_->unsafe.data(), 500));
+  XgbCostModel wrong(10, XgbCostModelOptions{}, 1);
+  EXPECT_THAT(ErrorMessage([&] { wrong.Load(path); }),
+              ::testing::HasSubstr("is for 24 state dimensions, this model has 10"));
+  std::filesystem::remove(path);
+}
+
+TEST(XgbCostModelEdgeTest, WithoutUnsafeStatesEverythingIsSafe) {
+  LabeledStateBuffer buffer(3);
+  buffer.Add({0, 0, 0}, false);
+  XgbCostModel model(3, XgbCostModelOptions{}, 1);
+  const CostFitReport report = model.Fit(buffer);
+  EXPECT_FALSE(report.trained);
+  EXPECT_EQ(report.unsafe_used, 0);
+  EXPECT_TRUE(std::isnan(report.unsafe_accuracy));
+  const float rows[] = {0, 0, 0, 5, 5, 5};
+  EXPECT_EQ(model.PredictRows(rows, 2), std::vector<std::uint8_t>({0, 0}));
+  EXPECT_TRUE(torch::equal(model.PredictViolation(torch::ones({4, 3})), torch::zeros({4})));
+}
+
+TEST(XgbCostModelEdgeTest, OnlyUnsafeStatesPredictUnsafe) {
+  LabeledStateBuffer buffer(1);
+  buffer.Add({1}, true);
+  buffer.Add({2}, true);
+  XgbCostModelOptions options;
+  options.safe_per_unsafe = 0;
+  options.rounds = 5;
+  XgbCostModel model(1, options, 1);
+  const CostFitReport report = model.Fit(buffer);
+  EXPECT_EQ(report.safe_used, 0);  // the buffer holds no safe state
+  const float rows[] = {1.5f};
+  EXPECT_EQ(model.PredictRows(rows, 1), std::vector<std::uint8_t>({1}));
+}
+
+TEST(XgbCostModelEdgeTest, BadInputsAreRefusedByName) {
+  XgbCostModel model(2, XgbCostModelOptions{}, 1);
+  const float rows[] = {0.0f, std::numeric_limits<float>::quiet_NaN()};
+  EXPECT_EQ(ErrorMessage([&] { model.PredictRows(rows, 1); }),
+            "state 0 has a non-finite value nan in column 1: expected finite numbers");
+  EXPECT_EQ(ErrorMessage([&] {
+              model.PredictViolation(torch::zeros({5, 3}));
+            }),
+            "states has shape [5, 3]: expected (..., 2)");
+  XgbCostModelOptions options;
+  options.max_leaves = 1;
+  EXPECT_EQ(ErrorMessage([&] { XgbCostModel(2, options, 1); }),
+            "max_leaves is 1: expected at least 2");
+  options = XgbCostModelOptions{};
+  options.threshold = 1.0;
+  EXPECT_THAT(ErrorMessage([&] { XgbCostModel(2, options, 1); }),
+              ::testing::HasSubstr("threshold is 1"));
+}
+
+}  // namespace
+}  // namespace cmbrl
