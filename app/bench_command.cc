@@ -125,6 +125,8 @@ void AddBenchCommand(CLI::App& parent) {
       ->capture_default_str();
   env->add_option("--seed", env_args->seed, "seed")->capture_default_str();
   env->callback([env_args] { RunEnvBench(*env_args); });
+
+  AddBenchModelsCommand(*bench);
 }
 
 }  // namespace cmbrl::app

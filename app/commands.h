@@ -9,4 +9,7 @@ namespace cmbrl::app {
 void AddRolloutCommand(CLI::App& parent);
 void AddBenchCommand(CLI::App& parent);
 
+// `bench models`, registered under the `bench` command.
+void AddBenchModelsCommand(CLI::App& bench);
+
 }  // namespace cmbrl::app
