@@ -1,15 +1,15 @@
 // `cmbrl bench models`: the learned models at the paper's sizes, each figure beside a matrix
 // product rate measured in the same run.
+#include <torch/torch.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cstdint>
 #include <functional>
 #include <iostream>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
-#include <torch/torch.h>
 
 #include "app/commands.h"
 #include "cmbrl/core/rng.h"
@@ -21,11 +21,11 @@ namespace cmbrl::app {
 namespace {
 
 struct ModelBenchArgs {
-  int members = 4;           // paper: 4 (Point), 5 (Car)
-  int samples = 500;         // rows per member for the forward pass (the planner's population)
-  int state_dim = 24;        // PointGoal1 / CarGoal1
-  int hidden = 1024;         // width of the 3 hidden layers
-  int transitions = 50000;   // training set of one epoch
+  int members = 4;          // paper: 4 (Point), 5 (Car)
+  int samples = 500;        // rows per member for the forward pass (the planner's population)
+  int state_dim = 24;       // PointGoal1 / CarGoal1
+  int hidden = 1024;        // width of the 3 hidden layers
+  int transitions = 50000;  // training set of one epoch
   int classifier_states = 40000;
   int predict_states = 20000;
   int runs = 3;
@@ -103,14 +103,12 @@ void RunModelBench(const ModelBenchArgs& args) {
   EnsembleDynamics ensemble(args.state_dim, action_dim, options, args.seed);
   const torch::Tensor states = torch::randn({args.members, args.samples, args.state_dim});
   const torch::Tensor actions = torch::rand({args.members, args.samples, action_dim}) * 2 - 1;
-  const double forward_seconds = MedianSeconds(
-      std::max(10, args.runs), [&] { ensemble.PredictUnchecked(states, actions); });
-  nlohmann::ordered_json forward = {{"bench", "models"},
-                                    {"what", "ensemble_forward"},
-                                    {"members", args.members},
-                                    {"samples", args.samples},
-                                    {"hidden", args.hidden},
-                                    {"median_ms", forward_seconds * 1e3}};
+  const double forward_seconds =
+      MedianSeconds(std::max(10, args.runs), [&] { ensemble.PredictUnchecked(states, actions); });
+  nlohmann::ordered_json forward = {
+      {"bench", "models"},       {"what", "ensemble_forward"},
+      {"members", args.members}, {"samples", args.samples},
+      {"hidden", args.hidden},   {"median_ms", forward_seconds * 1e3}};
   rate(forward, ensemble.PredictFlops(args.samples), forward_seconds);
   Print(forward);
 
@@ -163,9 +161,9 @@ void RunModelBench(const ModelBenchArgs& args) {
 
   const int predict = std::min(args.predict_states, safe_count);
   std::vector<float> margins(predict);
-  const double flat_seconds = MedianSeconds(
-      std::max(5, args.runs),
-      [&] { classifier.trees().Margins(safe.data(), predict, margins.data()); });
+  const double flat_seconds = MedianSeconds(std::max(5, args.runs), [&] {
+    classifier.trees().Margins(safe.data(), predict, margins.data());
+  });
   const torch::Tensor rows_tensor =
       torch::from_blob(safe.data(), {predict, args.state_dim}).clone();
   const TreeEnsembleTensors tensors(classifier.trees(), torch::Device(torch::kCPU));
@@ -191,8 +189,9 @@ void RunModelBench(const ModelBenchArgs& args) {
 void AddBenchModelsCommand(CLI::App& bench) {
   auto args = std::make_shared<ModelBenchArgs>();
   CLI::App* models = bench.add_subcommand(
-      "models", "Ensemble forward and training epoch, classifier fit and prediction, beside the "
-                "matrix-product rate of the same run");
+      "models",
+      "Ensemble forward and training epoch, classifier fit and prediction, beside the "
+      "matrix-product rate of the same run");
   models->add_option("--members", args->members, "ensemble members")->capture_default_str();
   models->add_option("--samples", args->samples, "rows per member in the forward pass")
       ->capture_default_str();

@@ -7,8 +7,8 @@
 #include <limits>
 
 #include "cmbrl/core/check.h"
+#include "cmbrl/core/torch_util.h"
 #include "cmbrl/models/normalizer.h"
-#include "cmbrl/models/torch_util.h"
 
 namespace cmbrl {
 

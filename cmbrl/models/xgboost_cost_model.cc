@@ -12,7 +12,7 @@
 #include <sstream>
 
 #include "cmbrl/core/check.h"
-#include "cmbrl/models/torch_util.h"
+#include "cmbrl/core/torch_util.h"
 #include "cmbrl/models/tree_ensemble_tensor.h"
 
 namespace cmbrl {

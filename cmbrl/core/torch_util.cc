@@ -1,6 +1,7 @@
-#include "cmbrl/models/torch_util.h"
+#include "cmbrl/core/torch_util.h"
 
 #include <ATen/CPUGeneratorImpl.h>
+#include <ATen/detail/CUDAHooksInterface.h>
 
 #include "cmbrl/core/check.h"
 
@@ -8,6 +9,14 @@ namespace cmbrl {
 
 at::Generator MakeCpuGenerator(std::uint64_t seed) {
   return at::make_generator<at::CPUGeneratorImpl>(seed);
+}
+
+at::Generator MakeGenerator(const torch::Device& device, std::uint64_t seed) {
+  if (device.is_cpu()) return MakeCpuGenerator(seed);
+  const int index = device.has_index() ? device.index() : 0;
+  at::Generator generator = at::detail::getCUDAHooks().getDefaultCUDAGenerator(index).clone();
+  generator.set_current_seed(seed);
+  return generator;
 }
 
 torch::Device ParseDevice(const std::string& name, const char* key) {

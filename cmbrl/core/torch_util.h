@@ -1,4 +1,4 @@
-// Small LibTorch helpers shared by the models.
+// Small LibTorch helpers shared by the models and the planners.
 #pragma once
 
 #include <torch/torch.h>
@@ -11,6 +11,10 @@ namespace cmbrl {
 // A CPU generator seeded from `seed`. Random numbers for models are drawn on the CPU and moved
 // to the device, so a seed gives the same draws on every device.
 at::Generator MakeCpuGenerator(std::uint64_t seed);
+
+// A generator on `device` seeded from `seed`: LibTorch's CPU generator, or a clone of the CUDA
+// default generator (through ATen's hooks, so the CPU-only build compiles too).
+at::Generator MakeGenerator(const torch::Device& device, std::uint64_t seed);
 
 // Parses "cpu", "cuda" or "cuda:i"; throws cmbrl::Error naming the key and value when the string
 // is not a device or the device is not available in this build or machine.

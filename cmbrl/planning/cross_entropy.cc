@@ -1,0 +1,125 @@
+#include "cmbrl/planning/cross_entropy.h"
+
+#include <cmath>
+#include <limits>
+
+#include "cmbrl/core/check.h"
+#include "cmbrl/core/torch_util.h"
+#include "cmbrl/planning/planning_checks.h"
+#include "cmbrl/planning/truncated_normal.h"
+
+namespace cmbrl {
+
+void ValidateCrossEntropyOptions(const CrossEntropyOptions& o) {
+  Require(o.population >= 1, "population is {}: expected at least 1", o.population);
+  Require(o.elites >= 1 && o.elites <= o.population,
+          "elites is {}: expected between 1 and population ({})", o.elites, o.population);
+  Require(o.min_feasible_elites >= 1 && o.min_feasible_elites <= o.elites,
+          "min_feasible_elites is {}: expected between 1 and elites ({})", o.min_feasible_elites,
+          o.elites);
+  Require(o.max_iterations >= 1, "max_iterations is {}: expected at least 1", o.max_iterations);
+  Require(o.epsilon >= 0 && std::isfinite(o.epsilon),
+          "epsilon is {}: expected a non-negative number", o.epsilon);
+  Require(o.alpha >= 0 && o.alpha < 1, "alpha is {}: expected a number in [0, 1)", o.alpha);
+  Require(o.initial_variance > 0 && std::isfinite(o.initial_variance),
+          "initial_variance is {}: expected a positive number", o.initial_variance);
+  Require(o.penalty >= 0 && std::isfinite(o.penalty),
+          "penalty is {}: expected a non-negative number", o.penalty);
+}
+
+CrossEntropyPlanner::CrossEntropyPlanner(PlanningProblem problem, CrossEntropyOptions options,
+                                         EliteRule rule, std::uint64_t seed)
+    : problem_(std::move(problem)),
+      options_(options),
+      rule_(rule),
+      device_(ParseDevice(problem_.device)),
+      generator_(MakeGenerator(device_, seed)) {
+  ValidatePlanningProblem(problem_);
+  ValidateCrossEntropyOptions(options_);
+}
+
+void CrossEntropyPlanner::Reset() { previous_mean_ = torch::Tensor(); }
+
+torch::Tensor CrossEntropyPlanner::EliteWeights(const ObjectiveValues& values) const {
+  const std::int64_t n = values.reward_cost.size(0);
+  const auto ranks = torch::arange(n, values.reward_cost.options().dtype(torch::kLong));
+  const auto sorted = [](const torch::Tensor& key) {
+    // Stable, so ties keep index order on every run.
+    return std::get<1>(torch::sort(key, /*stable=*/true, /*dim=*/0, /*descending=*/false));
+  };
+  const torch::Tensor zeros = torch::zeros_like(values.reward_cost);
+  if (rule_ == EliteRule::kPenalty) {
+    const torch::Tensor order =
+        sorted(values.reward_cost + options_.penalty * values.constraint_cost);
+    return zeros.scatter(0, order, (ranks < options_.elites).to(zeros.dtype()));
+  }
+  const torch::Tensor feasible = values.constraint_cost == 0;
+  const torch::Tensor feasible_count = feasible.sum();
+  // Enough feasible samples: the best `elites` of them by reward cost.
+  const torch::Tensor key =
+      torch::where(feasible, values.reward_cost, torch::full_like(values.reward_cost, INFINITY));
+  const torch::Tensor by_reward = sorted(key);
+  const torch::Tensor chosen =
+      (ranks < options_.elites) & torch::isfinite(key.index_select(0, by_reward));
+  const torch::Tensor enough = zeros.scatter(0, by_reward, chosen.to(zeros.dtype()));
+  // Too few: every feasible sample, plus the first (min - feasible) by constraint cost.
+  const torch::Tensor by_constraint = sorted(values.constraint_cost);
+  const torch::Tensor padding = (ranks < options_.min_feasible_elites - feasible_count);
+  const torch::Tensor too_few =
+      feasible.to(zeros.dtype()).index_add(0, by_constraint, padding.to(zeros.dtype()));
+  return torch::where(feasible_count >= options_.min_feasible_elites, enough, too_few);
+}
+
+PlanResult CrossEntropyPlanner::Plan(Objective& objective) {
+  const torch::NoGradGuard no_grad;
+  const auto floats = torch::TensorOptions(device_).dtype(torch::kFloat);
+  const std::int64_t horizon = problem_.horizon, action_dim = problem_.action_dim;
+  const std::int64_t population = options_.population;
+  torch::Tensor mean = torch::zeros({horizon, action_dim}, floats);
+  if (options_.warm_start && previous_mean_.defined()) {
+    mean.slice(0, 0, horizon - 1).copy_(previous_mean_.slice(0, 1));
+  }
+  torch::Tensor variance = torch::full({horizon, action_dim}, options_.initial_variance, floats);
+
+  torch::Tensor active = torch::ones({}, floats.dtype(torch::kBool));
+  torch::Tensor iterations = torch::zeros({}, floats.dtype(torch::kLong));
+  torch::Tensor infeasible_elites = torch::zeros({}, floats);
+  torch::Tensor elites_used = torch::zeros({}, floats);
+  torch::Tensor feasible_fraction = torch::zeros({}, floats);
+  torch::Tensor best_reward_cost = torch::zeros({}, floats);
+  const double alpha = options_.alpha;
+  for (int iteration = 0; iteration < options_.max_iterations; ++iteration) {
+    const torch::Tensor samples =
+        SampleTruncatedNormal(mean, variance, population, problem_.action_low, problem_.action_high,
+                              generator_);  // (N, H, A)
+    const ObjectiveValues values = objective.Evaluate(samples);
+    CheckObjectiveValues(values, population, device_);
+    const torch::Tensor weights = EliteWeights(values);  // (N)
+    const torch::Tensor total = weights.sum();
+    const torch::Tensor w = weights.view({population, 1, 1});
+    const torch::Tensor elite_mean = (w * samples).sum(0) / total;
+    const torch::Tensor elite_variance = (w * (samples - elite_mean).pow(2)).sum(0) / total;
+    mean = torch::where(active, alpha * mean + (1 - alpha) * elite_mean, mean);
+    variance = torch::where(active, alpha * variance + (1 - alpha) * elite_variance, variance);
+
+    const torch::Tensor infeasible = (values.constraint_cost > 0).to(torch::kFloat);
+    const torch::Tensor counted = active.to(torch::kFloat);
+    iterations = iterations + active.to(torch::kLong);
+    infeasible_elites = infeasible_elites + counted * (weights * infeasible).sum();
+    elites_used = elites_used + counted * total;
+    feasible_fraction = torch::where(active, 1 - infeasible.mean(), feasible_fraction);
+    const torch::Tensor elite_rewards = torch::where(
+        weights > 0, values.reward_cost, torch::full_like(values.reward_cost, INFINITY));
+    best_reward_cost = torch::where(active, elite_rewards.min(), best_reward_cost);
+    active = active & (variance.max() > options_.epsilon);
+  }
+  if (options_.warm_start) previous_mean_ = mean;
+  PlanResult result;
+  result.sequence = mean.clamp(problem_.action_low, problem_.action_high);
+  result.action = result.sequence[0];
+  result.diagnostics = {iterations, feasible_fraction, infeasible_elites / elites_used,
+                        best_reward_cost};
+  return result;
+}
+
+}  // namespace cmbrl

@@ -1,0 +1,61 @@
+// The cross-entropy method and the Robust Cross-Entropy method (paper Section IV-B, Algorithm 1;
+// facts B5). They share sampling and update and differ only in how elites are chosen.
+#pragma once
+
+#include <cstdint>
+
+#include "cmbrl/planning/planner.h"
+
+namespace cmbrl {
+
+struct CrossEntropyOptions {
+  int population = 500;         // samples per iteration
+  int elites = 12;              // samples that update the distribution
+  int min_feasible_elites = 5;  // RCE: with fewer feasible samples, pad with least violating
+  int max_iterations = 8;
+  double epsilon = 0.01;          // stop once the largest variance is at most this
+  double alpha = 0.1;             // new = alpha * old + (1 - alpha) * elite statistic
+  double initial_variance = 1.0;  // the mean starts at 0
+  double penalty = 500.0;         // CEM: elites by reward_cost + penalty * constraint_cost
+  bool warm_start = false;        // start from the previous plan shifted one step (paper: off)
+};
+
+// Throws cmbrl::Error naming the first bad field (more elites than samples, ...).
+void ValidateCrossEntropyOptions(const CrossEntropyOptions& options);
+
+enum class EliteRule {
+  kPenalty,  // CEM: the `elites` lowest reward_cost + penalty * constraint_cost
+  kRobust,   // RCE: the `elites` feasible samples with the lowest reward cost; with fewer than
+             // min_feasible_elites feasible, those plus the first (min - feasible) samples by
+             // constraint cost (feasible ones sort first, so they can count twice)
+};
+
+// Samples a truncated normal over (H, A), scores with the objective, refits mean and variance to
+// the elites with smoothing, and stops after max_iterations or once every variance is at most
+// epsilon. Elites are weights over the population, so no step reads a value back to the host:
+// converged iterations are masked instead of skipped. Acts with the first action of the final
+// mean. Not thread-safe.
+class CrossEntropyPlanner final : public Planner {
+ public:
+  // Throws cmbrl::Error for bad options or problem.
+  CrossEntropyPlanner(PlanningProblem problem, CrossEntropyOptions options, EliteRule rule,
+                      std::uint64_t seed);
+
+  PlanResult Plan(Objective& objective) override;
+  void Reset() override;
+  torch::Tensor GeneratorState() const override { return generator_.get_state(); }
+  void SetGeneratorState(const torch::Tensor& state) override { generator_.set_state(state); }
+
+  // Elite weights (N) for scores: how often each sample counts among the elites.
+  torch::Tensor EliteWeights(const ObjectiveValues& values) const;
+
+ private:
+  PlanningProblem problem_;
+  CrossEntropyOptions options_;
+  EliteRule rule_;
+  torch::Device device_;
+  at::Generator generator_;
+  torch::Tensor previous_mean_;  // (H, A), warm start only
+};
+
+}  // namespace cmbrl

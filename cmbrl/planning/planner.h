@@ -1,0 +1,69 @@
+// Planners optimise action sequences against an objective that scores them (paper Section IV-B,
+// Algorithm 1). A planner knows nothing of MuJoCo or networks: only the objective's scores.
+#pragma once
+
+#include <torch/torch.h>
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace cmbrl {
+
+// Scores of N action sequences, each (N) on the planner's device. Lower is better for both.
+struct ObjectiveValues {
+  torch::Tensor reward_cost;      // (N) to minimise, e.g. discounted goal distance
+  torch::Tensor constraint_cost;  // (N) >= 0; exactly 0 means feasible
+};
+
+// What a planner asks of the problem. Implementations may keep scratch state, so Evaluate is not
+// const and an objective is not shared between threads.
+class Objective {
+ public:
+  virtual ~Objective() = default;
+
+  // actions (N, H, A) within the action bounds, float32 on the planner's device.
+  virtual ObjectiveValues Evaluate(const torch::Tensor& actions) = 0;
+};
+
+// Per-plan figures, kept on the device until read (reading them synchronises).
+struct PlanDiagnostics {
+  torch::Tensor iterations;                 // () int: iterations that updated the distribution
+  torch::Tensor feasible_fraction;          // () float: feasible share of the last population
+  torch::Tensor infeasible_elite_fraction;  // () float: infeasible share of all elites used
+  torch::Tensor best_reward_cost;  // () float: reward cost of the returned plan's best sample
+};
+
+struct PlanResult {
+  torch::Tensor action;    // (A): the first action to execute
+  torch::Tensor sequence;  // (H, A): the whole plan (final mean, or best sample)
+  PlanDiagnostics diagnostics;
+};
+
+// Box bounds and sizes shared by every planner.
+struct PlanningProblem {
+  int horizon = 8;     // H
+  int action_dim = 2;  // A
+  double action_low = -1.0;
+  double action_high = 1.0;
+  std::string device = "cpu";
+};
+
+// A planner. Not thread-safe: it owns its generator and, with warm start, the previous plan.
+class Planner {
+ public:
+  virtual ~Planner() = default;
+
+  // Optimises against `objective`; the returned action lies within the bounds.
+  virtual PlanResult Plan(Objective& objective) = 0;
+
+  // Forgets any state carried between plans (the warm-start mean); call at episode start.
+  virtual void Reset() {}
+
+  // The generator's state, for checkpoints.
+  virtual torch::Tensor GeneratorState() const = 0;
+  virtual void SetGeneratorState(const torch::Tensor& state) = 0;
+};
+
+}  // namespace cmbrl

@@ -1,0 +1,50 @@
+#include "cmbrl/planning/random_shooting.h"
+
+#include <cmath>
+
+#include "cmbrl/core/check.h"
+#include "cmbrl/core/torch_util.h"
+#include "cmbrl/planning/planning_checks.h"
+
+namespace cmbrl {
+
+void ValidateRandomShootingOptions(const RandomShootingOptions& o) {
+  Require(o.samples >= 1, "samples is {}: expected at least 1", o.samples);
+  Require(o.penalty >= 0 && std::isfinite(o.penalty),
+          "penalty is {}: expected a non-negative number", o.penalty);
+}
+
+RandomShootingPlanner::RandomShootingPlanner(PlanningProblem problem, RandomShootingOptions options,
+                                             std::uint64_t seed)
+    : problem_(std::move(problem)),
+      options_(options),
+      device_(ParseDevice(problem_.device)),
+      generator_(MakeGenerator(device_, seed)) {
+  ValidatePlanningProblem(problem_);
+  ValidateRandomShootingOptions(options_);
+}
+
+PlanResult RandomShootingPlanner::Plan(Objective& objective) {
+  const torch::NoGradGuard no_grad;
+  const double low = problem_.action_low, high = problem_.action_high;
+  const torch::Tensor samples =
+      torch::rand({options_.samples, problem_.horizon, problem_.action_dim}, generator_,
+                  torch::TensorOptions(device_).dtype(torch::kFloat)) *
+          (high - low) +
+      low;
+  const ObjectiveValues values = objective.Evaluate(samples);
+  CheckObjectiveValues(values, options_.samples, device_);
+  const torch::Tensor best =
+      torch::argmin(values.reward_cost + options_.penalty * values.constraint_cost);
+  PlanResult result;
+  result.sequence = samples.index_select(0, best.view({1}))[0];
+  result.action = result.sequence[0];
+  const torch::Tensor best_constraint = values.constraint_cost.index_select(0, best.view({1}))[0];
+  result.diagnostics = {torch::ones({}, torch::TensorOptions(device_).dtype(torch::kLong)),
+                        (values.constraint_cost == 0).to(torch::kFloat).mean(),
+                        (best_constraint > 0).to(torch::kFloat),
+                        values.reward_cost.index_select(0, best.view({1}))[0]};
+  return result;
+}
+
+}  // namespace cmbrl

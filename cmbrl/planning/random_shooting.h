@@ -1,0 +1,35 @@
+// Random shooting MPC, the paper's MPC-random baseline (Section IV-C; facts B5).
+#pragma once
+
+#include <cstdint>
+
+#include "cmbrl/planning/planner.h"
+
+namespace cmbrl {
+
+struct RandomShootingOptions {
+  int samples = 5000;      // uniform action sequences
+  double penalty = 500.0;  // best by reward_cost + penalty * constraint_cost
+};
+
+// Throws cmbrl::Error naming the first bad field.
+void ValidateRandomShootingOptions(const RandomShootingOptions& options);
+
+// Draws uniform sequences in the action box and acts with the first action of the best one.
+// Not thread-safe.
+class RandomShootingPlanner final : public Planner {
+ public:
+  RandomShootingPlanner(PlanningProblem problem, RandomShootingOptions options, std::uint64_t seed);
+
+  PlanResult Plan(Objective& objective) override;
+  torch::Tensor GeneratorState() const override { return generator_.get_state(); }
+  void SetGeneratorState(const torch::Tensor& state) override { generator_.set_state(state); }
+
+ private:
+  PlanningProblem problem_;
+  RandomShootingOptions options_;
+  torch::Device device_;
+  at::Generator generator_;
+};
+
+}  // namespace cmbrl
