@@ -87,6 +87,7 @@ PlanResult CrossEntropyPlanner::Plan(Objective& objective) {
   torch::Tensor elites_used = torch::zeros({}, floats);
   torch::Tensor feasible_fraction = torch::zeros({}, floats);
   torch::Tensor best_reward_cost = torch::zeros({}, floats);
+  torch::Tensor nonfinite = torch::zeros({}, floats.dtype(torch::kBool));
   const double alpha = options_.alpha;
   for (int iteration = 0; iteration < options_.max_iterations; ++iteration) {
     const torch::Tensor samples =
@@ -94,6 +95,7 @@ PlanResult CrossEntropyPlanner::Plan(Objective& objective) {
                               generator_);  // (N, H, A)
     const ObjectiveValues values = objective.Evaluate(samples);
     CheckObjectiveValues(values, population, device_);
+    nonfinite = nonfinite | AnyNonFinite(values);
     const torch::Tensor weights = EliteWeights(values);  // (N)
     const torch::Tensor total = weights.sum();
     const torch::Tensor w = weights.view({population, 1, 1});
@@ -118,7 +120,7 @@ PlanResult CrossEntropyPlanner::Plan(Objective& objective) {
   result.sequence = mean.clamp(problem_.action_low, problem_.action_high);
   result.action = result.sequence[0];
   result.diagnostics = {iterations, feasible_fraction, infeasible_elites / elites_used,
-                        best_reward_cost};
+                        best_reward_cost, nonfinite};
   return result;
 }
 

@@ -33,6 +33,7 @@ struct PlanDiagnostics {
   torch::Tensor feasible_fraction;          // () float: feasible share of the last population
   torch::Tensor infeasible_elite_fraction;  // () float: infeasible share of all elites used
   torch::Tensor best_reward_cost;  // () float: reward cost of the returned plan's best sample
+  torch::Tensor nonfinite_scores;  // () bool: some sample scored NaN or infinity (model failure)
 };
 
 struct PlanResult {

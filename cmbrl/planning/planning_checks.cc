@@ -27,4 +27,9 @@ void CheckObjectiveValues(const ObjectiveValues& values, std::int64_t count,
   }
 }
 
+torch::Tensor AnyNonFinite(const ObjectiveValues& values) {
+  return torch::logical_not(torch::isfinite(values.reward_cost).all() &
+                            torch::isfinite(values.constraint_cost).all());
+}
+
 }  // namespace cmbrl

@@ -14,4 +14,7 @@ void ValidatePlanningProblem(const PlanningProblem& problem);
 void CheckObjectiveValues(const ObjectiveValues& values, std::int64_t count,
                           const torch::Device& device);
 
+// () bool on the scores' device: whether any score is NaN or infinite. No synchronisation.
+torch::Tensor AnyNonFinite(const ObjectiveValues& values);
+
 }  // namespace cmbrl

@@ -43,7 +43,8 @@ PlanResult RandomShootingPlanner::Plan(Objective& objective) {
   result.diagnostics = {torch::ones({}, torch::TensorOptions(device_).dtype(torch::kLong)),
                         (values.constraint_cost == 0).to(torch::kFloat).mean(),
                         (best_constraint > 0).to(torch::kFloat),
-                        values.reward_cost.index_select(0, best.view({1}))[0]};
+                        values.reward_cost.index_select(0, best.view({1}))[0],
+                        AnyNonFinite(values)};
   return result;
 }
 

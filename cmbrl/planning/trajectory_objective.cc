@@ -1,0 +1,80 @@
+#include "cmbrl/planning/trajectory_objective.h"
+
+#include <cmath>
+
+#include "cmbrl/core/check.h"
+#include "cmbrl/core/torch_util.h"
+
+namespace cmbrl {
+
+void ValidateTrajectoryObjectiveOptions(const TrajectoryObjectiveOptions& o, int state_dim) {
+  Require(o.goal_index >= 0 && o.goal_index + 1 < state_dim,
+          "goal_index is {}: expected 0 to {} for a state of {} dimensions", o.goal_index,
+          state_dim - 2, state_dim);
+  Require(o.gamma > 0 && o.gamma <= 1, "gamma is {}: expected a number in (0, 1]", o.gamma);
+  Require(o.beta > 0 && o.beta <= 1, "beta is {}: expected a number in (0, 1]", o.beta);
+  Require(o.near_goal_radius >= 0 && o.at_goal_radius >= 0,
+          "goal radii must be non-negative, got {} and {}", o.near_goal_radius, o.at_goal_radius);
+}
+
+TrajectoryObjective::TrajectoryObjective(const DynamicsModel& dynamics, const CostModel& cost,
+                                         Propagation propagation,
+                                         TrajectoryObjectiveOptions options)
+    : dynamics_(dynamics), cost_(cost), propagation_(propagation), options_(options) {
+  Require(dynamics.state_dim() == cost.state_dim(),
+          "the dynamics model predicts {} state dimensions, the cost model reads {}",
+          dynamics.state_dim(), cost.state_dim());
+  ValidateTrajectoryObjectiveOptions(options_, dynamics.state_dim());
+}
+
+void TrajectoryObjective::SetState(const torch::Tensor& state) {
+  Require(state.dim() == 1 && state.size(0) == dynamics_.state_dim(),
+          "planning state has shape {}: expected ({})", c10::str(state.sizes()),
+          dynamics_.state_dim());
+  state_ = state.to(torch::kFloat);
+}
+
+torch::Tensor TrajectoryObjective::StepCost(const torch::Tensor& states) const {
+  const torch::Tensor goal = states.narrow(-1, options_.goal_index, 2);
+  const torch::Tensor distance = goal.norm(2, -1);
+  return distance - options_.near_goal_bonus * (distance < options_.near_goal_radius) -
+         options_.at_goal_bonus * (distance < options_.at_goal_radius);
+}
+
+ObjectiveValues TrajectoryObjective::Evaluate(const torch::Tensor& actions) {
+  Require(state_.defined(), "TrajectoryObjective::Evaluate before SetState");
+  Require(actions.dim() == 3 && actions.size(2) == dynamics_.action_dim(),
+          "actions have shape {}: expected (N, H, {})", c10::str(actions.sizes()),
+          dynamics_.action_dim());
+  const torch::NoGradGuard no_grad;
+  const std::int64_t members = dynamics_.ensemble_size();
+  const std::int64_t samples = actions.size(0), horizon = actions.size(1);
+  const std::int64_t state_dim = dynamics_.state_dim();
+  const bool per_member = propagation_ == Propagation::kPerMember;
+
+  torch::Tensor state =
+      state_.to(actions.device()).view({1, 1, state_dim}).expand({members, samples, state_dim});
+  // Per member (E, N) for RCE; one row (1, N) for the mean trajectory.
+  torch::Tensor reward = torch::zeros({per_member ? members : 1, samples}, actions.options());
+  torch::Tensor constraint = torch::zeros_like(reward);
+  std::vector<torch::Tensor> trajectory;
+  double reward_discount = 1.0, constraint_discount = 1.0;
+  for (std::int64_t t = 0; t < horizon; ++t) {
+    const torch::Tensor action =
+        actions.select(1, t).unsqueeze(0).expand({members, samples, actions.size(2)});
+    torch::Tensor next = dynamics_.PredictUnchecked(state.contiguous(), action.contiguous());
+    if (!per_member) next = next.mean(0, /*keepdim=*/true).expand({members, samples, state_dim});
+    const torch::Tensor scored = per_member ? next : next.narrow(0, 0, 1);  // (E or 1, N, S)
+    reward = reward + reward_discount * StepCost(scored);
+    constraint = constraint + constraint_discount * cost_.PredictViolation(scored.contiguous());
+    trajectory.push_back(next);
+    state = next;
+    reward_discount *= options_.gamma;
+    constraint_discount *= per_member ? options_.beta : options_.gamma;
+  }
+  last_trajectories_ = torch::stack(trajectory, 2);  // (E, N, H, S)
+  if (per_member) return {reward.mean(0), std::get<0>(constraint.max(0))};
+  return {reward[0], constraint[0]};
+}
+
+}  // namespace cmbrl
