@@ -41,6 +41,16 @@ GoalTaskSpec MakeGoalTaskSpec(RobotKind robot, int level, Variant variant) {
   return spec;
 }
 
+int ObservationSize(const GoalTaskSpec& spec) {
+  if (spec.observation == ObservationKind::kEgoState) {
+    return 8 + 2 * (spec.num_vases + spec.num_hazards);
+  }
+  // accelerometer, gyro, magnetometer, velocimeter; the stock car's ball joint (3 + 9); lidars.
+  const int sensors = 12 + (spec.robot == RobotKind::kCar ? 12 : 0);
+  const int lidars = 1 + (spec.num_hazards > 0) + (spec.num_vases > 0);
+  return sensors + lidars * spec.lidar_bins;
+}
+
 const std::vector<std::string>& GoalTaskNames() {
   static const std::vector<std::string> names = {"PointGoal1", "PointGoal2", "CarGoal1",
                                                  "CarGoal2"};

@@ -68,6 +68,10 @@ struct GoalTaskSpec {
 // The spec of a task for robot, level (1 or 2) and variant. Throws cmbrl::Error for other levels.
 GoalTaskSpec MakeGoalTaskSpec(RobotKind robot, int level, Variant variant);
 
+// Size of the observation vector: the ego-state's 8 + 2 per vase and hazard (facts B1), or the
+// lidar observation's sensors and bins (facts A5).
+int ObservationSize(const GoalTaskSpec& spec);
+
 // "PointGoal1", "PointGoal2", "CarGoal1", "CarGoal2".
 const std::vector<std::string>& GoalTaskNames();
 

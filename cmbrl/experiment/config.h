@@ -1,0 +1,54 @@
+// Training configuration: the only place that reads YAML. Keys map one to one onto the options
+// structs of the components, whose defaults are the paper's values; a file only names what it
+// changes.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include "cmbrl/models/ensemble.h"
+#include "cmbrl/models/xgboost_cost_model.h"
+#include "cmbrl/planning/planner_registry.h"
+#include "cmbrl/planning/trajectory_objective.h"
+
+namespace cmbrl {
+
+// The outer loop of Algorithm 2 (facts B6).
+struct TrainingLoopOptions {
+  int pretrain_episodes = 1000;      // random-action episodes before the first fit
+  int pretrain_steps = 50;           // stored agent steps per pre-training episode
+  int episodes_per_epoch = 10;       // MPC episodes between refits
+  std::int64_t total_steps = 10000;  // budget of TotalEnvInteracts (MPC agent steps)
+  int transition_capacity = 500000;  // dynamics ring buffer
+  int safe_capacity = 50000;         // classifier rings
+  int unsafe_capacity = 10000;
+};
+
+struct TrainConfig {
+  std::string task = "PointGoal1";
+  std::string variant = "paper";
+  std::string planner = "rce";  // rce, cem or random
+  std::uint64_t seed = 0;
+  std::string device = "cpu";  // models and planner
+  TrainingLoopOptions training;
+  EnsembleOptions ensemble;
+  XgbCostModelOptions classifier;
+  PlannerSettings planning;
+  TrajectoryObjectiveOptions objective;
+};
+
+// Reads a YAML file. Throws cmbrl::Error naming the file, the key (as section.key) and the value
+// for a missing file, invalid YAML, an unknown key, a value of the wrong type or a bad setting.
+TrainConfig LoadTrainConfig(const std::string& path);
+
+// The same from YAML text; `source` names it in messages.
+TrainConfig ParseTrainConfig(const std::string& yaml, const std::string& source);
+
+// Checks every setting (task, variant, planner, device and each component's options, for example
+// more elites than samples or a horizon of 0); throws cmbrl::Error naming the key.
+void ValidateTrainConfig(const TrainConfig& config, const std::string& source);
+
+// Every key with its value, in the layout LoadTrainConfig reads.
+std::string TrainConfigToYaml(const TrainConfig& config);
+
+}  // namespace cmbrl

@@ -1,0 +1,103 @@
+#include "cmbrl/experiment/config.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "cmbrl/env/registry.h"
+#include "cmbrl/env/tasks/goal_spec.h"
+#include "tests/error_message.h"
+
+namespace cmbrl {
+namespace {
+
+using testing::ErrorMessage;
+
+TEST(ConfigTest, AnEmptyFileGivesThePapersSettings) {
+  const TrainConfig config = ParseTrainConfig("{}", "empty");
+  EXPECT_EQ(config.task, "PointGoal1");
+  EXPECT_EQ(config.planner, "rce");
+  EXPECT_EQ(config.ensemble.hidden_sizes, std::vector<int>({1024, 1024, 1024}));
+  EXPECT_EQ(config.planning.cross_entropy.population, 500);
+  EXPECT_EQ(config.planning.random.samples, 5000);
+  EXPECT_EQ(config.classifier.rounds, 400);
+  EXPECT_EQ(config.training.pretrain_episodes, 1000);
+}
+
+TEST(ConfigTest, KeysReachTheirComponents) {
+  const TrainConfig config = ParseTrainConfig(R"(
+task: CarGoal2
+planner: cem
+seed: 7
+ensemble: {ensemble_size: 5, hidden_sizes: [64, 32], batch_size: 128}
+classifier: {rounds: 50, threshold: 0.3}
+planning: {horizon: 5, population: 100, elites: 10, penalty: 200, random_samples: 300}
+training: {pretrain_episodes: 20, total_steps: 2000}
+objective: {beta: 0.5}
+)",
+                                              "inline");
+  EXPECT_EQ(config.task, "CarGoal2");
+  EXPECT_EQ(config.seed, 7u);
+  EXPECT_EQ(config.ensemble.ensemble_size, 5);
+  EXPECT_EQ(config.ensemble.hidden_sizes, std::vector<int>({64, 32}));
+  EXPECT_EQ(config.classifier.rounds, 50);
+  EXPECT_DOUBLE_EQ(config.classifier.threshold, 0.3);
+  EXPECT_EQ(config.planning.problem.horizon, 5);
+  EXPECT_EQ(config.planning.cross_entropy.elites, 10);
+  EXPECT_DOUBLE_EQ(config.planning.random.penalty, 200);  // one penalty for CEM and random
+  EXPECT_EQ(config.planning.random.samples, 300);
+  EXPECT_EQ(config.training.total_steps, 2000);
+  EXPECT_DOUBLE_EQ(config.objective.beta, 0.5);
+}
+
+TEST(ConfigTest, WrittenConfigReadsBackTheSame) {
+  TrainConfig config = ParseTrainConfig("planner: random\nensemble: {hidden_sizes: [8]}", "a");
+  const std::string yaml = TrainConfigToYaml(config);
+  const TrainConfig again = ParseTrainConfig(yaml, "b");
+  EXPECT_EQ(TrainConfigToYaml(again), yaml);
+  EXPECT_EQ(again.planner, "random");
+  EXPECT_EQ(again.ensemble.hidden_sizes, std::vector<int>({8}));
+}
+
+TEST(ConfigTest, BadConfigurationsNameTheKeyAndTheValue) {
+  EXPECT_EQ(ErrorMessage([] { ParseTrainConfig("planning: {elites: 600}", "c.yaml"); }),
+            "config 'c.yaml': planning.elites is 600: expected between 1 and population (500)");
+  EXPECT_EQ(ErrorMessage([] { ParseTrainConfig("planning: {horizon: 0}", "c.yaml"); }),
+            "config 'c.yaml': planning.horizon is 0: expected at least 1");
+  EXPECT_EQ(ErrorMessage([] { ParseTrainConfig("planner: mppi", "c.yaml"); }),
+            "config 'c.yaml': key 'planner' is 'mppi': expected one of rce, cem, random");
+  EXPECT_THAT(ErrorMessage([] { ParseTrainConfig("task: AntGoal1", "c.yaml"); }),
+              ::testing::HasSubstr("config 'c.yaml': task.unknown task 'AntGoal1'"));
+  EXPECT_EQ(ErrorMessage([] { ParseTrainConfig("ensemble: {hiden_sizes: [8]}", "c.yaml"); }),
+            "config 'c.yaml': unknown key 'ensemble.hiden_sizes': expected one of ensemble_size, "
+            "hidden_sizes, predict_delta, learning_rate, batch_size, max_epochs, "
+            "validation_fraction, member_subset_fraction, validate_every, patience, init_std, "
+            "min_std");
+  EXPECT_THAT(ErrorMessage([] { ParseTrainConfig("colour: blue", "c.yaml"); }),
+              ::testing::HasSubstr("unknown key 'colour'"));
+  EXPECT_EQ(ErrorMessage([] { ParseTrainConfig("planning: {population: many}", "c.yaml"); }),
+            "config 'c.yaml': key 'planning.population' is 'many': expected an integer");
+  EXPECT_THAT(ErrorMessage([] { ParseTrainConfig("variant: standard", "c.yaml"); }),
+              ::testing::HasSubstr("training plans on the paper variant"));
+  EXPECT_THAT(ErrorMessage([] { ParseTrainConfig("planning: [1, 2]", "c.yaml"); }),
+              ::testing::HasSubstr("'planning' must be a mapping"));
+  EXPECT_THAT(ErrorMessage([] { ParseTrainConfig("task: [", "c.yaml"); }),
+              ::testing::HasSubstr("config 'c.yaml' is not valid YAML"));
+  EXPECT_EQ(ErrorMessage([] { LoadTrainConfig("/nonexistent/x.yaml"); }),
+            "config file '/nonexistent/x.yaml' cannot be opened: expected a YAML file");
+}
+
+TEST(ConfigTest, ObservationSizesMatchTheEnvironments) {
+  for (const std::string& task : EnvNames()) {
+    for (const Variant variant : {Variant::kPaper, Variant::kStandard}) {
+      EXPECT_EQ(ObservationSize(GoalTaskSpecByName(task, variant)),
+                MakeEnv(task, variant)->observation_spec().size())
+          << task << " " << VariantName(variant);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace cmbrl
