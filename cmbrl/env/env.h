@@ -92,6 +92,11 @@ class Env {
 
   // Ground truth: robot pose, goal, hazards, vases.
   virtual SceneState Scene() const = 0;
+
+  // The generator's state as text, for checkpoints: restoring it before Reset() reproduces the
+  // layouts that would have followed. Throws cmbrl::Error for text that is not such a state.
+  virtual std::string GeneratorState() const = 0;
+  virtual void SetGeneratorState(const std::string& state) = 0;
 };
 
 }  // namespace cmbrl

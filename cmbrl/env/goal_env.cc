@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <sstream>
 #include <utility>
 
 #include "cmbrl/core/check.h"
@@ -507,6 +508,20 @@ SceneState GoalEnv::Scene() const {
   scene.vase_half_size = spec_.vase_half_size;
   scene.placement = spec_.placement;
   return scene;
+}
+
+std::string GoalEnv::GeneratorState() const {
+  std::ostringstream out;
+  out << rng_;
+  return out.str();
+}
+
+void GoalEnv::SetGeneratorState(const std::string& state) {
+  std::istringstream in(state);
+  Rng restored;
+  in >> restored;
+  Require(!in.fail(), "not a generator state: expected the text GeneratorState() wrote");
+  rng_ = restored;
 }
 
 }  // namespace cmbrl

@@ -41,6 +41,8 @@ class GoalEnv final : public Env {
   int max_episode_steps() const override;
   double agent_step_seconds() const override;
   SceneState Scene() const override;
+  std::string GeneratorState() const override;
+  void SetGeneratorState(const std::string& state) override;
 
   // Starts an episode from a given layout instead of a sampled one (scenario tests, pictures of
   // chosen situations). Positions are used as given; the generator is not touched.

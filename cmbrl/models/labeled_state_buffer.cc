@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "cmbrl/core/binary_io.h"
 #include "cmbrl/core/check.h"
 
 namespace cmbrl {
@@ -51,5 +52,34 @@ std::vector<float> LabeledStateBuffer::Newest(const Ring& ring, int count) const
 std::vector<float> LabeledStateBuffer::NewestSafe(int count) const { return Newest(safe_, count); }
 
 std::vector<float> LabeledStateBuffer::AllUnsafe() const { return Newest(unsafe_, unsafe_.size); }
+
+void LabeledStateBuffer::Save(const std::string& path) const {
+  BinaryWriter out(path, "cmbrl-labeled-states-v1");
+  out.Write(state_dim_);
+  for (const Ring* ring : {&safe_, &unsafe_}) {
+    out.Write(ring->capacity);
+    out.Write(ring->size);
+    out.Write(ring->next_slot);
+    out.Write(ring->rows);
+  }
+  out.Close();
+}
+
+void LabeledStateBuffer::Load(const std::string& path) {
+  BinaryReader in(path, "cmbrl-labeled-states-v1");
+  const int state_dim = in.Read<int>();
+  Require(state_dim == state_dim_, "'{}' holds states of {} dimensions; this buffer {}", path,
+          state_dim, state_dim_);
+  for (Ring* ring : {&safe_, &unsafe_}) {
+    const int capacity = in.Read<int>();
+    Require(capacity == ring->capacity, "'{}' holds a ring of {} states; this one has {}", path,
+            capacity, ring->capacity);
+    ring->size = in.Read<int>();
+    ring->next_slot = in.Read<int>();
+    ring->rows = in.ReadVector<float>();
+    Require(ring->rows.size() == static_cast<size_t>(capacity) * state_dim_, "'{}' is damaged",
+            path);
+  }
+}
 
 }  // namespace cmbrl

@@ -2,6 +2,7 @@
 // buffers keep the classifier from drowning the rare unsafe class; facts B4).
 #pragma once
 
+#include <string>
 #include <vector>
 
 namespace cmbrl {
@@ -18,6 +19,10 @@ class LabeledStateBuffer {
   int safe_size() const { return safe_.size; }
   int unsafe_size() const { return unsafe_.size; }
   int state_dim() const { return state_dim_; }
+
+  // Everything; Load checks the dimension and capacities and throws cmbrl::Error naming the file.
+  void Save(const std::string& path) const;
+  void Load(const std::string& path);
 
   // The newest `count` safe states (at most safe_size()), oldest first: (count, state_dim).
   std::vector<float> NewestSafe(int count) const;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "cmbrl/core/binary_io.h"
 #include "cmbrl/core/check.h"
 
 namespace cmbrl {
@@ -42,6 +43,38 @@ bool TransitionBuffer::Add(const std::vector<double>& state, const std::vector<d
   size_ = std::min(size_ + 1, capacity_);
   ++total_added_;
   return true;
+}
+
+void TransitionBuffer::Save(const std::string& path) const {
+  BinaryWriter out(path, "cmbrl-transitions-v1");
+  out.Write(state_dim_);
+  out.Write(action_dim_);
+  out.Write(capacity_);
+  out.Write(size_);
+  out.Write(next_slot_);
+  out.Write(total_added_);
+  out.Write(states_);
+  out.Write(actions_);
+  out.Write(next_);
+  out.Close();
+}
+
+void TransitionBuffer::Load(const std::string& path) {
+  BinaryReader in(path, "cmbrl-transitions-v1");
+  const int state_dim = in.Read<int>(), action_dim = in.Read<int>(), capacity = in.Read<int>();
+  Require(state_dim == state_dim_ && action_dim == action_dim_ && capacity == capacity_,
+          "'{}' holds a ({}, {}) buffer of {} transitions; this one is ({}, {}) of {}", path,
+          state_dim, action_dim, capacity, state_dim_, action_dim_, capacity_);
+  size_ = in.Read<int>();
+  next_slot_ = in.Read<int>();
+  total_added_ = in.Read<std::int64_t>();
+  states_ = in.ReadVector<float>();
+  actions_ = in.ReadVector<float>();
+  next_ = in.ReadVector<float>();
+  Require(states_.size() == static_cast<size_t>(capacity_) * state_dim_ &&
+              actions_.size() == static_cast<size_t>(capacity_) * action_dim_ &&
+              next_.size() == states_.size(),
+          "'{}' is damaged", path);
 }
 
 }  // namespace cmbrl

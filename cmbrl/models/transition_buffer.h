@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 namespace cmbrl {
@@ -25,6 +26,11 @@ class TransitionBuffer {
   int state_dim() const { return state_dim_; }
   int action_dim() const { return action_dim_; }
   std::int64_t total_added() const { return total_added_; }  // stored ever, overwritten included
+
+  // Everything, capacity included; Load checks the dimensions and throws cmbrl::Error naming the
+  // file on a mismatch or damage.
+  void Save(const std::string& path) const;
+  void Load(const std::string& path);
 
   // Row i (0 <= i < size()) of each array; rows are in storage order, not time order.
   const float* states() const { return states_.data(); }     // (size, state_dim)
