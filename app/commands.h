@@ -7,6 +7,7 @@
 namespace cmbrl::app {
 
 void AddRolloutCommand(CLI::App& parent);
+void AddTrainCommand(CLI::App& parent);
 void AddBenchCommand(CLI::App& parent);
 
 // `bench models`, registered under the `bench` command.

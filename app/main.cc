@@ -11,6 +11,7 @@ int main(int argc, char** argv) {
       "Cross-Entropy method on Safety Gym Goal tasks"};
   app.require_subcommand(1);
   cmbrl::app::AddRolloutCommand(app);
+  cmbrl::app::AddTrainCommand(app);
   cmbrl::app::AddBenchCommand(app);
   try {
     app.parse(argc, argv);

@@ -163,11 +163,8 @@ void MapConfig(Section& root, TrainConfig& c) {
   objective.RejectUnknownKeys();
 
   root.RejectUnknownKeys();
-  // One device for everything; one penalty for CEM and random.
-  c.ensemble.device = c.device;
-  c.classifier.device = c.device;
-  c.planning.problem.device = c.device;
-  c.planning.random.penalty = c.planning.cross_entropy.penalty;
+  SetTrainDevice(c, c.device);
+  c.planning.random.penalty = c.planning.cross_entropy.penalty;  // one penalty for CEM and random
 }
 
 // Runs a component's validation and names the section in its message ("planning.elites is ...").
@@ -181,6 +178,13 @@ void InSection(const std::string& source, const std::string& section, Check&& ch
 }
 
 }  // namespace
+
+void SetTrainDevice(TrainConfig& c, const std::string& device) {
+  c.device = device;
+  c.ensemble.device = device;
+  c.classifier.device = device;
+  c.planning.problem.device = device;
+}
 
 TrainConfig ParseTrainConfig(const std::string& yaml, const std::string& source) {
   YAML::Node document;

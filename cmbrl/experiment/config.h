@@ -48,6 +48,9 @@ TrainConfig ParseTrainConfig(const std::string& yaml, const std::string& source)
 // more elites than samples or a horizon of 0); throws cmbrl::Error naming the key.
 void ValidateTrainConfig(const TrainConfig& config, const std::string& source);
 
+// Sets the one device of the models and the planner ("cpu", "cuda", "cuda:N").
+void SetTrainDevice(TrainConfig& config, const std::string& device);
+
 // Every key with its value, in the layout LoadTrainConfig reads.
 std::string TrainConfigToYaml(const TrainConfig& config);
 

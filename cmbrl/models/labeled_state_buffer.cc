@@ -60,7 +60,9 @@ void LabeledStateBuffer::Save(const std::string& path) const {
     out.Write(ring->capacity);
     out.Write(ring->size);
     out.Write(ring->next_slot);
-    out.Write(ring->rows);
+    // Slots fill from 0 up, so the used ones are always the first `size`.
+    out.Write(std::vector<float>(
+        ring->rows.begin(), ring->rows.begin() + static_cast<size_t>(ring->size) * state_dim_));
   }
   out.Close();
 }
@@ -76,9 +78,12 @@ void LabeledStateBuffer::Load(const std::string& path) {
             capacity, ring->capacity);
     ring->size = in.Read<int>();
     ring->next_slot = in.Read<int>();
-    ring->rows = in.ReadVector<float>();
-    Require(ring->rows.size() == static_cast<size_t>(capacity) * state_dim_, "'{}' is damaged",
-            path);
+    Require(ring->size >= 0 && ring->size <= capacity && ring->next_slot >= 0 &&
+                ring->next_slot < capacity,
+            "'{}' is damaged", path);
+    const std::vector<float> used = in.ReadVector<float>();
+    Require(used.size() == static_cast<size_t>(ring->size) * state_dim_, "'{}' is damaged", path);
+    std::copy(used.begin(), used.end(), ring->rows.begin());
   }
 }
 

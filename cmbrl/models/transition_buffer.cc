@@ -53,9 +53,13 @@ void TransitionBuffer::Save(const std::string& path) const {
   out.Write(size_);
   out.Write(next_slot_);
   out.Write(total_added_);
-  out.Write(states_);
-  out.Write(actions_);
-  out.Write(next_);
+  // Slots fill from 0 up, so the used ones are always the first size_.
+  const auto used = [this](const std::vector<float>& rows, int width) {
+    return std::vector<float>(rows.begin(), rows.begin() + static_cast<size_t>(size_) * width);
+  };
+  out.Write(used(states_, state_dim_));
+  out.Write(used(actions_, action_dim_));
+  out.Write(used(next_, state_dim_));
   out.Close();
 }
 
@@ -68,13 +72,16 @@ void TransitionBuffer::Load(const std::string& path) {
   size_ = in.Read<int>();
   next_slot_ = in.Read<int>();
   total_added_ = in.Read<std::int64_t>();
-  states_ = in.ReadVector<float>();
-  actions_ = in.ReadVector<float>();
-  next_ = in.ReadVector<float>();
-  Require(states_.size() == static_cast<size_t>(capacity_) * state_dim_ &&
-              actions_.size() == static_cast<size_t>(capacity_) * action_dim_ &&
-              next_.size() == states_.size(),
+  Require(size_ >= 0 && size_ <= capacity_ && next_slot_ >= 0 && next_slot_ < capacity_,
           "'{}' is damaged", path);
+  const auto restore = [&](std::vector<float>& rows, int width) {
+    const std::vector<float> used = in.ReadVector<float>();
+    Require(used.size() == static_cast<size_t>(size_) * width, "'{}' is damaged", path);
+    std::copy(used.begin(), used.end(), rows.begin());
+  };
+  restore(states_, state_dim_);
+  restore(actions_, action_dim_);
+  restore(next_, state_dim_);
 }
 
 }  // namespace cmbrl

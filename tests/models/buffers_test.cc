@@ -47,6 +47,40 @@ TEST(TransitionBufferTest, BadRowsAreRefusedByName) {
   EXPECT_THROW(TransitionBuffer(0, 1), Error);
 }
 
+TEST(TransitionBufferTest, SaveAndLoadRestoreTheRingExactly) {
+  const std::string path = ::testing::TempDir() + "/transitions_test.bin";
+  TransitionBuffer buffer(1, 1, 3);
+  for (int i = 0; i < 5; ++i) buffer.Add({double(i)}, {0.5}, {double(i + 1)});
+  buffer.Save(path);
+  TransitionBuffer restored(1, 1, 3);
+  restored.Load(path);
+  EXPECT_EQ(restored.size(), 3);
+  EXPECT_EQ(restored.total_added(), 5);
+  EXPECT_EQ(std::vector<float>(restored.states(), restored.states() + 3),
+            std::vector<float>({3, 4, 2}));
+  // The next addition overwrites the same slot in both.
+  buffer.Add({9}, {0}, {9});
+  restored.Add({9}, {0}, {9});
+  EXPECT_EQ(std::vector<float>(restored.states(), restored.states() + 3),
+            std::vector<float>(buffer.states(), buffer.states() + 3));
+  TransitionBuffer other(2, 1, 3);
+  EXPECT_THAT(ErrorMessage([&] { other.Load(path); }), ::testing::HasSubstr("holds a (1, 1)"));
+  std::remove(path.c_str());
+}
+
+TEST(LabeledStateBufferTest, SaveAndLoadKeepTheNewestOrder) {
+  const std::string path = ::testing::TempDir() + "/labeled_test.bin";
+  LabeledStateBuffer buffer(1, 4, 2);
+  for (int i = 0; i < 6; ++i) buffer.Add({double(i)}, false);
+  buffer.Add({100}, true);
+  buffer.Save(path);
+  LabeledStateBuffer restored(1, 4, 2);
+  restored.Load(path);
+  EXPECT_EQ(restored.NewestSafe(4), buffer.NewestSafe(4));
+  EXPECT_EQ(restored.AllUnsafe(), std::vector<float>({100}));
+  std::remove(path.c_str());
+}
+
 TEST(LabeledStateBufferTest, KeepsLabelsApartAndReturnsTheNewestSafeStates) {
   LabeledStateBuffer buffer(1, /*safe_capacity=*/4, /*unsafe_capacity=*/2);
   for (int i = 0; i < 6; ++i) buffer.Add({double(i)}, false);  // 2..5 remain

@@ -1,0 +1,103 @@
+// `cmbrl train`: a training run of the paper's Algorithm 2 into a run directory, or the
+// continuation of a stopped one.
+#include <fmt/format.h>
+#include <unistd.h>
+
+#include <cstdint>
+#include <cstdio>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+
+#include "app/commands.h"
+#include "cmbrl/core/check.h"
+#include "cmbrl/experiment/trainer.h"
+
+namespace cmbrl::app {
+namespace {
+
+struct TrainArgs {
+  std::string config;
+  std::string out;
+  std::string resume;
+  std::optional<std::int64_t> steps;
+  std::optional<std::uint64_t> seed;
+  std::optional<std::string> device;
+};
+
+std::string Duration(double seconds) {
+  const int total = static_cast<int>(seconds);
+  return total >= 3600 ? fmt::format("{}h{:02}m", total / 3600, total / 60 % 60)
+                       : fmt::format("{}m{:02}s", total / 60, total % 60);
+}
+
+void RunTrain(const TrainArgs& args) {
+  std::unique_ptr<Trainer> trainer;
+  std::string run_dir;
+  if (!args.resume.empty()) {
+    Require(args.config.empty() && args.out.empty() && !args.steps && !args.seed && !args.device,
+            "--resume continues a run with its own config: give no --config, --out, --steps, "
+            "--seed or --device with it");
+    run_dir = args.resume;
+    trainer = Trainer::Resume(run_dir);
+  } else {
+    Require(!args.config.empty() && !args.out.empty(),
+            "a new run needs --config FILE and --out RUN_DIR (or --resume RUN_DIR)");
+    TrainConfig config = LoadTrainConfig(args.config);
+    if (args.steps) config.training.total_steps = *args.steps;
+    if (args.seed) config.seed = *args.seed;
+    if (args.device) SetTrainDevice(config, *args.device);
+    ValidateTrainConfig(config, args.config);
+    run_dir = args.out;
+    trainer = Trainer::Start(config, run_dir);
+  }
+
+  // A live line on the terminal; nothing when stderr is a file or a pipe.
+  const bool live = isatty(STDERR_FILENO) != 0;
+  const std::int64_t budget = trainer->config().training.total_steps;
+  const std::int64_t start_steps = trainer->total_env_interacts();
+  double start_time = -1.0, total_cost = 0.0;
+  int episodes = 0;
+  trainer->Run([&](const ProgressRow& row) {
+    ++episodes;
+    total_cost += row.episode_cost;
+    if (!live) return;
+    if (start_time < 0) start_time = row.time_seconds - row.steps * row.ms_per_plan / 1e3;
+    const double elapsed = row.time_seconds - start_time;
+    const double rate = elapsed > 0 ? (row.total_env_interacts - start_steps) / elapsed : 0.0;
+    const double left = rate > 0 ? (budget - row.total_env_interacts) / rate : 0.0;
+    std::cerr << fmt::format(
+                     "\r[epoch {}] steps {}/{} | EpRet {:.2f} | EpCost {:.0f} | {:.1f} steps/s | "
+                     "{} left   ",
+                     row.epoch, row.total_env_interacts, budget, row.episode_return,
+                     row.episode_cost, rate, Duration(std::max(0.0, left)))
+              << std::flush;
+  });
+  if (live) std::cerr << "\n";
+  const nlohmann::ordered_json summary = {{"run", run_dir},
+                                          {"episodes_this_session", episodes},
+                                          {"total_env_interacts", trainer->total_env_interacts()},
+                                          {"cost_this_session", total_cost}};
+  std::cout << summary.dump() << std::endl;
+}
+
+}  // namespace
+
+void AddTrainCommand(CLI::App& parent) {
+  auto args = std::make_shared<TrainArgs>();
+  CLI::App* command = parent.add_subcommand(
+      "train", "Train an MPC agent (RCE, CEM or random) with learned models; resumable");
+  command->add_option("--config", args->config, "YAML config (see configs/)")
+      ->check(CLI::ExistingFile);
+  command->add_option("--out", args->out, "run directory to create");
+  command->add_option("--resume", args->resume, "run directory to continue")
+      ->check(CLI::ExistingDirectory);
+  command->add_option("--steps", args->steps, "budget of agent steps (training.total_steps)")
+      ->check(CLI::PositiveNumber);
+  command->add_option("--seed", args->seed, "run seed");
+  command->add_option("--device", args->device, "cpu, cuda or cuda:N");
+  command->callback([args] { RunTrain(*args); });
+}
+
+}  // namespace cmbrl::app
