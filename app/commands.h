@@ -8,6 +8,7 @@ namespace cmbrl::app {
 
 void AddRolloutCommand(CLI::App& parent);
 void AddTrainCommand(CLI::App& parent);
+void AddEvalCommand(CLI::App& parent);
 void AddBenchCommand(CLI::App& parent);
 
 // `bench models`, registered under the `bench` command.

@@ -12,6 +12,7 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   cmbrl::app::AddRolloutCommand(app);
   cmbrl::app::AddTrainCommand(app);
+  cmbrl::app::AddEvalCommand(app);
   cmbrl::app::AddBenchCommand(app);
   try {
     app.parse(argc, argv);

@@ -67,11 +67,15 @@ void RunRollout(const RolloutArgs& args) {
     if (!args.render.empty()) {
       const std::string picture_path = PicturePath(args.render, episode, args.episodes);
       ScenePicture picture{
-          record.final_scene, record.path, record.path_violations, record.reached_goals,
+          record.final_scene,
+          record.path,
+          record.path_violations,
+          record.reached_goals,
           fmt::format("{} ({}) {} policy, seed {}, episode {}: return {:.2f}, "
                       "cost {}, goals {}",
                       args.task, args.variant, args.policy, args.seed, episode,
-                      record.episode_return, record.episode_cost, record.goals_met)};
+                      record.episode_return, record.episode_cost, record.goals_met),
+          {}};
       WriteScenePng(picture, picture_path);
       line["picture"] = picture_path;
     }

@@ -2,7 +2,8 @@
 
 namespace cmbrl {
 
-EpisodeRecord RunEpisode(Env& env, Policy& policy, std::optional<std::uint64_t> seed) {
+EpisodeRecord RunEpisode(Env& env, Policy& policy, std::optional<std::uint64_t> seed,
+                         const AfterActHook& after_act) {
   EpisodeRecord record;
   std::vector<double> observation = env.Reset(seed);
   policy.BeginEpisode();
@@ -11,7 +12,9 @@ EpisodeRecord RunEpisode(Env& env, Policy& policy, std::optional<std::uint64_t> 
   record.path_violations.push_back(false);
   for (;;) {
     const Vec2 goal_before = scene.goal;
-    StepResult step = env.Step(policy.Act(observation));
+    const std::vector<double> action = policy.Act(observation);
+    if (after_act) after_act(record.steps, scene);
+    StepResult step = env.Step(action);
     scene = env.Scene();
     record.episode_return += step.reward;
     record.episode_cost += step.cost;

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <vector>
 
@@ -25,8 +26,13 @@ struct EpisodeRecord {
   SceneState final_scene;
 };
 
+// Called after the policy chose the action of step `step` and before the environment runs it,
+// with the scene the action was chosen in.
+using AfterActHook = std::function<void(int step, const SceneState& scene)>;
+
 // Resets the environment (with `seed`, or continuing its generator) and runs the policy until the
 // episode terminates or is truncated.
-EpisodeRecord RunEpisode(Env& env, Policy& policy, std::optional<std::uint64_t> seed);
+EpisodeRecord RunEpisode(Env& env, Policy& policy, std::optional<std::uint64_t> seed,
+                         const AfterActHook& after_act = {});
 
 }  // namespace cmbrl

@@ -73,8 +73,9 @@ ObjectiveValues TrajectoryObjective::Evaluate(const torch::Tensor& actions) {
     constraint_discount *= per_member ? options_.beta : options_.gamma;
   }
   last_trajectories_ = torch::stack(trajectory, 2);  // (E, N, H, S)
-  if (per_member) return {reward.mean(0), std::get<0>(constraint.max(0))};
-  return {reward[0], constraint[0]};
+  last_values_ = per_member ? ObjectiveValues{reward.mean(0), std::get<0>(constraint.max(0))}
+                            : ObjectiveValues{reward[0], constraint[0]};
+  return last_values_;
 }
 
 }  // namespace cmbrl

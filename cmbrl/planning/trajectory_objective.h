@@ -46,6 +46,8 @@ class TrajectoryObjective final : public Objective {
   // Predicted states of the last Evaluate: (E, N, H, S); with kEnsembleMean every member holds
   // the mean trajectory. For pictures of the planner's predictions.
   const torch::Tensor& last_trajectories() const { return last_trajectories_; }
+  // Scores of the last Evaluate, (N) each.
+  const ObjectiveValues& last_values() const { return last_values_; }
 
  private:
   torch::Tensor StepCost(const torch::Tensor& states) const;  // (..., S) -> (...)
@@ -56,6 +58,7 @@ class TrajectoryObjective final : public Objective {
   TrajectoryObjectiveOptions options_;
   torch::Tensor state_;
   torch::Tensor last_trajectories_;
+  ObjectiveValues last_values_;
 };
 
 }  // namespace cmbrl

@@ -79,6 +79,29 @@ void DrawPath(cairo_t* cr, const ScenePicture& picture, double pixel) {
   cairo_stroke(cr);
 }
 
+// Feasible predictions in green, infeasible in red, the executed plan bold and dark.
+void DrawPredictions(cairo_t* cr, const std::vector<PredictedPath>& predictions, double pixel) {
+  cairo_set_line_join(cr, CAIRO_LINE_JOIN_ROUND);
+  for (const bool chosen : {false, true}) {
+    for (const PredictedPath& path : predictions) {
+      if (path.chosen != chosen || path.points.size() < 2) continue;
+      if (chosen) {
+        cairo_set_source_rgba(cr, 0.1, 0.1, 0.1, 0.9);
+        cairo_set_line_width(cr, 2.5 * pixel);
+      } else if (path.feasible) {
+        cairo_set_source_rgba(cr, 0.0, 0.6, 0.2, 0.35);
+        cairo_set_line_width(cr, 1.0 * pixel);
+      } else {
+        cairo_set_source_rgba(cr, 0.9, 0.1, 0.1, 0.35);
+        cairo_set_line_width(cr, 1.0 * pixel);
+      }
+      cairo_move_to(cr, path.points[0].x, path.points[0].y);
+      for (const Vec2& p : path.points) cairo_line_to(cr, p.x, p.y);
+      cairo_stroke(cr);
+    }
+  }
+}
+
 void DrawRobot(cairo_t* cr, const SceneState& scene, double pixel) {
   const Vec2 p = scene.robot.position;
   const double r = scene.robot_radius;
@@ -174,6 +197,7 @@ void WriteScenePng(const ScenePicture& picture, const std::string& path,
   cairo_set_source_rgb(cr, 0.0, 0.65, 0.65);
   cairo_fill(cr);
 
+  DrawPredictions(cr, picture.predictions, pixel);
   DrawPath(cr, picture, pixel);
   DrawRobot(cr, scene, pixel);
   DrawScaleBar(cr, view, pixel);

@@ -3,6 +3,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <cctype>
 #include <filesystem>
 #include <fstream>
 
@@ -87,6 +88,26 @@ TEST(ConfigTest, BadConfigurationsNameTheKeyAndTheValue) {
               ::testing::HasSubstr("config 'c.yaml' is not valid YAML"));
   EXPECT_EQ(ErrorMessage([] { LoadTrainConfig("/nonexistent/x.yaml"); }),
             "config file '/nonexistent/x.yaml' cannot be opened: expected a YAML file");
+}
+
+TEST(ConfigTest, EveryPresetInConfigsLoads) {
+  int presets = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(CMBRL_SOURCE_DIR "/configs")) {
+    if (entry.path().extension() != ".yaml") continue;
+    SCOPED_TRACE(entry.path().string());
+    const TrainConfig config = LoadTrainConfig(entry.path().string());
+    ++presets;
+    const std::string name = entry.path().stem().string();
+    if (name == "quickstart" || name == "tiny-test") continue;
+    // The paper presets: <task>-<planner>.yaml with the paper's sizes.
+    std::string task = config.task;
+    for (char& c : task) c = static_cast<char>(std::tolower(c));
+    EXPECT_EQ(name, task + "-" + config.planner);
+    EXPECT_EQ(config.ensemble.hidden_sizes, std::vector<int>({1024, 1024, 1024}));
+    EXPECT_EQ(config.ensemble.ensemble_size, config.task.rfind("Car", 0) == 0 ? 5 : 4);
+    EXPECT_EQ(config.planning.cross_entropy.population, 500);
+  }
+  EXPECT_EQ(presets, 14);  // 4 tasks x 3 planners, quickstart, tiny-test
 }
 
 TEST(ConfigTest, ObservationSizesMatchTheEnvironments) {

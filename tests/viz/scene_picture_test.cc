@@ -50,7 +50,8 @@ SceneState Scene() {
 TEST(ScenePictureTest, DrawsEachObjectWhereItIs) {
   const std::string file = ::testing::TempDir() + "/scene_picture_test.png";
   ScenePicture picture{
-      Scene(), {{-1.2, -1.2}, {-1.1, -1.1}, {-1.0, -1.0}}, {false, true, false}, {}, "test scene"};
+      Scene(), {{-1.2, -1.2}, {-1.1, -1.1}, {-1.0, -1.0}}, {false, true, false}, {}, "test scene",
+      {}};
   WriteScenePng(picture, file);
   cairo_surface_t* surface = cairo_image_surface_create_from_png(file.c_str());
   ASSERT_EQ(cairo_surface_status(surface), CAIRO_STATUS_SUCCESS);
@@ -75,7 +76,7 @@ TEST(ScenePictureTest, DrawsEachObjectWhereItIs) {
 }
 
 TEST(ScenePictureTest, UnwritablePathAndBadSizeAreNamed) {
-  ScenePicture picture{Scene(), {}, {}, {}, ""};
+  ScenePicture picture{Scene(), {}, {}, {}, "", {}};
   EXPECT_THAT(ErrorMessage([&] { WriteScenePng(picture, "/nonexistent-dir/x.png"); }),
               ::testing::HasSubstr("/nonexistent-dir/x.png"));
   EXPECT_THROW(WriteScenePng(picture, "x.png", {10, 0.4}), Error);

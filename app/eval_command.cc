@@ -1,0 +1,76 @@
+// `cmbrl eval`: episodes of a trained run's MPC agent, one JSON line each, and top-down pictures
+// with the planner's predicted trajectories.
+#include <fmt/format.h>
+
+#include <filesystem>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "app/commands.h"
+#include "cmbrl/experiment/evaluation.h"
+#include "cmbrl/viz/scene_picture.h"
+
+namespace cmbrl::app {
+namespace {
+
+struct EvalArgs {
+  std::string run;
+  EvaluationOptions options;
+  std::string render;
+};
+
+void RunEval(const EvalArgs& args) {
+  const std::vector<EvaluatedEpisode> episodes = EvaluateRun(args.run, args.options);
+  if (!args.render.empty()) std::filesystem::create_directories(args.render);
+  for (size_t k = 0; k < episodes.size(); ++k) {
+    const EvaluatedEpisode& episode = episodes[k];
+    const EpisodeRecord& r = episode.record;
+    nlohmann::ordered_json line = {{"run", args.run},
+                                   {"seed", args.options.seed},
+                                   {"episode", k},
+                                   {"return", r.episode_return},
+                                   {"cost", r.episode_cost},
+                                   {"steps", r.steps},
+                                   {"goals_met", r.goals_met},
+                                   {"ms_per_plan", episode.mean_ms_per_plan}};
+    if (!args.render.empty()) {
+      const std::string path =
+          (std::filesystem::path(args.render) / fmt::format("episode-{}.png", k)).string();
+      ScenePicture picture{r.final_scene,
+                           r.path,
+                           r.path_violations,
+                           r.reached_goals,
+                           fmt::format("episode {}: return {:.2f}, cost {}, goals {}; plans "
+                                       "every {} steps: green feasible, red not, black chosen",
+                                       k, r.episode_return, r.episode_cost, r.goals_met,
+                                       args.options.predictions_every),
+                           episode.predictions};
+      WriteScenePng(picture, path);
+      line["picture"] = path;
+    }
+    std::cout << line.dump() << std::endl;
+  }
+}
+
+}  // namespace
+
+void AddEvalCommand(CLI::App& parent) {
+  auto args = std::make_shared<EvalArgs>();
+  CLI::App* command = parent.add_subcommand(
+      "eval", "Evaluate a trained run's agent; print one JSON line per episode; draw them");
+  command->add_option("--run", args->run, "run directory (from cmbrl train)")->required();
+  command->add_option("--episodes", args->options.episodes, "episodes")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  command->add_option("--seed", args->options.seed, "seed of the environment and the planner")
+      ->capture_default_str();
+  command->add_option("--render", args->render, "folder for one PNG per episode");
+  command
+      ->add_option("--predictions-every", args->options.predictions_every,
+                   "draw the planner's predicted trajectories every this many steps (0: none)")
+      ->capture_default_str();
+  command->callback([args] { RunEval(*args); });
+}
+
+}  // namespace cmbrl::app

@@ -1,0 +1,106 @@
+#include "cmbrl/experiment/evaluation.h"
+
+#include <torch/torch.h>
+
+#include <cmath>
+#include <filesystem>
+
+#include "cmbrl/agent/mpc_agent.h"
+#include "cmbrl/core/check.h"
+#include "cmbrl/core/rng.h"
+#include "cmbrl/env/goal_env.h"
+#include "cmbrl/experiment/config.h"
+#include "cmbrl/models/ensemble.h"
+#include "cmbrl/models/xgboost_cost_model.h"
+
+namespace cmbrl {
+namespace fs = std::filesystem;
+namespace {
+
+int IndexOf(const BoxSpec& box, const std::string& name) {
+  for (int i = 0; i < box.size(); ++i) {
+    if (box.names[i] == name) return i;
+  }
+  Fail("the observation has no component '{}'", name);
+}
+
+// Predicted robot positions in the world: the predicted magnetometer gives the heading theta
+// ((-0.5 sin theta, -0.5 cos theta) in the body frame), the predicted ego-frame goal the offset,
+// and the goal itself does not move: p = goal - R(theta) goal_ego.
+std::vector<PredictedPath> WorldPaths(MpcAgent& agent, const BoxSpec& spec, Vec2 goal, Vec2 robot,
+                                      int keep) {
+  const torch::Tensor trajectories = agent.objective().last_trajectories().cpu();  // (E,N,H,S)
+  const torch::Tensor constraint = agent.objective().last_values().constraint_cost.cpu();
+  const int mx = IndexOf(spec, "magnetometer_x"), my = IndexOf(spec, "magnetometer_y");
+  const int gx = IndexOf(spec, "goal_x"), gy = IndexOf(spec, "goal_y");
+  const std::int64_t samples = trajectories.size(1), horizon = trajectories.size(2);
+  const auto point = [&](const torch::Tensor& state) {
+    const double theta = std::atan2(-state[mx].item<double>(), -state[my].item<double>());
+    const double ex = state[gx].item<double>(), ey = state[gy].item<double>();
+    return Vec2{goal.x - (std::cos(theta) * ex - std::sin(theta) * ey),
+                goal.y - (std::sin(theta) * ex + std::cos(theta) * ey)};
+  };
+  std::vector<PredictedPath> paths;
+  const std::int64_t stride = std::max<std::int64_t>(1, samples / std::max(1, keep));
+  for (std::int64_t n = 0; n < samples; n += stride) {
+    for (std::int64_t e = 0; e < trajectories.size(0); ++e) {
+      PredictedPath path;
+      path.feasible = constraint[n].item<float>() == 0.0f;
+      path.points.push_back(robot);
+      for (std::int64_t t = 0; t < horizon; ++t)
+        path.points.push_back(point(trajectories[e][n][t]));
+      paths.push_back(std::move(path));
+    }
+  }
+  return paths;
+}
+
+}  // namespace
+
+std::vector<EvaluatedEpisode> EvaluateRun(const std::string& run_dir,
+                                          const EvaluationOptions& options) {
+  const fs::path dir(run_dir);
+  const fs::path checkpoint = dir / "checkpoint";
+  Require(fs::exists(dir / "config.yaml") && fs::exists(checkpoint / "ensemble.pt"),
+          "'{}' holds no trained run (config.yaml and checkpoint/ensemble.pt expected)", run_dir);
+  Require(options.episodes >= 1, "episodes is {}: expected at least 1", options.episodes);
+  const TrainConfig config = LoadTrainConfig((dir / "config.yaml").string());
+  GoalEnv env(GoalTaskSpecByName(config.task, ParseVariant(config.variant)));
+  const int state_dim = env.observation_spec().size(), action_dim = env.action_spec().size();
+  EnsembleDynamics ensemble(state_dim, action_dim, config.ensemble, options.seed);
+  ensemble.Load((checkpoint / "ensemble.pt").string());
+  XgbCostModel classifier(state_dim, config.classifier, options.seed);
+  classifier.Load((checkpoint / "classifier.json").string());
+  PlannerSettings planning = config.planning;
+  planning.problem.action_dim = action_dim;
+  MpcAgent agent(ensemble, classifier, config.planner, planning, config.objective,
+                 DeriveSeed(options.seed, 4));
+
+  std::vector<EvaluatedEpisode> episodes;
+  for (int k = 0; k < options.episodes; ++k) {
+    EvaluatedEpisode result;
+    double milliseconds = 0.0;
+    const auto record_plan = [&](int step, const SceneState& scene) {
+      milliseconds += agent.last_plan().milliseconds;
+      if (options.predictions_every <= 0 || step % options.predictions_every != 0) return;
+      const BoxSpec& spec = env.observation_spec();
+      std::vector<PredictedPath> paths =
+          WorldPaths(agent, spec, scene.goal, scene.robot.position, options.predicted_samples);
+      // The executed plan: its final mean rolled through the objective once more.
+      agent.objective().Evaluate(agent.last_result().sequence.unsqueeze(0));
+      for (PredictedPath& chosen : WorldPaths(agent, spec, scene.goal, scene.robot.position, 1)) {
+        chosen.chosen = true;
+        paths.push_back(std::move(chosen));
+      }
+      result.predictions.insert(result.predictions.end(), paths.begin(), paths.end());
+    };
+    const std::optional<std::uint64_t> reset_seed =
+        k == 0 ? std::optional<std::uint64_t>(options.seed) : std::nullopt;
+    result.record = RunEpisode(env, agent, reset_seed, record_plan);
+    result.mean_ms_per_plan = milliseconds / result.record.steps;
+    episodes.push_back(std::move(result));
+  }
+  return episodes;
+}
+
+}  // namespace cmbrl

@@ -1,0 +1,32 @@
+// Evaluating a trained run: episodes of its MPC agent with the models of its last checkpoint,
+// with what pictures need, the planner's predicted trajectories included.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "cmbrl/experiment/rollout.h"
+#include "cmbrl/viz/scene_picture.h"
+
+namespace cmbrl {
+
+struct EvaluationOptions {
+  int episodes = 1;
+  std::uint64_t seed = 0;      // environment and planner
+  int predictions_every = 25;  // record the planner's predictions every this many steps (0: never)
+  int predicted_samples = 8;   // sample trajectories kept per recorded step (each x members)
+};
+
+struct EvaluatedEpisode {
+  EpisodeRecord record;
+  std::vector<PredictedPath> predictions;  // world coordinates, at the recorded steps
+  double mean_ms_per_plan = 0.0;
+};
+
+// Loads run_dir's config and checkpoint and runs the episodes. Throws cmbrl::Error when run_dir
+// holds no trained run.
+std::vector<EvaluatedEpisode> EvaluateRun(const std::string& run_dir,
+                                          const EvaluationOptions& options);
+
+}  // namespace cmbrl
