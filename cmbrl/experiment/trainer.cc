@@ -251,12 +251,15 @@ struct Trainer::State {
 std::unique_ptr<Trainer> Trainer::Start(const TrainConfig& config, const std::string& run_dir) {
   ValidateTrainConfig(config, "(command line)");
   const fs::path dir(run_dir);
-  Require(!fs::exists(dir / kConfigFile) && !fs::exists(dir / kProgressFile),
+  Require(!fs::exists(dir / kConfigFile),
           "'{}' already holds a run: resume it with --resume, or choose another directory",
           run_dir);
   fs::create_directories(dir);
-  std::ofstream(dir / kConfigFile) << TrainConfigToYaml(config);
-  std::ofstream(dir / kProgressFile) << ProgressCsvHeader() << "\n";
+  std::ofstream(dir / kProgressFile, std::ios::trunc) << ProgressCsvHeader() << "\n";
+  // config.yaml marks the run as existing: written whole, then renamed into place.
+  const fs::path tmp = dir / "config.yaml.tmp";
+  std::ofstream(tmp) << TrainConfigToYaml(config);
+  fs::rename(tmp, dir / kConfigFile);
   return std::unique_ptr<Trainer>(new Trainer(std::make_unique<State>(config, dir)));
 }
 

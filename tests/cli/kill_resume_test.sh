@@ -1,16 +1,19 @@
 #!/usr/bin/env bash
-# kill -9 a training run at an arbitrary moment, resume it, and compare its progress.csv with an
-# uninterrupted run's (the wall-clock columns Time and MsPerPlan aside).
+# kill -9 a training run at an arbitrary moment of its life (once its directory holds a run),
+# resume it, and compare its progress.csv with an uninterrupted run's (the wall-clock columns
+# Time and MsPerPlan aside).
 # Usage: kill_resume_test.sh CMBRL CONFIG WORK_DIR
 set -euo pipefail
 cmbrl=$1 config=$2 work=$3
 rm -rf "$work" && mkdir -p "$work"
 
 "$cmbrl" train --config "$config" --steps 1200 --out "$work/whole" > /dev/null
-for delay in 0.7 1.9; do
+for delay in 0.3 1.5; do
   run="$work/killed-$delay"
   "$cmbrl" train --config "$config" --steps 1200 --out "$run" > /dev/null &
   pid=$!
+  # The run exists once config.yaml is in place (the program may still be loading LibTorch).
+  for _ in $(seq 300); do [ -f "$run/config.yaml" ] && break; sleep 0.1; done
   sleep "$delay"
   kill -9 "$pid" 2> /dev/null || true
   wait "$pid" 2> /dev/null || true
