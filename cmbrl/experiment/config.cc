@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <fstream>
+#include <map>
 #include <set>
 #include <sstream>
 #include <typeinfo>
@@ -83,89 +84,129 @@ class Section {
   std::vector<std::string> known_;
 };
 
-// Reads (or, with a null node, only declares) every key; shared by parsing and the key list.
-void MapConfig(Section& root, TrainConfig& c) {
-  root.Read("task", c.task);
-  root.Read("variant", c.variant);
-  root.Read("planner", c.planner);
-  root.Read("seed", c.seed);
-  root.Read("device", c.device);
-
-  Section training = root.Child("training");
-  training.Read("pretrain_episodes", c.training.pretrain_episodes);
-  training.Read("pretrain_steps", c.training.pretrain_steps);
-  training.Read("episodes_per_epoch", c.training.episodes_per_epoch);
-  training.Read("total_steps", c.training.total_steps);
-  training.Read("transition_capacity", c.training.transition_capacity);
-  training.Read("safe_capacity", c.training.safe_capacity);
-  training.Read("unsafe_capacity", c.training.unsafe_capacity);
-  training.RejectUnknownKeys();
-
-  Section ensemble = root.Child("ensemble");
-  EnsembleOptions& e = c.ensemble;
-  ensemble.Read("ensemble_size", e.ensemble_size);
-  ensemble.Read("hidden_sizes", e.hidden_sizes);
-  ensemble.Read("predict_delta", e.predict_delta);
-  ensemble.Read("learning_rate", e.learning_rate);
-  ensemble.Read("batch_size", e.batch_size);
-  ensemble.Read("max_epochs", e.max_epochs);
-  ensemble.Read("validation_fraction", e.validation_fraction);
-  ensemble.Read("member_subset_fraction", e.member_subset_fraction);
-  ensemble.Read("validate_every", e.validate_every);
-  ensemble.Read("patience", e.patience);
-  ensemble.Read("init_std", e.init_std);
-  ensemble.Read("min_std", e.min_std);
-  ensemble.RejectUnknownKeys();
-
-  Section classifier = root.Child("classifier");
-  XgbCostModelOptions& x = c.classifier;
-  classifier.Read("rounds", x.rounds);
-  classifier.Read("learning_rate", x.learning_rate);
-  classifier.Read("max_depth", x.max_depth);
-  classifier.Read("max_leaves", x.max_leaves);
-  classifier.Read("grow_policy", x.grow_policy);
-  classifier.Read("tree_method", x.tree_method);
-  classifier.Read("l2_regularization", x.l2_regularization);
-  classifier.Read("min_child_weight", x.min_child_weight);
-  classifier.Read("boost_from_average", x.boost_from_average);
-  classifier.Read("threshold", x.threshold);
-  classifier.Read("safe_per_unsafe", x.safe_per_unsafe);
-  classifier.Read("threads", x.threads);
-  classifier.RejectUnknownKeys();
-
-  Section planning = root.Child("planning");
-  PlanningProblem& p = c.planning.problem;
-  planning.Read("horizon", p.horizon);
-  planning.Read("action_low", p.action_low);
-  planning.Read("action_high", p.action_high);
-  CrossEntropyOptions& ce = c.planning.cross_entropy;
-  planning.Read("population", ce.population);
-  planning.Read("elites", ce.elites);
-  planning.Read("min_feasible_elites", ce.min_feasible_elites);
-  planning.Read("max_iterations", ce.max_iterations);
-  planning.Read("epsilon", ce.epsilon);
-  planning.Read("alpha", ce.alpha);
-  planning.Read("initial_variance", ce.initial_variance);
-  planning.Read("penalty", ce.penalty);
-  planning.Read("warm_start", ce.warm_start);
-  planning.Read("random_samples", c.planning.random.samples);
-  planning.RejectUnknownKeys();
-
-  Section objective = root.Child("objective");
-  TrajectoryObjectiveOptions& o = c.objective;
-  objective.Read("goal_index", o.goal_index);
-  objective.Read("gamma", o.gamma);
-  objective.Read("beta", o.beta);
-  objective.Read("near_goal_radius", o.near_goal_radius);
-  objective.Read("near_goal_bonus", o.near_goal_bonus);
-  objective.Read("at_goal_radius", o.at_goal_radius);
-  objective.Read("at_goal_bonus", o.at_goal_bonus);
-  objective.RejectUnknownKeys();
-
-  root.RejectUnknownKeys();
-  SetTrainDevice(c, c.device);
-  c.planning.random.penalty = c.planning.cross_entropy.penalty;  // one penalty for CEM and random
+// Every key of the file, once: section ("" for the top level), key and field. Reading and
+// writing both walk this list, so they cannot drift apart. Keys of one section stay together.
+template <typename Config, typename Visitor>
+void VisitConfig(Config& c, Visitor& v) {
+  v.Field("", "task", c.task);
+  v.Field("", "variant", c.variant);
+  v.Field("", "planner", c.planner);
+  v.Field("", "seed", c.seed);
+  v.Field("", "device", c.device);
+  auto& t = c.training;
+  v.Field("training", "pretrain_episodes", t.pretrain_episodes);
+  v.Field("training", "pretrain_steps", t.pretrain_steps);
+  v.Field("training", "episodes_per_epoch", t.episodes_per_epoch);
+  v.Field("training", "total_steps", t.total_steps);
+  v.Field("training", "transition_capacity", t.transition_capacity);
+  v.Field("training", "safe_capacity", t.safe_capacity);
+  v.Field("training", "unsafe_capacity", t.unsafe_capacity);
+  auto& e = c.ensemble;
+  v.Field("ensemble", "ensemble_size", e.ensemble_size);
+  v.Field("ensemble", "hidden_sizes", e.hidden_sizes);
+  v.Field("ensemble", "predict_delta", e.predict_delta);
+  v.Field("ensemble", "learning_rate", e.learning_rate);
+  v.Field("ensemble", "batch_size", e.batch_size);
+  v.Field("ensemble", "max_epochs", e.max_epochs);
+  v.Field("ensemble", "validation_fraction", e.validation_fraction);
+  v.Field("ensemble", "member_subset_fraction", e.member_subset_fraction);
+  v.Field("ensemble", "validate_every", e.validate_every);
+  v.Field("ensemble", "patience", e.patience);
+  v.Field("ensemble", "init_std", e.init_std);
+  v.Field("ensemble", "min_std", e.min_std);
+  auto& x = c.classifier;
+  v.Field("classifier", "rounds", x.rounds);
+  v.Field("classifier", "learning_rate", x.learning_rate);
+  v.Field("classifier", "max_depth", x.max_depth);
+  v.Field("classifier", "max_leaves", x.max_leaves);
+  v.Field("classifier", "grow_policy", x.grow_policy);
+  v.Field("classifier", "tree_method", x.tree_method);
+  v.Field("classifier", "l2_regularization", x.l2_regularization);
+  v.Field("classifier", "min_child_weight", x.min_child_weight);
+  v.Field("classifier", "boost_from_average", x.boost_from_average);
+  v.Field("classifier", "threshold", x.threshold);
+  v.Field("classifier", "safe_per_unsafe", x.safe_per_unsafe);
+  v.Field("classifier", "threads", x.threads);
+  auto& p = c.planning.problem;
+  auto& ce = c.planning.cross_entropy;
+  v.Field("planning", "horizon", p.horizon);
+  v.Field("planning", "action_low", p.action_low);
+  v.Field("planning", "action_high", p.action_high);
+  v.Field("planning", "population", ce.population);
+  v.Field("planning", "elites", ce.elites);
+  v.Field("planning", "min_feasible_elites", ce.min_feasible_elites);
+  v.Field("planning", "max_iterations", ce.max_iterations);
+  v.Field("planning", "epsilon", ce.epsilon);
+  v.Field("planning", "alpha", ce.alpha);
+  v.Field("planning", "initial_variance", ce.initial_variance);
+  v.Field("planning", "penalty", ce.penalty);
+  v.Field("planning", "warm_start", ce.warm_start);
+  v.Field("planning", "random_samples", c.planning.random.samples);
+  auto& o = c.objective;
+  v.Field("objective", "goal_index", o.goal_index);
+  v.Field("objective", "gamma", o.gamma);
+  v.Field("objective", "beta", o.beta);
+  v.Field("objective", "near_goal_radius", o.near_goal_radius);
+  v.Field("objective", "near_goal_bonus", o.near_goal_bonus);
+  v.Field("objective", "at_goal_radius", o.at_goal_radius);
+  v.Field("objective", "at_goal_bonus", o.at_goal_bonus);
 }
+
+// Reads the fields that the file names; then refuses any key it does not know.
+class ConfigReader {
+ public:
+  ConfigReader(const YAML::Node& document, const std::string& source)
+      : root_(document, "", source) {}
+
+  template <typename T>
+  void Field(const std::string& section, const char* key, T& value) {
+    SectionFor(section).Read(key, value);
+  }
+
+  void RejectUnknownKeys() const {
+    for (const auto& [name, section] : sections_) section.RejectUnknownKeys();
+    root_.RejectUnknownKeys();
+  }
+
+ private:
+  Section& SectionFor(const std::string& name) {
+    if (name.empty()) return root_;
+    auto found = sections_.find(name);
+    if (found == sections_.end()) found = sections_.emplace(name, root_.Child(name)).first;
+    return found->second;
+  }
+
+  Section root_;
+  std::map<std::string, Section> sections_;
+};
+
+// Writes every field, one YAML mapping per section.
+class ConfigWriter {
+ public:
+  ConfigWriter() { out_ << YAML::BeginMap; }
+
+  template <typename T>
+  void Field(const std::string& section, const char* key, const T& value) {
+    if (section != open_section_) {
+      if (!open_section_.empty()) out_ << YAML::EndMap;
+      if (!section.empty()) out_ << YAML::Key << section << YAML::Value << YAML::BeginMap;
+      open_section_ = section;
+    }
+    out_ << YAML::Key << key << YAML::Value;
+    if constexpr (std::is_same_v<T, std::vector<int>>) out_ << YAML::Flow;
+    out_ << value;
+  }
+
+  std::string Finish() {
+    if (!open_section_.empty()) out_ << YAML::EndMap;
+    out_ << YAML::EndMap;
+    return std::string(out_.c_str()) + "\n";
+  }
+
+ private:
+  YAML::Emitter out_;
+  std::string open_section_;
+};
 
 // Runs a component's validation and names the section in its message ("planning.elites is ...").
 template <typename Check>
@@ -194,8 +235,11 @@ TrainConfig ParseTrainConfig(const std::string& yaml, const std::string& source)
     Fail("config '{}' is not valid YAML: {}", source, error.what());
   }
   TrainConfig config;
-  Section root(document, "", source);
-  MapConfig(root, config);
+  ConfigReader reader(document, source);
+  VisitConfig(config, reader);
+  reader.RejectUnknownKeys();
+  SetTrainDevice(config, config.device);  // one device for everything
+  config.planning.random.penalty = config.planning.cross_entropy.penalty;  // one penalty
   ValidateTrainConfig(config, source);
   return config;
 }
@@ -247,90 +291,9 @@ void ValidateTrainConfig(const TrainConfig& c, const std::string& source) {
 }
 
 std::string TrainConfigToYaml(const TrainConfig& c) {
-  YAML::Emitter out;
-  const auto section = [&out](const char* name, auto&& body) {
-    out << YAML::Key << name << YAML::Value << YAML::BeginMap;
-    body();
-    out << YAML::EndMap;
-  };
-  const auto kv = [&out](const char* key, const auto& value) {
-    out << YAML::Key << key << YAML::Value << value;
-  };
-  out << YAML::BeginMap;
-  kv("task", c.task);
-  kv("variant", c.variant);
-  kv("planner", c.planner);
-  kv("seed", c.seed);
-  kv("device", c.device);
-  section("training", [&] {
-    const TrainingLoopOptions& t = c.training;
-    kv("pretrain_episodes", t.pretrain_episodes);
-    kv("pretrain_steps", t.pretrain_steps);
-    kv("episodes_per_epoch", t.episodes_per_epoch);
-    kv("total_steps", t.total_steps);
-    kv("transition_capacity", t.transition_capacity);
-    kv("safe_capacity", t.safe_capacity);
-    kv("unsafe_capacity", t.unsafe_capacity);
-  });
-  section("ensemble", [&] {
-    const EnsembleOptions& e = c.ensemble;
-    kv("ensemble_size", e.ensemble_size);
-    out << YAML::Key << "hidden_sizes" << YAML::Value << YAML::Flow << e.hidden_sizes;
-    kv("predict_delta", e.predict_delta);
-    kv("learning_rate", e.learning_rate);
-    kv("batch_size", e.batch_size);
-    kv("max_epochs", e.max_epochs);
-    kv("validation_fraction", e.validation_fraction);
-    kv("member_subset_fraction", e.member_subset_fraction);
-    kv("validate_every", e.validate_every);
-    kv("patience", e.patience);
-    kv("init_std", e.init_std);
-    kv("min_std", e.min_std);
-  });
-  section("classifier", [&] {
-    const XgbCostModelOptions& x = c.classifier;
-    kv("rounds", x.rounds);
-    kv("learning_rate", x.learning_rate);
-    kv("max_depth", x.max_depth);
-    kv("max_leaves", x.max_leaves);
-    kv("grow_policy", x.grow_policy);
-    kv("tree_method", x.tree_method);
-    kv("l2_regularization", x.l2_regularization);
-    kv("min_child_weight", x.min_child_weight);
-    kv("boost_from_average", x.boost_from_average);
-    kv("threshold", x.threshold);
-    kv("safe_per_unsafe", x.safe_per_unsafe);
-    kv("threads", x.threads);
-  });
-  section("planning", [&] {
-    const PlanningProblem& p = c.planning.problem;
-    const CrossEntropyOptions& ce = c.planning.cross_entropy;
-    kv("horizon", p.horizon);
-    kv("action_low", p.action_low);
-    kv("action_high", p.action_high);
-    kv("population", ce.population);
-    kv("elites", ce.elites);
-    kv("min_feasible_elites", ce.min_feasible_elites);
-    kv("max_iterations", ce.max_iterations);
-    kv("epsilon", ce.epsilon);
-    kv("alpha", ce.alpha);
-    kv("initial_variance", ce.initial_variance);
-    kv("penalty", ce.penalty);
-    kv("warm_start", ce.warm_start);
-    kv("random_samples", c.planning.random.samples);
-  });
-  section("objective", [&] {
-    const TrajectoryObjectiveOptions& o = c.objective;
-    kv("goal_index", o.goal_index);
-    kv("gamma", o.gamma);
-    kv("beta", o.beta);
-    kv("near_goal_radius", o.near_goal_radius);
-    kv("near_goal_bonus", o.near_goal_bonus);
-    kv("at_goal_radius", o.at_goal_radius);
-    kv("at_goal_bonus", o.at_goal_bonus);
-  });
-  out << YAML::EndMap;
-  return std::string(out.c_str()) + "\n";
+  ConfigWriter writer;
+  VisitConfig(c, writer);
+  return writer.Finish();
 }
 
 }  // namespace cmbrl
