@@ -41,10 +41,9 @@ void RunEval(const EvalArgs& args) {
                            r.path,
                            r.path_violations,
                            r.reached_goals,
-                           fmt::format("episode {}: return {:.2f}, cost {}, goals {}; plans "
-                                       "every {} steps: green feasible, red not, black chosen",
-                                       k, r.episode_return, r.episode_cost, r.goals_met,
-                                       args.options.predictions_every),
+                           fmt::format("episode {}: return {:.2f}, cost {}, goals {} | plans: "
+                                       "green feasible, red not, black chosen",
+                                       k, r.episode_return, r.episode_cost, r.goals_met),
                            episode.predictions};
       WriteScenePng(picture, path);
       line["picture"] = path;

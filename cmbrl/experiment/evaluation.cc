@@ -29,14 +29,18 @@ int IndexOf(const BoxSpec& box, const std::string& name) {
 // and the goal itself does not move: p = goal - R(theta) goal_ego.
 std::vector<PredictedPath> WorldPaths(MpcAgent& agent, const BoxSpec& spec, Vec2 goal, Vec2 robot,
                                       int keep) {
-  const torch::Tensor trajectories = agent.objective().last_trajectories().cpu();  // (E,N,H,S)
+  const torch::Tensor trajectories = agent.objective()
+                                         .last_trajectories()
+                                         .to(torch::kCPU, torch::kFloat)
+                                         .contiguous();  // (E,N,H,S)
   const torch::Tensor constraint = agent.objective().last_values().constraint_cost.cpu();
   const int mx = IndexOf(spec, "magnetometer_x"), my = IndexOf(spec, "magnetometer_y");
   const int gx = IndexOf(spec, "goal_x"), gy = IndexOf(spec, "goal_y");
   const std::int64_t samples = trajectories.size(1), horizon = trajectories.size(2);
-  const auto point = [&](const torch::Tensor& state) {
-    const double theta = std::atan2(-state[mx].item<double>(), -state[my].item<double>());
-    const double ex = state[gx].item<double>(), ey = state[gy].item<double>();
+  const auto states = trajectories.accessor<float, 4>();
+  const auto point = [&](std::int64_t e, std::int64_t n, std::int64_t t) {
+    const double theta = std::atan2(-states[e][n][t][mx], -states[e][n][t][my]);
+    const double ex = states[e][n][t][gx], ey = states[e][n][t][gy];
     return Vec2{goal.x - (std::cos(theta) * ex - std::sin(theta) * ey),
                 goal.y - (std::sin(theta) * ex + std::cos(theta) * ey)};
   };
@@ -47,8 +51,7 @@ std::vector<PredictedPath> WorldPaths(MpcAgent& agent, const BoxSpec& spec, Vec2
       PredictedPath path;
       path.feasible = constraint[n].item<float>() == 0.0f;
       path.points.push_back(robot);
-      for (std::int64_t t = 0; t < horizon; ++t)
-        path.points.push_back(point(trajectories[e][n][t]));
+      for (std::int64_t t = 0; t < horizon; ++t) path.points.push_back(point(e, n, t));
       paths.push_back(std::move(path));
     }
   }

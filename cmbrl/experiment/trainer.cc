@@ -188,8 +188,13 @@ struct Trainer::State {
       ensemble->Save((tmp / "ensemble.pt").string());
       classifier->Save((tmp / "classifier.json").string());
     } else {
-      fs::copy_file(final_dir / "ensemble.pt", tmp / "ensemble.pt");
-      fs::copy_file(final_dir / "classifier.json", tmp / "classifier.json");
+      // Unchanged since the last fit, and files of a checkpoint are never rewritten in place:
+      // a hard link carries them over without copying (about 50 MB at the paper's sizes).
+      for (const char* name : {"ensemble.pt", "classifier.json"}) {
+        std::error_code linked;
+        fs::create_hard_link(final_dir / name, tmp / name, linked);
+        if (linked) fs::copy_file(final_dir / name, tmp / name);
+      }
     }
     torch::save(agent->planner().GeneratorState(), (tmp / "planner_generator.pt").string());
     const nlohmann::json state = {
