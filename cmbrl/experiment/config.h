@@ -13,6 +13,15 @@
 
 namespace cmbrl {
 
+// Streams of the run seed (DeriveSeed(seed, stream)), one per consumer of randomness.
+enum SeedStream : std::uint64_t {
+  kEnvSeedStream,
+  kPretrainSeedStream,
+  kEnsembleSeedStream,
+  kClassifierSeedStream,
+  kPlannerSeedStream,
+};
+
 // The outer loop of Algorithm 2 (facts B6).
 struct TrainingLoopOptions {
   int pretrain_episodes = 1000;      // random-action episodes before the first fit

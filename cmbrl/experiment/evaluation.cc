@@ -77,7 +77,7 @@ std::vector<EvaluatedEpisode> EvaluateRun(const std::string& run_dir,
   PlannerSettings planning = config.planning;
   planning.problem.action_dim = action_dim;
   MpcAgent agent(ensemble, classifier, config.planner, planning, config.objective,
-                 DeriveSeed(options.seed, 4));
+                 DeriveSeed(options.seed, kPlannerSeedStream));
 
   std::vector<EvaluatedEpisode> episodes;
   for (int k = 0; k < options.episodes; ++k) {

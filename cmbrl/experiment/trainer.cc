@@ -24,15 +24,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// Streams of the run seed, one per consumer.
-enum SeedStream : std::uint64_t {
-  kEnvSeed,
-  kPretrainSeed,
-  kEnsembleSeed,
-  kClassifierSeed,
-  kPlannerSeed
-};
-
 constexpr const char* kConfigFile = "config.yaml";
 constexpr const char* kProgressFile = "progress.csv";
 constexpr const char* kCheckpointDir = "checkpoint";
@@ -84,13 +75,13 @@ struct Trainer::State {
     transitions = std::make_unique<TransitionBuffer>(state_dim, action_dim, t.transition_capacity);
     labeled = std::make_unique<LabeledStateBuffer>(state_dim, t.safe_capacity, t.unsafe_capacity);
     ensemble = std::make_unique<EnsembleDynamics>(state_dim, action_dim, config.ensemble,
-                                                  DeriveSeed(seed, kEnsembleSeed));
+                                                  DeriveSeed(seed, kEnsembleSeedStream));
     classifier = std::make_unique<XgbCostModel>(state_dim, config.classifier,
-                                                DeriveSeed(seed, kClassifierSeed));
+                                                DeriveSeed(seed, kClassifierSeedStream));
     PlannerSettings planning = config.planning;
     planning.problem.action_dim = action_dim;
     agent = std::make_unique<MpcAgent>(*ensemble, *classifier, config.planner, planning,
-                                       config.objective, DeriveSeed(seed, kPlannerSeed));
+                                       config.objective, DeriveSeed(seed, kPlannerSeedStream));
     last_dynamics_fit.validation_mse = std::numeric_limits<double>::quiet_NaN();
     last_classifier_fit.safe_accuracy = std::numeric_limits<double>::quiet_NaN();
     last_classifier_fit.unsafe_accuracy = std::numeric_limits<double>::quiet_NaN();
@@ -103,10 +94,10 @@ struct Trainer::State {
 
   // Facts B6: random actions, each episode cut after pretrain_steps stored transitions.
   void Pretrain() {
-    RandomPolicy random(env->action_spec(), DeriveSeed(config.seed, kPretrainSeed));
+    RandomPolicy random(env->action_spec(), DeriveSeed(config.seed, kPretrainSeedStream));
     for (int episode = 0; episode < config.training.pretrain_episodes; ++episode) {
       std::vector<double> observation =
-          episode == 0 ? env->Reset(DeriveSeed(config.seed, kEnvSeed)) : env->Reset();
+          episode == 0 ? env->Reset(DeriveSeed(config.seed, kEnvSeedStream)) : env->Reset();
       int stored = 0;
       while (stored < config.training.pretrain_steps) {
         const std::vector<double> action = random.Act(observation);
@@ -131,7 +122,7 @@ struct Trainer::State {
   // One MPC episode; its row.
   ProgressRow Episode() {
     std::vector<double> observation = config.training.pretrain_episodes == 0 && episodes == 0
-                                          ? env->Reset(DeriveSeed(config.seed, kEnvSeed))
+                                          ? env->Reset(DeriveSeed(config.seed, kEnvSeedStream))
                                           : env->Reset();
     agent->BeginEpisode();
     ProgressRow row;
