@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "app/bench_util.h"
 #include "app/commands.h"
 #include "cmbrl/agent/policy.h"
 #include "cmbrl/core/check.h"
@@ -25,12 +26,6 @@ struct EnvBenchArgs {
   int runs = 5;
   std::uint64_t seed = 0;
 };
-
-double Median(std::vector<double> values) {
-  std::sort(values.begin(), values.end());
-  const size_t n = values.size();
-  return n % 2 == 1 ? values[n / 2] : (values[n / 2 - 1] + values[n / 2]) / 2;
-}
 
 using Clock = std::chrono::steady_clock;
 

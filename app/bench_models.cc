@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "app/bench_util.h"
 #include "app/commands.h"
 #include "cmbrl/core/rng.h"
 #include "cmbrl/models/ensemble.h"
@@ -33,12 +34,6 @@ struct ModelBenchArgs {
 };
 
 using Clock = std::chrono::steady_clock;
-
-double Median(std::vector<double> values) {
-  std::sort(values.begin(), values.end());
-  const size_t n = values.size();
-  return n % 2 == 1 ? values[n / 2] : (values[n / 2 - 1] + values[n / 2]) / 2;
-}
 
 // Median seconds of `runs` calls of `work`, after one warm-up call.
 double MedianSeconds(int runs, const std::function<void()>& work) {
