@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "cmbrl/core/check.h"
 #include "cmbrl/core/vec2.h"
 
 namespace cmbrl {
@@ -18,6 +19,14 @@ struct BoxSpec {
   std::vector<std::string> names;  // one per component, e.g. "goal_x", "hazards_lidar_3"
 
   int size() const { return static_cast<int>(low.size()); }
+
+  // Index of the component called `name`; throws cmbrl::Error naming it when there is none.
+  int IndexOf(const std::string& name) const {
+    for (int i = 0; i < size(); ++i) {
+      if (names[i] == name) return i;
+    }
+    Fail("no component named '{}' in this box", name);
+  }
 };
 
 // What one Step reports beyond reward and cost. The raw cost terms are summed over the physics

@@ -17,13 +17,6 @@ namespace cmbrl {
 namespace fs = std::filesystem;
 namespace {
 
-int IndexOf(const BoxSpec& box, const std::string& name) {
-  for (int i = 0; i < box.size(); ++i) {
-    if (box.names[i] == name) return i;
-  }
-  Fail("the observation has no component '{}'", name);
-}
-
 // Predicted robot positions in the world: the predicted magnetometer gives the heading theta
 // ((-0.5 sin theta, -0.5 cos theta) in the body frame), the predicted ego-frame goal the offset,
 // and the goal itself does not move: p = goal - R(theta) goal_ego.
@@ -34,8 +27,8 @@ std::vector<PredictedPath> WorldPaths(MpcAgent& agent, const BoxSpec& spec, Vec2
                                          .to(torch::kCPU, torch::kFloat)
                                          .contiguous();  // (E,N,H,S)
   const torch::Tensor constraint = agent.objective().last_values().constraint_cost.cpu();
-  const int mx = IndexOf(spec, "magnetometer_x"), my = IndexOf(spec, "magnetometer_y");
-  const int gx = IndexOf(spec, "goal_x"), gy = IndexOf(spec, "goal_y");
+  const int mx = spec.IndexOf("magnetometer_x"), my = spec.IndexOf("magnetometer_y");
+  const int gx = spec.IndexOf("goal_x"), gy = spec.IndexOf("goal_y");
   const std::int64_t samples = trajectories.size(1), horizon = trajectories.size(2);
   const auto states = trajectories.accessor<float, 4>();
   const auto point = [&](std::int64_t e, std::int64_t n, std::int64_t t) {

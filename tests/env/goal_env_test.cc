@@ -17,7 +17,6 @@ namespace {
 using testing::ErrorMessage;
 
 using testing::FarLayout;
-using testing::IndexOf;
 
 GoalEnv MakeGoalEnv(const std::string& task, Variant variant) {
   return GoalEnv(GoalTaskSpecByName(task, variant));
@@ -254,23 +253,23 @@ TEST(GoalEnvObservationTest, PaperStateVectorValuesByHand) {
   // Rest: no velocity, no yaw rate; magnetometer reads the field (0, -0.5, 0) in the body
   // frame, (-0.5 sin(yaw), -0.5 cos(yaw), 0).
   constexpr double kTol = 1e-9;  // sensor and frame arithmetic in double
-  EXPECT_NEAR(obs[IndexOf(spec, "velocimeter_x")], 0.0, kTol);
-  EXPECT_NEAR(obs[IndexOf(spec, "gyro_z")], 0.0, kTol);
-  EXPECT_NEAR(obs[IndexOf(spec, "magnetometer_x")], -0.5, kTol);
-  EXPECT_NEAR(obs[IndexOf(spec, "magnetometer_y")], 0.0, kTol);
-  EXPECT_NEAR(obs[IndexOf(spec, "goal_x")], 1.0, kTol);
-  EXPECT_NEAR(obs[IndexOf(spec, "goal_y")], 0.0, kTol);
-  EXPECT_NEAR(obs[IndexOf(spec, "vase0_x")], 0.0, kTol);
-  EXPECT_NEAR(obs[IndexOf(spec, "vase0_y")], -1.0, 1e-4);  // the vase settles into the floor
-  EXPECT_NEAR(obs[IndexOf(spec, "hazard0_x")], 0.0, kTol);
-  EXPECT_NEAR(obs[IndexOf(spec, "hazard0_y")], 1.0, kTol);
-  EXPECT_NEAR(obs[IndexOf(spec, "hazard1_x")], -1.0, kTol);
-  EXPECT_NEAR(obs[IndexOf(spec, "hazard1_y")], 0.0, kTol);
+  EXPECT_NEAR(obs[spec.IndexOf("velocimeter_x")], 0.0, kTol);
+  EXPECT_NEAR(obs[spec.IndexOf("gyro_z")], 0.0, kTol);
+  EXPECT_NEAR(obs[spec.IndexOf("magnetometer_x")], -0.5, kTol);
+  EXPECT_NEAR(obs[spec.IndexOf("magnetometer_y")], 0.0, kTol);
+  EXPECT_NEAR(obs[spec.IndexOf("goal_x")], 1.0, kTol);
+  EXPECT_NEAR(obs[spec.IndexOf("goal_y")], 0.0, kTol);
+  EXPECT_NEAR(obs[spec.IndexOf("vase0_x")], 0.0, kTol);
+  EXPECT_NEAR(obs[spec.IndexOf("vase0_y")], -1.0, 1e-4);  // the vase settles into the floor
+  EXPECT_NEAR(obs[spec.IndexOf("hazard0_x")], 0.0, kTol);
+  EXPECT_NEAR(obs[spec.IndexOf("hazard0_y")], 1.0, kTol);
+  EXPECT_NEAR(obs[spec.IndexOf("hazard1_x")], -1.0, kTol);
+  EXPECT_NEAR(obs[spec.IndexOf("hazard1_y")], 0.0, kTol);
   // Driving forward shows up as positive forward velocity and a closer goal.
   const StepResult step = env.Step({1.0, 0.0});
-  EXPECT_GT(step.observation[IndexOf(spec, "velocimeter_x")], 0.1);
-  EXPECT_NEAR(step.observation[IndexOf(spec, "velocimeter_y")], 0.0, 1e-6);
-  EXPECT_LT(step.observation[IndexOf(spec, "goal_x")], 1.0);
+  EXPECT_GT(step.observation[spec.IndexOf("velocimeter_x")], 0.1);
+  EXPECT_NEAR(step.observation[spec.IndexOf("velocimeter_y")], 0.0, 1e-6);
+  EXPECT_LT(step.observation[spec.IndexOf("goal_x")], 1.0);
 }
 
 TEST(GoalEnvObservationTest, StandardLidarObservationIsAlphabetical) {
@@ -309,15 +308,15 @@ TEST(GoalEnvObservationTest, StandardLidarAndSensorValuesByHand) {
   const std::vector<double>& obs = step.observation;
   const BoxSpec& spec = env.observation_spec();
   // The car barely moves with no torque; 1 mm of settling changes the reading by < 1e-3.
-  EXPECT_NEAR(obs[IndexOf(spec, "goal_lidar_0")], 0.5, 1e-3);
-  EXPECT_NEAR(obs[IndexOf(spec, "goal_lidar_15")], 0.5, 1e-3);
-  EXPECT_EQ(obs[IndexOf(spec, "goal_lidar_8")], 0.0);
-  EXPECT_EQ(obs[IndexOf(spec, "hazards_lidar_0")], 0.0);  // hazards 50 m away
+  EXPECT_NEAR(obs[spec.IndexOf("goal_lidar_0")], 0.5, 1e-3);
+  EXPECT_NEAR(obs[spec.IndexOf("goal_lidar_15")], 0.5, 1e-3);
+  EXPECT_EQ(obs[spec.IndexOf("goal_lidar_8")], 0.0);
+  EXPECT_EQ(obs[spec.IndexOf("hazards_lidar_0")], 0.0);  // hazards 50 m away
   // At rest the accelerometer reads gravity on body z; the ball joint sits at identity.
-  EXPECT_NEAR(obs[IndexOf(spec, "accelerometer_z")], 9.81, 0.05);
-  EXPECT_NEAR(obs[IndexOf(spec, "ballquat_rear_0")], 1.0, 1e-3);
-  EXPECT_NEAR(obs[IndexOf(spec, "ballquat_rear_4")], 1.0, 1e-3);
-  EXPECT_NEAR(obs[IndexOf(spec, "ballquat_rear_8")], 1.0, 1e-3);
+  EXPECT_NEAR(obs[spec.IndexOf("accelerometer_z")], 9.81, 0.05);
+  EXPECT_NEAR(obs[spec.IndexOf("ballquat_rear_0")], 1.0, 1e-3);
+  EXPECT_NEAR(obs[spec.IndexOf("ballquat_rear_4")], 1.0, 1e-3);
+  EXPECT_NEAR(obs[spec.IndexOf("ballquat_rear_8")], 1.0, 1e-3);
 }
 
 // ---------------------------------------------------------------- determinism

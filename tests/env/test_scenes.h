@@ -21,15 +21,6 @@ inline GoalLayout FarLayout(const GoalTaskSpec& spec) {
   return layout;
 }
 
-// Index of a named component of a box; fails the test when missing.
-inline int IndexOf(const BoxSpec& box, const std::string& name) {
-  for (int i = 0; i < box.size(); ++i) {
-    if (box.names[i] == name) return i;
-  }
-  ADD_FAILURE() << "no component named " << name;
-  return 0;
-}
-
 }  // namespace cmbrl::testing
 
 #include "cmbrl/env/goal_env.h"
