@@ -27,10 +27,7 @@ std::vector<double> MpcAgent::Act(const std::vector<double>& observation) {
   Require(static_cast<int>(observation.size()) == dynamics_.state_dim(),
           "observation has {} entries, the dynamics model expects {}", observation.size(),
           dynamics_.state_dim());
-  for (size_t i = 0; i < observation.size(); ++i) {
-    Require(std::isfinite(observation[i]), "observation entry {} is {}: expected a finite number",
-            i, observation[i]);
-  }
+  RequireFinite(observation, "observation");
   const torch::Tensor state = torch::tensor(observation, torch::kDouble).to(device_, torch::kFloat);
   objective_.SetState(state);
   last_result_ = planner_->Plan(objective_);

@@ -3,9 +3,11 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
 #include <stdexcept>
 #include <string>
 #include <utility>
+#include <vector>
 
 namespace cmbrl {
 
@@ -26,6 +28,20 @@ template <typename... Args>
 template <typename... Args>
 void Require(bool condition, fmt::format_string<Args...> format, Args&&... args) {
   if (!condition) Fail(format, std::forward<Args>(args)...);
+}
+
+// Throws cmbrl::Error naming `what`, the entry and its value unless every value is finite.
+inline void RequireFinite(const std::vector<double>& values, const char* what) {
+  for (size_t i = 0; i < values.size(); ++i) {
+    Require(std::isfinite(values[i]), "{} entry {} is {}: expected a finite number", what, i,
+            values[i]);
+  }
+}
+
+// The same, after checking that `row` has `expected` entries.
+inline void RequireFiniteRow(const std::vector<double>& row, size_t expected, const char* what) {
+  Require(row.size() == expected, "{} has {} entries, expected {}", what, row.size(), expected);
+  RequireFinite(row, what);
 }
 
 }  // namespace cmbrl

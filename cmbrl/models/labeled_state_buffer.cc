@@ -21,12 +21,7 @@ LabeledStateBuffer::LabeledStateBuffer(int state_dim, int safe_capacity, int uns
 }
 
 void LabeledStateBuffer::Add(const std::vector<double>& state, bool unsafe) {
-  Require(static_cast<int>(state.size()) == state_dim_, "labeled state has {} entries, expected {}",
-          state.size(), state_dim_);
-  for (size_t i = 0; i < state.size(); ++i) {
-    Require(std::isfinite(state[i]), "labeled state entry {} is {}: expected a finite number", i,
-            state[i]);
-  }
+  RequireFiniteRow(state, state_dim_, "labeled state");
   Push(unsafe ? unsafe_ : safe_, state);
 }
 

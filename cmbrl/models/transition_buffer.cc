@@ -7,18 +7,6 @@
 #include "cmbrl/core/check.h"
 
 namespace cmbrl {
-namespace {
-
-void CheckRow(const std::vector<double>& row, int expected, const char* what) {
-  Require(static_cast<int>(row.size()) == expected, "{} has {} entries, expected {}", what,
-          row.size(), expected);
-  for (size_t i = 0; i < row.size(); ++i) {
-    Require(std::isfinite(row[i]), "{} entry {} is {}: expected a finite number", what, i, row[i]);
-  }
-}
-
-}  // namespace
-
 TransitionBuffer::TransitionBuffer(int state_dim, int action_dim, int capacity)
     : state_dim_(state_dim), action_dim_(action_dim), capacity_(capacity) {
   Require(state_dim > 0, "state_dim is {}: expected a positive number", state_dim);
@@ -31,9 +19,9 @@ TransitionBuffer::TransitionBuffer(int state_dim, int action_dim, int capacity)
 
 bool TransitionBuffer::Add(const std::vector<double>& state, const std::vector<double>& action,
                            const std::vector<double>& next_state, bool goal_met, bool episode_end) {
-  CheckRow(state, state_dim_, "transition state");
-  CheckRow(action, action_dim_, "transition action");
-  CheckRow(next_state, state_dim_, "transition next state");
+  RequireFiniteRow(state, state_dim_, "transition state");
+  RequireFiniteRow(action, action_dim_, "transition action");
+  RequireFiniteRow(next_state, state_dim_, "transition next state");
   if (goal_met || episode_end) return false;
   const size_t slot = static_cast<size_t>(next_slot_);
   std::copy(state.begin(), state.end(), states_.begin() + slot * state_dim_);
