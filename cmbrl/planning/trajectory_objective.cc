@@ -57,7 +57,7 @@ ObjectiveValues TrajectoryObjective::Evaluate(const torch::Tensor& actions) {
   // Per member (E, N) for RCE; one row (1, N) for the mean trajectory.
   torch::Tensor reward = torch::zeros({per_member ? members : 1, samples}, actions.options());
   torch::Tensor constraint = torch::zeros_like(reward);
-  std::vector<torch::Tensor> trajectory;
+  last_steps_.clear();
   double reward_discount = 1.0, constraint_discount = 1.0;
   for (std::int64_t t = 0; t < horizon; ++t) {
     const torch::Tensor action =
@@ -67,12 +67,11 @@ ObjectiveValues TrajectoryObjective::Evaluate(const torch::Tensor& actions) {
     const torch::Tensor scored = per_member ? next : next.narrow(0, 0, 1);  // (E or 1, N, S)
     reward = reward + reward_discount * StepCost(scored);
     constraint = constraint + constraint_discount * cost_.PredictViolation(scored.contiguous());
-    trajectory.push_back(next);
+    last_steps_.push_back(next);
     state = next;
     reward_discount *= options_.gamma;
     constraint_discount *= per_member ? options_.beta : options_.gamma;
   }
-  last_trajectories_ = torch::stack(trajectory, 2);  // (E, N, H, S)
   last_values_ = per_member ? ObjectiveValues{reward.mean(0), std::get<0>(constraint.max(0))}
                             : ObjectiveValues{reward[0], constraint[0]};
   return last_values_;

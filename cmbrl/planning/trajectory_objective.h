@@ -3,6 +3,8 @@
 // learned classifier.
 #pragma once
 
+#include <vector>
+
 #include "cmbrl/models/cost_model.h"
 #include "cmbrl/models/dynamics_model.h"
 #include "cmbrl/planning/planner.h"
@@ -44,8 +46,9 @@ class TrajectoryObjective final : public Objective {
   ObjectiveValues Evaluate(const torch::Tensor& actions) override;
 
   // Predicted states of the last Evaluate: (E, N, H, S); with kEnsembleMean every member holds
-  // the mean trajectory. For pictures of the planner's predictions.
-  const torch::Tensor& last_trajectories() const { return last_trajectories_; }
+  // the mean trajectory. For pictures of the planner's predictions: stacked only when asked, so
+  // planning pays nothing for it.
+  torch::Tensor last_trajectories() const { return torch::stack(last_steps_, 2); }
   // Scores of the last Evaluate, (N) each.
   const ObjectiveValues& last_values() const { return last_values_; }
 
@@ -57,7 +60,7 @@ class TrajectoryObjective final : public Objective {
   Propagation propagation_;
   TrajectoryObjectiveOptions options_;
   torch::Tensor state_;
-  torch::Tensor last_trajectories_;
+  std::vector<torch::Tensor> last_steps_;  // H tensors (E, N, S) of the last Evaluate
   ObjectiveValues last_values_;
 };
 
