@@ -15,6 +15,7 @@
 #include "cmbrl/core/torch_util.h"
 #include "cmbrl/env/tasks/goal_spec.h"
 #include "cmbrl/env/variant.h"
+#include "cmbrl/planning/planning_checks.h"
 
 namespace cmbrl {
 namespace {
@@ -278,7 +279,7 @@ void ValidateTrainConfig(const TrainConfig& c, const std::string& source) {
   InSection(source, "planning", [&] {
     ValidateCrossEntropyOptions(c.planning.cross_entropy);
     ValidateRandomShootingOptions(c.planning.random);
-    MakePlanner(c.planner, c.planning, 0);  // the problem's own checks (horizon, bounds)
+    ValidatePlanningProblem(c.planning.problem);
   });
   // The planning objective reads the goal from the paper's ego-state vector.
   const GoalTaskSpec spec = GoalTaskSpecByName(c.task, ParseVariant(c.variant));
