@@ -121,7 +121,7 @@ void AddBenchCommand(CLI::App& parent) {
   env->add_option("--seed", env_args->seed, "seed")->capture_default_str();
   env->callback([env_args] { RunEnvBench(*env_args); });
 
-  AddBenchModelsCommand(*bench);
+  AddBenchLearningCommands(*bench);
 }
 
 }  // namespace cmbrl::app

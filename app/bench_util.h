@@ -2,6 +2,11 @@
 #pragma once
 
 #include <algorithm>
+#include <chrono>
+#include <cstdint>
+#include <functional>
+#include <iostream>
+#include <nlohmann/json.hpp>
 #include <vector>
 
 namespace cmbrl::app {
@@ -12,5 +17,33 @@ inline double Median(std::vector<double> values) {
   const size_t n = values.size();
   return n % 2 == 1 ? values[n / 2] : (values[n / 2 - 1] + values[n / 2]) / 2;
 }
+
+// Wall seconds of each of `runs` calls of `work`, after one warm-up call. `work` must return
+// only when its work is done (a device synchronisation included).
+inline std::vector<double> TimeRuns(int runs, const std::function<void()>& work) {
+  work();
+  std::vector<double> seconds;
+  for (int i = 0; i < runs; ++i) {
+    const auto start = std::chrono::steady_clock::now();
+    work();
+    seconds.push_back(
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+  }
+  return seconds;
+}
+
+inline double MedianSeconds(int runs, const std::function<void()>& work) {
+  return Median(TimeRuns(runs, work));
+}
+
+inline void PrintJsonLine(const nlohmann::ordered_json& line) {
+  std::cout << line.dump() << std::endl;
+}
+
+// States shaped like a Goal task's ego state with 0/1 labels, for classifier benchmarks: unsafe
+// when one of the ego-frame hazard pairs from index 10 on lies within 0.2 m; each class drawn
+// until `count` rows hold a quarter unsafe. Row-major (rows, dim) floats.
+void ClassifierData(int count, int dim, std::uint64_t seed, std::vector<float>& safe,
+                    std::vector<float>& unsafe);
 
 }  // namespace cmbrl::app

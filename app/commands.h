@@ -11,7 +11,7 @@ void AddTrainCommand(CLI::App& parent);
 void AddEvalCommand(CLI::App& parent);
 void AddBenchCommand(CLI::App& parent);
 
-// `bench models`, registered under the `bench` command.
-void AddBenchModelsCommand(CLI::App& bench);
+// `bench plan` and `bench train`, registered under the `bench` command.
+void AddBenchLearningCommands(CLI::App& bench);
 
 }  // namespace cmbrl::app

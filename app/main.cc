@@ -4,8 +4,10 @@
 #include <iostream>
 
 #include "app/commands.h"
+#include "cmbrl/core/process_setup.h"
 
 int main(int argc, char** argv) {
+  cmbrl::PrepareProcessForSpeed(argv);
   CLI::App app{
       "cmbrl: constrained model-based reinforcement learning with the Robust "
       "Cross-Entropy method on Safety Gym Goal tasks"};

@@ -2,6 +2,7 @@
 # depend on how it was found.
 
 find_package(fmt REQUIRED)
+find_package(Threads REQUIRED)
 find_package(nlohmann_json 3 REQUIRED)
 find_package(PkgConfig REQUIRED)
 pkg_check_modules(CAIRO REQUIRED IMPORTED_TARGET cairo)

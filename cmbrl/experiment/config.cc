@@ -128,6 +128,7 @@ void VisitConfig(Config& c, Visitor& v) {
   v.Field("classifier", "threshold", x.threshold);
   v.Field("classifier", "safe_per_unsafe", x.safe_per_unsafe);
   v.Field("classifier", "threads", x.threads);
+  v.Field("classifier", "predict_threads", x.predict_threads);
   auto& p = c.planning.problem;
   auto& ce = c.planning.cross_entropy;
   v.Field("planning", "horizon", p.horizon);

@@ -8,6 +8,7 @@
 
 #include "cmbrl/core/check.h"
 #include "cmbrl/core/torch_util.h"
+#include "cmbrl/models/fused_adam.h"
 #include "cmbrl/models/normalizer.h"
 
 namespace cmbrl {
@@ -18,7 +19,7 @@ struct EnsembleDynamics::State {
   std::vector<torch::Tensor> biases;   // layer l: (E, 1, out_l)
   Normalizer input_normalizer;         // over [state, action]
   Normalizer target_normalizer;        // over next state (or its change)
-  std::unique_ptr<torch::optim::Adam> optimizer;
+  std::unique_ptr<FusedAdam> optimizer;
   at::Generator generator;
   int fits = 0;
 };
@@ -79,8 +80,9 @@ EnsembleDynamics::EnsembleDynamics(int state_dim, int action_dim, EnsembleOption
     parameters.push_back(s.weights.back());
     parameters.push_back(s.biases.back());
   }
-  s.optimizer = std::make_unique<torch::optim::Adam>(
-      parameters, torch::optim::AdamOptions(options_.learning_rate));
+  FusedAdamOptions adam;
+  adam.learning_rate = options_.learning_rate;
+  s.optimizer = std::make_unique<FusedAdam>(parameters, adam);
 }
 
 EnsembleDynamics::~EnsembleDynamics() = default;
@@ -90,7 +92,7 @@ torch::Tensor EnsembleDynamics::Forward(const torch::Tensor& x) const {
   const size_t layers = state_->weights.size();
   for (size_t l = 0; l < layers; ++l) {
     h = torch::baddbmm(state_->biases[l], h, state_->weights[l]);
-    if (l + 1 < layers) h = torch::relu(h);
+    if (l + 1 < layers) h.relu_();  // in place: the product's output is not needed again
   }
   return h;  // (E, N, S), normalised targets
 }
@@ -180,9 +182,8 @@ EnsembleFitReport EnsembleDynamics::Fit(const TransitionBuffer& data) {
       const torch::Tensor prediction = Forward(x.index({batch}));    // (E, B, S)
       // Sum over members of each member's mean: every member gets its own MSE gradient.
       const torch::Tensor loss = (prediction - y.index({batch})).pow(2).mean({1, 2}).sum();
-      s.optimizer->zero_grad();
-      loss.backward();
-      s.optimizer->step();
+      loss.backward();  // Step() drops the gradients: nothing to zero
+      s.optimizer->Step();
       epoch_loss += loss.detach() * static_cast<double>(end - begin);
     }
     report.epochs = epoch;
@@ -248,8 +249,8 @@ void EnsembleDynamics::Save(const std::string& path) const {
   archive.write("generator", s.generator.get_state());
   archive.write("fits", torch::tensor({s.fits}, torch::kLong));
   torch::serialize::OutputArchive optimizer;
-  s.optimizer->save(optimizer);
-  archive.write("optimizer", optimizer);
+  s.optimizer->Save(optimizer);
+  archive.write("adam", optimizer);
   try {
     archive.save_to(path);
   } catch (const c10::Error& error) {
@@ -289,8 +290,13 @@ void EnsembleDynamics::Load(const std::string& path) {
   s.generator.set_state(read("generator"));
   s.fits = static_cast<int>(read("fits").item<std::int64_t>());
   torch::serialize::InputArchive optimizer;
-  Require(archive.try_read("optimizer", optimizer), "'{}' has no optimiser state", path);
-  s.optimizer->load(optimizer);
+  Require(archive.try_read("adam", optimizer),
+          "'{}' has no optimiser state 'adam'{}", path,
+          archive.try_read("optimizer", optimizer)
+              ? ": it was written by an older cmbrl whose optimiser state this version cannot "
+                "read; start a new run"
+              : "");
+  s.optimizer->Load(optimizer, path);
 }
 
 }  // namespace cmbrl

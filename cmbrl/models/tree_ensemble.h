@@ -19,6 +19,13 @@ struct TreeNode {
   bool default_left = false;
 };
 
+// How Margins() evaluates the trees. Every kernel gives the same bits.
+enum class TreeKernel {
+  kFastest,     // bitvectors on AVX-512 where the CPU has it, else kBitvectors
+  kBitvectors,  // bitvectors in portable code
+  kRowByRow,    // Margin() per row: the reference
+};
+
 // Binary-logistic tree ensemble: margin = base_margin + sum of one leaf per tree, summed in
 // float in tree order as XGBoost does, so margins equal XGBoost's bit for bit. Immutable after
 // construction, so thread-safe.
@@ -33,8 +40,15 @@ class FlatTreeEnsemble {
   // Margin (log-odds) of one row of num_features() floats.
   float Margin(const float* row) const;
 
-  // Margins of `rows` rows (row-major), written to `out`.
-  void Margins(const float* rows, std::int64_t count, float* out) const;
+  // Margins of `rows` rows (row-major), written to `out`, on up to `threads` threads (0: one
+  // per core). Each row's sum keeps tree order, so every path and thread count gives the same
+  // bits as Margin(). Trees of at most 32 leaves (the paper's have 12) take the bitvector path
+  // described in the .cc file, which has no data-dependent branch and runs 16 rows per vector.
+  void Margins(const float* rows, std::int64_t count, float* out, int threads = 1,
+               TreeKernel kernel = TreeKernel::kFastest) const;
+
+  // Whether kFastest runs AVX-512 code on this CPU.
+  static bool UsesAvx512();
 
   int num_trees() const { return static_cast<int>(roots_.size()); }
   int num_features() const { return num_features_; }
@@ -44,7 +58,28 @@ class FlatTreeEnsemble {
   const std::vector<std::int32_t>& roots() const { return roots_; }
 
  private:
+  // The bitvector form of the trees (QuickScorer, Lucchese et al., SIGIR 2015): leaves are
+  // numbered left to right per tree; an inner node whose test sends a row right rules out the
+  // leaves of its left subtree, so its bitvector has 0 there. A row's exit leaf is the lowest
+  // bit left after AND-ing the bitvectors of every node that sends it right.
+  struct BitvectorTrees {
+    bool usable = false;                       // every tree has at most 32 leaves
+    std::vector<std::int32_t> feature;         // per inner node, trees one after another
+    std::vector<float> threshold;              // per inner node
+    std::vector<std::uint32_t> bitvector;      // per inner node
+    std::vector<std::uint8_t> default_left;    // per inner node: NaN goes left
+    std::vector<std::int32_t> node_begin;      // per tree, plus the end
+    std::vector<std::int32_t> leaf_begin;      // per tree
+    std::vector<float> leaf_value;             // per leaf, left to right within a tree
+  };
+
+  void BuildBitvectorTrees();
+  // Up to 16 rows; columns: scratch of num_features() x 16 floats.
+  void MarginsOfBlock(const float* rows, int count, float* columns, bool avx512,
+                      float* out) const;
+
   std::vector<TreeNode> nodes_;
+  BitvectorTrees bitvector_trees_;
   std::vector<std::int32_t> roots_;
   int num_features_ = 0;
   int max_depth_ = 0;

@@ -81,6 +81,8 @@ void ValidateXgbCostModelOptions(const XgbCostModelOptions& o) {
   Require(o.safe_per_unsafe >= 0, "safe_per_unsafe is {}: expected a non-negative number",
           o.safe_per_unsafe);
   Require(o.threads >= 1, "threads is {}: expected at least 1", o.threads);
+  Require(o.predict_threads >= 0, "predict_threads is {}: expected 0 (one per core) or more",
+          o.predict_threads);
 }
 
 XgbCostModel::XgbCostModel(int state_dim, XgbCostModelOptions options, std::uint64_t seed)
@@ -198,7 +200,7 @@ void XgbCostModel::AdoptBoosterJson(const std::string& json) {
 std::vector<float> XgbCostModel::Margins(const float* states, int rows) const {
   Require(trained_, "the cost model has not been trained on any unsafe state yet");
   std::vector<float> margins(rows);
-  trees_.Margins(states, rows, margins.data());
+  trees_.Margins(states, rows, margins.data(), options_.predict_threads);
   return margins;
 }
 
@@ -239,7 +241,8 @@ torch::Tensor XgbCostModel::PredictViolation(const torch::Tensor& states) const 
     margins = device_trees_->tensors.Margins(rows);
   } else {
     margins = torch::empty({rows.size(0)}, rows.options());
-    trees_.Margins(rows.data_ptr<float>(), rows.size(0), margins.data_ptr<float>());
+    trees_.Margins(rows.data_ptr<float>(), rows.size(0), margins.data_ptr<float>(),
+                   options_.predict_threads);
   }
   return (margins > margin_threshold_).to(torch::kFloat).reshape(batch_shape);
 }

@@ -25,7 +25,8 @@ struct XgbCostModelOptions {
   bool boost_from_average = true;  // start from the unsafe fraction (LightGBM's default)
   double threshold = 0.5;          // violation when the probability exceeds this
   int safe_per_unsafe = 3;         // a fit uses at most safe_per_unsafe * n_unsafe + 1 safe
-  int threads = 1;                 // XGBoost threads (the paper's n_jobs 1)
+  int threads = 1;                 // XGBoost threads while fitting (the paper's n_jobs 1)
+  int predict_threads = 0;         // threads of the host tree walk; 0: one per core
   std::string device = "cpu";      // where PredictViolation evaluates tensors
 };
 

@@ -83,6 +83,53 @@ TEST_F(XgbCostModelTest, FlatTreesEqualXgboostBitForBit) {
   EXPECT_EQ(ours_unsafe, model_->XgboostMargins(test_->unsafe.data(), 2000));
 }
 
+// A row count that is not a multiple of the 16-row block, with some missing values (NaN), which
+// XGBoost sends along each node's default direction.
+std::vector<float> RowsWithMissingValues(const std::vector<float>& source, int rows) {
+  std::vector<float> states(source.begin(), source.begin() + rows * kHazardStateDim);
+  for (int i = 0; i < rows; i += 7) states[i * kHazardStateDim + (i % kHazardStateDim)] = NAN;
+  return states;
+}
+
+TEST_F(XgbCostModelTest, EveryTreeKernelAndThreadCountGivesXgboostsBits) {
+  const int rows = 2001;
+  const std::vector<float> states = RowsWithMissingValues(test_->safe, rows);
+  const std::vector<float> expected = model_->XgboostMargins(states.data(), rows);
+  const FlatTreeEnsemble& trees = model_->trees();
+  for (const TreeKernel kernel :
+       {TreeKernel::kFastest, TreeKernel::kBitvectors, TreeKernel::kRowByRow}) {
+    for (const int threads : {1, 2, 0}) {
+      std::vector<float> margins(rows);
+      trees.Margins(states.data(), rows, margins.data(), threads, kernel);
+      EXPECT_EQ(margins, expected) << "kernel " << static_cast<int>(kernel) << ", threads "
+                                   << threads;
+    }
+  }
+  // One row alone (a block of 1) too.
+  float one = 0.0f;
+  trees.Margins(states.data() + 7 * kHazardStateDim, 1, &one);
+  EXPECT_EQ(one, expected[7]);
+}
+
+TEST(XgbCostModelLargeTreesTest, TreesOfMoreThan32LeavesFallBackAndStillMatchXgboost) {
+  const testing::HazardData data = testing::MakeHazardData(6000, 2000, 4);
+  XgbCostModelOptions options;
+  options.rounds = 20;
+  options.max_leaves = 48;
+  options.max_depth = 12;
+  XgbCostModel model(kHazardStateDim, options, 5);
+  model.FitArrays(data.safe.data(), data.safe_count, data.unsafe.data(), data.unsafe_count);
+  const std::vector<std::int32_t>& roots = model.trees().roots();
+  int first_tree_leaves = 0;
+  for (std::int32_t node = roots[0]; node < roots[1]; ++node) {
+    first_tree_leaves += model.trees().nodes()[node].feature < 0;
+  }
+  ASSERT_GT(first_tree_leaves, 32) << "the test needs a tree too large for the bitvectors";
+  const int rows = 1000;
+  const std::vector<float> states = RowsWithMissingValues(data.safe, rows);
+  EXPECT_EQ(model.Margins(states.data(), rows), model.XgboostMargins(states.data(), rows));
+}
+
 TEST_F(XgbCostModelTest, TensorTreesAgreeWithTheFlatTrees) {
   const int rows = 3000;
   const std::vector<float> flat = model_->Margins(test_->safe.data(), rows);
