@@ -15,6 +15,7 @@
 #include "cmbrl/core/rng.h"
 #include "cmbrl/env/goal_env.h"
 #include "cmbrl/env/registry.h"
+#include "cmbrl/experiment/config.h"
 
 namespace cmbrl::app {
 namespace {
@@ -25,6 +26,8 @@ struct EnvBenchArgs {
   int steps = 2000;  // agent steps per run
   int runs = 5;
   std::uint64_t seed = 0;
+  std::string device = "cpu";
+  std::string config_path;  // when set, its task and variant replace tasks and variants
 };
 
 using Clock = std::chrono::steady_clock;
@@ -55,7 +58,12 @@ double PhysicsCeiling(const std::string& task, Variant variant, std::uint64_t se
 
 // Agent steps of a random policy per wall-clock second, resets included, beside the bare
 // physics ceiling measured in the same run.
-void RunEnvBench(const EnvBenchArgs& args) {
+void RunEnvBench(EnvBenchArgs args) {
+  if (!args.config_path.empty()) {
+    const TrainConfig config = LoadTrainConfig(args.config_path);
+    args.tasks = {config.task};
+    args.variants = {config.variant};
+  }
   for (const std::string& variant_name : args.variants) {
     const Variant variant = ParseVariant(variant_name);
     for (const std::string& task : args.tasks) {
@@ -84,6 +92,7 @@ void RunEnvBench(const EnvBenchArgs& args) {
           {"bench", "env"},
           {"task", task},
           {"variant", variant_name},
+          {"device", "cpu"},
           {"agent_steps_per_second", median},
           {"env_steps_per_second", median * env_steps / args.steps},
           {"min_agent_steps_per_second", *std::min_element(rates.begin(), rates.end())},
@@ -119,6 +128,12 @@ void AddBenchCommand(CLI::App& parent) {
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
   env->add_option("--seed", env_args->seed, "seed")->capture_default_str();
+  env->add_option("--config", env_args->config_path,
+                  "training config (YAML): measure its task and variant only")
+      ->check(CLI::ExistingFile);
+  env->add_option("--device", env_args->device,
+                  "accepted for symmetry with bench plan and train: MuJoCo simulates on the CPU")
+      ->check(CLI::IsMember({"cpu", "cuda"}));
   env->callback([env_args] { RunEnvBench(*env_args); });
 
   AddBenchLearningCommands(*bench);

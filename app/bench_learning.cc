@@ -2,7 +2,10 @@
 // settings, each figure beside the matrix-product ceiling measured in the same run.
 #include <torch/torch.h>
 
+#include <unistd.h>
+
 #include <cstdint>
+#include <filesystem>
 #include <memory>
 #include <string>
 #include <vector>
@@ -11,6 +14,7 @@
 #include "app/bench_util.h"
 #include "app/commands.h"
 #include "cmbrl/agent/mpc_agent.h"
+#include "cmbrl/agent/policy.h"
 #include "cmbrl/core/check.h"
 #include "cmbrl/core/rng.h"
 #include "cmbrl/core/torch_util.h"
@@ -26,6 +30,9 @@ struct LearningBenchArgs {
   std::string config_path = "configs/pointgoal1-rce.yaml";
   std::string device;                  // empty: the config's
   std::vector<std::string> planners;   // empty: the config's
+  std::vector<std::string> precisions; // bench plan; empty: the config's; the first is the reference
+  int fit_steps = 5000;                // bench plan with several precisions: random-policy data
+  int agreement_states = 8;            // start states of the action comparison
   int runs = 5;
   int transitions = 50000;             // bench train: the epoch's data
   int classifier_states = 40000;       // bench train: the classifier fit's data
@@ -96,13 +103,121 @@ void AddRate(nlohmann::ordered_json& line, double flops, double ceiling) {
   line["ratio_to_ceiling"] = flops / seconds / ceiling;
 }
 
+// Random-policy transitions of the config's task: the data of the precision comparison's fit,
+// and its start states.
+TransitionBuffer RandomPolicyData(const TrainConfig& config, int steps, std::uint64_t seed) {
+  GoalEnv env(GoalTaskSpecByName(config.task, ParseVariant(config.variant)));
+  RandomPolicy policy(env.action_spec(), seed);
+  TransitionBuffer data(env.observation_spec().size(), env.action_spec().size(), steps);
+  std::vector<double> observation = env.Reset(seed);
+  for (int step = 0; step < steps; ++step) {
+    const std::vector<double> action = policy.Act(observation);
+    StepResult result = env.Step(action);
+    data.Add(observation, action, result.observation);
+    observation = result.terminated || result.truncated ? env.Reset() : result.observation;
+  }
+  return data;
+}
+
+// Ensembles of the config's settings that differ only in precision, with the same weights:
+// random ones for a single precision, else fitted on random-policy data (a few epochs), so that
+// the errors are those of a model that predicts something.
+std::vector<std::unique_ptr<EnsembleDynamics>> EnsemblesByPrecision(
+    const TrainConfig& config, const std::vector<std::string>& precisions, const TaskShape& shape,
+    const TransitionBuffer* data, std::uint64_t seed) {
+  std::vector<std::unique_ptr<EnsembleDynamics>> ensembles;
+  for (const std::string& precision : precisions) {
+    EnsembleOptions options = config.ensemble;
+    options.precision = precision;
+    options.max_epochs = std::min(options.max_epochs, 5);
+    ensembles.push_back(std::make_unique<EnsembleDynamics>(
+        shape.state_dim, shape.action_dim, options, DeriveSeed(seed, kEnsembleSeedStream)));
+  }
+  if (data != nullptr) {
+    ensembles[0]->Fit(*data);
+    const std::string path =
+        (std::filesystem::temp_directory_path() / fmt::format("cmbrl-bench-{}.pt", getpid()))
+            .string();
+    ensembles[0]->Save(path);
+    for (size_t i = 1; i < ensembles.size(); ++i) ensembles[i]->Load(path);
+    std::filesystem::remove(path);
+  }
+  return ensembles;
+}
+
+// Mean absolute value of a tensor, on the host.
+double MeanAbs(const torch::Tensor& t) { return t.abs().mean().item<double>(); }
+
+// Errors of `reduced` against `reference` (same weights): one-step and H-step predictions from
+// recorded states under random actions, relative to the predicted change of the state; and the
+// first actions MPC chooses from `agreement_states` recorded states with the same seed.
+nlohmann::ordered_json PrecisionErrors(const TrainConfig& config, const std::string& planner,
+                                       const PlannerSettings& settings, const CostModel& classifier,
+                                       const EnsembleDynamics& reference,
+                                       const EnsembleDynamics& reduced,
+                                       const TransitionBuffer& data, int agreement_states,
+                                       std::uint64_t seed) {
+  const torch::NoGradGuard no_grad;
+  const torch::Device device = ParseDevice(config.device);
+  const std::int64_t members = config.ensemble.ensemble_size;
+  const std::int64_t rows = std::min<std::int64_t>(data.size(), 500);
+  const torch::Tensor recorded =
+      torch::from_blob(const_cast<float*>(data.states()), {rows, data.state_dim()}).clone();
+  const torch::Tensor start =
+      recorded.to(device).unsqueeze(0).expand({members, rows, data.state_dim()}).contiguous();
+  at::Generator generator = MakeCpuGenerator(seed);
+  const std::int64_t horizon = settings.problem.horizon;
+  const torch::Tensor actions =
+      (torch::rand({horizon, members, rows, data.action_dim()}, generator) * 2 - 1).to(device);
+  torch::Tensor ours = start, theirs = start;
+  double one_step = 0.0;
+  for (std::int64_t t = 0; t < horizon; ++t) {
+    theirs = reference.PredictUnchecked(theirs, actions[t]);
+    ours = reduced.PredictUnchecked(ours, actions[t]);
+    if (t == 0) one_step = MeanAbs(ours - theirs) / MeanAbs(theirs - start);
+  }
+  const double horizon_error = MeanAbs(ours - theirs) / MeanAbs(theirs - start);
+
+  MpcAgent reference_agent(reference, classifier, planner, settings, config.objective, seed);
+  MpcAgent reduced_agent(reduced, classifier, planner, settings, config.objective, seed);
+  double difference = 0.0;
+  int close = 0;
+  const int states = static_cast<int>(std::min<std::int64_t>(agreement_states, data.size()));
+  for (int i = 0; i < states; ++i) {
+    const std::int64_t row = i * (data.size() / states);
+    const float* s = data.states() + row * data.state_dim();
+    const std::vector<double> observation(s, s + data.state_dim());
+    const std::vector<double> a = reference_agent.Act(observation);
+    const std::vector<double> b = reduced_agent.Act(observation);
+    double largest = 0.0;
+    for (size_t j = 0; j < a.size(); ++j) {
+      difference += std::abs(a[j] - b[j]) / static_cast<double>(a.size() * states);
+      largest = std::max(largest, std::abs(a[j] - b[j]));
+    }
+    close += largest < 0.1;
+  }
+  return {{"one_step_relative_error", one_step},
+          {"horizon_relative_error", horizon_error},
+          {"action_mean_abs_difference", difference},
+          {"actions_within_0_1", static_cast<double>(close) / states},
+          {"agreement_states", states}};
+}
+
 void RunPlanBench(const LearningBenchArgs& args) {
   const TrainConfig config = LoadBenchConfig(args);
   const torch::Device device = ParseDevice(config.device);
   const GemmCeilings ceilings = MeasureGemmCeilings(device, args.runs);
   const TaskShape shape = ShapeOf(config, args.seed);
-  EnsembleDynamics ensemble(shape.state_dim, shape.action_dim, config.ensemble,
-                            DeriveSeed(args.seed, kEnsembleSeedStream));
+  const std::vector<std::string> precisions =
+      args.precisions.empty() ? std::vector<std::string>{config.ensemble.precision}
+                              : args.precisions;
+  const bool compare = precisions.size() > 1;
+  std::unique_ptr<TransitionBuffer> data;
+  if (compare) {
+    data = std::make_unique<TransitionBuffer>(RandomPolicyData(config, args.fit_steps, args.seed));
+  }
+  const std::vector<std::unique_ptr<EnsembleDynamics>> ensembles =
+      EnsemblesByPrecision(config, precisions, shape, data.get(), args.seed);
   const std::unique_ptr<XgbCostModel> classifier = FittedClassifier(
       config, shape.state_dim, 4000, DeriveSeed(args.seed, kClassifierSeedStream), nullptr);
   PlannerSettings settings = config.planning;
@@ -113,45 +228,62 @@ void RunPlanBench(const LearningBenchArgs& args) {
   const std::vector<std::string> planners =
       args.planners.empty() ? std::vector<std::string>{config.planner} : args.planners;
   for (const std::string& planner : planners) {
-    MpcAgent agent(ensemble, *classifier, planner, settings, config.objective,
-                   DeriveSeed(args.seed, kPlannerSeedStream));
-    const std::vector<double> step_seconds = TimeRuns(args.runs, [&] { agent.Act(shape.start); });
-    const bool random = planner == "random";
-    const std::int64_t population =
-        random ? settings.random.samples : settings.cross_entropy.population;
-    const int iterations = random ? 1 : settings.cross_entropy.max_iterations;
-    const std::int64_t forwards = iterations * horizon;
-    const double flops = ensemble.PredictFlops(population) * static_cast<double>(forwards);
+    for (size_t p = 0; p < precisions.size(); ++p) {
+      const EnsembleDynamics& ensemble = *ensembles[p];
+      MpcAgent agent(ensemble, *classifier, planner, settings, config.objective,
+                     DeriveSeed(args.seed, kPlannerSeedStream));
+      const std::vector<double> step_seconds =
+          TimeRuns(args.runs, [&] { agent.Act(shape.start); });
+      const bool random = planner == "random";
+      const std::int64_t population =
+          random ? settings.random.samples : settings.cross_entropy.population;
+      const int iterations = random ? 1 : settings.cross_entropy.max_iterations;
+      const std::int64_t forwards = iterations * horizon;
+      const double flops = ensemble.PredictFlops(population) * static_cast<double>(forwards);
 
-    // The same work in parts: the ensemble's forward passes alone, and the classifier on as
-    // many states (per member for RCE, the mean trajectory for CEM and random).
-    const auto floats = torch::TensorOptions(device).dtype(torch::kFloat);
-    const torch::Tensor states = torch::randn({members, population, shape.state_dim}, floats);
-    const torch::Tensor actions = torch::rand({members, population, shape.action_dim}, floats);
-    const double forward_seconds = MedianSeconds(args.runs, [&] {
-      const torch::NoGradGuard no_grad;
-      for (std::int64_t i = 0; i < forwards; ++i) ensemble.PredictUnchecked(states, actions);
-      Synchronize(device);
-    });
-    const torch::Tensor scored = planner == "rce" ? states : states.narrow(0, 0, 1).contiguous();
-    const double classifier_seconds = MedianSeconds(args.runs, [&] {
-      for (std::int64_t i = 0; i < forwards; ++i) classifier->PredictViolation(scored);
-      Synchronize(device);
-    });
+      // The same work in parts: the ensemble's forward passes alone, and the classifier on as
+      // many states (per member for RCE, the mean trajectory for CEM and random).
+      const auto floats = torch::TensorOptions(device).dtype(torch::kFloat);
+      const torch::Tensor states = torch::randn({members, population, shape.state_dim}, floats);
+      const torch::Tensor actions = torch::rand({members, population, shape.action_dim}, floats);
+      const double forward_seconds = MedianSeconds(args.runs, [&] {
+        const torch::NoGradGuard no_grad;
+        for (std::int64_t i = 0; i < forwards; ++i) ensemble.PredictUnchecked(states, actions);
+        Synchronize(device);
+      });
+      const torch::Tensor scored =
+          planner == "rce" ? states : states.narrow(0, 0, 1).contiguous();
+      const double classifier_seconds = MedianSeconds(args.runs, [&] {
+        for (std::int64_t i = 0; i < forwards; ++i) classifier->PredictViolation(scored);
+        Synchronize(device);
+      });
 
-    nlohmann::ordered_json line = Figure("plan", "plan_step", config, step_seconds);
-    line["planner"] = planner;
-    line["members"] = members;
-    line["hidden"] = config.ensemble.hidden_sizes;
-    line["population"] = population;
-    line["iterations"] = iterations;
-    line["horizon"] = horizon;
-    line["classifier_trees"] = classifier->trees().num_trees();
-    line["classified_states"] = scored.size(0) * population * forwards;
-    line["dynamics_forward_ms"] = forward_seconds * 1e3;
-    line["classifier_ms"] = classifier_seconds * 1e3;
-    AddRate(line, flops, ceilings.fp32);
-    PrintJsonLine(line);
+      nlohmann::ordered_json line = Figure("plan", "plan_step", config, step_seconds);
+      line["planner"] = planner;
+      line["precision"] = precisions[p];
+      line["members"] = members;
+      line["hidden"] = config.ensemble.hidden_sizes;
+      line["population"] = population;
+      line["iterations"] = iterations;
+      line["horizon"] = horizon;
+      line["classifier_trees"] = classifier->trees().num_trees();
+      line["classified_states"] = scored.size(0) * population * forwards;
+      line["dynamics_forward_ms"] = forward_seconds * 1e3;
+      line["classifier_ms"] = classifier_seconds * 1e3;
+      const double ceiling = precisions[p] == "tf32"   ? ceilings.tf32
+                             : precisions[p] == "bf16" && ceilings.bf16 > 0 ? ceilings.bf16
+                                                                            : ceilings.fp32;
+      AddRate(line, flops, ceiling);
+      if (p > 0) {
+        line["error_against"] = precisions[0];
+        line["weights"] = fmt::format("fitted for {} epochs on {} random-policy transitions",
+                                      std::min(config.ensemble.max_epochs, 5), args.fit_steps);
+        line.update(PrecisionErrors(config, planner, settings, *classifier, *ensembles[0],
+                                    ensemble, *data, args.agreement_states,
+                                    DeriveSeed(args.seed, kPlannerSeedStream)));
+      }
+      PrintJsonLine(line);
+    }
   }
 }
 
@@ -240,6 +372,19 @@ void AddBenchLearningCommands(CLI::App& bench) {
   AddCommonOptions(*plan, *plan_args);
   plan->add_option("--planners", plan_args->planners, "rce, cem, random (default: the config's)")
       ->check(CLI::IsMember(PlannerNames()));
+  plan->add_option("--precisions", plan_args->precisions,
+                   "fp32, tf32 (CUDA), bf16 (default: the config's); with several, the models are "
+                   "first fitted briefly and each later precision's prediction errors and chosen "
+                   "actions are compared with the first's")
+      ->check(CLI::IsMember({"fp32", "tf32", "bf16"}));
+  plan->add_option("--fit-steps", plan_args->fit_steps,
+                   "random-policy transitions of that fit")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  plan->add_option("--agreement-states", plan_args->agreement_states,
+                   "start states whose chosen actions are compared")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
   plan->callback([plan_args] { RunPlanBench(*plan_args); });
 
   auto train_args = std::make_shared<LearningBenchArgs>();

@@ -115,6 +115,7 @@ void VisitConfig(Config& c, Visitor& v) {
   v.Field("ensemble", "patience", e.patience);
   v.Field("ensemble", "init_std", e.init_std);
   v.Field("ensemble", "min_std", e.min_std);
+  v.Field("ensemble", "precision", e.precision);
   auto& x = c.classifier;
   v.Field("classifier", "rounds", x.rounds);
   v.Field("classifier", "learning_rate", x.learning_rate);

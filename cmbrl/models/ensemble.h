@@ -26,6 +26,13 @@ struct EnsembleOptions {
   double init_std = 0.02;               // weights start as N(0, init_std); biases as PyTorch's
   double min_std = 1e-3;                // normaliser: smaller standard deviations become 1
   std::string device = "cpu";           // "cpu", "cuda" or "cuda:i"
+  // Arithmetic of the predictions' matrix products; never reduced unless asked for:
+  //   fp32: float32 throughout;
+  //   tf32: CUDA only; cuBLAS's TF32 tensor cores for every float32 product of the process,
+  //         training included (10-bit mantissa inputs, float32 sums);
+  //   bf16: predictions with bfloat16 copies of the weights and activations (8-bit mantissa),
+  //         refreshed after every fit; training stays float32.
+  std::string precision = "fp32";
 };
 
 // Throws cmbrl::Error naming the first field with a bad value.
@@ -83,7 +90,9 @@ class EnsembleDynamics final : public DynamicsModel {
  private:
   struct State;
 
-  torch::Tensor Forward(const torch::Tensor& normalized_inputs) const;
+  // `prediction`: use the prediction precision's weights (bf16 copies) rather than float32.
+  torch::Tensor Forward(const torch::Tensor& normalized_inputs, bool prediction) const;
+  void RefreshPredictionWeights();  // after the weights change (construction, Fit, Load)
 
   int state_dim_;
   int action_dim_;

@@ -75,7 +75,10 @@ TEST(ConfigTest, BadConfigurationsNameTheKeyAndTheValue) {
             "config 'c.yaml': unknown key 'ensemble.hiden_sizes': expected one of ensemble_size, "
             "hidden_sizes, predict_delta, learning_rate, batch_size, max_epochs, "
             "validation_fraction, member_subset_fraction, validate_every, patience, init_std, "
-            "min_std");
+            "min_std, precision");
+  EXPECT_EQ(ErrorMessage([] { ParseTrainConfig("ensemble: {precision: tf32}", "c.yaml"); }),
+            "config 'c.yaml': ensemble.precision is tf32 but device is 'cpu': TF32 is a CUDA "
+            "tensor-core format; use fp32 or bf16 on the CPU");
   EXPECT_THAT(ErrorMessage([] { ParseTrainConfig("colour: blue", "c.yaml"); }),
               ::testing::HasSubstr("unknown key 'colour'"));
   EXPECT_EQ(ErrorMessage([] { ParseTrainConfig("planning: {population: many}", "c.yaml"); }),

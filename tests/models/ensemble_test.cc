@@ -181,9 +181,43 @@ TEST(EnsembleTest, BadOptionsAreRefusedByName) {
   EXPECT_THAT(ErrorMessage([&] { EnsembleDynamics(2, 1, options, 1); }),
               ::testing::HasSubstr("validation_fraction is 1"));
   options = SmallOptions();
+  options.precision = "fp16";
+  EXPECT_EQ(ErrorMessage([&] { EnsembleDynamics(2, 1, options, 1); }),
+            "precision is 'fp16': expected fp32, tf32 or bf16");
+  options.precision = "tf32";
+  EXPECT_THAT(ErrorMessage([&] { EnsembleDynamics(2, 1, options, 1); }),
+              ::testing::HasSubstr("precision is tf32 but device is 'cpu'"));
+  options = SmallOptions();
   options.device = "tpu";
   EXPECT_THAT(ErrorMessage([&] { EnsembleDynamics(2, 1, options, 1); }),
               ::testing::HasSubstr("device 'tpu'"));
+}
+
+TEST(EnsembleTest, Bfloat16PredictionsStayCloseAndTrainingStaysFloat32) {
+  const TransitionBuffer data = testing::PendulumData(2000, 4);
+  EnsembleOptions options = SmallOptions();
+  options.max_epochs = 10;
+  EnsembleDynamics full(2, 1, options, 5);
+  options.precision = "bf16";
+  EnsembleDynamics reduced(2, 1, options, 5);
+  full.Fit(data);
+  reduced.Fit(data);
+  const Batch batch = PendulumBatch(4, 300, 6);
+  const torch::Tensor exact = full.Predict(batch.states, batch.actions);
+  const torch::Tensor rounded = reduced.Predict(batch.states, batch.actions);
+  EXPECT_EQ(rounded.scalar_type(), torch::kFloat);
+  // bfloat16 keeps 8 mantissa bits: relative errors of a few 1e-3, not zero.
+  const double error = ((rounded - exact).abs().mean() / exact.abs().mean()).item<double>();
+  EXPECT_GT(error, 1e-5);
+  EXPECT_LT(error, 2e-2);
+  // Training ran in float32 in both: saving the bf16 model and loading it into the fp32 one
+  // reproduces the fp32 predictions exactly.
+  const std::string path = ::testing::TempDir() + "/bf16_ensemble.pt";
+  reduced.Save(path);
+  EnsembleDynamics reloaded(2, 1, SmallOptions(), 9);
+  reloaded.Load(path);
+  EXPECT_TRUE(torch::equal(reloaded.Predict(batch.states, batch.actions), exact));
+  std::filesystem::remove(path);
 }
 
 TEST(EnsembleTest, CpuAndCudaAgree) {
