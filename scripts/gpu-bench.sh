@@ -1,0 +1,102 @@
+#!/usr/bin/env bash
+# The CUDA build and its benchmarks, on a GPU machine that has PyTorch (with its CUDA LibTorch)
+# but neither a package registry nor MuJoCo, XGBoost, yaml-cpp and friends (../shared/device.md).
+# Two halves:
+#
+#   bash scripts/gpu-bench.sh fetch     here, on Debian 12 with the package registries: downloads
+#                                       the .deb files the GPU machine lacks into gpu-debs/
+#                                       (git-ignored; about 40 MB)
+#   bash scripts/gpu-bench.sh run [CONFIG...]
+#                                       there, with gpu-debs/ carried along: unpacks them into
+#                                       build-gpu/deps (never into /), builds against PyTorch's
+#                                       LibTorch into build-gpu/, runs bench plan / train / env
+#                                       on cuda for each config (default: the PointGoal1 paper
+#                                       presets and the quickstart) and prints a table last.
+#
+# Without a usable CUDA PyTorch, `run` builds against the system's LibTorch and measures the
+# CPU, so the script can be checked on any machine.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+debs_dir=gpu-debs
+deps_dir=build-gpu/deps
+
+# What cmbrl links and the GPU machine lacks, with the libraries they load.
+packages=(
+  libmujoco2.2.2 libmujoco-dev libccd2 liblodepng0 libqhull-r8.0 libqhull-dev libqhull8.0
+  libqhullcpp8.0 libtinyxml2-9 libxgboost0 libxgboost-dev libdmlc0 libdmlc-dev xgboost
+  libyaml-cpp0.7 libyaml-cpp-dev libfmt9 libfmt-dev nlohmann-json3-dev libcli11-dev
+  pkgconf pkgconf-bin libpkgconf3
+)
+# Cairo and everything its development package needs (pkg-config resolves all of it).
+cairo_root=libcairo2-dev
+
+fetch() {
+  mkdir -p "$debs_dir"
+  local closure
+  closure=$(apt-cache depends --recurse --no-recommends --no-suggests --no-conflicts \
+    --no-breaks --no-replaces --no-enhances "$cairo_root" | grep '^[a-z0-9]' | sort -u)
+  # Packages of the base system every machine has in a newer version, and what only programs
+  # and documents need (fonts, interpreters): never carried.
+  closure=$(grep -v -E '^(fonts-.*|python3.*|libpython3.*|libdb5.3|libsqlite3-0|libglib2.0-data|libglib2.0-bin|libc6|libc6-dev|libc-dev-bin|linux-libc-dev|libgcc-s1|libstdc\+\+6|gcc-[0-9]+-base|libcrypt1|libcrypt-dev|libnsl.*|libtirpc.*|rpcsvc-proto|debconf.*|dpkg|perl.*|tar|install-info|zlib1g|libzstd1|liblzma5|libbz2-1.0|libgssapi.*|libkrb5.*|libk5crypto3|libkeyutils1|libcom-err2|libssl3)$' <<<"$closure")
+  (cd "$debs_dir" && apt-get download "${packages[@]}" $closure)
+  echo "fetched $(ls "$debs_dir"/*.deb | wc -l) packages ($(du -sh "$debs_dir" | cut -f1)) into $debs_dir/"
+}
+
+run() {
+  [ -d "$debs_dir" ] || { echo "no $debs_dir/: run 'bash scripts/gpu-bench.sh fetch' on a Debian 12 machine and carry it" >&2; exit 2; }
+  mkdir -p "$deps_dir"
+  for deb in "$debs_dir"/*.deb; do dpkg-deb -x "$deb" "$deps_dir"; done
+  # The machine's own C and C++ runtime must win over anything a package brought along.
+  find "$deps_dir" \( -name 'libc.so*' -o -name 'libm.so*' -o -name 'libstdc++.so*' \
+    -o -name 'libgcc_s.so*' -o -name 'ld-linux*' -o -name 'libpthread.so*' \) -delete
+  local prefix multiarch
+  prefix=$(cd "$deps_dir/usr" && pwd)
+  multiarch=$prefix/lib/x86_64-linux-gnu
+  # Package files name their own prefix as /usr: point pkg-config and the libraries' symlinks
+  # at the unpacked tree.
+  export PKG_CONFIG_LIBDIR="$multiarch/pkgconfig:$prefix/share/pkgconfig"
+  export PKG_CONFIG_SYSROOT_DIR="$(cd "$deps_dir" && pwd)"
+  export LD_LIBRARY_PATH="$multiarch${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}"
+  command -v pkg-config >/dev/null || export PATH="$prefix/bin:$PATH"
+  for link in "$multiarch"/*.so; do
+    target=$(readlink "$link" || true)
+    case "$target" in /*) ln -sf "$deps_dir/..${target#/usr}" "$link" 2>/dev/null || true ;; esac
+  done
+
+  local torch_prefix="" device=cpu
+  if torch_prefix=$(python3 -c 'import torch; print(torch.utils.cmake_prefix_path)' 2>/dev/null) &&
+     python3 -c 'import torch, sys; sys.exit(0 if torch.cuda.is_available() else 1)' 2>/dev/null; then
+    device=cuda
+  else
+    echo "no CUDA PyTorch here: building against the system LibTorch and measuring the CPU" >&2
+    torch_prefix=""
+  fi
+  cmake -S . -B build-gpu -DCMAKE_BUILD_TYPE=Release -DCMBRL_BUILD_TESTS=OFF \
+    -DCMBRL_BUILD_BENCHMARKS=OFF "-DCMAKE_PREFIX_PATH=${torch_prefix:+$torch_prefix;}$prefix" \
+    $(command -v ninja >/dev/null && echo -G Ninja)
+  cmake --build build-gpu --parallel "$(nproc)"
+
+  local configs=("$@")
+  [ ${#configs[@]} -gt 0 ] || configs=(configs/quickstart.yaml configs/pointgoal1-rce.yaml)
+  local results=build-gpu/bench.jsonl
+  : >"$results"
+  for config in "${configs[@]}"; do
+    build-gpu/bin/cmbrl bench plan --config "$config" --device "$device" \
+      --planners rce cem random --runs 20 | tee -a "$results"
+    if [ "$device" = cuda ]; then
+      build-gpu/bin/cmbrl bench plan --config "$config" --device cuda --planners rce \
+        --precisions fp32 tf32 bf16 --runs 20 | tee -a "$results"
+    fi
+    build-gpu/bin/cmbrl bench train --config "$config" --device "$device" --full-fit --runs 3 |
+      tee -a "$results"
+  done
+  build-gpu/bin/cmbrl bench env --config "${configs[0]}" --runs 5 | tee -a "$results"
+  python3 scripts/bench_table.py "$results"
+}
+
+case "${1:-}" in
+  fetch) fetch ;;
+  run) shift; run "$@" ;;
+  *) echo "usage: bash scripts/gpu-bench.sh fetch | run [CONFIG...]" >&2; exit 2 ;;
+esac
