@@ -2,6 +2,7 @@
 
 #include <torch/cuda.h>
 
+#include <chrono>
 #include <cstdlib>
 
 #include "app/bench_util.h"
@@ -61,6 +62,32 @@ GemmCeilings MeasureGemmCeilings(const torch::Device& device, int runs) {
   }
   PrintJsonLine(line);
   return ceilings;
+}
+
+CeilingProbe::CeilingProbe(const torch::Device& device, const std::string& precision)
+    : device_(device), tf32_(precision == "tf32" && device.is_cuda()) {
+  const std::int64_t n = device.is_cuda() ? 8192 : 2048;
+  const torch::ScalarType dtype = precision == "bf16" ? torch::kBFloat16 : torch::kFloat;
+  const auto options = torch::TensorOptions(device).dtype(dtype);
+  a_ = torch::randn({n, n}, options);
+  b_ = torch::randn({n, n}, options);
+  c_ = torch::empty({n, n}, options);
+  Measure();  // warm-up
+}
+
+double CeilingProbe::Measure() {
+  const torch::NoGradGuard no_grad;
+  auto& context = at::globalContext();
+  const bool tf32_before = context.allowTF32CuBLAS();
+  if (device_.is_cuda()) context.setAllowTF32CuBLAS(tf32_);
+  const std::int64_t n = a_.size(0);
+  const auto start = std::chrono::steady_clock::now();
+  torch::mm_out(c_, a_, b_);
+  Synchronize(device_);
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (device_.is_cuda()) context.setAllowTF32CuBLAS(tf32_before);
+  return 2.0 * n * n * n / seconds;
 }
 
 }  // namespace cmbrl::app

@@ -19,6 +19,19 @@ struct GemmCeilings {
 
 GemmCeilings MeasureGemmCeilings(const torch::Device& device, int runs);
 
+// One matrix product of the ceiling's size at one precision ("fp32", "tf32" on CUDA, "bf16"),
+// to measure just before each run of a figure: on a shared machine a ceiling measured seconds
+// earlier can be off by 2x, a ratio of back-to-back measurements much less.
+class CeilingProbe {
+ public:
+  CeilingProbe(const torch::Device& device, const std::string& precision);
+  double Measure();  // FLOP/s of one product, device synchronised
+ private:
+  torch::Device device_;
+  bool tf32_;
+  torch::Tensor a_, b_, c_;
+};
+
 // Waits for the device's queued work (a no-op on the CPU).
 void Synchronize(const torch::Device& device);
 

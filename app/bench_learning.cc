@@ -80,6 +80,23 @@ std::unique_ptr<XgbCostModel> FittedClassifier(const TrainConfig& config, int st
   return classifier;
 }
 
+// Wall seconds of each run and the ceiling measured just before it.
+struct TimedRuns {
+  std::vector<double> seconds;
+  std::vector<double> ceilings;  // FLOP/s
+};
+
+// `runs` runs of `work` after one warm-up, each preceded by a ceiling probe.
+TimedRuns TimeRunsBesideCeiling(int runs, CeilingProbe& probe, const std::function<void()>& work) {
+  work();
+  TimedRuns timed;
+  for (int i = 0; i < runs; ++i) {
+    timed.ceilings.push_back(probe.Measure());
+    timed.seconds.push_back(SecondsOf(work));
+  }
+  return timed;
+}
+
 nlohmann::ordered_json Figure(const std::string& bench, const std::string& what,
                               const TrainConfig& config, const std::vector<double>& seconds) {
   const double median = Median(seconds);
@@ -93,14 +110,19 @@ nlohmann::ordered_json Figure(const std::string& bench, const std::string& what,
           {"runs", seconds.size()}};
 }
 
-// Adds the FLOP rate and the ratio of the floor (flops at the ceiling's rate) to the median.
-void AddRate(nlohmann::ordered_json& line, double flops, double ceiling) {
-  const double seconds = line["median_ms"].get<double>() / 1e3;
+// Adds the FLOP rate, the ceiling (median of the probes), the floor (flops at that rate) and
+// the ratio to the ceiling: the median of the runs' ratios to their own probes.
+void AddRate(nlohmann::ordered_json& line, double flops, const TimedRuns& timed) {
+  std::vector<double> ratios;
+  for (size_t i = 0; i < timed.seconds.size(); ++i) {
+    ratios.push_back(flops / timed.seconds[i] / timed.ceilings[i]);
+  }
+  const double ceiling = Median(timed.ceilings);
   line["gflop"] = flops / 1e9;
-  line["gflops"] = flops / seconds / 1e9;
+  line["gflops"] = flops / Median(timed.seconds) / 1e9;
   line["ceiling_gflops"] = ceiling / 1e9;
   line["floor_ms"] = flops / ceiling * 1e3;
-  line["ratio_to_ceiling"] = flops / seconds / ceiling;
+  line["ratio_to_ceiling"] = Median(ratios);
 }
 
 // Random-policy transitions of the config's task: the data of the precision comparison's fit,
@@ -206,7 +228,7 @@ nlohmann::ordered_json PrecisionErrors(const TrainConfig& config, const std::str
 void RunPlanBench(const LearningBenchArgs& args) {
   const TrainConfig config = LoadBenchConfig(args);
   const torch::Device device = ParseDevice(config.device);
-  const GemmCeilings ceilings = MeasureGemmCeilings(device, args.runs);
+  MeasureGemmCeilings(device, args.runs);
   const TaskShape shape = ShapeOf(config, args.seed);
   const std::vector<std::string> precisions =
       args.precisions.empty() ? std::vector<std::string>{config.ensemble.precision}
@@ -232,8 +254,10 @@ void RunPlanBench(const LearningBenchArgs& args) {
       const EnsembleDynamics& ensemble = *ensembles[p];
       MpcAgent agent(ensemble, *classifier, planner, settings, config.objective,
                      DeriveSeed(args.seed, kPlannerSeedStream));
-      const std::vector<double> step_seconds =
-          TimeRuns(args.runs, [&] { agent.Act(shape.start); });
+      CeilingProbe probe(device, precisions[p]);
+      const TimedRuns step = TimeRunsBesideCeiling(args.runs, probe, [&] {
+        agent.Act(shape.start);  // ends with the action's copy to the host
+      });
       const bool random = planner == "random";
       const std::int64_t population =
           random ? settings.random.samples : settings.cross_entropy.population;
@@ -258,7 +282,7 @@ void RunPlanBench(const LearningBenchArgs& args) {
         Synchronize(device);
       });
 
-      nlohmann::ordered_json line = Figure("plan", "plan_step", config, step_seconds);
+      nlohmann::ordered_json line = Figure("plan", "plan_step", config, step.seconds);
       line["planner"] = planner;
       line["precision"] = precisions[p];
       line["members"] = members;
@@ -270,10 +294,7 @@ void RunPlanBench(const LearningBenchArgs& args) {
       line["classified_states"] = scored.size(0) * population * forwards;
       line["dynamics_forward_ms"] = forward_seconds * 1e3;
       line["classifier_ms"] = classifier_seconds * 1e3;
-      const double ceiling = precisions[p] == "tf32"   ? ceilings.tf32
-                             : precisions[p] == "bf16" && ceilings.bf16 > 0 ? ceilings.bf16
-                                                                            : ceilings.fp32;
-      AddRate(line, flops, ceiling);
+      AddRate(line, flops, step);
       if (p > 0) {
         line["error_against"] = precisions[0];
         line["weights"] = fmt::format("fitted for {} epochs on {} random-policy transitions",
@@ -290,8 +311,10 @@ void RunPlanBench(const LearningBenchArgs& args) {
 void RunTrainBench(const LearningBenchArgs& args) {
   const TrainConfig config = LoadBenchConfig(args);
   const torch::Device device = ParseDevice(config.device);
-  const GemmCeilings ceilings = MeasureGemmCeilings(device, args.runs);
+  MeasureGemmCeilings(device, args.runs);
   const TaskShape shape = ShapeOf(config, args.seed);
+  // Training runs in float32, on TF32 tensor cores when the config asks for them.
+  CeilingProbe probe(device, config.ensemble.precision == "tf32" ? "tf32" : "fp32");
 
   // Synthetic transitions: the time of an epoch does not depend on what the data says.
   TransitionBuffer data(shape.state_dim, shape.action_dim, args.transitions);
@@ -309,31 +332,33 @@ void RunTrainBench(const LearningBenchArgs& args) {
   epoch_options.max_epochs = 1;
   EnsembleDynamics trainee(shape.state_dim, shape.action_dim, epoch_options, args.seed);
   EnsembleFitReport report;
-  const std::vector<double> epoch_seconds = TimeRuns(args.runs, [&] {
+  const TimedRuns epoch_runs = TimeRunsBesideCeiling(args.runs, probe, [&] {
     report = trainee.Fit(data);
     Synchronize(device);
   });
   const auto rows =
       static_cast<std::int64_t>(config.ensemble.member_subset_fraction * report.train_size);
-  nlohmann::ordered_json epoch = Figure("train", "dynamics_epoch", config, epoch_seconds);
+  nlohmann::ordered_json epoch = Figure("train", "dynamics_epoch", config, epoch_runs.seconds);
   epoch["members"] = config.ensemble.ensemble_size;
   epoch["hidden"] = config.ensemble.hidden_sizes;
   epoch["transitions"] = args.transitions;
   epoch["rows_per_member"] = rows;
   epoch["batch_size"] = config.ensemble.batch_size;
-  AddRate(epoch, 3.0 * trainee.PredictFlops(rows), ceilings.fp32);
+  AddRate(epoch, 3.0 * trainee.PredictFlops(rows), epoch_runs);
   PrintJsonLine(epoch);
 
   if (args.full_fit) {
     EnsembleDynamics fitted(shape.state_dim, shape.action_dim, config.ensemble, args.seed);
-    const std::vector<double> fit_seconds = TimeRuns(1, [&] {
+    TimedRuns fit_run;
+    fit_run.ceilings.push_back(probe.Measure());
+    fit_run.seconds.push_back(SecondsOf([&] {
       report = fitted.Fit(data);
       Synchronize(device);
-    });
-    nlohmann::ordered_json fit = Figure("train", "dynamics_fit", config, fit_seconds);
+    }));
+    nlohmann::ordered_json fit = Figure("train", "dynamics_fit", config, fit_run.seconds);
     fit["epochs"] = report.epochs;
     fit["max_epochs"] = config.ensemble.max_epochs;
-    AddRate(fit, 3.0 * fitted.PredictFlops(rows) * report.epochs, ceilings.fp32);
+    AddRate(fit, 3.0 * fitted.PredictFlops(rows) * report.epochs, fit_run);
     PrintJsonLine(fit);
   }
 

@@ -18,17 +18,19 @@ inline double Median(std::vector<double> values) {
   return n % 2 == 1 ? values[n / 2] : (values[n / 2 - 1] + values[n / 2]) / 2;
 }
 
+// Wall seconds of one call.
+inline double SecondsOf(const std::function<void()>& work) {
+  const auto start = std::chrono::steady_clock::now();
+  work();
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
 // Wall seconds of each of `runs` calls of `work`, after one warm-up call. `work` must return
 // only when its work is done (a device synchronisation included).
 inline std::vector<double> TimeRuns(int runs, const std::function<void()>& work) {
   work();
   std::vector<double> seconds;
-  for (int i = 0; i < runs; ++i) {
-    const auto start = std::chrono::steady_clock::now();
-    work();
-    seconds.push_back(
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
-  }
+  for (int i = 0; i < runs; ++i) seconds.push_back(SecondsOf(work));
   return seconds;
 }
 
