@@ -16,6 +16,7 @@ int main(int argc, char** argv) {
   cmbrl::app::AddTrainCommand(app);
   cmbrl::app::AddEvalCommand(app);
   cmbrl::app::AddBenchCommand(app);
+  cmbrl::app::AddSweepCommand(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& error) {

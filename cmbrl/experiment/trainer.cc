@@ -13,6 +13,7 @@
 #include "cmbrl/agent/mpc_agent.h"
 #include "cmbrl/core/check.h"
 #include "cmbrl/core/rng.h"
+#include "cmbrl/core/run_lock.h"
 #include "cmbrl/env/goal_env.h"
 #include "cmbrl/models/ensemble.h"
 #include "cmbrl/models/labeled_state_buffer.h"
@@ -48,6 +49,7 @@ std::string ProgressCsvLine(const ProgressRow& r) {
 struct Trainer::State {
   TrainConfig config;
   fs::path run_dir;
+  std::unique_ptr<RunLock> lock;  // held for the trainer's lifetime
   std::unique_ptr<GoalEnv> env;
   std::unique_ptr<TransitionBuffer> transitions;
   std::unique_ptr<LabeledStateBuffer> labeled;
@@ -251,19 +253,27 @@ std::unique_ptr<Trainer> Trainer::Start(const TrainConfig& config, const std::st
           "'{}' already holds a run: resume it with --resume, or choose another directory",
           run_dir);
   fs::create_directories(dir);
+  auto lock = std::make_unique<RunLock>(run_dir);
+  Require(!fs::exists(dir / kConfigFile),
+          "'{}' already holds a run: resume it with --resume, or choose another directory",
+          run_dir);
   std::ofstream(dir / kProgressFile, std::ios::trunc) << ProgressCsvHeader() << "\n";
   // config.yaml marks the run as existing: written whole, then renamed into place.
   const fs::path tmp = dir / "config.yaml.tmp";
   std::ofstream(tmp) << TrainConfigToYaml(config);
   fs::rename(tmp, dir / kConfigFile);
-  return std::unique_ptr<Trainer>(new Trainer(std::make_unique<State>(config, dir)));
+  auto state = std::make_unique<State>(config, dir);
+  state->lock = std::move(lock);
+  return std::unique_ptr<Trainer>(new Trainer(std::move(state)));
 }
 
 std::unique_ptr<Trainer> Trainer::Resume(const std::string& run_dir) {
   const fs::path dir(run_dir);
   Require(fs::exists(dir / kConfigFile), "'{}' holds no run (no {}): start one with --config",
           run_dir, kConfigFile);
+  auto lock = std::make_unique<RunLock>(run_dir);
   auto state = std::make_unique<State>(LoadTrainConfig((dir / kConfigFile).string()), dir);
+  state->lock = std::move(lock);
   // A stop between the two renames of WriteCheckpoint leaves only checkpoint.old.
   fs::path checkpoint = dir / kCheckpointDir;
   if (!fs::exists(checkpoint) && fs::exists(dir / "checkpoint.old"))

@@ -1,0 +1,168 @@
+// `cmbrl sweep`: the grid of training runs as separate processes, a few at a time, skipping
+// finished runs and resuming interrupted ones; also writes the grid as a Slurm job array.
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/prctl.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdlib>
+#include <deque>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "app/commands.h"
+#include "cmbrl/core/check.h"
+#include "cmbrl/env/registry.h"
+#include "cmbrl/experiment/sweep.h"
+#include "cmbrl/planning/planner_registry.h"
+
+namespace cmbrl::app {
+namespace {
+namespace fs = std::filesystem;
+
+struct SweepArgs {
+  SweepGrid grid;
+  std::string out;
+  int jobs = 1;
+};
+
+std::string ProgramPath() { return fs::read_symlink("/proc/self/exe").string(); }
+
+// Starts `cmbrl <args>` with its output appended to `log`. The child dies with the sweep (a
+// killed sweep leaves no orphan training behind) and gets the sweep's share of the BLAS threads.
+pid_t Spawn(const std::string& program, const std::vector<std::string>& args,
+            const std::string& log, int blas_threads) {
+  const pid_t parent = getpid();
+  const pid_t pid = fork();
+  Require(pid >= 0, "could not start a training process");
+  if (pid > 0) return pid;
+  prctl(PR_SET_PDEATHSIG, SIGTERM);
+  if (getppid() != parent) _exit(127);  // the sweep ended before the line above
+  const int fd = open(log.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0644);
+  if (fd >= 0) {
+    dup2(fd, STDOUT_FILENO);
+    dup2(fd, STDERR_FILENO);
+    close(fd);
+  }
+  if (std::getenv("OPENBLAS_NUM_THREADS") == nullptr) {
+    setenv("OPENBLAS_NUM_THREADS", std::to_string(blas_threads).c_str(), 1);
+  }
+  std::vector<char*> argv = {const_cast<char*>(program.c_str())};
+  for (const std::string& arg : args) argv.push_back(const_cast<char*>(arg.c_str()));
+  argv.push_back(nullptr);
+  execv(program.c_str(), argv.data());
+  _exit(127);
+}
+
+void RunSweep(const SweepArgs& args) {
+  const std::vector<SweepRun> runs = PlanSweep(args.grid, args.out);
+  RecordOrCheckSweep(args.grid, args.out);
+  fs::create_directories(fs::path(args.out) / "logs");
+  fs::create_directories(fs::path(args.out) / "runs");
+  const std::string program = ProgramPath();
+  {
+    const fs::path script = fs::path(args.out) / "slurm.sh";
+    std::ofstream(script) << SlurmScript(runs, args.grid, args.out, program);
+    fs::permissions(script, fs::perms::owner_exec | fs::perms::group_exec, fs::perm_options::add);
+  }
+
+  std::deque<const SweepRun*> queue;
+  int skipped = 0;
+  for (const SweepRun& run : runs) {
+    if (StatusOf(run) == RunStatus::kFinished) {
+      std::cout << nlohmann::ordered_json{{"run", run.name}, {"status", "already finished"}}.dump()
+                << std::endl;
+      ++skipped;
+    } else {
+      queue.push_back(&run);
+    }
+  }
+  const int cores = std::max(1u, std::thread::hardware_concurrency());
+  const int blas_threads = std::max(1, cores / args.jobs);
+  struct Running {
+    const SweepRun* run;
+    std::chrono::steady_clock::time_point start;
+  };
+  std::map<pid_t, Running> running;
+  std::vector<std::string> failed;
+  int finished = 0;
+  while (!queue.empty() || !running.empty()) {
+    while (!queue.empty() && static_cast<int>(running.size()) < args.jobs) {
+      const SweepRun& run = *queue.front();
+      queue.pop_front();
+      const std::vector<std::string> train = TrainArguments(run, args.grid);
+      const std::string log = (fs::path(args.out) / "logs" / (run.name + ".log")).string();
+      running[Spawn(program, train, log, blas_threads)] = {&run, std::chrono::steady_clock::now()};
+      std::cout << nlohmann::ordered_json{{"run", run.name},
+                                          {"status", train[1] == "--resume" ? "resumed" : "started"},
+                                          {"log", log}}
+                       .dump()
+                << std::endl;
+    }
+    int status = 0;
+    const pid_t pid = waitpid(-1, &status, 0);
+    if (pid < 0) continue;
+    const auto it = running.find(pid);
+    if (it == running.end()) continue;
+    const SweepRun& run = *it->second.run;
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - it->second.start).count();
+    running.erase(it);
+    const bool ok = WIFEXITED(status) && WEXITSTATUS(status) == 0;
+    ok ? ++finished : (failed.push_back(run.name), 0);
+    std::cout << nlohmann::ordered_json{
+                     {"run", run.name},
+                     {"status", ok ? "finished" : "failed"},
+                     {"exit", WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status)},
+                     {"seconds", seconds}}
+                     .dump()
+              << std::endl;
+  }
+  std::cout << nlohmann::ordered_json{{"sweep", args.out},
+                                      {"runs", runs.size()},
+                                      {"finished_now", finished},
+                                      {"already_finished", skipped},
+                                      {"failed", failed}}
+                   .dump()
+            << std::endl;
+  Require(failed.empty(), "{} run(s) failed: {}; their logs are in {}/logs", failed.size(),
+          fmt::join(failed, ", "), args.out);
+}
+
+}  // namespace
+
+void AddSweepCommand(CLI::App& parent) {
+  auto args = std::make_shared<SweepArgs>();
+  args->grid.tasks = EnvNames();
+  args->grid.planners = PlannerNames();
+  args->grid.seeds = {0, 1, 2};
+  CLI::App* command = parent.add_subcommand(
+      "sweep",
+      "Train a grid of tasks x planners x seeds, N runs at a time, skipping finished runs and "
+      "resuming interrupted ones; also writes SWEEP_DIR/slurm.sh for a cluster");
+  command->add_option("--tasks", args->grid.tasks, "tasks")->capture_default_str();
+  command->add_option("--planners", args->grid.planners, "planners")->capture_default_str();
+  command->add_option("--seeds", args->grid.seeds, "seeds")->capture_default_str();
+  command->add_option("--config-dir", args->grid.config_dir,
+                      "folder of <task>-<planner>.yaml configs (task in lower case)")
+      ->check(CLI::ExistingDirectory)
+      ->capture_default_str();
+  command->add_option("--steps", args->grid.steps,
+                      "agent steps of every run (default: each config's training.total_steps)");
+  command->add_option("--out", args->out, "sweep directory")->required();
+  command->add_option("--jobs", args->jobs, "runs at a time")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  command->callback([args] { RunSweep(*args); });
+}
+
+}  // namespace cmbrl::app

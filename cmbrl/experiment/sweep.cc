@@ -1,0 +1,174 @@
+#include "cmbrl/experiment/sweep.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cctype>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <sstream>
+
+#include "cmbrl/core/check.h"
+#include "cmbrl/env/registry.h"
+#include "cmbrl/experiment/config.h"
+#include "cmbrl/planning/planner_registry.h"
+
+namespace cmbrl {
+namespace fs = std::filesystem;
+namespace {
+
+std::string Lower(std::string text) {
+  std::transform(text.begin(), text.end(), text.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return text;
+}
+
+// The last row's TotalEnvInteracts of a progress.csv (0 without rows).
+std::int64_t StepsDone(const fs::path& progress) {
+  std::ifstream in(progress);
+  std::string header, line, last;
+  if (!std::getline(in, header)) return 0;
+  while (std::getline(in, line)) {
+    if (!line.empty()) last = line;
+  }
+  if (last.empty()) return 0;
+  std::stringstream fields(last), names(header);
+  std::string field, name;
+  while (std::getline(names, name, ',') && std::getline(fields, field, ',')) {
+    if (name == "TotalEnvInteracts") return std::stoll(field);
+  }
+  return 0;
+}
+
+// A shell word in single quotes.
+std::string Quote(const std::string& word) {
+  std::string quoted = "'";
+  for (char c : word) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return quoted + "'";
+}
+
+}  // namespace
+
+std::vector<SweepRun> PlanSweep(const SweepGrid& grid, const std::string& sweep_dir) {
+  Require(!grid.tasks.empty() && !grid.planners.empty() && !grid.seeds.empty(),
+          "a sweep needs at least one task, one planner and one seed");
+  const std::vector<std::string>& known_tasks = EnvNames();
+  for (const std::string& task : grid.tasks) {
+    Require(std::find(known_tasks.begin(), known_tasks.end(), task) != known_tasks.end(),
+            "unknown task '{}': expected some of {}", task, fmt::join(known_tasks, ", "));
+  }
+  const std::vector<std::string>& known_planners = PlannerNames();
+  for (const std::string& planner : grid.planners) {
+    Require(std::find(known_planners.begin(), known_planners.end(), planner) !=
+                known_planners.end(),
+            "unknown planner '{}': expected some of {}", planner, fmt::join(known_planners, ", "));
+  }
+  Require(std::set<std::uint64_t>(grid.seeds.begin(), grid.seeds.end()).size() ==
+              grid.seeds.size(),
+          "seeds {} repeat a seed: each run needs its own", fmt::join(grid.seeds, " "));
+  Require(!grid.steps || *grid.steps >= 1, "--steps is {}: expected a positive number",
+          grid.steps.value_or(0));
+  std::vector<SweepRun> runs;
+  for (const std::string& task : grid.tasks) {
+    for (const std::string& planner : grid.planners) {
+      const std::string stem = Lower(task) + "-" + planner;
+      const fs::path config = fs::path(grid.config_dir) / (stem + ".yaml");
+      Require(fs::exists(config), "no config '{}' for {} with {}: expected <task>-<planner>.yaml "
+              "in --config-dir",
+              config.string(), task, planner);
+      for (const std::uint64_t seed : grid.seeds) {
+        SweepRun run;
+        run.name = fmt::format("{}-s{}", stem, seed);
+        run.task = task;
+        run.planner = planner;
+        run.seed = seed;
+        run.config_path = config.string();
+        run.run_dir = (fs::path(sweep_dir) / "runs" / run.name).string();
+        runs.push_back(run);
+      }
+    }
+  }
+  return runs;
+}
+
+RunStatus StatusOf(const SweepRun& run) {
+  const fs::path dir(run.run_dir);
+  if (!fs::exists(dir / "config.yaml")) return RunStatus::kNew;
+  const TrainConfig config = LoadTrainConfig((dir / "config.yaml").string());
+  return StepsDone(dir / "progress.csv") >= config.training.total_steps ? RunStatus::kFinished
+                                                                        : RunStatus::kStarted;
+}
+
+void RecordOrCheckSweep(const SweepGrid& grid, const std::string& sweep_dir) {
+  const fs::path path = fs::path(sweep_dir) / "sweep.json";
+  const nlohmann::json settings = {
+      {"config_dir", fs::absolute(grid.config_dir).lexically_normal().string()},
+      {"steps", grid.steps ? nlohmann::json(*grid.steps) : nlohmann::json(nullptr)}};
+  if (fs::exists(path)) {
+    std::ifstream in(path);
+    nlohmann::json recorded;
+    try {
+      recorded = nlohmann::json::parse(in);
+    } catch (const nlohmann::json::exception& error) {
+      Fail("'{}' is not valid JSON: {}", path.string(), error.what());
+    }
+    for (const char* key : {"config_dir", "steps"}) {
+      Require(recorded.value(key, nlohmann::json()) == settings[key],
+              "this sweep was started with {} {}, now {} is {}: finish it with the same "
+              "settings, or use another --out",
+              key, recorded.value(key, nlohmann::json()).dump(), key, settings[key].dump());
+    }
+    return;
+  }
+  fs::create_directories(sweep_dir);
+  const fs::path tmp = path.string() + ".tmp";
+  std::ofstream(tmp) << settings.dump(2) << "\n";
+  fs::rename(tmp, path);
+}
+
+std::vector<std::string> TrainArguments(const SweepRun& run, const SweepGrid& grid) {
+  if (StatusOf(run) != RunStatus::kNew) return {"train", "--resume", run.run_dir};
+  std::vector<std::string> args = {"train",  "--config", run.config_path, "--seed",
+                                   std::to_string(run.seed), "--out", run.run_dir};
+  if (grid.steps) {
+    args.push_back("--steps");
+    args.push_back(std::to_string(*grid.steps));
+  }
+  return args;
+}
+
+std::string SlurmScript(const std::vector<SweepRun>& runs, const SweepGrid& grid,
+                        const std::string& sweep_dir, const std::string& program) {
+  const std::string dir = fs::absolute(sweep_dir).lexically_normal().string();
+  std::string script = fmt::format(
+      "#!/bin/bash\n"
+      "# The sweep's grid as a Slurm job array, one task per run: sbatch {0}/slurm.sh\n"
+      "# Each task resumes its run if it has started, so resubmitting finishes an interrupted\n"
+      "# sweep. Written by `cmbrl sweep`; edit partitions and limits for your cluster.\n"
+      "#SBATCH --job-name=cmbrl-sweep\n"
+      "#SBATCH --array=0-{1}\n"
+      "#SBATCH --cpus-per-task=2\n"
+      "#SBATCH --output={0}/logs/slurm-%a.log\n"
+      "set -euo pipefail\n"
+      "cmbrl={2}\n"
+      "runs=(\n",
+      dir, runs.size() - 1, Quote(program));
+  for (const SweepRun& run : runs) {
+    script += fmt::format("  {}\n", Quote(fmt::format(
+                                        "{}|{}|{}", fs::absolute(run.run_dir).string(),
+                                        fs::absolute(run.config_path).string(), run.seed)));
+  }
+  script += ")\n";
+  script += "IFS='|' read -r run_dir config seed <<< \"${runs[$SLURM_ARRAY_TASK_ID]}\"\n";
+  script += "if [ -f \"$run_dir/config.yaml\" ]; then\n";
+  script += "  exec \"$cmbrl\" train --resume \"$run_dir\"\n";
+  script += "fi\n";
+  script += "exec \"$cmbrl\" train --config \"$config\" --seed \"$seed\" --out \"$run_dir\"";
+  if (grid.steps) script += fmt::format(" --steps {}", *grid.steps);
+  script += "\n";
+  return script;
+}
+
+}  // namespace cmbrl

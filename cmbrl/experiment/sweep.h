@@ -1,0 +1,52 @@
+// A grid of training runs (tasks x planners x seeds) in one sweep directory, for the paper's
+// Table I and learning curves (Section V). The grid is plain data: which runs exist, where their
+// configs and directories are, whether they finished, and the job-array script that runs the same
+// grid on a Slurm cluster. Starting processes is the program's business (`cmbrl sweep`).
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace cmbrl {
+
+struct SweepGrid {
+  std::vector<std::string> tasks;     // PointGoal1 ...
+  std::vector<std::string> planners;  // rce, cem, random
+  std::vector<std::uint64_t> seeds;
+  std::string config_dir = "configs";      // holds <task>-<planner>.yaml, task in lower case
+  std::optional<std::int64_t> steps;       // overrides training.total_steps of every run
+};
+
+struct SweepRun {
+  std::string name;         // pointgoal1-rce-s0
+  std::string task, planner;
+  std::uint64_t seed = 0;
+  std::string config_path;  // config_dir/pointgoal1-rce.yaml
+  std::string run_dir;      // sweep_dir/runs/pointgoal1-rce-s0
+};
+
+// Every run of the grid, tasks outermost, then planners, then seeds. Throws cmbrl::Error naming
+// an unknown task or planner, an empty list, a repeated seed, or a missing config file.
+std::vector<SweepRun> PlanSweep(const SweepGrid& grid, const std::string& sweep_dir);
+
+// Where a run stands: not started, started (resume it), or finished (its progress reached the
+// config's budget).
+enum class RunStatus { kNew, kStarted, kFinished };
+RunStatus StatusOf(const SweepRun& run);
+
+// Records the grid in sweep_dir/sweep.json, or checks it against the recorded one, so that a
+// restarted sweep cannot silently mix budgets or config folders. Throws cmbrl::Error naming the
+// setting that differs.
+void RecordOrCheckSweep(const SweepGrid& grid, const std::string& sweep_dir);
+
+// The command line of one run: `train --resume DIR` when it has started, else a new run.
+std::vector<std::string> TrainArguments(const SweepRun& run, const SweepGrid& grid);
+
+// sweep_dir/slurm.sh: a job array with one task per run, each resuming or starting its run with
+// `program` (an absolute path), logs in sweep_dir/logs.
+std::string SlurmScript(const std::vector<SweepRun>& runs, const SweepGrid& grid,
+                        const std::string& sweep_dir, const std::string& program);
+
+}  // namespace cmbrl
