@@ -11,6 +11,7 @@ void AddTrainCommand(CLI::App& parent);
 void AddEvalCommand(CLI::App& parent);
 void AddBenchCommand(CLI::App& parent);
 void AddSweepCommand(CLI::App& parent);
+void AddReportCommand(CLI::App& parent);
 
 // `bench plan` and `bench train`, registered under the `bench` command.
 void AddBenchLearningCommands(CLI::App& bench);

@@ -17,6 +17,7 @@ int main(int argc, char** argv) {
   cmbrl::app::AddEvalCommand(app);
   cmbrl::app::AddBenchCommand(app);
   cmbrl::app::AddSweepCommand(app);
+  cmbrl::app::AddReportCommand(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& error) {

@@ -1,0 +1,385 @@
+#include "cmbrl/experiment/report.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include "cmbrl/core/check.h"
+#include "cmbrl/env/registry.h"
+#include "cmbrl/planning/planner_registry.h"
+
+namespace cmbrl {
+namespace fs = std::filesystem;
+namespace {
+
+std::vector<std::string> SplitCsv(const std::string& line) {
+  std::vector<std::string> fields;
+  std::stringstream in(line);
+  std::string field;
+  while (std::getline(in, field, ',')) fields.push_back(field);
+  return fields;
+}
+
+double Number(const std::string& text, const fs::path& file, int line, const std::string& column) {
+  try {
+    size_t used = 0;
+    const double value = std::stod(text, &used);
+    if (used == text.size()) return value;
+  } catch (const std::exception&) {
+  }
+  Fail("{} line {}: {} is '{}': expected a number", file.string(), line, column, text);
+}
+
+std::vector<EpisodePoint> ReadProgress(const fs::path& path) {
+  std::ifstream in(path);
+  Require(static_cast<bool>(in), "cannot read '{}'", path.string());
+  std::string line;
+  std::getline(in, line);
+  const std::vector<std::string> header = SplitCsv(line);
+  const auto column = [&](const std::string& name) {
+    const auto it = std::find(header.begin(), header.end(), name);
+    Require(it != header.end(), "'{}' has no column {}: expected a cmbrl progress.csv",
+            path.string(), name);
+    return static_cast<size_t>(it - header.begin());
+  };
+  const size_t ret = column("EpRet"), cost = column("EpCost"), total = column("TotalEnvInteracts"),
+               steps = column("Steps");
+  std::vector<EpisodePoint> episodes;
+  int number = 1;
+  while (std::getline(in, line)) {
+    ++number;
+    if (line.empty()) continue;
+    const std::vector<std::string> f = SplitCsv(line);
+    Require(f.size() == header.size(), "{} line {}: {} fields, the header has {}", path.string(),
+            number, f.size(), header.size());
+    EpisodePoint point;
+    point.episode_return = Number(f[ret], path, number, "EpRet");
+    point.episode_cost = Number(f[cost], path, number, "EpCost");
+    point.end_step = static_cast<std::int64_t>(Number(f[total], path, number, "TotalEnvInteracts"));
+    point.steps = static_cast<int>(Number(f[steps], path, number, "Steps"));
+    episodes.push_back(point);
+  }
+  return episodes;
+}
+
+double Mean(const std::vector<double>& values) {
+  double sum = 0.0;
+  for (double v : values) sum += v;
+  return values.empty() ? 0.0 : sum / static_cast<double>(values.size());
+}
+
+double SampleStd(const std::vector<double>& values) {
+  if (values.size() < 2) return 0.0;
+  const double mean = Mean(values);
+  double squares = 0.0;
+  for (double v : values) squares += (v - mean) * (v - mean);
+  return std::sqrt(squares / static_cast<double>(values.size() - 1));
+}
+
+// The distinct values of a field over the runs, in the order of `known` (the registries'
+// order: the paper's), unknown values last.
+template <typename Get>
+std::vector<std::string> InOrder(const std::vector<RunRecord>& runs, Get get,
+                                 const std::vector<std::string>& known) {
+  std::vector<std::string> order;
+  for (const RunRecord& run : runs) {
+    const std::string value = get(run);
+    if (std::find(order.begin(), order.end(), value) == order.end()) order.push_back(value);
+  }
+  const auto rank = [&](const std::string& value) {
+    return std::find(known.begin(), known.end(), value) - known.begin();
+  };
+  std::stable_sort(order.begin(), order.end(),
+                   [&](const std::string& a, const std::string& b) { return rank(a) < rank(b); });
+  return order;
+}
+
+std::string PlannerLabel(const std::string& planner) {
+  if (planner == "rce") return "MPC-RCE";
+  if (planner == "cem") return "MPC-CEM";
+  return "MPC-random";
+}
+
+}  // namespace
+
+std::vector<RunRecord> ReadSweep(const std::string& sweep_dir) {
+  const fs::path runs_dir = fs::path(sweep_dir) / "runs";
+  Require(fs::is_directory(runs_dir), "'{}' holds no runs/ folder: expected a cmbrl sweep",
+          sweep_dir);
+  std::vector<fs::path> dirs;
+  for (const fs::directory_entry& entry : fs::directory_iterator(runs_dir)) {
+    if (entry.is_directory() && fs::exists(entry.path() / "config.yaml")) {
+      dirs.push_back(entry.path());
+    }
+  }
+  std::sort(dirs.begin(), dirs.end());
+  std::vector<RunRecord> runs;
+  for (const fs::path& dir : dirs) {
+    RunRecord run;
+    run.name = dir.filename().string();
+    run.config = LoadTrainConfig((dir / "config.yaml").string());
+    run.episodes = ReadProgress(dir / "progress.csv");
+    runs.push_back(std::move(run));
+  }
+  return runs;
+}
+
+double ViolationsWithin(const RunRecord& run, std::int64_t window) {
+  double violations = 0.0;
+  for (const EpisodePoint& episode : run.episodes) {
+    if (episode.end_step - episode.steps < window) violations += episode.episode_cost;
+  }
+  return violations;
+}
+
+std::optional<double> PaperViolations(const std::string& task, const std::string& planner) {
+  static const std::map<std::string, std::map<std::string, double>> kTableI = {
+      {"PointGoal1", {{"rce", 16}, {"cem", 184}, {"random", 169}}},
+      {"PointGoal2", {{"rce", 231}, {"cem", 746}, {"random", 601}}},
+      {"CarGoal1", {{"rce", 7}, {"cem", 104}, {"random", 139}}},
+      {"CarGoal2", {{"rce", 96}, {"cem", 578}, {"random", 509}}},
+  };
+  const auto row = kTableI.find(task);
+  if (row == kTableI.end()) return std::nullopt;
+  const auto cell = row->second.find(planner);
+  if (cell == row->second.end()) return std::nullopt;
+  return cell->second;
+}
+
+std::vector<TableCell> ViolationTable(const std::vector<RunRecord>& runs, std::int64_t window) {
+  const auto task_of = [](const RunRecord& r) { return r.config.task; };
+  const auto planner_of = [](const RunRecord& r) { return r.config.planner; };
+  std::vector<TableCell> cells;
+  for (const std::string& task : InOrder(runs, task_of, EnvNames())) {
+    for (const std::string& planner : InOrder(runs, planner_of, PlannerNames())) {
+      std::vector<const RunRecord*> members;
+      for (const RunRecord& run : runs) {
+        if (run.config.task == task && run.config.planner == planner) members.push_back(&run);
+      }
+      if (members.empty()) continue;
+      std::sort(members.begin(), members.end(), [](const RunRecord* a, const RunRecord* b) {
+        return a->config.seed < b->config.seed;
+      });
+      TableCell cell;
+      cell.task = task;
+      cell.planner = planner;
+      cell.fewest_steps = std::numeric_limits<std::int64_t>::max();
+      for (const RunRecord* run : members) {
+        cell.per_seed.push_back(ViolationsWithin(*run, window));
+        cell.fewest_steps = std::min(
+            cell.fewest_steps, run->episodes.empty() ? 0 : run->episodes.back().end_step);
+      }
+      cell.mean = Mean(cell.per_seed);
+      cell.std = SampleStd(cell.per_seed);
+      cell.paper = PaperViolations(task, planner);
+      cells.push_back(cell);
+    }
+  }
+  return cells;
+}
+
+std::string TableMarkdown(const std::vector<TableCell>& cells, std::int64_t window) {
+  std::vector<std::string> planners;
+  for (const TableCell& cell : cells) {
+    if (std::find(planners.begin(), planners.end(), cell.planner) == planners.end()) {
+      planners.push_back(cell.planner);
+    }
+  }
+  std::string text = fmt::format(
+      "Violations during the first {} agent steps: ours as mean ± std over seeds (seeds), the "
+      "paper's Table I (mean of 3 seeds over 10,000 steps) in brackets. * marks a cell whose "
+      "shortest run stopped before the window's end.\n\n| task |",
+      window);
+  for (const std::string& planner : planners) text += " " + PlannerLabel(planner) + " |";
+  text += "\n|---|";
+  for (size_t i = 0; i < planners.size(); ++i) text += "---|";
+  text += "\n";
+  std::string task;
+  for (const TableCell& cell : cells) {
+    if (cell.task != task) {
+      if (!task.empty()) text += "\n";
+      task = cell.task;
+      text += "| " + task + " |";
+      for (const std::string& planner : planners) {
+        const auto it = std::find_if(cells.begin(), cells.end(), [&](const TableCell& c) {
+          return c.task == task && c.planner == planner;
+        });
+        if (it == cells.end()) {
+          text += " |";
+          continue;
+        }
+        text += fmt::format(" {:.1f} ± {:.1f} ({}){}", it->mean, it->std, it->per_seed.size(),
+                            it->fewest_steps < window ? "*" : "");
+        text += it->paper ? fmt::format(" [{:.0f}] |", *it->paper) : " |";
+      }
+    }
+  }
+  return text + "\n";
+}
+
+std::string TableCsv(const std::vector<TableCell>& cells, std::int64_t window) {
+  std::string text = "task,planner,window,seeds,mean,std,per_seed,paper,fewest_steps\n";
+  for (const TableCell& cell : cells) {
+    text += fmt::format("{},{},{},{},{},{},{},{},{}\n", cell.task, cell.planner, window,
+                        cell.per_seed.size(), cell.mean, cell.std, fmt::join(cell.per_seed, " "),
+                        cell.paper ? fmt::format("{}", *cell.paper) : "", cell.fewest_steps);
+  }
+  return text;
+}
+
+std::vector<LearningCurve> LearningCurves(const std::vector<RunRecord>& runs,
+                                          const std::string& task, CurveMetric metric,
+                                          std::int64_t grid_step, std::int64_t smoothing) {
+  Require(grid_step >= 1 && smoothing >= 1, "curve grid {} and smoothing {} must be positive",
+          grid_step, smoothing);
+  std::vector<LearningCurve> curves;
+  const auto planner_of = [](const RunRecord& r) { return r.config.planner; };
+  for (const std::string& planner : InOrder(runs, planner_of, PlannerNames())) {
+    std::vector<const RunRecord*> members;
+    std::int64_t longest = 0;
+    for (const RunRecord& run : runs) {
+      if (run.config.task != task || run.config.planner != planner || run.episodes.empty()) {
+        continue;
+      }
+      members.push_back(&run);
+      longest = std::max(longest, run.episodes.back().end_step);
+    }
+    if (members.empty()) continue;
+    LearningCurve curve;
+    curve.planner = planner;
+    for (std::int64_t x = grid_step; x <= longest; x += grid_step) {
+      std::vector<double> values;
+      for (const RunRecord* run : members) {
+        if (run->episodes.back().end_step < x) continue;  // this seed has not reached x
+        std::vector<double> window;
+        for (const EpisodePoint& e : run->episodes) {
+          if (e.end_step > x - smoothing && e.end_step <= x) {
+            window.push_back(metric == CurveMetric::kReturn ? e.episode_return : e.episode_cost);
+          }
+        }
+        if (!window.empty()) values.push_back(Mean(window));
+      }
+      if (values.empty()) continue;
+      curve.steps.push_back(static_cast<double>(x));
+      curve.mean.push_back(Mean(values));
+      curve.std.push_back(SampleStd(values));
+    }
+    curves.push_back(curve);
+  }
+  return curves;
+}
+
+std::vector<std::string> SetupDifferences(const std::vector<RunRecord>& runs,
+                                          std::int64_t window) {
+  std::vector<std::string> notes;
+  const TrainConfig paper;  // every default is the paper's value
+  std::set<std::string> seen;
+  const auto note = [&](const std::string& text) {
+    if (seen.insert(text).second) notes.push_back(text);
+  };
+  std::map<std::string, std::set<std::uint64_t>> seeds;
+  for (const RunRecord& run : runs) {
+    const TrainConfig& c = run.config;
+    seeds[c.task + " " + c.planner].insert(c.seed);
+    const int paper_members = c.task.rfind("Car", 0) == 0 ? 5 : 4;
+    if (c.ensemble.hidden_sizes != paper.ensemble.hidden_sizes ||
+        c.ensemble.ensemble_size != paper_members) {
+      note(fmt::format("Dynamics: {} members of {} hidden units, the paper {} of 3 x 1024.",
+                       c.ensemble.ensemble_size, fmt::join(c.ensemble.hidden_sizes, " x "),
+                       paper_members));
+    }
+    if (c.ensemble.max_epochs != paper.ensemble.max_epochs) {
+      note(fmt::format("Dynamics fits: at most {} epochs, the paper {}.", c.ensemble.max_epochs,
+                       paper.ensemble.max_epochs));
+    }
+    if (c.classifier.rounds != paper.classifier.rounds) {
+      note(fmt::format("Classifier: {} trees, the paper {}.", c.classifier.rounds,
+                       paper.classifier.rounds));
+    }
+    const auto& p = c.planning;
+    if (p.cross_entropy.population != paper.planning.cross_entropy.population ||
+        p.cross_entropy.elites != paper.planning.cross_entropy.elites ||
+        p.cross_entropy.max_iterations != paper.planning.cross_entropy.max_iterations ||
+        p.random.samples != paper.planning.random.samples ||
+        p.problem.horizon != paper.planning.problem.horizon) {
+      note(fmt::format(
+          "Planning: population {}, {} elites, {} iterations, horizon {}, {} random-shooting "
+          "samples; the paper {}, {}, {}, {}, {}.",
+          p.cross_entropy.population, p.cross_entropy.elites, p.cross_entropy.max_iterations,
+          p.problem.horizon, p.random.samples, paper.planning.cross_entropy.population,
+          paper.planning.cross_entropy.elites, paper.planning.cross_entropy.max_iterations,
+          paper.planning.problem.horizon, paper.planning.random.samples));
+    }
+    if (c.training.total_steps != paper.training.total_steps) {
+      note(fmt::format("Budget: {} agent steps per run, the paper 10,000; Table I here counts the "
+                       "first {}.",
+                       c.training.total_steps, window));
+    }
+    if (c.training.episodes_per_epoch != paper.training.episodes_per_epoch ||
+        c.training.pretrain_episodes != paper.training.pretrain_episodes) {
+      note(fmt::format("Loop: {} pre-training episodes and {} episodes between refits, the "
+                       "paper {} and {}.",
+                       c.training.pretrain_episodes, c.training.episodes_per_epoch,
+                       paper.training.pretrain_episodes, paper.training.episodes_per_epoch));
+    }
+    if (c.variant != "paper") {
+      note(fmt::format("Tasks: the '{}' variant, not the modified suite the paper ran.",
+                       c.variant));
+    }
+  }
+  size_t fewest = SIZE_MAX;
+  for (const auto& entry : seeds) fewest = std::min(fewest, entry.second.size());
+  if (fewest != SIZE_MAX && fewest != 3) {
+    note(fmt::format("Seeds: {} per cell, the paper 3.", fewest));
+  }
+  note("Simulator: MuJoCo 2.2.2 through our own C++ re-creation of the tasks; the paper ran "
+       "mujoco_py 2.0.2.7 with MuJoCo 2.0, so contacts and solver details differ and no "
+       "trajectory is the paper's.");
+  note("Random numbers: our generators are not NumPy's or PyTorch's, so seed 0 here is not the "
+       "paper's seed 0.");
+  return notes;
+}
+
+std::vector<std::string> OutcomeDifferences(const std::vector<TableCell>& cells) {
+  std::vector<std::string> notes;
+  std::map<std::string, std::map<std::string, const TableCell*>> by_task;
+  std::vector<std::string> tasks;
+  for (const TableCell& cell : cells) {
+    if (by_task.find(cell.task) == by_task.end()) tasks.push_back(cell.task);
+    by_task[cell.task][cell.planner] = &cell;
+  }
+  for (const std::string& task : tasks) {
+    const auto& row = by_task[task];
+    const auto rce = row.find("rce");
+    if (rce == row.end()) continue;
+    std::vector<std::string> worse, not_worse;
+    for (const auto& [planner, cell] : row) {
+      if (planner == "rce") continue;
+      (cell->mean > rce->second->mean ? worse : not_worse).push_back(PlannerLabel(planner));
+    }
+    if (!worse.empty() || !not_worse.empty()) {
+      notes.push_back(fmt::format(
+          "{}: MPC-RCE {:.1f} violations on average; {}{}{}.", task, rce->second->mean,
+          worse.empty() ? "" : fmt::format("more for {}", fmt::join(worse, " and ")),
+          !worse.empty() && !not_worse.empty() ? "; " : "",
+          not_worse.empty() ? ""
+                            : fmt::format("NOT more for {} (the paper's claim fails here)",
+                                          fmt::join(not_worse, " and "))));
+    }
+    for (const auto& [planner, cell] : row) {
+      if (!cell->paper) continue;
+      notes.push_back(fmt::format("{} {}: {:.1f} against the paper's {:.0f} ({:.2f}x).", task,
+                                  PlannerLabel(planner), cell->mean, *cell->paper,
+                                  *cell->paper > 0 ? cell->mean / *cell->paper : 0.0));
+    }
+  }
+  return notes;
+}
+
+}  // namespace cmbrl

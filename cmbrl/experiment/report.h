@@ -1,0 +1,77 @@
+// What a sweep found (paper Section V): Table I, violations during learning per task and
+// planner with the paper's numbers beside ours, and the learning curves of EpRet and EpCost.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "cmbrl/experiment/config.h"
+
+namespace cmbrl {
+
+// One episode of a run's progress.csv.
+struct EpisodePoint {
+  std::int64_t end_step = 0;  // TotalEnvInteracts after the episode
+  int steps = 0;              // agent steps of the episode
+  double episode_return = 0.0;
+  double episode_cost = 0.0;
+};
+
+struct RunRecord {
+  std::string name;  // the run directory's name
+  TrainConfig config;
+  std::vector<EpisodePoint> episodes;
+};
+
+// Every run under sweep_dir/runs (a folder with config.yaml), in name order. Throws
+// cmbrl::Error naming a progress.csv that lacks a column or holds a value that is not a number.
+std::vector<RunRecord> ReadSweep(const std::string& sweep_dir);
+
+// Violations during the first `window` agent steps of a run: the EpCost of every episode that
+// began within the window (the episode that crosses its end counts whole, as the paper's
+// per-epoch logs do).
+double ViolationsWithin(const RunRecord& run, std::int64_t window);
+
+// Table I (paper, mean of 3 seeds over the first 10,000 steps), or nothing for other cells.
+std::optional<double> PaperViolations(const std::string& task, const std::string& planner);
+
+struct TableCell {
+  std::string task, planner;
+  std::vector<double> per_seed;  // in seed order
+  double mean = 0.0;
+  double std = 0.0;              // sample standard deviation (0 with one seed)
+  std::optional<double> paper;
+  std::int64_t fewest_steps = 0;  // the shortest run's agent steps (below the window: partial)
+};
+
+// One cell per task and planner present, tasks and planners in the sweep's order.
+std::vector<TableCell> ViolationTable(const std::vector<RunRecord>& runs, std::int64_t window);
+
+std::string TableMarkdown(const std::vector<TableCell>& cells, std::int64_t window);
+std::string TableCsv(const std::vector<TableCell>& cells, std::int64_t window);
+
+// A metric over agent steps, across seeds: at each grid step x, each run's mean over its
+// episodes that ended in (x - smoothing, x], then the mean and sample std over the runs that
+// reached x.
+struct LearningCurve {
+  std::string planner;
+  std::vector<double> steps, mean, std;
+};
+
+enum class CurveMetric { kReturn, kCost };
+
+std::vector<LearningCurve> LearningCurves(const std::vector<RunRecord>& runs,
+                                          const std::string& task, CurveMetric metric,
+                                          std::int64_t grid_step, std::int64_t smoothing);
+
+// Where the sweep's settings differ from the paper's (network sizes, step counts, seeds,
+// planner and classifier sizes, simulator): one plain sentence each.
+std::vector<std::string> SetupDifferences(const std::vector<RunRecord>& runs, std::int64_t window);
+
+// Where the outcome differs: per task whether RCE violated least, and each cell against the
+// paper's.
+std::vector<std::string> OutcomeDifferences(const std::vector<TableCell>& cells);
+
+}  // namespace cmbrl

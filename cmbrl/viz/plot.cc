@@ -1,0 +1,224 @@
+#include "cmbrl/viz/plot.h"
+
+#include <cairo-svg.h>
+#include <cairo.h>
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+
+#include "cmbrl/core/check.h"
+
+namespace cmbrl {
+namespace {
+
+struct Rgb {
+  double r, g, b;
+};
+
+// Colour-blind-safe colours (Okabe and Ito), in order of first appearance of a label.
+const std::vector<Rgb>& Palette() {
+  static const std::vector<Rgb> kColours = {{0.0, 0.45, 0.70}, {0.90, 0.62, 0.0},
+                                            {0.0, 0.62, 0.45}, {0.80, 0.47, 0.65},
+                                            {0.34, 0.71, 0.91}, {0.84, 0.37, 0.0}};
+  return kColours;
+}
+
+// About five round tick values covering [low, high].
+std::vector<double> Ticks(double low, double high) {
+  const double span = std::max(high - low, 1e-12);
+  const double raw = span / 5;
+  const double magnitude = std::pow(10.0, std::floor(std::log10(raw)));
+  double step = magnitude;
+  for (double factor : {1.0, 2.0, 2.5, 5.0, 10.0}) {
+    if (factor * magnitude >= raw) {
+      step = factor * magnitude;
+      break;
+    }
+  }
+  std::vector<double> ticks;
+  for (double t = std::ceil(low / step) * step; t <= high + step * 1e-9; t += step) {
+    ticks.push_back(std::abs(t) < step * 1e-9 ? 0.0 : t);
+  }
+  return ticks;
+}
+
+std::string TickLabel(double value) {
+  if (std::abs(value) >= 1000 && std::fmod(value, 1000) == 0) {
+    return fmt::format("{}k", value / 1000);
+  }
+  return fmt::format("{:g}", value);
+}
+
+void Text(cairo_t* cr, const std::string& text, double x, double y, double size, double align_x,
+          double align_y, bool vertical = false) {
+  cairo_save(cr);
+  cairo_set_font_size(cr, size);
+  cairo_text_extents_t extents;
+  cairo_text_extents(cr, text.c_str(), &extents);
+  cairo_translate(cr, x, y);
+  if (vertical) cairo_rotate(cr, -M_PI / 2);
+  cairo_move_to(cr, -extents.width * align_x - extents.x_bearing,
+                -extents.height * align_y - extents.y_bearing);
+  cairo_show_text(cr, text.c_str());
+  cairo_restore(cr);
+}
+
+std::vector<PanelArea> Draw(cairo_t* cr, const std::vector<PlotPanel>& panels,
+                            const PlotOptions& o, double width, double height,
+                            const std::map<std::string, Rgb>& colours) {
+  cairo_set_source_rgb(cr, 1, 1, 1);
+  cairo_paint(cr);
+  cairo_select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
+  const double legend_height = 34;
+  // Legend across the top.
+  double legend_x = 20;
+  for (const auto& [label, colour] : colours) {
+    cairo_set_source_rgb(cr, colour.r, colour.g, colour.b);
+    cairo_set_line_width(cr, 3);
+    cairo_move_to(cr, legend_x, legend_height / 2);
+    cairo_line_to(cr, legend_x + 28, legend_height / 2);
+    cairo_stroke(cr);
+    cairo_set_source_rgb(cr, 0.1, 0.1, 0.1);
+    Text(cr, label, legend_x + 34, legend_height / 2, 14, 0, 0.5);
+    legend_x += 60 + 8.0 * label.size();
+  }
+  std::vector<PanelArea> areas;
+  for (size_t i = 0; i < panels.size(); ++i) {
+    const PlotPanel& panel = panels[i];
+    const double left = (i % o.columns) * o.panel_width_px;
+    const double top = legend_height + (i / o.columns) * o.panel_height_px;
+    const PanelArea area{left + 64, top + 34, o.panel_width_px - 84.0, o.panel_height_px - 84.0};
+    areas.push_back(area);
+    double x_low = std::numeric_limits<double>::infinity(), x_high = -x_low;
+    double y_low = x_low, y_high = -x_low;
+    for (const PlotSeries& s : panel.series) {
+      for (size_t k = 0; k < s.x.size(); ++k) {
+        const double band = s.band.empty() ? 0.0 : s.band[k];
+        x_low = std::min(x_low, s.x[k]);
+        x_high = std::max(x_high, s.x[k]);
+        y_low = std::min(y_low, s.y[k] - band);
+        y_high = std::max(y_high, s.y[k] + band);
+      }
+    }
+    if (!std::isfinite(x_low)) x_low = 0, x_high = 1, y_low = 0, y_high = 1;
+    if (x_high <= x_low) x_high = x_low + 1;
+    if (y_high <= y_low) y_high = y_low + 1;
+    x_low = std::min(x_low, 0.0);
+    const double pad = 0.05 * (y_high - y_low);
+    y_low -= pad;
+    y_high += pad;
+    const auto px = [&](double x) { return area.x + (x - x_low) / (x_high - x_low) * area.width; };
+    const auto py = [&](double y) {
+      return area.y + area.height - (y - y_low) / (y_high - y_low) * area.height;
+    };
+    // Grid and ticks.
+    cairo_set_line_width(cr, 1);
+    for (double t : Ticks(x_low, x_high)) {
+      cairo_set_source_rgb(cr, 0.9, 0.9, 0.9);
+      cairo_move_to(cr, px(t), area.y);
+      cairo_line_to(cr, px(t), area.y + area.height);
+      cairo_stroke(cr);
+      cairo_set_source_rgb(cr, 0.25, 0.25, 0.25);
+      Text(cr, TickLabel(t), px(t), area.y + area.height + 6, 12, 0.5, 0);
+    }
+    for (double t : Ticks(y_low, y_high)) {
+      cairo_set_source_rgb(cr, 0.9, 0.9, 0.9);
+      cairo_move_to(cr, area.x, py(t));
+      cairo_line_to(cr, area.x + area.width, py(t));
+      cairo_stroke(cr);
+      cairo_set_source_rgb(cr, 0.25, 0.25, 0.25);
+      Text(cr, TickLabel(t), area.x - 6, py(t), 12, 1, 0.5);
+    }
+    // Bands, then lines, clipped to the plotting area.
+    cairo_save(cr);
+    cairo_rectangle(cr, area.x, area.y, area.width, area.height);
+    cairo_clip(cr);
+    for (const PlotSeries& s : panel.series) {
+      const Rgb c = colours.at(s.label);
+      if (!s.band.empty() && s.x.size() > 1) {
+        cairo_move_to(cr, px(s.x[0]), py(s.y[0] + s.band[0]));
+        for (size_t k = 1; k < s.x.size(); ++k) cairo_line_to(cr, px(s.x[k]), py(s.y[k] + s.band[k]));
+        for (size_t k = s.x.size(); k-- > 0;) cairo_line_to(cr, px(s.x[k]), py(s.y[k] - s.band[k]));
+        cairo_close_path(cr);
+        cairo_set_source_rgba(cr, c.r, c.g, c.b, 0.2);
+        cairo_fill(cr);
+      }
+    }
+    for (const PlotSeries& s : panel.series) {
+      const Rgb c = colours.at(s.label);
+      cairo_set_source_rgb(cr, c.r, c.g, c.b);
+      cairo_set_line_width(cr, 2);
+      for (size_t k = 0; k < s.x.size(); ++k) {
+        k == 0 ? cairo_move_to(cr, px(s.x[k]), py(s.y[k])) : cairo_line_to(cr, px(s.x[k]), py(s.y[k]));
+      }
+      if (s.x.size() == 1) cairo_rectangle(cr, px(s.x[0]) - 2, py(s.y[0]) - 2, 4, 4);
+      cairo_stroke(cr);
+    }
+    cairo_restore(cr);
+    // Frame, title and axis labels.
+    cairo_set_source_rgb(cr, 0.1, 0.1, 0.1);
+    cairo_set_line_width(cr, 1.2);
+    cairo_rectangle(cr, area.x, area.y, area.width, area.height);
+    cairo_stroke(cr);
+    Text(cr, panel.title, area.x + area.width / 2, top + 16, 16, 0.5, 0.5);
+    Text(cr, panel.x_label, area.x + area.width / 2, area.y + area.height + 26, 13, 0.5, 0);
+    Text(cr, panel.y_label, left + 14, area.y + area.height / 2, 13, 0.5, 0.5, true);
+  }
+  (void)width;
+  (void)height;
+  return areas;
+}
+
+}  // namespace
+
+std::vector<PanelArea> WritePlots(const std::vector<PlotPanel>& panels, const std::string& png_path,
+                                  const std::string& svg_path, const PlotOptions& options) {
+  Require(!panels.empty(), "nothing to plot: no panels");
+  Require(options.columns >= 1, "plot columns is {}: expected at least 1", options.columns);
+  std::map<std::string, Rgb> colours;
+  std::vector<std::string> order;
+  for (const PlotPanel& panel : panels) {
+    for (const PlotSeries& s : panel.series) {
+      Require(s.x.size() == s.y.size() && (s.band.empty() || s.band.size() == s.x.size()),
+              "series '{}' of panel '{}' has {} x, {} y and {} band values", s.label, panel.title,
+              s.x.size(), s.y.size(), s.band.size());
+      if (std::find(order.begin(), order.end(), s.label) == order.end()) order.push_back(s.label);
+    }
+  }
+  for (size_t i = 0; i < order.size(); ++i) colours[order[i]] = Palette()[i % Palette().size()];
+  const int columns = std::min<int>(options.columns, static_cast<int>(panels.size()));
+  const int rows = static_cast<int>((panels.size() + columns - 1) / columns);
+  const double width = columns * options.panel_width_px;
+  const double height = 34 + rows * options.panel_height_px;
+  PlotOptions o = options;
+  o.columns = columns;
+  std::vector<PanelArea> areas;
+  if (!png_path.empty()) {
+    cairo_surface_t* surface = cairo_image_surface_create(
+        CAIRO_FORMAT_ARGB32, static_cast<int>(width), static_cast<int>(height));
+    cairo_t* cr = cairo_create(surface);
+    areas = Draw(cr, panels, o, width, height, colours);
+    cairo_destroy(cr);
+    const cairo_status_t status = cairo_surface_write_to_png(surface, png_path.c_str());
+    cairo_surface_destroy(surface);
+    Require(status == CAIRO_STATUS_SUCCESS, "could not write '{}': {}", png_path,
+            cairo_status_to_string(status));
+  }
+  if (!svg_path.empty()) {
+    cairo_surface_t* surface = cairo_svg_surface_create(svg_path.c_str(), width, height);
+    cairo_t* cr = cairo_create(surface);
+    areas = Draw(cr, panels, o, width, height, colours);
+    cairo_destroy(cr);
+    cairo_surface_finish(surface);
+    const cairo_status_t status = cairo_surface_status(surface);
+    cairo_surface_destroy(surface);
+    Require(status == CAIRO_STATUS_SUCCESS, "could not write '{}': {}", svg_path,
+            cairo_status_to_string(status));
+  }
+  return areas;
+}
+
+}  // namespace cmbrl

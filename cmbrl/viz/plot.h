@@ -1,0 +1,39 @@
+// Line plots in panels (PNG and SVG, drawn with Cairo): the learning curves of a sweep report.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace cmbrl {
+
+// A line with a band around it (mean and one standard deviation, say).
+struct PlotSeries {
+  std::string label;
+  std::vector<double> x, y, band;  // band: half-width at each x (empty: no band)
+};
+
+struct PlotPanel {
+  std::string title;
+  std::string x_label, y_label;
+  std::vector<PlotSeries> series;
+};
+
+struct PlotOptions {
+  int panel_width_px = 520;
+  int panel_height_px = 360;
+  int columns = 2;
+};
+
+// Where each panel's plotting area landed, in pixels (for checks).
+struct PanelArea {
+  double x, y, width, height;
+};
+
+// Draws the panels in a grid with one shared legend and writes `png_path` and `svg_path` (either
+// may be empty to skip it). Series are coloured by label, the same label the same colour in
+// every panel. Throws cmbrl::Error when a file cannot be written or a series' vectors differ in
+// length. Thread-safe (no shared state).
+std::vector<PanelArea> WritePlots(const std::vector<PlotPanel>& panels, const std::string& png_path,
+                                  const std::string& svg_path, const PlotOptions& options = {});
+
+}  // namespace cmbrl
