@@ -113,6 +113,30 @@ TEST(ConfigTest, EveryPresetInConfigsLoads) {
   EXPECT_EQ(presets, 14);  // 4 tasks x 3 planners, quickstart, tiny-test
 }
 
+TEST(ConfigTest, TheQuickstartGridHasEveryTaskAndPlannerAtQuickstartSize) {
+  const TrainConfig quickstart = LoadTrainConfig(CMBRL_SOURCE_DIR "/configs/quickstart.yaml");
+  int presets = 0;
+  for (const std::string task : {"PointGoal1", "PointGoal2", "CarGoal1", "CarGoal2"}) {
+    for (const std::string planner : {"rce", "cem", "random"}) {
+      std::string stem = task;
+      for (char& c : stem) c = static_cast<char>(std::tolower(c));
+      const std::string path =
+          std::string(CMBRL_SOURCE_DIR "/configs/quickstart/") + stem + "-" + planner + ".yaml";
+      SCOPED_TRACE(path);
+      const TrainConfig config = LoadTrainConfig(path);
+      EXPECT_EQ(config.task, task);
+      EXPECT_EQ(config.planner, planner);
+      EXPECT_EQ(config.ensemble.hidden_sizes, quickstart.ensemble.hidden_sizes);
+      EXPECT_EQ(config.ensemble.ensemble_size, task.rfind("Car", 0) == 0 ? 5 : 4);
+      EXPECT_EQ(config.training.total_steps, quickstart.training.total_steps);
+      EXPECT_EQ(config.planning.cross_entropy.population,
+                quickstart.planning.cross_entropy.population);
+      ++presets;
+    }
+  }
+  EXPECT_EQ(presets, 12);
+}
+
 TEST(ConfigTest, ObservationSizesMatchTheEnvironments) {
   for (const std::string& task : EnvNames()) {
     for (const Variant variant : {Variant::kPaper, Variant::kStandard}) {

@@ -123,5 +123,12 @@ TEST(TrainerTest, RunDirectoriesAreNotMixedUp) {
               ::testing::HasSubstr("holds no run"));
 }
 
+TEST(TrainerTest, ARunDirectoryServesOneProcessAtATime) {
+  const std::string dir = TempRunDir("locked");
+  const std::unique_ptr<Trainer> first = Trainer::Start(TinyConfig("rce"), dir);
+  EXPECT_THAT(testing::ErrorMessage([&] { Trainer::Resume(dir); }),
+              ::testing::HasSubstr("is in use by another cmbrl process"));
+}
+
 }  // namespace
 }  // namespace cmbrl

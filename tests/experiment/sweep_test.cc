@@ -1,0 +1,81 @@
+#include "cmbrl/experiment/sweep.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "tests/error_message.h"
+
+namespace cmbrl {
+namespace {
+namespace fs = std::filesystem;
+using ::testing::HasSubstr;
+using testing::ErrorMessage;
+
+SweepGrid PaperGrid() {
+  SweepGrid grid;
+  grid.tasks = {"PointGoal1", "CarGoal2"};
+  grid.planners = {"rce", "random"};
+  grid.seeds = {0, 1};
+  grid.config_dir = CMBRL_SOURCE_DIR "/configs";
+  return grid;
+}
+
+TEST(SweepTest, PlansEveryRunOfTheGridWithItsConfig) {
+  const std::vector<SweepRun> runs = PlanSweep(PaperGrid(), "/tmp/sweep");
+  ASSERT_EQ(runs.size(), 8u);
+  EXPECT_EQ(runs[0].name, "pointgoal1-rce-s0");
+  EXPECT_EQ(runs[0].run_dir, "/tmp/sweep/runs/pointgoal1-rce-s0");
+  EXPECT_THAT(runs[0].config_path, ::testing::EndsWith("configs/pointgoal1-rce.yaml"));
+  EXPECT_EQ(runs[7].name, "cargoal2-random-s1");
+  EXPECT_EQ(runs[7].seed, 1u);
+  EXPECT_EQ(StatusOf(runs[0]), RunStatus::kNew);
+  EXPECT_EQ(TrainArguments(runs[7], PaperGrid()),
+            (std::vector<std::string>{"train", "--config", runs[7].config_path, "--seed", "1",
+                                      "--out", runs[7].run_dir}));
+}
+
+TEST(SweepTest, BadGridsAreNamed) {
+  SweepGrid grid = PaperGrid();
+  grid.tasks = {"AntGoal1"};
+  EXPECT_THAT(ErrorMessage([&] { PlanSweep(grid, "s"); }), HasSubstr("unknown task 'AntGoal1'"));
+  grid = PaperGrid();
+  grid.planners = {"mppi"};
+  EXPECT_THAT(ErrorMessage([&] { PlanSweep(grid, "s"); }), HasSubstr("unknown planner 'mppi'"));
+  grid = PaperGrid();
+  grid.seeds = {3, 3};
+  EXPECT_THAT(ErrorMessage([&] { PlanSweep(grid, "s"); }), HasSubstr("repeat a seed"));
+  grid = PaperGrid();
+  grid.config_dir = "/nonexistent";
+  EXPECT_THAT(ErrorMessage([&] { PlanSweep(grid, "s"); }),
+              HasSubstr("no config '/nonexistent/pointgoal1-rce.yaml' for PointGoal1 with rce"));
+}
+
+TEST(SweepTest, SlurmScriptHasOneArrayTaskPerRun) {
+  SweepGrid grid = PaperGrid();
+  grid.steps = 3000;
+  const std::vector<SweepRun> runs = PlanSweep(grid, "/tmp/sweep");
+  const std::string script = SlurmScript(runs, grid, "/tmp/sweep", "/opt/cmbrl/bin/cmbrl");
+  EXPECT_THAT(script, HasSubstr("#SBATCH --array=0-7\n"));
+  EXPECT_THAT(script, HasSubstr("cmbrl='/opt/cmbrl/bin/cmbrl'\n"));
+  EXPECT_THAT(script, HasSubstr("'/tmp/sweep/runs/cargoal2-random-s1|"));
+  EXPECT_THAT(script, HasSubstr("train --resume \"$run_dir\""));
+  EXPECT_THAT(script, HasSubstr("--out \"$run_dir\" --steps 3000\n"));
+}
+
+TEST(SweepTest, ARestartWithOtherSettingsIsRefused) {
+  const std::string dir = (fs::path(::testing::TempDir()) / "sweep_settings").string();
+  fs::remove_all(dir);
+  SweepGrid grid = PaperGrid();
+  grid.steps = 3000;
+  RecordOrCheckSweep(grid, dir);
+  RecordOrCheckSweep(grid, dir);  // the same settings again: fine
+  grid.steps = 5000;
+  EXPECT_THAT(ErrorMessage([&] { RecordOrCheckSweep(grid, dir); }),
+              HasSubstr("this sweep was started with steps 3000, now steps is 5000"));
+}
+
+}  // namespace
+}  // namespace cmbrl
