@@ -221,6 +221,16 @@ void InSection(const std::string& source, const std::string& section, Check&& ch
   }
 }
 
+// The same for a top-level key ("key 'task': unknown task ...").
+template <typename Check>
+void AtKey(const std::string& source, const std::string& key, Check&& check) {
+  try {
+    check();
+  } catch (const Error& error) {
+    Fail("config '{}': key '{}': {}", source, key, error.what());
+  }
+}
+
 }  // namespace
 
 void SetTrainDevice(TrainConfig& c, const std::string& device) {
@@ -256,12 +266,12 @@ TrainConfig LoadTrainConfig(const std::string& path) {
 }
 
 void ValidateTrainConfig(const TrainConfig& c, const std::string& source) {
-  InSection(source, "task", [&] { GoalTaskSpecByName(c.task, ParseVariant(c.variant)); });
+  AtKey(source, "task", [&] { GoalTaskSpecByName(c.task, ParseVariant(c.variant)); });
   const std::vector<std::string>& planners = PlannerNames();
   Require(std::find(planners.begin(), planners.end(), c.planner) != planners.end(),
           "config '{}': key 'planner' is '{}': expected one of {}", source, c.planner,
           fmt::join(planners, ", "));
-  InSection(source, "device", [&] { ParseDevice(c.device); });
+  AtKey(source, "device", [&] { ParseDevice(c.device); });
   const TrainingLoopOptions& t = c.training;
   InSection(source, "training", [&] {
     Require(t.pretrain_episodes >= 0, "pretrain_episodes is {}: expected 0 or more",

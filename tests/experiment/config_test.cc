@@ -70,7 +70,7 @@ TEST(ConfigTest, BadConfigurationsNameTheKeyAndTheValue) {
   EXPECT_EQ(ErrorMessage([] { ParseTrainConfig("planner: mppi", "c.yaml"); }),
             "config 'c.yaml': key 'planner' is 'mppi': expected one of rce, cem, random");
   EXPECT_THAT(ErrorMessage([] { ParseTrainConfig("task: AntGoal1", "c.yaml"); }),
-              ::testing::HasSubstr("config 'c.yaml': task.unknown task 'AntGoal1'"));
+              ::testing::HasSubstr("config 'c.yaml': key 'task': unknown task 'AntGoal1'"));
   EXPECT_EQ(ErrorMessage([] { ParseTrainConfig("ensemble: {hiden_sizes: [8]}", "c.yaml"); }),
             "config 'c.yaml': unknown key 'ensemble.hiden_sizes': expected one of ensemble_size, "
             "hidden_sizes, predict_delta, learning_rate, batch_size, max_epochs, "
