@@ -6,6 +6,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <set>
 #include <sstream>
@@ -138,6 +139,15 @@ double ViolationsWithin(const RunRecord& run, std::int64_t window) {
   return violations;
 }
 
+double FinalReturn(const RunRecord& run, std::int64_t window, int episodes) {
+  std::vector<double> returns;
+  for (const EpisodePoint& episode : run.episodes) {
+    if (episode.end_step - episode.steps < window) returns.push_back(episode.episode_return);
+  }
+  const size_t first = returns.size() > static_cast<size_t>(episodes) ? returns.size() - episodes : 0;
+  return Mean(std::vector<double>(returns.begin() + first, returns.end()));
+}
+
 std::optional<double> PaperViolations(const std::string& task, const std::string& planner) {
   static const std::map<std::string, std::map<std::string, double>> kTableI = {
       {"PointGoal1", {{"rce", 16}, {"cem", 184}, {"random", 169}}},
@@ -172,11 +182,14 @@ std::vector<TableCell> ViolationTable(const std::vector<RunRecord>& runs, std::i
       cell.fewest_steps = std::numeric_limits<std::int64_t>::max();
       for (const RunRecord* run : members) {
         cell.per_seed.push_back(ViolationsWithin(*run, window));
+        cell.final_returns.push_back(FinalReturn(*run, window));
         cell.fewest_steps = std::min(
             cell.fewest_steps, run->episodes.empty() ? 0 : run->episodes.back().end_step);
       }
       cell.mean = Mean(cell.per_seed);
       cell.std = SampleStd(cell.per_seed);
+      cell.return_mean = Mean(cell.final_returns);
+      cell.return_std = SampleStd(cell.final_returns);
       cell.paper = PaperViolations(task, planner);
       cells.push_back(cell);
     }
@@ -220,15 +233,35 @@ std::string TableMarkdown(const std::vector<TableCell>& cells, std::int64_t wind
       }
     }
   }
+  text += "\n\nReturn at the end of the same window: mean EpRet of each run's last 10 episodes "
+          "that began in it, mean ± std over seeds.\n\n| task |";
+  for (const std::string& planner : planners) text += " " + PlannerLabel(planner) + " |";
+  text += "\n|---|";
+  for (size_t i = 0; i < planners.size(); ++i) text += "---|";
+  task.clear();
+  for (const TableCell& cell : cells) {
+    if (cell.task == task) continue;
+    task = cell.task;
+    text += "\n| " + task + " |";
+    for (const std::string& planner : planners) {
+      const auto it = std::find_if(cells.begin(), cells.end(), [&](const TableCell& c) {
+        return c.task == task && c.planner == planner;
+      });
+      text += it == cells.end() ? " |"
+                                : fmt::format(" {:.2f} ± {:.2f} |", it->return_mean, it->return_std);
+    }
+  }
   return text + "\n";
 }
 
 std::string TableCsv(const std::vector<TableCell>& cells, std::int64_t window) {
-  std::string text = "task,planner,window,seeds,mean,std,per_seed,paper,fewest_steps\n";
+  std::string text =
+      "task,planner,window,seeds,mean,std,per_seed,paper,fewest_steps,return_mean,return_std\n";
   for (const TableCell& cell : cells) {
-    text += fmt::format("{},{},{},{},{},{},{},{},{}\n", cell.task, cell.planner, window,
+    text += fmt::format("{},{},{},{},{},{},{},{},{},{},{}\n", cell.task, cell.planner, window,
                         cell.per_seed.size(), cell.mean, cell.std, fmt::join(cell.per_seed, " "),
-                        cell.paper ? fmt::format("{}", *cell.paper) : "", cell.fewest_steps);
+                        cell.paper ? fmt::format("{}", *cell.paper) : "", cell.fewest_steps,
+                        cell.return_mean, cell.return_std);
   }
   return text;
 }
@@ -371,6 +404,22 @@ std::vector<std::string> OutcomeDifferences(const std::vector<TableCell>& cells)
           not_worse.empty() ? ""
                             : fmt::format("NOT more for {} (the paper's claim fails here)",
                                           fmt::join(not_worse, " and "))));
+    }
+    double best_other = -std::numeric_limits<double>::infinity();
+    std::string best_label;
+    for (const auto& [planner, cell] : row) {
+      if (planner != "rce" && cell->return_mean > best_other) {
+        best_other = cell->return_mean;
+        best_label = PlannerLabel(planner);
+      }
+    }
+    if (!best_label.empty()) {
+      notes.push_back(fmt::format(
+          "{}: MPC-RCE's final return {:.2f} against {:.2f} for {}, the best of the others{}.",
+          task, rce->second->return_mean, best_other, best_label,
+          rce->second->return_mean >= 0.8 * best_other || best_other <= 0
+              ? ""
+              : " (less than 80% of it: not comparable reward)"));
     }
     for (const auto& [planner, cell] : row) {
       if (!cell->paper) continue;

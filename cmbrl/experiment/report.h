@@ -37,13 +37,20 @@ double ViolationsWithin(const RunRecord& run, std::int64_t window);
 // Table I (paper, mean of 3 seeds over the first 10,000 steps), or nothing for other cells.
 std::optional<double> PaperViolations(const std::string& task, const std::string& planner);
 
+// Mean EpRet of a run's last `episodes` episodes among those that began within the window:
+// the reward side of the paper's claim ("comparable reward").
+double FinalReturn(const RunRecord& run, std::int64_t window, int episodes = 10);
+
 struct TableCell {
   std::string task, planner;
-  std::vector<double> per_seed;  // in seed order
+  std::vector<double> per_seed;  // violations, in seed order
   double mean = 0.0;
   double std = 0.0;              // sample standard deviation (0 with one seed)
   std::optional<double> paper;
   std::int64_t fewest_steps = 0;  // the shortest run's agent steps (below the window: partial)
+  std::vector<double> final_returns;  // FinalReturn per seed
+  double return_mean = 0.0;
+  double return_std = 0.0;
 };
 
 // One cell per task and planner present, tasks and planners in the sweep's order.
