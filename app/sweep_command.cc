@@ -6,6 +6,8 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+extern char** environ;
+
 #include <chrono>
 #include <cstdlib>
 #include <deque>
@@ -39,8 +41,24 @@ std::string ProgramPath() { return fs::read_symlink("/proc/self/exe").string(); 
 
 // Starts `cmbrl <args>` with its output appended to `log`. The child dies with the sweep (a
 // killed sweep leaves no orphan training behind) and gets the sweep's share of the BLAS threads.
+// Everything the child needs is prepared before fork(): between fork and exec it makes only
+// system calls, as a child of a process with threads (OpenBLAS's) must.
 pid_t Spawn(const std::string& program, const std::vector<std::string>& args,
             const std::string& log, int blas_threads) {
+  std::vector<std::string> environment;
+  for (char** entry = environ; *entry != nullptr; ++entry) environment.emplace_back(*entry);
+  if (std::getenv("OPENBLAS_NUM_THREADS") == nullptr) {
+    environment.push_back("OPENBLAS_NUM_THREADS=" + std::to_string(blas_threads));
+  }
+  std::vector<char*> envp;
+  for (std::string& entry : environment) envp.push_back(entry.data());
+  envp.push_back(nullptr);
+  std::vector<std::string> words = {program};
+  words.insert(words.end(), args.begin(), args.end());
+  std::vector<char*> argv;
+  for (std::string& word : words) argv.push_back(word.data());
+  argv.push_back(nullptr);
+
   const pid_t parent = getpid();
   const pid_t pid = fork();
   Require(pid >= 0, "could not start a training process");
@@ -53,13 +71,7 @@ pid_t Spawn(const std::string& program, const std::vector<std::string>& args,
     dup2(fd, STDERR_FILENO);
     close(fd);
   }
-  if (std::getenv("OPENBLAS_NUM_THREADS") == nullptr) {
-    setenv("OPENBLAS_NUM_THREADS", std::to_string(blas_threads).c_str(), 1);
-  }
-  std::vector<char*> argv = {const_cast<char*>(program.c_str())};
-  for (const std::string& arg : args) argv.push_back(const_cast<char*>(arg.c_str()));
-  argv.push_back(nullptr);
-  execv(program.c_str(), argv.data());
+  execve(program.c_str(), argv.data(), envp.data());
   _exit(127);
 }
 
@@ -118,7 +130,11 @@ void RunSweep(const SweepArgs& args) {
         std::chrono::duration<double>(std::chrono::steady_clock::now() - it->second.start).count();
     running.erase(it);
     const bool ok = WIFEXITED(status) && WEXITSTATUS(status) == 0;
-    ok ? ++finished : (failed.push_back(run.name), 0);
+    if (ok) {
+      ++finished;
+    } else {
+      failed.push_back(run.name);
+    }
     std::cout << nlohmann::ordered_json{
                      {"run", run.name},
                      {"status", ok ? "finished" : "failed"},
