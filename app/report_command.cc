@@ -22,7 +22,8 @@ struct ReportArgs {
   std::string out;
   std::optional<std::int64_t> window;  // default: the smallest run budget, at most 10,000
   std::int64_t grid_step = 0;          // agent steps between curve points; 0: longest run / 50
-  std::int64_t smoothing = 0;          // agent steps averaged into a point; 0: 4 grid steps
+  std::int64_t smoothing = 0;          // agent steps averaged into a point; 0: a tenth of the
+                                       // longest run (at least 4 grid steps)
 };
 
 void WriteFile(const fs::path& path, const std::string& text) {
@@ -69,7 +70,7 @@ void RunReport(const ReportArgs& args) {
     if (!run.episodes.empty()) longest = std::max(longest, run.episodes.back().end_step);
   }
   if (chosen.grid_step == 0) chosen.grid_step = std::max<std::int64_t>(1, longest / 50);
-  if (chosen.smoothing == 0) chosen.smoothing = 4 * chosen.grid_step;
+  if (chosen.smoothing == 0) chosen.smoothing = std::max(4 * chosen.grid_step, longest / 10);
 
   const std::vector<TableCell> cells = ViolationTable(runs, window);
   const std::string table = TableMarkdown(cells, window);
@@ -124,8 +125,8 @@ void AddReportCommand(CLI::App& parent) {
                       "agent steps between curve points (default: the longest run / 50)")
       ->check(CLI::PositiveNumber);
   command->add_option("--smoothing", args->smoothing,
-                      "agent steps of episodes averaged into each curve point (default: 4 grid "
-                      "steps)")
+                      "agent steps of episodes averaged into each curve point (default: a tenth "
+                      "of the longest run)")
       ->check(CLI::PositiveNumber);
   command->callback([args] { RunReport(*args); });
 }
