@@ -4,6 +4,7 @@
 
 #include <chrono>
 #include <cstdlib>
+#include <vector>
 
 #include "app/bench_util.h"
 #include "cmbrl/core/process_setup.h"
@@ -16,42 +17,26 @@ void Synchronize(const torch::Device& device) {
 
 namespace {
 
-double GemmRate(const torch::Device& device, torch::ScalarType dtype, std::int64_t n, int runs) {
-  const auto options = torch::TensorOptions(device).dtype(dtype);
-  const torch::Tensor a = torch::randn({n, n}, options);
-  const torch::Tensor b = torch::randn({n, n}, options);
-  torch::Tensor c = torch::empty({n, n}, options);
-  const double seconds = MedianSeconds(runs, [&] {
-    torch::mm_out(c, a, b);
-    Synchronize(device);
-  });
-  return 2.0 * n * n * n / seconds;
+// Median FLOP/s of `runs` products at one precision.
+double MedianRate(const torch::Device& device, const std::string& precision, int runs) {
+  CeilingProbe probe(device, precision);
+  std::vector<double> rates;
+  for (int i = 0; i < runs; ++i) rates.push_back(probe.Measure());
+  return Median(rates);
 }
 
 }  // namespace
 
-GemmCeilings MeasureGemmCeilings(const torch::Device& device, int runs) {
-  const torch::NoGradGuard no_grad;
-  GemmCeilings ceilings;
+void PrintGemmCeilings(const torch::Device& device, int runs) {
   const std::int64_t n = device.is_cuda() ? 8192 : 2048;
   const int gemm_runs = std::max(5, runs);
   nlohmann::ordered_json line = {{"bench", "ceiling"}, {"what", "gemm"}, {"n", n},
                                  {"device", device.str()}};
+  line["fp32_gflops"] = MedianRate(device, "fp32", gemm_runs) / 1e9;
   if (device.is_cuda()) {
-    auto& context = at::globalContext();
-    const bool tf32_before = context.allowTF32CuBLAS();
-    context.setAllowTF32CuBLAS(false);
-    ceilings.fp32 = GemmRate(device, torch::kFloat, n, gemm_runs);
-    context.setAllowTF32CuBLAS(true);
-    ceilings.tf32 = GemmRate(device, torch::kFloat, n, gemm_runs);
-    context.setAllowTF32CuBLAS(tf32_before);
-    ceilings.bf16 = GemmRate(device, torch::kBFloat16, n, gemm_runs);
-    line["fp32_gflops"] = ceilings.fp32 / 1e9;
-    line["tf32_gflops"] = ceilings.tf32 / 1e9;
-    line["bf16_gflops"] = ceilings.bf16 / 1e9;
+    line["tf32_gflops"] = MedianRate(device, "tf32", gemm_runs) / 1e9;
+    line["bf16_gflops"] = MedianRate(device, "bf16", gemm_runs) / 1e9;
   } else {
-    ceilings.fp32 = GemmRate(device, torch::kFloat, n, gemm_runs);
-    line["fp32_gflops"] = ceilings.fp32 / 1e9;
     const BlasKernelInfo blas = DetectBlasKernels();
     line["blas_core"] = blas.core;
     const char* coretype = std::getenv("OPENBLAS_CORETYPE");
@@ -61,7 +46,6 @@ GemmCeilings MeasureGemmCeilings(const torch::Device& device, int runs) {
     line["torch_threads"] = at::get_num_threads();
   }
   PrintJsonLine(line);
-  return ceilings;
 }
 
 CeilingProbe::CeilingProbe(const torch::Device& device, const std::string& precision)

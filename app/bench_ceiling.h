@@ -8,16 +8,9 @@
 
 namespace cmbrl::app {
 
-// FLOP/s of a large square matrix product (n = 2048 on a CPU, 8192 on CUDA): fp32 always; on
-// CUDA also TF32 and bf16 (0 where not measured). Prints one JSON line with the rates and the
-// BLAS kernels in use.
-struct GemmCeilings {
-  double fp32 = 0.0;
-  double tf32 = 0.0;
-  double bf16 = 0.0;
-};
-
-GemmCeilings MeasureGemmCeilings(const torch::Device& device, int runs);
+// Prints one JSON line with the median FLOP/s of a large square matrix product (n = 2048 on a
+// CPU, 8192 on CUDA): fp32 always; on CUDA also TF32 and bf16; on the CPU the BLAS kernels in use.
+void PrintGemmCeilings(const torch::Device& device, int runs);
 
 // One matrix product of the ceiling's size at one precision ("fp32", "tf32" on CUDA, "bf16"),
 // to measure just before each run of a figure: on a shared machine a ceiling measured seconds

@@ -228,7 +228,7 @@ nlohmann::ordered_json PrecisionErrors(const TrainConfig& config, const std::str
 void RunPlanBench(const LearningBenchArgs& args) {
   const TrainConfig config = LoadBenchConfig(args);
   const torch::Device device = ParseDevice(config.device);
-  MeasureGemmCeilings(device, args.runs);
+  PrintGemmCeilings(device, args.runs);
   const TaskShape shape = ShapeOf(config, args.seed);
   const std::vector<std::string> precisions =
       args.precisions.empty() ? std::vector<std::string>{config.ensemble.precision}
@@ -311,7 +311,7 @@ void RunPlanBench(const LearningBenchArgs& args) {
 void RunTrainBench(const LearningBenchArgs& args) {
   const TrainConfig config = LoadBenchConfig(args);
   const torch::Device device = ParseDevice(config.device);
-  MeasureGemmCeilings(device, args.runs);
+  PrintGemmCeilings(device, args.runs);
   const TaskShape shape = ShapeOf(config, args.seed);
   // Training runs in float32, on TF32 tensor cores when the config asks for them.
   CeilingProbe probe(device, config.ensemble.precision == "tf32" ? "tf32" : "fp32");
