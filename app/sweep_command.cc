@@ -18,11 +18,11 @@ extern char** environ;
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include "app/commands.h"
 #include "cmbrl/core/check.h"
+#include "cmbrl/core/parallel.h"
 #include "cmbrl/env/registry.h"
 #include "cmbrl/experiment/sweep.h"
 #include "cmbrl/planning/planner_registry.h"
@@ -98,8 +98,7 @@ void RunSweep(const SweepArgs& args) {
       queue.push_back(&run);
     }
   }
-  const int cores = std::max(1u, std::thread::hardware_concurrency());
-  const int blas_threads = std::max(1, cores / args.jobs);
+  const int blas_threads = std::max(1, CoreCount() / args.jobs);
   struct Running {
     const SweepRun* run;
     std::chrono::steady_clock::time_point start;

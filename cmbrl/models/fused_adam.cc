@@ -1,9 +1,9 @@
 #include "cmbrl/models/fused_adam.h"
 
 #include <cmath>
-#include <thread>
 
 #include "cmbrl/core/check.h"
+#include "cmbrl/core/parallel.h"
 
 namespace cmbrl {
 namespace {
@@ -49,7 +49,6 @@ void FusedAdam::Step() {
                    static_cast<float>(options_.epsilon),
                    static_cast<float>(options_.learning_rate / correction1),
                    static_cast<float>(std::sqrt(correction2))};
-  const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
   for (size_t i = 0; i < parameters_.size(); ++i) {
     torch::Tensor& p = parameters_[i];
     torch::Tensor grad = p.mutable_grad();
@@ -71,15 +70,10 @@ void FusedAdam::Step() {
     float* v_data = v.data_ptr<float>();
     const std::int64_t n = p.numel();
     // A second thread pays off only for large parameters (its start costs tens of us).
-    const unsigned workers = n >= (1 << 18) ? cores : 1u;
-    std::vector<std::thread> helpers;
-    const auto bound = [&](unsigned worker) { return n * worker / workers; };
-    for (unsigned worker = 1; worker < workers; ++worker) {
-      helpers.emplace_back(UpdateRange, std::cref(a), param, g, m_data, v_data, bound(worker),
-                           bound(worker + 1));
-    }
-    UpdateRange(a, param, g, m_data, v_data, 0, bound(1));
-    for (std::thread& helper : helpers) helper.join();
+    ParallelRanges(n, n >= (1 << 18) ? CoreCount() : 1,
+                   [&](std::int64_t begin, std::int64_t end) {
+                     UpdateRange(a, param, g, m_data, v_data, begin, end);
+                   });
   }
 }
 

@@ -7,10 +7,10 @@
 #if defined(__x86_64__)
 #include <immintrin.h>
 #endif
-#include <thread>
 #include <utility>
 
 #include "cmbrl/core/check.h"
+#include "cmbrl/core/parallel.h"
 
 namespace cmbrl {
 namespace {
@@ -273,25 +273,11 @@ void FlatTreeEnsemble::Margins(const float* rows, std::int64_t count, float* out
                      out + first);
     }
   };
-  int workers = threads > 0 ? threads : static_cast<int>(std::thread::hardware_concurrency());
-  // A thread costs tens of microseconds to start: worth it only for some 400k tree
-  // evaluations each (about half a millisecond).
-  workers = static_cast<int>(std::clamp<std::int64_t>(
-      std::min<std::int64_t>(count * num_trees() / 400000, blocks), 1, std::max(workers, 1)));
-  if (workers == 1) {
-    run_blocks(0, blocks);
-    return;
-  }
-  // Plain threads that sleep rather than spin: the BLAS threads of the planner's matrix
-  // products keep spinning for a while after each product, and two spinning pools on two
-  // cores slow each other down (measured: an OpenMP loop here made a planning step 1.7x slower).
-  std::vector<std::thread> helpers;
-  const auto range = [&](int worker) { return blocks * worker / workers; };
-  for (int worker = 1; worker < workers; ++worker) {
-    helpers.emplace_back(run_blocks, range(worker), range(worker + 1));
-  }
-  run_blocks(0, range(1));
-  for (std::thread& helper : helpers) helper.join();
+  const int most = threads > 0 ? threads : CoreCount();
+  // A thread is worth its start only for some 400k tree evaluations (about half a millisecond).
+  const int workers = static_cast<int>(std::clamp<std::int64_t>(
+      std::min<std::int64_t>(count * num_trees() / 400000, blocks), 1, most));
+  ParallelRanges(blocks, workers, run_blocks);
 }
 
 }  // namespace cmbrl
