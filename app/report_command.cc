@@ -32,10 +32,6 @@ void WriteFile(const fs::path& path, const std::string& text) {
   Require(static_cast<bool>(out), "could not write '{}'", path.string());
 }
 
-std::string Label(const std::string& planner) {
-  return planner == "rce" ? "MPC-RCE" : planner == "cem" ? "MPC-CEM" : "MPC-random";
-}
-
 std::vector<PlotPanel> CurvePanels(const std::vector<RunRecord>& runs,
                                    const std::vector<std::string>& tasks, CurveMetric metric,
                                    const ReportArgs& args) {
@@ -47,7 +43,7 @@ std::vector<PlotPanel> CurvePanels(const std::vector<RunRecord>& runs,
     panel.y_label = metric == CurveMetric::kReturn ? "EpRet" : "EpCost";
     for (const LearningCurve& curve :
          LearningCurves(runs, task, metric, args.grid_step, args.smoothing)) {
-      panel.series.push_back({Label(curve.planner), curve.steps, curve.mean, curve.std});
+      panel.series.push_back({PlannerLabel(curve.planner), curve.steps, curve.mean, curve.std});
     }
     panels.push_back(panel);
   }

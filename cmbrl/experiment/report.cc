@@ -37,7 +37,7 @@ double Number(const std::string& text, const fs::path& file, int line, const std
   Fail("{} line {}: {} is '{}': expected a number", file.string(), line, column, text);
 }
 
-std::vector<EpisodePoint> ReadProgress(const fs::path& path) {
+std::vector<EpisodePoint> ReadProgressFile(const fs::path& path) {
   std::ifstream in(path);
   Require(static_cast<bool>(in), "cannot read '{}'", path.string());
   std::string line;
@@ -101,13 +101,17 @@ std::vector<std::string> InOrder(const std::vector<RunRecord>& runs, Get get,
   return order;
 }
 
+}  // namespace
+
 std::string PlannerLabel(const std::string& planner) {
   if (planner == "rce") return "MPC-RCE";
   if (planner == "cem") return "MPC-CEM";
   return "MPC-random";
 }
 
-}  // namespace
+std::vector<EpisodePoint> ReadProgressEpisodes(const std::string& path) {
+  return ReadProgressFile(path);
+}
 
 std::vector<RunRecord> ReadSweep(const std::string& sweep_dir) {
   const fs::path runs_dir = fs::path(sweep_dir) / "runs";
@@ -125,7 +129,7 @@ std::vector<RunRecord> ReadSweep(const std::string& sweep_dir) {
     RunRecord run;
     run.name = dir.filename().string();
     run.config = LoadTrainConfig((dir / "config.yaml").string());
-    run.episodes = ReadProgress(dir / "progress.csv");
+    run.episodes = ReadProgressFile(dir / "progress.csv");
     runs.push_back(std::move(run));
   }
   return runs;

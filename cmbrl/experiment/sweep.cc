@@ -8,11 +8,11 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <set>
-#include <sstream>
 
 #include "cmbrl/core/check.h"
 #include "cmbrl/env/registry.h"
 #include "cmbrl/experiment/config.h"
+#include "cmbrl/experiment/report.h"
 #include "cmbrl/planning/planner_registry.h"
 
 namespace cmbrl {
@@ -23,23 +23,6 @@ std::string Lower(std::string text) {
   std::transform(text.begin(), text.end(), text.begin(),
                  [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   return text;
-}
-
-// The last row's TotalEnvInteracts of a progress.csv (0 without rows).
-std::int64_t StepsDone(const fs::path& progress) {
-  std::ifstream in(progress);
-  std::string header, line, last;
-  if (!std::getline(in, header)) return 0;
-  while (std::getline(in, line)) {
-    if (!line.empty()) last = line;
-  }
-  if (last.empty()) return 0;
-  std::stringstream fields(last), names(header);
-  std::string field, name;
-  while (std::getline(names, name, ',') && std::getline(fields, field, ',')) {
-    if (name == "TotalEnvInteracts") return std::stoll(field);
-  }
-  return 0;
 }
 
 // A shell word in single quotes.
@@ -97,8 +80,16 @@ RunStatus StatusOf(const SweepRun& run) {
   const fs::path dir(run.run_dir);
   if (!fs::exists(dir / "config.yaml")) return RunStatus::kNew;
   const TrainConfig config = LoadTrainConfig((dir / "config.yaml").string());
-  return StepsDone(dir / "progress.csv") >= config.training.total_steps ? RunStatus::kFinished
-                                                                        : RunStatus::kStarted;
+  std::vector<EpisodePoint> episodes;
+  try {
+    episodes = ReadProgressEpisodes((dir / "progress.csv").string());
+  } catch (const Error&) {
+    // A process killed while writing a row leaves it half written; resuming repairs that.
+    return RunStatus::kStarted;
+  }
+  return !episodes.empty() && episodes.back().end_step >= config.training.total_steps
+             ? RunStatus::kFinished
+             : RunStatus::kStarted;
 }
 
 void RecordOrCheckSweep(const SweepGrid& grid, const std::string& sweep_dir) {
