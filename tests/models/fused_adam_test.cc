@@ -24,6 +24,17 @@ void Backward(const std::vector<torch::Tensor>& parameters, int step) {
   loss.backward();
 }
 
+// The optimiser's state saved and read back, as a checkpoint carries it.
+torch::serialize::InputArchive SavedState(const FusedAdam& adam) {
+  torch::serialize::OutputArchive out;
+  adam.Save(out);
+  std::stringstream buffer;
+  out.save_to(buffer);
+  torch::serialize::InputArchive in;
+  in.load_from(buffer);
+  return in;
+}
+
 TEST(FusedAdamTest, FollowsLibTorchsAdam) {
   std::vector<torch::Tensor> ours = MakeParameters();
   std::vector<torch::Tensor> theirs = MakeParameters();
@@ -59,12 +70,7 @@ TEST(FusedAdamTest, SavedStateResumesToTheSameBits) {
       first_half.Step();
     }
   }
-  torch::serialize::OutputArchive out;
-  first_half.Save(out);
-  std::stringstream buffer;
-  out.save_to(buffer);
-  torch::serialize::InputArchive in;
-  in.load_from(buffer);
+  torch::serialize::InputArchive in = SavedState(first_half);
   FusedAdam second_half(resumed, FusedAdamOptions{});
   second_half.Load(in, "the test's archive");
   for (int step = 5; step < 10; ++step) {
@@ -76,13 +82,7 @@ TEST(FusedAdamTest, SavedStateResumesToTheSameBits) {
 
 TEST(FusedAdamTest, RefusesStateOfOtherShapes) {
   std::vector<torch::Tensor> parameters = MakeParameters();
-  FusedAdam adam(parameters, FusedAdamOptions{});
-  torch::serialize::OutputArchive out;
-  adam.Save(out);
-  std::stringstream buffer;
-  out.save_to(buffer);
-  torch::serialize::InputArchive in;
-  in.load_from(buffer);
+  torch::serialize::InputArchive in = SavedState(FusedAdam(parameters, FusedAdamOptions{}));
   std::vector<torch::Tensor> other = {torch::zeros({2, 2}, torch::requires_grad()),
                                       torch::zeros({1}, torch::requires_grad())};
   FusedAdam wrong(other, FusedAdamOptions{});
