@@ -25,8 +25,16 @@ for _ in $(seq 600); do
 done
 kill -9 "$pid"
 wait "$pid" 2> /dev/null || true
-for _ in $(seq 100); do pgrep -f -- "--out $work/cut/runs" > /dev/null || break; sleep 0.1; done
-if pgrep -f -- "$work/cut/runs" > /dev/null; then
+# Whether a process's command line names this sweep's runs (read from /proc: no procps needed).
+trainers_alive() {
+  local cmdline
+  for cmdline in /proc/[0-9]*/cmdline; do
+    tr '\0' ' ' < "$cmdline" 2> /dev/null | grep -q -- "$work/cut/runs" && return 0
+  done
+  return 1
+}
+for _ in $(seq 100); do trainers_alive || break; sleep 0.1; done
+if trainers_alive; then
   echo "FAILED: training processes outlived the killed sweep"
   exit 1
 fi
