@@ -53,7 +53,7 @@ std::vector<PlotPanel> CurvePanels(const std::vector<RunRecord>& runs,
 void RunReport(const ReportArgs& args) {
   const std::vector<RunRecord> runs = ReadSweep(args.sweep_dir);
   Require(!runs.empty(), "'{}' holds no runs yet", args.sweep_dir);
-  std::int64_t window = 10000;
+  std::int64_t window = kPaperWindow;
   for (const RunRecord& run : runs) window = std::min(window, run.config.training.total_steps);
   if (args.window) window = *args.window;
   Require(window >= 1, "--window is {}: expected a positive number of agent steps", window);
@@ -92,7 +92,7 @@ void RunReport(const ReportArgs& args) {
       chosen.grid_step);
   for (const std::string& note : SetupDifferences(runs, window)) report += "- " + note + "\n";
   report += "\n## Where the outcome differs\n\n";
-  for (const std::string& note : OutcomeDifferences(cells)) report += "- " + note + "\n";
+  for (const std::string& note : OutcomeDifferences(cells, window)) report += "- " + note + "\n";
   WriteFile(out / "report.md", report);
   std::cout << nlohmann::ordered_json{{"report", (out / "report.md").string()},
                                       {"runs", runs.size()},

@@ -41,6 +41,9 @@ std::vector<RunRecord> ReadSweep(const std::string& sweep_dir);
 // per-epoch logs do).
 double ViolationsWithin(const RunRecord& run, std::int64_t window);
 
+// The paper's Table I counts violations during the first 10,000 agent steps.
+inline constexpr std::int64_t kPaperWindow = 10000;
+
 // Table I (paper, mean of 3 seeds over the first 10,000 steps), or nothing for other cells.
 std::optional<double> PaperViolations(const std::string& task, const std::string& planner);
 
@@ -85,7 +88,9 @@ std::vector<LearningCurve> LearningCurves(const std::vector<RunRecord>& runs,
 std::vector<std::string> SetupDifferences(const std::vector<RunRecord>& runs, std::int64_t window);
 
 // Where the outcome differs: per task whether RCE violated least, and each cell against the
-// paper's.
-std::vector<std::string> OutcomeDifferences(const std::vector<TableCell>& cells);
+// paper's; over a window shorter than the paper's, against the range the paper's count over that
+// window must lie in if its violation rate never rose.
+std::vector<std::string> OutcomeDifferences(const std::vector<TableCell>& cells,
+                                            std::int64_t window);
 
 }  // namespace cmbrl

@@ -94,7 +94,7 @@ TEST_F(ReportTest, TableOneHasTheExpectedNumbers) {
   EXPECT_EQ(ViolationTable(runs, 400)[0].per_seed, (std::vector<double>{12, 10}));
   EXPECT_THAT(TableMarkdown(ViolationTable(runs, 400), 400), HasSubstr("(2)* [184]"));
 
-  const std::vector<std::string> outcome = OutcomeDifferences(cells);
+  const std::vector<std::string> outcome = OutcomeDifferences(cells, 300);
   using ::testing::Contains;
   EXPECT_THAT(outcome, Contains(HasSubstr("PointGoal1: MPC-RCE 2.0 violations on average; more "
                                           "for MPC-CEM")));
@@ -103,7 +103,26 @@ TEST_F(ReportTest, TableOneHasTheExpectedNumbers) {
   EXPECT_THAT(outcome, Contains("PointGoal1: MPC-RCE's final return 1.50 against 2.00 for "
                                 "MPC-CEM, the best of the others (less than 80% of it: not "
                                 "comparable reward)."));
+  // Over 300 of the paper's 10,000 steps, its count over our window lies in [paper * 0.03,
+  // paper]: PointGoal1 RCE [0.48, 16] holds 2.0; CarGoal2 CEM [17.34, 578] is above 2.0.
+  EXPECT_THAT(outcome, Contains("PointGoal1 MPC-RCE: 2.0 in the first 300 steps. The paper's 16 "
+                                "over 10,000 steps puts its own count over those 300 steps "
+                                "between 0 (a violation rate that never rose) and 16; ours is "
+                                "inside that range: consistent with the paper."));
+  EXPECT_THAT(outcome, Contains(HasSubstr("CarGoal2 MPC-CEM: 2.0 in the first 300 steps. The "
+                                          "paper's 578 over 10,000 steps puts its own count over "
+                                          "those 300 steps between 17 (")));
+  EXPECT_THAT(outcome, Contains(HasSubstr("ours is below that range: fewer violations than the "
+                                          "paper.")));
+  // At the paper's window the cells compare directly.
+  EXPECT_THAT(OutcomeDifferences(cells, kPaperWindow),
+              Contains("PointGoal1 MPC-CEM: 16.5 against the paper's 184 (0.09x)."));
   const std::vector<std::string> setup = SetupDifferences(runs, 300);
+  // The fixture's default ensemble is the paper's for the Point (4 members) but not for the Car
+  // (5): one note, for the Car tasks only.
+  EXPECT_THAT(setup, ::testing::Contains("Dynamics of the Car tasks: 4 members of 1024 x 1024 x "
+                                         "1024 hidden units, the paper 5 of 3 x 1024."));
+  EXPECT_THAT(setup, ::testing::Not(::testing::Contains(HasSubstr("Point tasks"))));
   EXPECT_THAT(setup, ::testing::Contains(HasSubstr("Budget: 1000 agent steps per run")));
   EXPECT_THAT(setup, ::testing::Contains(HasSubstr("Seeds: 1 per cell, the paper 3.")));
 }
