@@ -1,6 +1,7 @@
 // `cmbrl sweep`: the grid of training runs as separate processes, a few at a time, skipping
 // finished runs and resuming interrupted ones; also writes the grid as a Slurm job array.
 #include <fcntl.h>
+#include <sched.h>
 #include <signal.h>
 #include <sys/prctl.h>
 #include <sys/wait.h>
@@ -40,11 +41,15 @@ struct SweepArgs {
 std::string ProgramPath() { return fs::read_symlink("/proc/self/exe").string(); }
 
 // Starts `cmbrl <args>` with its output appended to `log`. The child dies with the sweep (a
-// killed sweep leaves no orphan training behind) and gets the sweep's share of the BLAS threads.
-// Everything the child needs is prepared before fork(): between fork and exec it makes only
-// system calls, as a child of a process with threads (OpenBLAS's) must.
+// killed sweep leaves no orphan training behind) and runs on its share of the CPUs (`cpus`;
+// empty: all), with as many BLAS threads. Everything the child needs is prepared before fork():
+// between fork and exec it makes only system calls, as a child of a process with threads
+// (OpenBLAS's) must.
 pid_t Spawn(const std::string& program, const std::vector<std::string>& args,
-            const std::string& log, int blas_threads) {
+            const std::string& log, const std::vector<int>& cpus, int blas_threads) {
+  cpu_set_t mask;
+  CPU_ZERO(&mask);
+  for (const int cpu : cpus) CPU_SET(cpu, &mask);
   std::vector<std::string> environment;
   for (char** entry = environ; *entry != nullptr; ++entry) environment.emplace_back(*entry);
   if (std::getenv("OPENBLAS_NUM_THREADS") == nullptr) {
@@ -65,6 +70,7 @@ pid_t Spawn(const std::string& program, const std::vector<std::string>& args,
   if (pid > 0) return pid;
   prctl(PR_SET_PDEATHSIG, SIGTERM);
   if (getppid() != parent) _exit(127);  // the sweep ended before the line above
+  if (!cpus.empty()) sched_setaffinity(0, sizeof(mask), &mask);
   const int fd = open(log.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0644);
   if (fd >= 0) {
     dup2(fd, STDOUT_FILENO);
@@ -98,10 +104,15 @@ void RunSweep(const SweepArgs& args) {
       queue.push_back(&run);
     }
   }
+  // Each run at a time gets its own CPUs; a finished run's share goes to the next run.
+  const std::vector<std::vector<int>> shares = CpuShares(AllowedCpus(), args.jobs);
+  std::vector<size_t> free_shares;
+  for (size_t share = shares.size(); share-- > 0;) free_shares.push_back(share);
   const int blas_threads = std::max(1, CoreCount() / args.jobs);
   struct Running {
     const SweepRun* run;
     std::chrono::steady_clock::time_point start;
+    std::optional<size_t> share;
   };
   std::map<pid_t, Running> running;
   std::vector<std::string> failed;
@@ -112,12 +123,19 @@ void RunSweep(const SweepArgs& args) {
       queue.pop_front();
       const std::vector<std::string> train = TrainArguments(run, args.grid);
       const std::string log = (fs::path(args.out) / "logs" / (run.name + ".log")).string();
-      running[Spawn(program, train, log, blas_threads)] = {&run, std::chrono::steady_clock::now()};
-      std::cout << nlohmann::ordered_json{{"run", run.name},
-                                          {"status", train[1] == "--resume" ? "resumed" : "started"},
-                                          {"log", log}}
-                       .dump()
-                << std::endl;
+      std::optional<size_t> share;
+      if (!free_shares.empty()) {
+        share = free_shares.back();
+        free_shares.pop_back();
+      }
+      const std::vector<int> cpus = share ? shares[*share] : std::vector<int>{};
+      running[Spawn(program, train, log, cpus, blas_threads)] = {
+          &run, std::chrono::steady_clock::now(), share};
+      nlohmann::ordered_json line{{"run", run.name},
+                                  {"status", train[1] == "--resume" ? "resumed" : "started"},
+                                  {"log", log}};
+      if (share) line["cpus"] = cpus;
+      std::cout << line.dump() << std::endl;
     }
     int status = 0;
     const pid_t pid = waitpid(-1, &status, 0);
@@ -127,6 +145,7 @@ void RunSweep(const SweepArgs& args) {
     const SweepRun& run = *it->second.run;
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - it->second.start).count();
+    if (it->second.share) free_shares.push_back(*it->second.share);
     running.erase(it);
     const bool ok = WIFEXITED(status) && WEXITSTATUS(status) == 0;
     if (ok) {

@@ -3,6 +3,8 @@
 // same two cores made a planning step 1.7x slower; threads started per call do not spin.
 #pragma once
 
+#include <sched.h>
+
 #include <algorithm>
 #include <cstdint>
 #include <thread>
@@ -30,7 +32,28 @@ void ParallelRanges(std::int64_t count, int workers, Work&& work) {
   for (std::thread& helper : helpers) helper.join();
 }
 
-// The cores of this machine (at least 1).
-inline int CoreCount() { return std::max(1u, std::thread::hardware_concurrency()); }
+// The CPUs this process may run on, from its affinity mask (what taskset, a Slurm task or a
+// sweep's share of the cores allows), in increasing order. All of the machine's when the mask
+// cannot be read.
+inline std::vector<int> AllowedCpus() {
+  std::vector<int> cpus;
+  cpu_set_t mask;
+  CPU_ZERO(&mask);
+  if (sched_getaffinity(0, sizeof(mask), &mask) == 0) {
+    for (int cpu = 0; cpu < CPU_SETSIZE; ++cpu) {
+      if (CPU_ISSET(cpu, &mask)) cpus.push_back(cpu);
+    }
+  }
+  if (cpus.empty()) {
+    for (unsigned cpu = 0; cpu < std::max(1u, std::thread::hardware_concurrency()); ++cpu) {
+      cpus.push_back(static_cast<int>(cpu));
+    }
+  }
+  return cpus;
+}
+
+// The cores this process may use (at least 1): the machine's, or fewer where its affinity mask
+// says so. Threads beyond these would only wait for one another.
+inline int CoreCount() { return static_cast<int>(AllowedCpus().size()); }
 
 }  // namespace cmbrl

@@ -130,6 +130,18 @@ std::vector<std::string> TrainArguments(const SweepRun& run, const SweepGrid& gr
   return args;
 }
 
+std::vector<std::vector<int>> CpuShares(const std::vector<int>& cpus, int jobs) {
+  Require(jobs >= 1, "jobs is {}: expected at least 1", jobs);
+  const size_t per_job = cpus.size() / static_cast<size_t>(jobs);
+  if (per_job == 0) return {};
+  std::vector<std::vector<int>> shares;
+  for (size_t job = 0; job < static_cast<size_t>(jobs); ++job) {
+    shares.emplace_back(cpus.begin() + static_cast<std::ptrdiff_t>(job * per_job),
+                        cpus.begin() + static_cast<std::ptrdiff_t>((job + 1) * per_job));
+  }
+  return shares;
+}
+
 std::string SlurmScript(const std::vector<SweepRun>& runs, const SweepGrid& grid,
                         const std::string& sweep_dir, const std::string& program) {
   const std::string dir = fs::absolute(sweep_dir).lexically_normal().string();

@@ -44,6 +44,11 @@ void RecordOrCheckSweep(const SweepGrid& grid, const std::string& sweep_dir);
 // The command line of one run: `train --resume DIR` when it has started, else a new run.
 std::vector<std::string> TrainArguments(const SweepRun& run, const SweepGrid& grid);
 
+// The CPUs of each of `jobs` runs at a time: `cpus` split into `jobs` equal contiguous shares
+// (a remainder stays unused), so that each run's threads (BLAS, OpenMP, the classifier's) see
+// only its own cores. Empty when there are fewer CPUs than jobs: the runs then share them all.
+std::vector<std::vector<int>> CpuShares(const std::vector<int>& cpus, int jobs);
+
 // sweep_dir/slurm.sh: a job array with one task per run, each resuming or starting its run with
 // `program` (an absolute path), logs in sweep_dir/logs.
 std::string SlurmScript(const std::vector<SweepRun>& runs, const SweepGrid& grid,

@@ -2,7 +2,7 @@
 # kill -9 a sweep while its runs train, start it again, and compare every run's progress.csv with
 # an uninterrupted sweep's (the wall-clock columns Time and MsPerPlan aside): no row may be
 # missing or repeated. Also checks that the killed sweep left no training process behind and
-# that a second start skips what is finished.
+# that a second start skips what is finished, and that runs at a time get CPUs of their own.
 # Usage: sweep_resume_test.sh CMBRL CONFIG WORK_DIR
 set -euo pipefail
 cmbrl=$1 config=$2 work=$3
@@ -36,6 +36,11 @@ trainers_alive() {
 for _ in $(seq 100); do trainers_alive || break; sleep 0.1; done
 if trainers_alive; then
   echo "FAILED: training processes outlived the killed sweep"
+  exit 1
+fi
+# With 2 or more CPUs, each of the 2 runs at a time gets its own.
+if [ "$(nproc)" -ge 2 ] && ! grep -q '"cpus":\[0\]' "$work/cut-1.log"; then
+  echo "FAILED: the first run was not given CPU 0 alone"
   exit 1
 fi
 "$cmbrl" "${sweep[@]}" --out "$work/cut" > "$work/cut-2.log"

@@ -77,5 +77,14 @@ TEST(SweepTest, ARestartWithOtherSettingsIsRefused) {
               HasSubstr("this sweep was started with steps 3000, now steps is 5000"));
 }
 
+TEST(SweepTest, EachRunAtATimeGetsItsOwnCpus) {
+  using Shares = std::vector<std::vector<int>>;
+  EXPECT_EQ(CpuShares({0, 1}, 2), (Shares{{0}, {1}}));
+  EXPECT_EQ(CpuShares({0, 1, 2, 3, 4}, 2), (Shares{{0, 1}, {2, 3}}));  // CPU 4 stays unused
+  EXPECT_EQ(CpuShares({2, 5, 7}, 1), (Shares{{2, 5, 7}}));             // a taskset's CPUs
+  EXPECT_EQ(CpuShares({0, 1}, 3), Shares{});  // more jobs than CPUs: they share all
+  EXPECT_THAT(ErrorMessage([] { CpuShares({0}, 0); }), HasSubstr("jobs is 0: expected"));
+}
+
 }  // namespace
 }  // namespace cmbrl
