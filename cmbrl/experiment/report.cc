@@ -455,9 +455,8 @@ std::vector<std::string> OutcomeDifferences(const std::vector<TableCell>& cells,
               ? ""
               : " (less than 80% of it: not comparable reward)"));
     }
-    for (const auto& [planner, cell] : row) {
-      if (!cell->paper) continue;
-      notes.push_back(PaperComparison(*cell, window));
+    for (const TableCell& cell : cells) {  // the table's planner order
+      if (cell.task == task && cell.paper) notes.push_back(PaperComparison(cell, window));
     }
   }
   return notes;

@@ -114,6 +114,13 @@ TEST_F(ReportTest, TableOneHasTheExpectedNumbers) {
                                           "those 300 steps between 17 (")));
   EXPECT_THAT(outcome, Contains(HasSubstr("ours is below that range: fewer violations than the "
                                           "paper.")));
+  // In the table's planner order: RCE's comparison before CEM's.
+  const auto position = [&](const std::string& start) {
+    return std::find_if(outcome.begin(), outcome.end(),
+                        [&](const std::string& n) { return n.rfind(start, 0) == 0; }) -
+           outcome.begin();
+  };
+  EXPECT_LT(position("PointGoal1 MPC-RCE:"), position("PointGoal1 MPC-CEM:"));
   // At the paper's window the cells compare directly.
   EXPECT_THAT(OutcomeDifferences(cells, kPaperWindow),
               Contains("PointGoal1 MPC-CEM: 16.5 against the paper's 184 (0.09x)."));
