@@ -410,6 +410,43 @@ std::string PaperComparison(const TableCell& cell, std::int64_t window) {
       label, cell.mean, window, paper, window, low, paper, verdict);
 }
 
+// Per task: whether MPC-RCE violated less than each other planner, and whether its final return
+// is comparable to the best other's.
+void RceAgainstOthers(const std::string& task,
+                      const std::map<std::string, const TableCell*>& row, const TableCell& rce,
+                      std::vector<std::string>& notes) {
+  std::vector<std::string> worse, not_worse;
+  for (const auto& [planner, cell] : row) {
+    if (planner == "rce") continue;
+    (cell->mean > rce.mean ? worse : not_worse).push_back(PlannerLabel(planner));
+  }
+  if (!worse.empty() || !not_worse.empty()) {
+    notes.push_back(fmt::format(
+        "{}: MPC-RCE {:.1f} violations on average; {}{}{}.", task, rce.mean,
+        worse.empty() ? "" : fmt::format("more for {}", fmt::join(worse, " and ")),
+        !worse.empty() && !not_worse.empty() ? "; " : "",
+        not_worse.empty() ? ""
+                          : fmt::format("NOT more for {} (the paper's claim fails here)",
+                                        fmt::join(not_worse, " and "))));
+  }
+  double best_other = -std::numeric_limits<double>::infinity();
+  std::string best_label;
+  for (const auto& [planner, cell] : row) {
+    if (planner != "rce" && cell->return_mean > best_other) {
+      best_other = cell->return_mean;
+      best_label = PlannerLabel(planner);
+    }
+  }
+  if (!best_label.empty()) {
+    notes.push_back(fmt::format(
+        "{}: MPC-RCE's final return {:.2f} against {:.2f} for {}, the best of the others{}.",
+        task, rce.return_mean, best_other, best_label,
+        rce.return_mean >= 0.8 * best_other || best_other <= 0
+            ? ""
+            : " (less than 80% of it: not comparable reward)"));
+  }
+}
+
 }  // namespace
 
 std::vector<std::string> OutcomeDifferences(const std::vector<TableCell>& cells,
@@ -424,37 +461,7 @@ std::vector<std::string> OutcomeDifferences(const std::vector<TableCell>& cells,
   for (const std::string& task : tasks) {
     const auto& row = by_task[task];
     const auto rce = row.find("rce");
-    if (rce == row.end()) continue;
-    std::vector<std::string> worse, not_worse;
-    for (const auto& [planner, cell] : row) {
-      if (planner == "rce") continue;
-      (cell->mean > rce->second->mean ? worse : not_worse).push_back(PlannerLabel(planner));
-    }
-    if (!worse.empty() || !not_worse.empty()) {
-      notes.push_back(fmt::format(
-          "{}: MPC-RCE {:.1f} violations on average; {}{}{}.", task, rce->second->mean,
-          worse.empty() ? "" : fmt::format("more for {}", fmt::join(worse, " and ")),
-          !worse.empty() && !not_worse.empty() ? "; " : "",
-          not_worse.empty() ? ""
-                            : fmt::format("NOT more for {} (the paper's claim fails here)",
-                                          fmt::join(not_worse, " and "))));
-    }
-    double best_other = -std::numeric_limits<double>::infinity();
-    std::string best_label;
-    for (const auto& [planner, cell] : row) {
-      if (planner != "rce" && cell->return_mean > best_other) {
-        best_other = cell->return_mean;
-        best_label = PlannerLabel(planner);
-      }
-    }
-    if (!best_label.empty()) {
-      notes.push_back(fmt::format(
-          "{}: MPC-RCE's final return {:.2f} against {:.2f} for {}, the best of the others{}.",
-          task, rce->second->return_mean, best_other, best_label,
-          rce->second->return_mean >= 0.8 * best_other || best_other <= 0
-              ? ""
-              : " (less than 80% of it: not comparable reward)"));
-    }
+    if (rce != row.end()) RceAgainstOthers(task, row, *rce->second, notes);
     for (const TableCell& cell : cells) {  // the table's planner order
       if (cell.task == task && cell.paper) notes.push_back(PaperComparison(cell, window));
     }
