@@ -372,10 +372,16 @@ std::vector<std::string> SetupDifferences(const std::vector<RunRecord>& runs,
                        c.variant));
     }
   }
-  size_t fewest = SIZE_MAX;
-  for (const auto& entry : seeds) fewest = std::min(fewest, entry.second.size());
-  if (fewest != SIZE_MAX && fewest != 3) {
+  size_t fewest = SIZE_MAX, most = 0;
+  for (const auto& entry : seeds) {
+    fewest = std::min(fewest, entry.second.size());
+    most = std::max(most, entry.second.size());
+  }
+  if (fewest == most && fewest != 3) {
     note(fmt::format("Seeds: {} per cell, the paper 3.", fewest));
+  } else if (fewest < most) {
+    note(fmt::format("Seeds: {} to {} per cell (Table I gives each cell's), the paper 3.", fewest,
+                     most));
   }
   note("Simulator: MuJoCo 2.2.2 through our own C++ re-creation of the tasks; the paper ran "
        "mujoco_py 2.0.2.7 with MuJoCo 2.0, so contacts and solver details differ and no "
