@@ -172,9 +172,13 @@ std::vector<TableCell> ViolationTable(const std::vector<RunRecord>& runs, std::i
   std::vector<TableCell> cells;
   for (const std::string& task : InOrder(runs, task_of, EnvNames())) {
     for (const std::string& planner : InOrder(runs, planner_of, PlannerNames())) {
+      // A run without a finished episode yet (just started) has nothing to say: counted, it
+      // would add a seed with no violations and no return.
       std::vector<const RunRecord*> members;
       for (const RunRecord& run : runs) {
-        if (run.config.task == task && run.config.planner == planner) members.push_back(&run);
+        if (run.config.task == task && run.config.planner == planner && !run.episodes.empty()) {
+          members.push_back(&run);
+        }
       }
       if (members.empty()) continue;
       std::sort(members.begin(), members.end(), [](const RunRecord* a, const RunRecord* b) {
@@ -187,8 +191,7 @@ std::vector<TableCell> ViolationTable(const std::vector<RunRecord>& runs, std::i
       for (const RunRecord* run : members) {
         cell.per_seed.push_back(ViolationsWithin(*run, window));
         cell.final_returns.push_back(FinalReturn(*run, window));
-        cell.fewest_steps = std::min(
-            cell.fewest_steps, run->episodes.empty() ? 0 : run->episodes.back().end_step);
+        cell.fewest_steps = std::min(cell.fewest_steps, run->episodes.back().end_step);
       }
       cell.mean = Mean(cell.per_seed);
       cell.std = SampleStd(cell.per_seed);

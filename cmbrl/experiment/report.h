@@ -63,7 +63,8 @@ struct TableCell {
   double return_std = 0.0;
 };
 
-// One cell per task and planner present, tasks and planners in the sweep's order.
+// One cell per task and planner present, tasks and planners in the sweep's order. Runs without
+// a finished episode are left out.
 std::vector<TableCell> ViolationTable(const std::vector<RunRecord>& runs, std::int64_t window);
 
 std::string TableMarkdown(const std::vector<TableCell>& cells, std::int64_t window);

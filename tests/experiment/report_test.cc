@@ -55,13 +55,14 @@ class ReportTest : public ::testing::Test {
     WriteRun(sweep_, "PointGoal1", "cem", 1, 100, {6, 6, 6}, 2);     // 18
     WriteRun(sweep_, "CarGoal2", "rce", 0, 150, {4, 4, 4}, 0);       // starts 0, 150: 8
     WriteRun(sweep_, "CarGoal2", "cem", 0, 150, {1, 1, 1}, 0);       // 2
+    WriteRun(sweep_, "CarGoal2", "cem", 1, 150, {}, 0);  // just started: no episode, left out
   }
   fs::path sweep_;
 };
 
 TEST_F(ReportTest, TableOneHasTheExpectedNumbers) {
   const std::vector<RunRecord> runs = ReadSweep(sweep_.string());
-  ASSERT_EQ(runs.size(), 6u);
+  ASSERT_EQ(runs.size(), 7u);
   const std::vector<TableCell> cells = ViolationTable(runs, 300);
   // Tasks and planners in the paper's order.
   ASSERT_EQ(cells.size(), 4u);
