@@ -105,10 +105,11 @@ void RunSweep(const SweepArgs& args) {
     }
   }
   // Each run at a time gets its own CPUs; a finished run's share goes to the next run.
-  const std::vector<std::vector<int>> shares = CpuShares(AllowedCpus(), args.jobs);
+  const std::vector<int> allowed = AllowedCpus();
+  const std::vector<std::vector<int>> shares = CpuShares(allowed, args.jobs);
   std::vector<size_t> free_shares;
   for (size_t share = shares.size(); share-- > 0;) free_shares.push_back(share);
-  const int blas_threads = std::max(1, CoreCount() / args.jobs);
+  const int blas_threads = std::max(1, static_cast<int>(allowed.size()) / args.jobs);
   struct Running {
     const SweepRun* run;
     std::chrono::steady_clock::time_point start;

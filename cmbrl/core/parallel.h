@@ -53,7 +53,15 @@ inline std::vector<int> AllowedCpus() {
 }
 
 // The cores this process may use (at least 1): the machine's, or fewer where its affinity mask
-// says so. Threads beyond these would only wait for one another.
-inline int CoreCount() { return static_cast<int>(AllowedCpus().size()); }
+// says so. Threads beyond these would only wait for one another. Cheap enough for every large
+// call that splits work: one system call, no list.
+inline int CoreCount() {
+  cpu_set_t mask;
+  CPU_ZERO(&mask);
+  if (sched_getaffinity(0, sizeof(mask), &mask) == 0 && CPU_COUNT(&mask) > 0) {
+    return CPU_COUNT(&mask);
+  }
+  return static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+}
 
 }  // namespace cmbrl
