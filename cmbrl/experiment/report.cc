@@ -37,38 +37,6 @@ double Number(const std::string& text, const fs::path& file, int line, const std
   Fail("{} line {}: {} is '{}': expected a number", file.string(), line, column, text);
 }
 
-std::vector<EpisodePoint> ReadProgressFile(const fs::path& path) {
-  std::ifstream in(path);
-  Require(static_cast<bool>(in), "cannot read '{}'", path.string());
-  std::string line;
-  std::getline(in, line);
-  const std::vector<std::string> header = SplitCsv(line);
-  const auto column = [&](const std::string& name) {
-    const auto it = std::find(header.begin(), header.end(), name);
-    Require(it != header.end(), "'{}' has no column {}: expected a cmbrl progress.csv",
-            path.string(), name);
-    return static_cast<size_t>(it - header.begin());
-  };
-  const size_t ret = column("EpRet"), cost = column("EpCost"), total = column("TotalEnvInteracts"),
-               steps = column("Steps");
-  std::vector<EpisodePoint> episodes;
-  int number = 1;
-  while (std::getline(in, line)) {
-    ++number;
-    if (line.empty()) continue;
-    const std::vector<std::string> f = SplitCsv(line);
-    Require(f.size() == header.size(), "{} line {}: {} fields, the header has {}", path.string(),
-            number, f.size(), header.size());
-    EpisodePoint point;
-    point.episode_return = Number(f[ret], path, number, "EpRet");
-    point.episode_cost = Number(f[cost], path, number, "EpCost");
-    point.end_step = static_cast<std::int64_t>(Number(f[total], path, number, "TotalEnvInteracts"));
-    point.steps = static_cast<int>(Number(f[steps], path, number, "Steps"));
-    episodes.push_back(point);
-  }
-  return episodes;
-}
-
 double Mean(const std::vector<double>& values) {
   double sum = 0.0;
   for (double v : values) sum += v;
@@ -109,8 +77,37 @@ std::string PlannerLabel(const std::string& planner) {
   return "MPC-random";
 }
 
-std::vector<EpisodePoint> ReadProgressEpisodes(const std::string& path) {
-  return ReadProgressFile(path);
+std::vector<EpisodePoint> ReadProgressEpisodes(const std::string& file) {
+  const fs::path path(file);
+  std::ifstream in(path);
+  Require(static_cast<bool>(in), "cannot read '{}'", path.string());
+  std::string line;
+  std::getline(in, line);
+  const std::vector<std::string> header = SplitCsv(line);
+  const auto column = [&](const std::string& name) {
+    const auto it = std::find(header.begin(), header.end(), name);
+    Require(it != header.end(), "'{}' has no column {}: expected a cmbrl progress.csv",
+            path.string(), name);
+    return static_cast<size_t>(it - header.begin());
+  };
+  const size_t ret = column("EpRet"), cost = column("EpCost"), total = column("TotalEnvInteracts"),
+               steps = column("Steps");
+  std::vector<EpisodePoint> episodes;
+  int number = 1;
+  while (std::getline(in, line)) {
+    ++number;
+    if (line.empty()) continue;
+    const std::vector<std::string> f = SplitCsv(line);
+    Require(f.size() == header.size(), "{} line {}: {} fields, the header has {}", path.string(),
+            number, f.size(), header.size());
+    EpisodePoint point;
+    point.episode_return = Number(f[ret], path, number, "EpRet");
+    point.episode_cost = Number(f[cost], path, number, "EpCost");
+    point.end_step = static_cast<std::int64_t>(Number(f[total], path, number, "TotalEnvInteracts"));
+    point.steps = static_cast<int>(Number(f[steps], path, number, "Steps"));
+    episodes.push_back(point);
+  }
+  return episodes;
 }
 
 std::vector<RunRecord> ReadSweep(const std::string& sweep_dir) {
@@ -129,7 +126,7 @@ std::vector<RunRecord> ReadSweep(const std::string& sweep_dir) {
     RunRecord run;
     run.name = dir.filename().string();
     run.config = LoadTrainConfig((dir / "config.yaml").string());
-    run.episodes = ReadProgressFile(dir / "progress.csv");
+    run.episodes = ReadProgressEpisodes((dir / "progress.csv").string());
     runs.push_back(std::move(run));
   }
   return runs;
