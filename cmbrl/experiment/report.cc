@@ -323,7 +323,8 @@ std::vector<std::string> SetupDifferences(const std::vector<RunRecord>& runs,
   std::map<std::string, std::set<std::uint64_t>> seeds;
   for (const RunRecord& run : runs) {
     const TrainConfig& c = run.config;
-    seeds[c.task + " " + c.planner].insert(c.seed);
+    // Seeds as Table I counts them: a run without a finished episode is not in it.
+    if (!run.episodes.empty()) seeds[c.task + " " + c.planner].insert(c.seed);
     const bool car = c.task.rfind("Car", 0) == 0;
     const int paper_members = car ? 5 : 4;
     if (c.ensemble.hidden_sizes != paper.ensemble.hidden_sizes ||
