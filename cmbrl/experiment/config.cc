@@ -102,6 +102,7 @@ void VisitConfig(Config& c, Visitor& v) {
   v.Field("training", "transition_capacity", t.transition_capacity);
   v.Field("training", "safe_capacity", t.safe_capacity);
   v.Field("training", "unsafe_capacity", t.unsafe_capacity);
+  v.Field("training", "label_every_step", t.label_every_step);
   auto& e = c.ensemble;
   v.Field("ensemble", "ensemble_size", e.ensemble_size);
   v.Field("ensemble", "hidden_sizes", e.hidden_sizes);
@@ -128,6 +129,7 @@ void VisitConfig(Config& c, Visitor& v) {
   v.Field("classifier", "boost_from_average", x.boost_from_average);
   v.Field("classifier", "threshold", x.threshold);
   v.Field("classifier", "safe_per_unsafe", x.safe_per_unsafe);
+  v.Field("classifier", "safe_selection", x.safe_selection);
   v.Field("classifier", "threads", x.threads);
   v.Field("classifier", "predict_threads", x.predict_threads);
   auto& p = c.planning.problem;
@@ -153,6 +155,7 @@ void VisitConfig(Config& c, Visitor& v) {
   v.Field("objective", "near_goal_bonus", o.near_goal_bonus);
   v.Field("objective", "at_goal_radius", o.at_goal_radius);
   v.Field("objective", "at_goal_bonus", o.at_goal_bonus);
+  v.Field("objective", "at_goal_test_after_near_bonus", o.at_goal_test_after_near_bonus);
 }
 
 // Reads the fields that the file names; then refuses any key it does not know.

@@ -31,6 +31,10 @@ struct TrainingLoopOptions {
   int transition_capacity = 500000;  // dynamics ring buffer
   int safe_capacity = 50000;         // classifier rings
   int unsafe_capacity = 10000;
+  // false (the original's run.py): a violation label is stored only for the agent steps whose
+  // transition is stored, i.e. not on a step that met the goal or ended the episode (facts B4).
+  // true: every agent step's next state is labelled.
+  bool label_every_step = false;
 };
 
 struct TrainConfig {

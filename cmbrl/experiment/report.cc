@@ -13,6 +13,7 @@
 
 #include "cmbrl/core/check.h"
 #include "cmbrl/env/registry.h"
+#include "cmbrl/experiment/reference.h"
 #include "cmbrl/planning/planner_registry.h"
 
 namespace cmbrl {
@@ -78,6 +79,10 @@ std::string PlannerLabel(const std::string& planner) {
 }
 
 std::vector<EpisodePoint> ReadProgressEpisodes(const std::string& file) {
+  return ReadEpisodeColumns(file, /*has_steps=*/true);
+}
+
+std::vector<EpisodePoint> ReadEpisodeColumns(const std::string& file, bool has_steps) {
   const fs::path path(file);
   std::ifstream in(path);
   Require(static_cast<bool>(in), "cannot read '{}'", path.string());
@@ -86,12 +91,13 @@ std::vector<EpisodePoint> ReadProgressEpisodes(const std::string& file) {
   const std::vector<std::string> header = SplitCsv(line);
   const auto column = [&](const std::string& name) {
     const auto it = std::find(header.begin(), header.end(), name);
-    Require(it != header.end(), "'{}' has no column {}: expected a cmbrl progress.csv",
-            path.string(), name);
+    Require(it != header.end(), "'{}' has no column {}: expected a progress log with {}",
+            path.string(), name, has_steps ? "EpRet, EpCost, TotalEnvInteracts and Steps"
+                                           : "EpRet, EpCost and TotalEnvInteracts");
     return static_cast<size_t>(it - header.begin());
   };
-  const size_t ret = column("EpRet"), cost = column("EpCost"), total = column("TotalEnvInteracts"),
-               steps = column("Steps");
+  const size_t ret = column("EpRet"), cost = column("EpCost"), total = column("TotalEnvInteracts");
+  const size_t steps = has_steps ? column("Steps") : 0;
   std::vector<EpisodePoint> episodes;
   int number = 1;
   while (std::getline(in, line)) {
@@ -104,7 +110,12 @@ std::vector<EpisodePoint> ReadProgressEpisodes(const std::string& file) {
     point.episode_return = Number(f[ret], path, number, "EpRet");
     point.episode_cost = Number(f[cost], path, number, "EpCost");
     point.end_step = static_cast<std::int64_t>(Number(f[total], path, number, "TotalEnvInteracts"));
-    point.steps = static_cast<int>(Number(f[steps], path, number, "Steps"));
+    const std::int64_t previous = episodes.empty() ? 0 : episodes.back().end_step;
+    point.steps = has_steps ? static_cast<int>(Number(f[steps], path, number, "Steps"))
+                            : static_cast<int>(point.end_step - previous);
+    Require(point.end_step >= previous && point.steps >= 0,
+            "{} line {}: TotalEnvInteracts {} after {}: expected a count that never falls",
+            path.string(), number, point.end_step, previous);
     episodes.push_back(point);
   }
   return episodes;
@@ -135,7 +146,7 @@ std::vector<RunRecord> ReadSweep(const std::string& sweep_dir) {
 double ViolationsWithin(const RunRecord& run, std::int64_t window) {
   double violations = 0.0;
   for (const EpisodePoint& episode : run.episodes) {
-    if (episode.end_step - episode.steps < window) violations += episode.episode_cost;
+    if (episode.end_step <= window) violations += episode.episode_cost;
   }
   return violations;
 }
@@ -143,7 +154,7 @@ double ViolationsWithin(const RunRecord& run, std::int64_t window) {
 double FinalReturn(const RunRecord& run, std::int64_t window, int episodes) {
   std::vector<double> returns;
   for (const EpisodePoint& episode : run.episodes) {
-    if (episode.end_step - episode.steps < window) returns.push_back(episode.episode_return);
+    if (episode.end_step <= window) returns.push_back(episode.episode_return);
   }
   const size_t first = returns.size() > static_cast<size_t>(episodes) ? returns.size() - episodes : 0;
   return Mean(std::vector<double>(returns.begin() + first, returns.end()));
@@ -163,7 +174,15 @@ std::optional<double> PaperViolations(const std::string& task, const std::string
   return cell->second;
 }
 
-std::vector<TableCell> ViolationTable(const std::vector<RunRecord>& runs, std::int64_t window) {
+std::string VersusOriginal(const TableCell& cell) {
+  if (cell.original_per_seed.empty()) return "";
+  const auto [low, high] =
+      std::minmax_element(cell.original_per_seed.begin(), cell.original_per_seed.end());
+  return cell.mean < *low ? "below" : cell.mean > *high ? "above" : "inside";
+}
+
+std::vector<TableCell> ViolationTable(const std::vector<RunRecord>& runs, std::int64_t window,
+                                      const std::vector<RunRecord>& reference) {
   const auto task_of = [](const RunRecord& r) { return r.config.task; };
   const auto planner_of = [](const RunRecord& r) { return r.config.planner; };
   std::vector<TableCell> cells;
@@ -195,6 +214,16 @@ std::vector<TableCell> ViolationTable(const std::vector<RunRecord>& runs, std::i
       cell.return_mean = Mean(cell.final_returns);
       cell.return_std = SampleStd(cell.final_returns);
       cell.paper = PaperViolations(task, planner);
+      const std::vector<const RunRecord*> original = ReferenceRunsOf(reference, task, planner);
+      const bool covered = std::all_of(original.begin(), original.end(), [&](const RunRecord* r) {
+        return !r->episodes.empty() && r->episodes.back().end_step >= window;
+      });
+      if (covered) {
+        for (const RunRecord* run : original) {
+          cell.original_per_seed.push_back(ViolationsWithin(*run, window));
+          cell.original_final_returns.push_back(FinalReturn(*run, window));
+        }
+      }
       cells.push_back(cell);
     }
   }
@@ -238,7 +267,7 @@ std::string TableMarkdown(const std::vector<TableCell>& cells, std::int64_t wind
     }
   }
   text += "\n\nReturn at the end of the same window: mean EpRet of each run's last 10 episodes "
-          "that began in it, mean ± std over seeds.\n\n| task |";
+          "that ended in it, mean ± std over seeds.\n\n| task |";
   for (const std::string& planner : planners) text += " " + PlannerLabel(planner) + " |";
   text += "\n|---|";
   for (size_t i = 0; i < planners.size(); ++i) text += "---|";
@@ -255,24 +284,50 @@ std::string TableMarkdown(const std::vector<TableCell>& cells, std::int64_t wind
                                 : fmt::format(" {:.2f} ± {:.2f} |", it->return_mean, it->return_std);
     }
   }
-  return text + "\n";
+  text += "\n";
+  if (std::none_of(cells.begin(), cells.end(),
+                   [](const TableCell& c) { return !c.original_per_seed.empty(); })) {
+    return text;
+  }
+  text += fmt::format(
+      "\nAgainst the original's own logs over the same {} steps (its seeds 0, 10 and 100; "
+      "data/reference/): where our mean lies against its seeds' range, and the same for the "
+      "return of the last 10 episodes.\n\n"
+      "| task | planner | ours (per seed) | original (per seed) | ours vs its range | return, "
+      "ours | return, original |\n|---|---|---|---|---|---|---|\n",
+      window);
+  for (const TableCell& cell : cells) {
+    if (cell.original_per_seed.empty()) continue;
+    text += fmt::format("| {} | {} | {:.1f} ({}) | {:.1f} ({}) | {} | {:.2f} | {:.2f} |\n",
+                        cell.task, PlannerLabel(cell.planner), cell.mean,
+                        fmt::join(cell.per_seed, ", "), Mean(cell.original_per_seed),
+                        fmt::join(cell.original_per_seed, ", "), VersusOriginal(cell),
+                        cell.return_mean, Mean(cell.original_final_returns));
+  }
+  return text;
 }
 
 std::string TableCsv(const std::vector<TableCell>& cells, std::int64_t window) {
   std::string text =
-      "task,planner,window,seeds,mean,std,per_seed,paper,fewest_steps,return_mean,return_std\n";
+      "task,planner,window,seeds,mean,std,per_seed,paper,fewest_steps,return_mean,return_std,"
+      "original_per_seed,original_mean,versus_original,original_return_mean\n";
   for (const TableCell& cell : cells) {
-    text += fmt::format("{},{},{},{},{},{},{},{},{},{},{}\n", cell.task, cell.planner, window,
-                        cell.per_seed.size(), cell.mean, cell.std, fmt::join(cell.per_seed, " "),
-                        cell.paper ? fmt::format("{}", *cell.paper) : "", cell.fewest_steps,
-                        cell.return_mean, cell.return_std);
+    const bool original = !cell.original_per_seed.empty();
+    text += fmt::format(
+        "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n", cell.task, cell.planner, window,
+        cell.per_seed.size(), cell.mean, cell.std, fmt::join(cell.per_seed, " "),
+        cell.paper ? fmt::format("{}", *cell.paper) : "", cell.fewest_steps, cell.return_mean,
+        cell.return_std, fmt::join(cell.original_per_seed, " "),
+        original ? fmt::format("{}", Mean(cell.original_per_seed)) : "", VersusOriginal(cell),
+        original ? fmt::format("{}", Mean(cell.original_final_returns)) : "");
   }
   return text;
 }
 
 std::vector<LearningCurve> LearningCurves(const std::vector<RunRecord>& runs,
                                           const std::string& task, CurveMetric metric,
-                                          std::int64_t grid_step, std::int64_t smoothing) {
+                                          std::int64_t grid_step, std::int64_t smoothing,
+                                          std::int64_t up_to) {
   Require(grid_step >= 1 && smoothing >= 1, "curve grid {} and smoothing {} must be positive",
           grid_step, smoothing);
   std::vector<LearningCurve> curves;
@@ -285,7 +340,7 @@ std::vector<LearningCurve> LearningCurves(const std::vector<RunRecord>& runs,
         continue;
       }
       members.push_back(&run);
-      longest = std::max(longest, run.episodes.back().end_step);
+      longest = std::max(longest, std::min(run.episodes.back().end_step, up_to));
     }
     if (members.empty()) continue;
     LearningCurve curve;
@@ -394,27 +449,25 @@ std::vector<std::string> SetupDifferences(const std::vector<RunRecord>& runs,
 
 namespace {
 
-// One cell against the paper's. Over a window shorter than the paper's 10,000 steps, the paper's
-// own count over that window is unknown, but its learning curves show violation rates that fall
-// as training goes on, and a rate that never rises puts at least window/10,000 of the count in
-// the first `window` steps: the paper's count over our window lies in [paper * window/10,000,
-// paper], and the note says whether ours falls below, inside or above that range.
-std::string PaperComparison(const TableCell& cell, std::int64_t window) {
-  const double paper = *cell.paper;
+// One cell against the original: its seeds over the same window when its logs cover it, else
+// Table I when the window is the paper's; nothing otherwise.
+std::optional<std::string> OriginalComparison(const TableCell& cell, std::int64_t window) {
   const std::string label = fmt::format("{} {}", cell.task, PlannerLabel(cell.planner));
-  if (window >= kPaperWindow) {
-    return fmt::format("{}: {:.1f} against the paper's {:.0f} ({:.2f}x).", label, cell.mean,
-                       paper, paper > 0 ? cell.mean / paper : 0.0);
+  if (!cell.original_per_seed.empty()) {
+    const std::string verdict = VersusOriginal(cell);
+    return fmt::format(
+        "{}: {:.1f} in the first {} steps, the original {:.1f} ({}); ours is {} its seeds' range{}.",
+        label, cell.mean, window, Mean(cell.original_per_seed),
+        fmt::join(cell.original_per_seed, ", "), verdict,
+        verdict == "inside" ? ""
+        : verdict == "above" ? ": more violations than the original"
+                             : ": fewer violations than the original");
   }
-  const double low = paper * static_cast<double>(window) / kPaperWindow;
-  const char* verdict = cell.mean < low     ? "below that range: fewer violations than the paper"
-                        : cell.mean > paper ? "above that range: more violations than the paper"
-                                            : "inside that range: consistent with the paper";
-  return fmt::format(
-      "{}: {:.1f} in the first {} steps. The paper's {:.0f} over 10,000 steps puts its own count "
-      "over those {} steps between {:.0f} (a violation rate that never rose) and {:.0f}; ours is "
-      "{}.",
-      label, cell.mean, window, paper, window, low, paper, verdict);
+  if (cell.paper && window == kPaperWindow) {
+    return fmt::format("{}: {:.1f} against the paper's {:.0f} ({:.2f}x).", label, cell.mean,
+                       *cell.paper, *cell.paper > 0 ? cell.mean / *cell.paper : 0.0);
+  }
+  return std::nullopt;
 }
 
 // Per task: whether MPC-RCE violated less than each other planner, and whether its final return
@@ -470,7 +523,8 @@ std::vector<std::string> OutcomeDifferences(const std::vector<TableCell>& cells,
     const auto rce = row.find("rce");
     if (rce != row.end()) RceAgainstOthers(task, row, *rce->second, notes);
     for (const TableCell& cell : cells) {  // the table's planner order
-      if (cell.task == task && cell.paper) notes.push_back(PaperComparison(cell, window));
+      if (cell.task != task) continue;
+      if (const auto note = OriginalComparison(cell, window)) notes.push_back(*note);
     }
   }
   return notes;

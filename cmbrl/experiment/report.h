@@ -29,6 +29,11 @@ struct RunRecord {
 // is not a number.
 std::vector<EpisodePoint> ReadProgressEpisodes(const std::string& path);
 
+// The same from any CSV with the columns EpRet, EpCost and TotalEnvInteracts, and Steps when
+// `has_steps` (without it an episode's steps are the difference of TotalEnvInteracts, as in the
+// original's logs).
+std::vector<EpisodePoint> ReadEpisodeColumns(const std::string& path, bool has_steps);
+
 // "MPC-RCE", "MPC-CEM", "MPC-random": the paper's names of the planners.
 std::string PlannerLabel(const std::string& planner);
 
@@ -37,8 +42,8 @@ std::string PlannerLabel(const std::string& planner);
 std::vector<RunRecord> ReadSweep(const std::string& sweep_dir);
 
 // Violations during the first `window` agent steps of a run: the EpCost of every episode that
-// began within the window (the episode that crosses its end counts whole, as the paper's
-// per-epoch logs do).
+// ended within the window (TotalEnvInteracts <= window), the rule by which the original's logs
+// give Table I and its counts over 3000 steps.
 double ViolationsWithin(const RunRecord& run, std::int64_t window);
 
 // The paper's Table I counts violations during the first 10,000 agent steps.
@@ -47,7 +52,7 @@ inline constexpr std::int64_t kPaperWindow = 10000;
 // Table I (paper, mean of 3 seeds over the first 10,000 steps), or nothing for other cells.
 std::optional<double> PaperViolations(const std::string& task, const std::string& planner);
 
-// Mean EpRet of a run's last `episodes` episodes among those that began within the window:
+// Mean EpRet of a run's last `episodes` episodes among those that ended within the window:
 // the reward side of the paper's claim ("comparable reward").
 double FinalReturn(const RunRecord& run, std::int64_t window, int episodes = 10);
 
@@ -61,11 +66,20 @@ struct TableCell {
   std::vector<double> final_returns;  // FinalReturn per seed
   double return_mean = 0.0;
   double return_std = 0.0;
+  // The original's count over the same window per seed (its seeds 0, 10, 100; empty: no logs
+  // for this cell, or a window past the end of one of its runs).
+  std::vector<double> original_per_seed;
+  std::vector<double> original_final_returns;
 };
 
+// Where a cell's mean lies against the original's seeds: "below" the lowest, "inside" their
+// range, "above" the highest; "" without the original's logs.
+std::string VersusOriginal(const TableCell& cell);
+
 // One cell per task and planner present, tasks and planners in the sweep's order. Runs without
-// a finished episode are left out.
-std::vector<TableCell> ViolationTable(const std::vector<RunRecord>& runs, std::int64_t window);
+// a finished episode are left out. `reference` (ReadReferenceRuns) fills the original's columns.
+std::vector<TableCell> ViolationTable(const std::vector<RunRecord>& runs, std::int64_t window,
+                                      const std::vector<RunRecord>& reference = {});
 
 std::string TableMarkdown(const std::vector<TableCell>& cells, std::int64_t window);
 std::string TableCsv(const std::vector<TableCell>& cells, std::int64_t window);
@@ -80,17 +94,19 @@ struct LearningCurve {
 
 enum class CurveMetric { kReturn, kCost };
 
+// Points stop at `up_to` agent steps (the original's logs run far past our sweeps).
 std::vector<LearningCurve> LearningCurves(const std::vector<RunRecord>& runs,
                                           const std::string& task, CurveMetric metric,
-                                          std::int64_t grid_step, std::int64_t smoothing);
+                                          std::int64_t grid_step, std::int64_t smoothing,
+                                          std::int64_t up_to = INT64_MAX);
 
 // Where the sweep's settings differ from the paper's (network sizes, step counts, seeds,
 // planner and classifier sizes, simulator): one plain sentence each.
 std::vector<std::string> SetupDifferences(const std::vector<RunRecord>& runs, std::int64_t window);
 
 // Where the outcome differs: per task whether RCE violated least, and each cell against the
-// paper's; over a window shorter than the paper's, against the range the paper's count over that
-// window must lie in if its violation rate never rose.
+// original's seeds over the same window (or, for a cell without its logs, against Table I when
+// the window is the paper's).
 std::vector<std::string> OutcomeDifferences(const std::vector<TableCell>& cells,
                                             std::int64_t window);
 

@@ -106,14 +106,23 @@ struct Trainer::State {
         StepResult step = env->Step(action);
         ++pretrain_steps;
         const bool end = step.terminated || step.truncated;
-        stored += transitions->Add(observation, action, step.observation, step.info.goal_met, end);
-        labeled->Add(step.observation, step.cost > 0.0);
+        const bool kept =
+            transitions->Add(observation, action, step.observation, step.info.goal_met, end);
+        stored += kept;
+        AddLabel(step, kept);
         observation = std::move(step.observation);
         if (end) break;
       }
     }
     FitModels();
     pretrained = true;
+  }
+
+  // The classifier's label of this step's next state: only beside a stored transition unless
+  // label_every_step (facts B4).
+  void AddLabel(const StepResult& step, bool transition_kept) {
+    if (transition_kept || config.training.label_every_step)
+      labeled->Add(step.observation, step.cost > 0.0);
   }
 
   void FitModels() {
@@ -135,8 +144,9 @@ struct Trainer::State {
       milliseconds += agent->last_plan().milliseconds;
       StepResult step = env->Step(action);
       const bool end = step.terminated || step.truncated;
-      transitions->Add(observation, action, step.observation, step.info.goal_met, end);
-      labeled->Add(step.observation, step.cost > 0.0);
+      const bool kept =
+          transitions->Add(observation, action, step.observation, step.info.goal_met, end);
+      AddLabel(step, kept);
       ++total_steps;
       ++row.steps;
       row.episode_return += step.reward;

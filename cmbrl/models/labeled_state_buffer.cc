@@ -46,6 +46,13 @@ std::vector<float> LabeledStateBuffer::Newest(const Ring& ring, int count) const
 
 std::vector<float> LabeledStateBuffer::NewestSafe(int count) const { return Newest(safe_, count); }
 
+std::vector<float> LabeledStateBuffer::LastSafeSlots(int count) const {
+  count = std::clamp(count, 0, safe_.size);
+  // Used slots are always 0 .. size-1 (they fill from 0 up), so the last `count` are contiguous.
+  const auto first = safe_.rows.begin() + static_cast<size_t>(safe_.size - count) * state_dim_;
+  return std::vector<float>(first, first + static_cast<size_t>(count) * state_dim_);
+}
+
 std::vector<float> LabeledStateBuffer::AllUnsafe() const { return Newest(unsafe_, unsafe_.size); }
 
 void LabeledStateBuffer::Save(const std::string& path) const {

@@ -26,6 +26,10 @@ class LabeledStateBuffer {
 
   // The newest `count` safe states (at most safe_size()), oldest first: (count, state_dim).
   std::vector<float> NewestSafe(int count) const;
+  // The safe states of the last `count` used slots in storage order (at most safe_size()): the
+  // original's x0[-count:] (facts B4). Before the ring wraps these are the newest, oldest first;
+  // after it wraps, the end of the array whatever its age. (count, state_dim).
+  std::vector<float> LastSafeSlots(int count) const;
   // Every unsafe state, oldest first: (unsafe_size(), state_dim).
   std::vector<float> AllUnsafe() const;
 

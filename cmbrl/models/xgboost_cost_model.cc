@@ -80,6 +80,8 @@ void ValidateXgbCostModelOptions(const XgbCostModelOptions& o) {
           o.threshold);
   Require(o.safe_per_unsafe >= 0, "safe_per_unsafe is {}: expected a non-negative number",
           o.safe_per_unsafe);
+  Require(o.safe_selection == "storage_order" || o.safe_selection == "newest",
+          "safe_selection is '{}': expected 'storage_order' or 'newest'", o.safe_selection);
   Require(o.threads >= 1, "threads is {}: expected at least 1", o.threads);
   Require(o.predict_threads >= 0, "predict_threads is {}: expected 0 (one per core) or more",
           o.predict_threads);
@@ -100,7 +102,9 @@ CostFitReport XgbCostModel::Fit(const LabeledStateBuffer& data) {
           data.state_dim(), state_dim_);
   const int unsafe_count = data.unsafe_size();
   const int safe_count = std::min(data.safe_size(), options_.safe_per_unsafe * unsafe_count + 1);
-  const std::vector<float> safe = data.NewestSafe(safe_count);
+  const std::vector<float> safe = options_.safe_selection == "newest"
+                                      ? data.NewestSafe(safe_count)
+                                      : data.LastSafeSlots(safe_count);
   const std::vector<float> unsafe = data.AllUnsafe();
   return FitArrays(safe.data(), safe_count, unsafe.data(), unsafe_count);
 }

@@ -25,6 +25,9 @@ struct XgbCostModelOptions {
   bool boost_from_average = true;  // start from the unsafe fraction (LightGBM's default)
   double threshold = 0.5;          // violation when the probability exceeds this
   int safe_per_unsafe = 3;         // a fit uses at most safe_per_unsafe * n_unsafe + 1 safe
+  // Which safe states a fit takes: "storage_order", the last slots of the safe ring as the
+  // original does (old states once the ring has wrapped), or "newest".
+  std::string safe_selection = "storage_order";
   int threads = 1;                 // XGBoost threads while fitting (the paper's n_jobs 1)
   int predict_threads = 0;         // threads of the host tree walk; 0: one per core
   std::string device = "cpu";      // where PredictViolation evaluates tensors
@@ -58,7 +61,8 @@ class XgbCostModel final : public CostModel {
   const XgbCostModelOptions& options() const { return options_; }
   bool trained() const { return trained_; }
 
-  // Uses every unsafe state and the newest safe_per_unsafe * n_unsafe + 1 safe states.
+  // Uses every unsafe state and safe_per_unsafe * n_unsafe + 1 safe states, chosen by
+  // safe_selection.
   CostFitReport Fit(const LabeledStateBuffer& data);
 
   // The same from arrays: (safe_count, S) and (unsafe_count, S) row-major floats.

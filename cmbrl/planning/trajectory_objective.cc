@@ -37,8 +37,9 @@ void TrajectoryObjective::SetState(const torch::Tensor& state) {
 torch::Tensor TrajectoryObjective::StepCost(const torch::Tensor& states) const {
   const torch::Tensor goal = states.narrow(-1, options_.goal_index, 2);
   const torch::Tensor distance = goal.norm(2, -1);
-  return distance - options_.near_goal_bonus * (distance < options_.near_goal_radius) -
-         options_.at_goal_bonus * (distance < options_.at_goal_radius);
+  const torch::Tensor near = distance - options_.near_goal_bonus * (distance < options_.near_goal_radius);
+  const torch::Tensor tested = options_.at_goal_test_after_near_bonus ? near : distance;
+  return near - options_.at_goal_bonus * (tested < options_.at_goal_radius);
 }
 
 ObjectiveValues TrajectoryObjective::Evaluate(const torch::Tensor& actions) {

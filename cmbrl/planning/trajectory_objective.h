@@ -19,6 +19,11 @@ struct TrajectoryObjectiveOptions {
   double near_goal_bonus = 5.0;
   double at_goal_radius = 0.1;  // m: and this close a further at_goal_bonus
   double at_goal_bonus = 8.0;
+  // The original's code tests at_goal_radius on the distance already lowered by
+  // near_goal_bonus, so every d < near_goal_radius earns both bonuses (facts B2: d - 13 below
+  // 0.2, which is what produced Table I). false: the written rule, at_goal_bonus only below
+  // at_goal_radius.
+  bool at_goal_test_after_near_bonus = true;
 };
 
 // Throws cmbrl::Error naming the first bad field.

@@ -18,6 +18,17 @@ struct Rgb {
   double r, g, b;
 };
 
+// How a label is drawn: its colour and whether dashed.
+struct Style {
+  Rgb colour;
+  bool dashed = false;
+};
+
+void SetDash(cairo_t* cr, bool dashed) {
+  static const double kDash[] = {7.0, 4.0};
+  cairo_set_dash(cr, kDash, dashed ? 2 : 0, 0);
+}
+
 // Colour-blind-safe colours (Okabe and Ito), in order of first appearance of a label.
 const std::vector<Rgb>& Palette() {
   static const std::vector<Rgb> kColours = {{0.0, 0.45, 0.70}, {0.90, 0.62, 0.0},
@@ -68,19 +79,21 @@ void Text(cairo_t* cr, const std::string& text, double x, double y, double size,
 
 std::vector<PanelArea> Draw(cairo_t* cr, const std::vector<PlotPanel>& panels,
                             const PlotOptions& o, double width, double height,
-                            const std::map<std::string, Rgb>& colours) {
+                            const std::map<std::string, Style>& styles) {
   cairo_set_source_rgb(cr, 1, 1, 1);
   cairo_paint(cr);
   cairo_select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
   const double legend_height = 34;
   // Legend across the top.
   double legend_x = 20;
-  for (const auto& [label, colour] : colours) {
-    cairo_set_source_rgb(cr, colour.r, colour.g, colour.b);
+  for (const auto& [label, style] : styles) {
+    cairo_set_source_rgb(cr, style.colour.r, style.colour.g, style.colour.b);
     cairo_set_line_width(cr, 3);
+    SetDash(cr, style.dashed);
     cairo_move_to(cr, legend_x, legend_height / 2);
     cairo_line_to(cr, legend_x + 28, legend_height / 2);
     cairo_stroke(cr);
+    SetDash(cr, false);
     cairo_set_source_rgb(cr, 0.1, 0.1, 0.1);
     Text(cr, label, legend_x + 34, legend_height / 2, 14, 0, 0.5);
     legend_x += 60 + 8.0 * label.size();
@@ -137,7 +150,7 @@ std::vector<PanelArea> Draw(cairo_t* cr, const std::vector<PlotPanel>& panels,
     cairo_rectangle(cr, area.x, area.y, area.width, area.height);
     cairo_clip(cr);
     for (const PlotSeries& s : panel.series) {
-      const Rgb c = colours.at(s.label);
+      const Rgb c = styles.at(s.label).colour;
       if (!s.band.empty() && s.x.size() > 1) {
         cairo_move_to(cr, px(s.x[0]), py(s.y[0] + s.band[0]));
         for (size_t k = 1; k < s.x.size(); ++k) cairo_line_to(cr, px(s.x[k]), py(s.y[k] + s.band[k]));
@@ -148,14 +161,16 @@ std::vector<PanelArea> Draw(cairo_t* cr, const std::vector<PlotPanel>& panels,
       }
     }
     for (const PlotSeries& s : panel.series) {
-      const Rgb c = colours.at(s.label);
+      const Rgb c = styles.at(s.label).colour;
       cairo_set_source_rgb(cr, c.r, c.g, c.b);
       cairo_set_line_width(cr, 2);
+      SetDash(cr, s.dashed);
       for (size_t k = 0; k < s.x.size(); ++k) {
         k == 0 ? cairo_move_to(cr, px(s.x[k]), py(s.y[k])) : cairo_line_to(cr, px(s.x[k]), py(s.y[k]));
       }
       if (s.x.size() == 1) cairo_rectangle(cr, px(s.x[0]) - 2, py(s.y[0]) - 2, 4, 4);
       cairo_stroke(cr);
+      SetDash(cr, false);
     }
     cairo_restore(cr);
     // Frame, title and axis labels.
@@ -178,17 +193,25 @@ std::vector<PanelArea> WritePlots(const std::vector<PlotPanel>& panels, const st
                                   const std::string& svg_path, const PlotOptions& options) {
   Require(!panels.empty(), "nothing to plot: no panels");
   Require(options.columns >= 1, "plot columns is {}: expected at least 1", options.columns);
-  std::map<std::string, Rgb> colours;
+  // Colours go to colour keys (a series' colour_of, else its label) in order of appearance.
   std::vector<std::string> order;
+  std::map<std::string, Style> styles;
   for (const PlotPanel& panel : panels) {
     for (const PlotSeries& s : panel.series) {
       Require(s.x.size() == s.y.size() && (s.band.empty() || s.band.size() == s.x.size()),
               "series '{}' of panel '{}' has {} x, {} y and {} band values", s.label, panel.title,
               s.x.size(), s.y.size(), s.band.size());
-      if (std::find(order.begin(), order.end(), s.label) == order.end()) order.push_back(s.label);
+      const std::string& key = s.colour_of.empty() ? s.label : s.colour_of;
+      if (std::find(order.begin(), order.end(), key) == order.end()) order.push_back(key);
     }
   }
-  for (size_t i = 0; i < order.size(); ++i) colours[order[i]] = Palette()[i % Palette().size()];
+  for (const PlotPanel& panel : panels) {
+    for (const PlotSeries& s : panel.series) {
+      const std::string& key = s.colour_of.empty() ? s.label : s.colour_of;
+      const size_t index = std::find(order.begin(), order.end(), key) - order.begin();
+      styles[s.label] = Style{Palette()[index % Palette().size()], s.dashed};
+    }
+  }
   const int columns = std::min<int>(options.columns, static_cast<int>(panels.size()));
   const int rows = static_cast<int>((panels.size() + columns - 1) / columns);
   const double width = columns * options.panel_width_px;
@@ -200,7 +223,7 @@ std::vector<PanelArea> WritePlots(const std::vector<PlotPanel>& panels, const st
     cairo_surface_t* surface = cairo_image_surface_create(
         CAIRO_FORMAT_ARGB32, static_cast<int>(width), static_cast<int>(height));
     cairo_t* cr = cairo_create(surface);
-    areas = Draw(cr, panels, o, width, height, colours);
+    areas = Draw(cr, panels, o, width, height, styles);
     cairo_destroy(cr);
     const cairo_status_t status = cairo_surface_write_to_png(surface, png_path.c_str());
     cairo_surface_destroy(surface);
@@ -210,7 +233,7 @@ std::vector<PanelArea> WritePlots(const std::vector<PlotPanel>& panels, const st
   if (!svg_path.empty()) {
     cairo_surface_t* surface = cairo_svg_surface_create(svg_path.c_str(), width, height);
     cairo_t* cr = cairo_create(surface);
-    areas = Draw(cr, panels, o, width, height, colours);
+    areas = Draw(cr, panels, o, width, height, styles);
     cairo_destroy(cr);
     cairo_surface_finish(surface);
     const cairo_status_t status = cairo_surface_status(surface);

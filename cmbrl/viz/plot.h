@@ -10,6 +10,8 @@ namespace cmbrl {
 struct PlotSeries {
   std::string label;
   std::vector<double> x, y, band;  // band: half-width at each x (empty: no band)
+  bool dashed = false;             // drawn dashed, in the legend too
+  std::string colour_of;           // the label whose colour it takes (empty: its own)
 };
 
 struct PlotPanel {
@@ -30,8 +32,8 @@ struct PanelArea {
 };
 
 // Draws the panels in a grid with one shared legend and writes `png_path` and `svg_path` (either
-// may be empty to skip it). Series are coloured by label, the same label the same colour in
-// every panel. Throws cmbrl::Error when a file cannot be written or a series' vectors differ in
+// may be empty to skip it). Series are coloured by label (or by colour_of), the same label the
+// same colour in every panel. Throws cmbrl::Error when a file cannot be written or a series' vectors differ in
 // length. Thread-safe (no shared state).
 std::vector<PanelArea> WritePlots(const std::vector<PlotPanel>& panels, const std::string& png_path,
                                   const std::string& svg_path, const PlotOptions& options = {});

@@ -25,6 +25,23 @@ TEST(ConfigTest, AnEmptyFileGivesThePapersSettings) {
   EXPECT_EQ(config.planning.random.samples, 5000);
   EXPECT_EQ(config.classifier.rounds, 400);
   EXPECT_EQ(config.training.pretrain_episodes, 1000);
+  // The original's code as it ran (facts B2, B4): labels beside stored transitions, safe states
+  // in storage order, both goal bonuses below 0.2.
+  EXPECT_FALSE(config.training.label_every_step);
+  EXPECT_EQ(config.classifier.safe_selection, "storage_order");
+  EXPECT_TRUE(config.objective.at_goal_test_after_near_bonus);
+}
+
+TEST(ConfigTest, EveryYamlFileUnderConfigsLoads) {
+  int files = 0;
+  for (const auto& entry :
+       std::filesystem::recursive_directory_iterator(CMBRL_SOURCE_DIR "/configs")) {
+    if (entry.path().extension() != ".yaml") continue;
+    SCOPED_TRACE(entry.path().string());
+    EXPECT_NO_THROW(LoadTrainConfig(entry.path().string()));
+    ++files;
+  }
+  EXPECT_GT(files, 14);
 }
 
 TEST(ConfigTest, KeysReachTheirComponents) {
@@ -79,6 +96,11 @@ TEST(ConfigTest, BadConfigurationsNameTheKeyAndTheValue) {
   EXPECT_EQ(ErrorMessage([] { ParseTrainConfig("ensemble: {precision: tf32}", "c.yaml"); }),
             "config 'c.yaml': ensemble.precision is tf32 but device is 'cpu': TF32 is a CUDA "
             "tensor-core format; use fp32 or bf16 on the CPU");
+  EXPECT_EQ(ErrorMessage([] { ParseTrainConfig("classifier: {safe_selection: oldest}", "c.yaml"); }),
+            "config 'c.yaml': classifier.safe_selection is 'oldest': expected 'storage_order' or "
+            "'newest'");
+  EXPECT_EQ(ErrorMessage([] { ParseTrainConfig("training: {label_every_step: 2}", "c.yaml"); }),
+            "config 'c.yaml': key 'training.label_every_step' is '2': expected true or false");
   EXPECT_THAT(ErrorMessage([] { ParseTrainConfig("colour: blue", "c.yaml"); }),
               ::testing::HasSubstr("unknown key 'colour'"));
   EXPECT_EQ(ErrorMessage([] { ParseTrainConfig("planning: {population: many}", "c.yaml"); }),

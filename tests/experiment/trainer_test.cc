@@ -7,6 +7,8 @@
 #include <fstream>
 #include <sstream>
 
+#include "cmbrl/models/labeled_state_buffer.h"
+#include "cmbrl/models/transition_buffer.h"
 #include "tests/error_message.h"
 
 namespace cmbrl {
@@ -79,6 +81,30 @@ TEST(TrainerTest, AShortRunWritesEveryFile) {
   // The resolved config reads back as the same config.
   EXPECT_EQ(TrainConfigToYaml(LoadTrainConfig((fs::path(dir) / "config.yaml").string())),
             TrainConfigToYaml(TinyConfig("rce")));
+}
+
+// Labels beside stored transitions only, as the original (facts B4), or on every agent step.
+TEST(TrainerTest, ClassifierLabelsFollowTheStoredTransitionsUnlessEveryStepIsAsked) {
+  for (const bool every_step : {false, true}) {
+    TrainConfig config = TinyConfig("cem");
+    config.training.label_every_step = every_step;
+    config.training.total_steps = 150;
+    const std::string dir = TempRunDir(every_step ? "labels_every" : "labels_stored");
+    Trainer::Start(config, dir)->Run();
+    const fs::path checkpoint = fs::path(dir) / "checkpoint";
+    TransitionBuffer transitions(24, 2);
+    transitions.Load((checkpoint / "transitions.bin").string());
+    LabeledStateBuffer labels(24);
+    labels.Load((checkpoint / "labeled_states.bin").string());
+    const int labelled = labels.safe_size() + labels.unsafe_size();
+    // Every episode ends with a step that is not stored (the end), so every-step labelling keeps
+    // at least one label per episode more.
+    if (every_step) {
+      EXPECT_GT(labelled, transitions.size());
+    } else {
+      EXPECT_EQ(labelled, transitions.size());
+    }
+  }
 }
 
 TEST(TrainerTest, SameSeedGivesTheSameRows) {

@@ -81,6 +81,13 @@ TEST(LabeledStateBufferTest, SaveAndLoadKeepTheNewestOrder) {
   std::remove(path.c_str());
 }
 
+TEST(LabeledStateBufferTest, BeforeTheRingWrapsTheLastSlotsAreTheNewest) {
+  LabeledStateBuffer buffer(1, /*safe_capacity=*/4, /*unsafe_capacity=*/2);
+  for (int i = 0; i < 3; ++i) buffer.Add({double(i)}, false);
+  EXPECT_EQ(buffer.LastSafeSlots(2), buffer.NewestSafe(2));
+  EXPECT_EQ(buffer.LastSafeSlots(2), std::vector<float>({1, 2}));
+}
+
 TEST(LabeledStateBufferTest, KeepsLabelsApartAndReturnsTheNewestSafeStates) {
   LabeledStateBuffer buffer(1, /*safe_capacity=*/4, /*unsafe_capacity=*/2);
   for (int i = 0; i < 6; ++i) buffer.Add({double(i)}, false);  // 2..5 remain
@@ -92,6 +99,9 @@ TEST(LabeledStateBufferTest, KeepsLabelsApartAndReturnsTheNewestSafeStates) {
   EXPECT_EQ(buffer.NewestSafe(2), std::vector<float>({4, 5}));
   EXPECT_EQ(buffer.NewestSafe(10), std::vector<float>({2, 3, 4, 5}));
   EXPECT_EQ(buffer.AllUnsafe(), std::vector<float>({101, 102}));
+  // The original's x0[-2:] after the wrap: slots 2 and 3 hold 2 and 3, not the newest.
+  EXPECT_EQ(buffer.LastSafeSlots(2), std::vector<float>({2, 3}));
+  EXPECT_EQ(buffer.LastSafeSlots(10), std::vector<float>({4, 5, 2, 3}));
   EXPECT_THAT(ErrorMessage([&] {
                 buffer.Add({1, 2}, false);
               }),

@@ -66,10 +66,17 @@ TEST(TrajectoryObjectiveTest, GoalBonusesApplyNearTheGoal) {
   HalfPlaneCost cost;
   TrajectoryObjective objective(dynamics, cost, Propagation::kPerMember, {});
   objective.SetState(StateWithGoal(0.3f));
-  // One step of (1, 0): member 0 lands on the goal (d 0: -5 - 8), member 1 overshoots to
-  // d 0.15 (-5 only).
+  // One step of (1, 0): member 0 lands on the goal (d 0), member 1 overshoots to d 0.15. As the
+  // original's code ran, the at-goal test sees 0.15 - 5 < 0.1: both get -13.
   const ObjectiveValues v = objective.Evaluate(Repeat(1, 0, 1));
-  EXPECT_NEAR(v.reward_cost.item<float>(), ((0.0 - 13.0) + (0.15 - 5.0)) / 2, kTol);
+  EXPECT_NEAR(v.reward_cost.item<float>(), ((0.0 - 13.0) + (0.15 - 13.0)) / 2, kTol);
+  // The written rule: -13 only below 0.1, -5 between 0.1 and 0.2.
+  TrajectoryObjectiveOptions written;
+  written.at_goal_test_after_near_bonus = false;
+  TrajectoryObjective as_written(dynamics, cost, Propagation::kPerMember, written);
+  as_written.SetState(StateWithGoal(0.3f));
+  EXPECT_NEAR(as_written.Evaluate(Repeat(1, 0, 1)).reward_cost.item<float>(),
+              ((0.0 - 13.0) + (0.15 - 5.0)) / 2, kTol);
 }
 
 TEST(TrajectoryObjectiveTest, ScoresManySamplesAtOnce) {
