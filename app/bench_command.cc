@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "app/bench_util.h"
+#include "app/arguments.h"
 #include "app/commands.h"
 #include "cmbrl/agent/policy.h"
 #include "cmbrl/core/check.h"
@@ -62,7 +63,7 @@ void RunEnvBench(EnvBenchArgs args) {
   if (!args.config_path.empty()) {
     const TrainConfig config = LoadTrainConfig(args.config_path);
     args.tasks = {config.task};
-    args.variants = {config.variant};
+    args.variants = {VariantName(config.variant)};
   }
   for (const std::string& variant_name : args.variants) {
     const Variant variant = ParseVariant(variant_name);
@@ -122,12 +123,12 @@ void AddBenchCommand(CLI::App& parent) {
   env->add_option("--tasks", env_args->tasks, "tasks to measure")->capture_default_str();
   env->add_option("--variants", env_args->variants, "paper and/or standard")->capture_default_str();
   env->add_option("--steps", env_args->steps, "agent steps per run")
-      ->check(CLI::PositiveNumber)
+      ->check(IntegerIn(1, 100'000'000))
       ->capture_default_str();
   env->add_option("--runs", env_args->runs, "runs; the median is reported")
-      ->check(CLI::PositiveNumber)
+      ->check(IntegerIn(1, 1000))
       ->capture_default_str();
-  env->add_option("--seed", env_args->seed, "seed")->capture_default_str();
+  env->add_option("--seed", env_args->seed, "seed")->check(SeedInteger())->capture_default_str();
   env->add_option("--config", env_args->config_path,
                   "training config (YAML): measure its task and variant only")
       ->check(CLI::ExistingFile);

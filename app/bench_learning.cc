@@ -12,14 +12,16 @@
 
 #include "app/bench_ceiling.h"
 #include "app/bench_util.h"
+#include "app/arguments.h"
 #include "app/commands.h"
 #include "cmbrl/agent/mpc_agent.h"
 #include "cmbrl/agent/policy.h"
 #include "cmbrl/core/check.h"
 #include "cmbrl/core/rng.h"
 #include "cmbrl/core/torch_util.h"
-#include "cmbrl/env/goal_env.h"
+#include "cmbrl/env/registry.h"
 #include "cmbrl/experiment/config.h"
+#include "cmbrl/experiment/mpc_parts.h"
 #include "cmbrl/models/ensemble.h"
 #include "cmbrl/models/xgboost_cost_model.h"
 
@@ -57,11 +59,11 @@ struct TaskShape {
 };
 
 TaskShape ShapeOf(const TrainConfig& config, std::uint64_t seed) {
-  GoalEnv env(GoalTaskSpecByName(config.task, ParseVariant(config.variant)));
+  const std::unique_ptr<Env> env = MakeEnv(config.task, config.variant);
   TaskShape shape;
-  shape.state_dim = env.observation_spec().size();
-  shape.action_dim = env.action_spec().size();
-  shape.start = env.Reset(seed);
+  shape.state_dim = env->observation_spec().size();
+  shape.action_dim = env->action_spec().size();
+  shape.start = env->Reset(seed);
   return shape;
 }
 
@@ -128,15 +130,15 @@ void AddRate(nlohmann::ordered_json& line, double flops, const TimedRuns& timed)
 // Random-policy transitions of the config's task: the data of the precision comparison's fit,
 // and its start states.
 TransitionBuffer RandomPolicyData(const TrainConfig& config, int steps, std::uint64_t seed) {
-  GoalEnv env(GoalTaskSpecByName(config.task, ParseVariant(config.variant)));
-  RandomPolicy policy(env.action_spec(), seed);
-  TransitionBuffer data(env.observation_spec().size(), env.action_spec().size(), steps);
-  std::vector<double> observation = env.Reset(seed);
+  const std::unique_ptr<Env> env = MakeEnv(config.task, config.variant);
+  RandomPolicy policy(env->action_spec(), seed);
+  TransitionBuffer data(env->observation_spec().size(), env->action_spec().size(), steps);
+  std::vector<double> observation = env->Reset(seed);
   for (int step = 0; step < steps; ++step) {
     const std::vector<double> action = policy.Act(observation);
-    StepResult result = env.Step(action);
+    StepResult result = env->Step(action);
     data.Add(observation, action, result.observation);
-    observation = result.terminated || result.truncated ? env.Reset() : result.observation;
+    observation = result.terminated || result.truncated ? env->Reset() : result.observation;
   }
   return data;
 }
@@ -242,8 +244,7 @@ void RunPlanBench(const LearningBenchArgs& args) {
       EnsemblesByPrecision(config, precisions, shape, data.get(), args.seed);
   const std::unique_ptr<XgbCostModel> classifier = FittedClassifier(
       config, shape.state_dim, 4000, DeriveSeed(args.seed, kClassifierSeedStream), nullptr);
-  PlannerSettings settings = config.planning;
-  settings.problem.action_dim = shape.action_dim;
+  const PlannerSettings settings = PlannerSettingsFor(config, shape.action_dim);
   const std::int64_t members = config.ensemble.ensemble_size;
   const std::int64_t horizon = settings.problem.horizon;
 
@@ -258,10 +259,10 @@ void RunPlanBench(const LearningBenchArgs& args) {
       const TimedRuns step = TimeRunsBesideCeiling(args.runs, probe, [&] {
         agent.Act(shape.start);  // ends with the action's copy to the host
       });
-      const bool random = planner == "random";
-      const std::int64_t population =
-          random ? settings.random.samples : settings.cross_entropy.population;
-      const int iterations = random ? 1 : settings.cross_entropy.max_iterations;
+      const PlannerEntry& entry = FindPlanner(planner);
+      const PlanWork work = entry.work(settings);
+      const std::int64_t population = work.samples;
+      const int iterations = work.iterations;
       const std::int64_t forwards = iterations * horizon;
       const double flops = ensemble.PredictFlops(population) * static_cast<double>(forwards);
 
@@ -276,7 +277,8 @@ void RunPlanBench(const LearningBenchArgs& args) {
         Synchronize(device);
       });
       const torch::Tensor scored =
-          planner == "rce" ? states : states.narrow(0, 0, 1).contiguous();
+          entry.propagation == Propagation::kPerMember ? states
+                                                       : states.narrow(0, 0, 1).contiguous();
       const double classifier_seconds = MedianSeconds(args.runs, [&] {
         for (std::int64_t i = 0; i < forwards; ++i) classifier->PredictViolation(scored);
         Synchronize(device);
@@ -381,9 +383,9 @@ void AddCommonOptions(CLI::App& command, LearningBenchArgs& args) {
       ->capture_default_str();
   command.add_option("--device", args.device, "cpu, cuda or cuda:N (default: the config's)");
   command.add_option("--runs", args.runs, "runs per figure; the median is reported")
-      ->check(CLI::PositiveNumber)
+      ->check(IntegerIn(1, 1000))
       ->capture_default_str();
-  command.add_option("--seed", args.seed, "seed")->capture_default_str();
+  command.add_option("--seed", args.seed, "seed")->check(SeedInteger())->capture_default_str();
 }
 
 }  // namespace
@@ -404,11 +406,11 @@ void AddBenchLearningCommands(CLI::App& bench) {
       ->check(CLI::IsMember({"fp32", "tf32", "bf16"}));
   plan->add_option("--fit-steps", plan_args->fit_steps,
                    "random-policy transitions of that fit")
-      ->check(CLI::PositiveNumber)
+      ->check(IntegerIn(1, 100'000'000))
       ->capture_default_str();
   plan->add_option("--agreement-states", plan_args->agreement_states,
                    "start states whose chosen actions are compared")
-      ->check(CLI::PositiveNumber)
+      ->check(IntegerIn(1, 100'000))
       ->capture_default_str();
   plan->callback([plan_args] { RunPlanBench(*plan_args); });
 
@@ -420,11 +422,11 @@ void AddBenchLearningCommands(CLI::App& bench) {
       "beside the matrix-product floor");
   AddCommonOptions(*train, *train_args);
   train->add_option("--transitions", train_args->transitions, "transitions of the epoch")
-      ->check(CLI::PositiveNumber)
+      ->check(IntegerIn(1, 100'000'000))
       ->capture_default_str();
   train->add_option("--classifier-states", train_args->classifier_states,
                     "states of the classifier fit")
-      ->check(CLI::Range(4, 1 << 30))
+      ->check(IntegerIn(4, 1 << 30))
       ->capture_default_str();
   train->add_flag("--full-fit", train_args->full_fit,
                   "also time one whole fit, up to the config's max_epochs");

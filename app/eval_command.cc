@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "app/arguments.h"
 #include "app/commands.h"
 #include "cmbrl/experiment/evaluation.h"
 #include "cmbrl/viz/scene_picture.h"
@@ -60,14 +61,16 @@ void AddEvalCommand(CLI::App& parent) {
       "eval", "Evaluate a trained run's agent; print one JSON line per episode; draw them");
   command->add_option("--run", args->run, "run directory (from cmbrl train)")->required();
   command->add_option("--episodes", args->options.episodes, "episodes")
-      ->check(CLI::PositiveNumber)
+      ->check(IntegerIn(1, 1'000'000))
       ->capture_default_str();
   command->add_option("--seed", args->options.seed, "seed of the environment and the planner")
+      ->check(SeedInteger())
       ->capture_default_str();
   command->add_option("--render", args->render, "folder for one PNG per episode");
   command
       ->add_option("--predictions-every", args->options.predictions_every,
                    "draw the planner's predicted trajectories every this many steps (0: none)")
+      ->check(IntegerIn(0, 1'000'000))
       ->capture_default_str();
   command->callback([args] { RunEval(*args); });
 }

@@ -1,7 +1,13 @@
 // cmbrl: constrained model-based reinforcement learning (Robust Cross-Entropy MPC).
 #include <CLI/CLI.hpp>
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include <algorithm>
 #include <exception>
 #include <iostream>
+#include <string>
+#include <vector>
 
 #include "app/commands.h"
 #include "cmbrl/core/process_setup.h"
@@ -18,6 +24,16 @@ int main(int argc, char** argv) {
   cmbrl::app::AddBenchCommand(app);
   cmbrl::app::AddSweepCommand(app);
   cmbrl::app::AddReportCommand(app);
+  // CLI11 answers a mistyped command with "A subcommand is required"; name it instead.
+  if (argc > 1 && argv[1][0] != '-') {
+    std::vector<std::string> names;
+    for (const CLI::App* command : app.get_subcommands({})) names.push_back(command->get_name());
+    if (std::find(names.begin(), names.end(), argv[1]) == names.end()) {
+      std::cerr << "cmbrl: error: unknown command '" << argv[1] << "': expected one of "
+                << fmt::format("{}", fmt::join(names, ", ")) << " (cmbrl --help)\n";
+      return 1;
+    }
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& error) {

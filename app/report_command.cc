@@ -8,10 +8,12 @@
 #include <string>
 #include <vector>
 
+#include "app/arguments.h"
 #include "app/commands.h"
 #include "cmbrl/core/check.h"
 #include "cmbrl/experiment/reference.h"
 #include "cmbrl/experiment/report.h"
+#include "cmbrl/planning/planner_registry.h"
 #include "cmbrl/viz/plot.h"
 
 namespace cmbrl::app {
@@ -155,17 +157,18 @@ void AddReportCommand(CLI::App& parent) {
   command->add_option("--out", args->out, "report directory")->required();
   command->add_option("--window", args->window,
                       "K: agent steps counted in Table I (default: the smallest run budget, at "
-                      "most 10000)");
+                      "most 10000)")
+      ->check(IntegerIn(1, kMaxSteps));
   command->add_option("--reference", args->reference,
                       "folder of the original's logs (default: data/reference of the source tree)")
       ->check(CLI::ExistingDirectory);
   command->add_option("--grid-step", args->grid_step,
                       "agent steps between curve points (default: the longest run / 50)")
-      ->check(CLI::PositiveNumber);
+      ->check(IntegerIn(1, kMaxSteps));
   command->add_option("--smoothing", args->smoothing,
                       "agent steps of episodes averaged into each curve point (default: a tenth "
                       "of the longest run)")
-      ->check(CLI::PositiveNumber);
+      ->check(IntegerIn(1, kMaxSteps));
   command->callback([args] { RunReport(*args); });
 }
 

@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "app/arguments.h"
 #include "app/commands.h"
 #include "cmbrl/agent/policy.h"
 #include "cmbrl/core/check.h"
@@ -95,9 +96,10 @@ void AddRolloutCommand(CLI::App& parent) {
       ->capture_default_str();
   command->add_option("--policy", args->policy, "random or zero")->capture_default_str();
   command->add_option("--episodes", args->episodes, "number of episodes")
-      ->check(CLI::PositiveNumber)
+      ->check(IntegerIn(1, 1'000'000))
       ->capture_default_str();
   command->add_option("--seed", args->seed, "seed of the environment and the policy")
+      ->check(SeedInteger())
       ->capture_default_str();
   command->add_option("--render", args->render,
                       "write a top-down PNG of each episode here (FILE, or FILE-epK.png when "

@@ -21,6 +21,7 @@ extern char** environ;
 #include <string>
 #include <vector>
 
+#include "app/arguments.h"
 #include "app/commands.h"
 #include "cmbrl/core/check.h"
 #include "cmbrl/core/parallel.h"
@@ -186,16 +187,19 @@ void AddSweepCommand(CLI::App& parent) {
       "resuming interrupted ones; also writes SWEEP_DIR/slurm.sh for a cluster");
   command->add_option("--tasks", args->grid.tasks, "tasks")->capture_default_str();
   command->add_option("--planners", args->grid.planners, "planners")->capture_default_str();
-  command->add_option("--seeds", args->grid.seeds, "seeds")->capture_default_str();
+  command->add_option("--seeds", args->grid.seeds, "seeds")
+      ->check(SeedInteger())
+      ->capture_default_str();
   command->add_option("--config-dir", args->grid.config_dir,
                       "folder of <task>-<planner>.yaml configs (task in lower case)")
       ->check(CLI::ExistingDirectory)
       ->capture_default_str();
   command->add_option("--steps", args->grid.steps,
-                      "agent steps of every run (default: each config's training.total_steps)");
+                      "agent steps of every run (default: each config's training.total_steps)")
+      ->check(IntegerIn(1, kMaxSteps));
   command->add_option("--out", args->out, "sweep directory")->required();
   command->add_option("--jobs", args->jobs, "runs at a time")
-      ->check(CLI::PositiveNumber)
+      ->check(IntegerIn(1, 1024))
       ->capture_default_str();
   command->callback([args] { RunSweep(*args); });
 }

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 #include <unistd.h>
 
+#include <chrono>
 #include <cstdint>
 #include <cstdio>
 #include <iostream>
@@ -10,6 +11,7 @@
 #include <optional>
 #include <string>
 
+#include "app/arguments.h"
 #include "app/commands.h"
 #include "cmbrl/core/check.h"
 #include "cmbrl/experiment/trainer.h"
@@ -55,29 +57,30 @@ void RunTrain(const TrainArgs& args) {
 
   // A live line on the terminal; nothing when stderr is a file or a pipe.
   const bool live = isatty(STDERR_FILENO) != 0;
-  const std::int64_t budget = trainer->config().training.total_steps;
-  const std::int64_t start_steps = trainer->total_env_interacts();
-  double start_time = -1.0, total_cost = 0.0;
-  int episodes = 0;
-  trainer->Run([&](const ProgressRow& row) {
-    ++episodes;
-    total_cost += row.episode_cost;
+  const std::int64_t budget = trainer->learner().budget();
+  const std::int64_t start_steps = trainer->steps_done();
+  const auto session_start = std::chrono::steady_clock::now();
+  double total_cost = 0.0;
+  int units = 0;
+  trainer->Run([&](const ProgressSummary& unit) {
+    ++units;
+    total_cost += unit.episode_cost;
     if (!live) return;
-    if (start_time < 0) start_time = row.time_seconds - row.steps * row.ms_per_plan / 1e3;
-    const double elapsed = row.time_seconds - start_time;
-    const double rate = elapsed > 0 ? (row.total_env_interacts - start_steps) / elapsed : 0.0;
-    const double left = rate > 0 ? (budget - row.total_env_interacts) / rate : 0.0;
+    const double elapsed =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - session_start).count();
+    const double rate = elapsed > 0 ? (unit.steps - start_steps) / elapsed : 0.0;
+    const double left = rate > 0 ? (budget - unit.steps) / rate : 0.0;
     std::cerr << fmt::format(
                      "\r[epoch {}] steps {}/{} | EpRet {:.2f} | EpCost {:.0f} | {:.1f} steps/s | "
                      "{} left   ",
-                     row.epoch, row.total_env_interacts, budget, row.episode_return,
-                     row.episode_cost, rate, Duration(std::max(0.0, left)))
+                     unit.epoch, unit.steps, budget, unit.episode_return, unit.episode_cost, rate,
+                     Duration(std::max(0.0, left)))
               << std::flush;
   });
   if (live) std::cerr << "\n";
   const nlohmann::ordered_json summary = {{"run", run_dir},
-                                          {"episodes_this_session", episodes},
-                                          {"total_env_interacts", trainer->total_env_interacts()},
+                                          {"episodes_this_session", units},
+                                          {"total_env_interacts", trainer->steps_done()},
                                           {"cost_this_session", total_cost}};
   std::cout << summary.dump() << std::endl;
 }
@@ -94,8 +97,8 @@ void AddTrainCommand(CLI::App& parent) {
   command->add_option("--resume", args->resume, "run directory to continue")
       ->check(CLI::ExistingDirectory);
   command->add_option("--steps", args->steps, "budget of agent steps (training.total_steps)")
-      ->check(CLI::PositiveNumber);
-  command->add_option("--seed", args->seed, "run seed");
+      ->check(IntegerIn(1, kMaxSteps));
+  command->add_option("--seed", args->seed, "run seed")->check(SeedInteger());
   command->add_option("--device", args->device, "cpu, cuda or cuda:N");
   command->callback([args] { RunTrain(*args); });
 }

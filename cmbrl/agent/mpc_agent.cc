@@ -14,9 +14,7 @@ MpcAgent::MpcAgent(const DynamicsModel& dynamics, const CostModel& cost, const s
     : dynamics_(dynamics),
       device_(ParseDevice(settings.problem.device, "planner device")),
       planner_(MakePlanner(planner, settings, seed)),
-      objective_(dynamics, cost,
-                 planner == "rce" ? Propagation::kPerMember : Propagation::kEnsembleMean,
-                 objective) {
+      objective_(dynamics, cost, FindPlanner(planner).propagation, objective) {
   Require(settings.problem.action_dim == dynamics.action_dim(),
           "planner action_dim is {}, the dynamics model takes {}", settings.problem.action_dim,
           dynamics.action_dim());

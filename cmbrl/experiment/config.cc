@@ -1,10 +1,13 @@
 #include "cmbrl/experiment/config.h"
 
 #include <fmt/ranges.h>
+#include <unistd.h>
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
+#include <cmath>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <set>
 #include <sstream>
@@ -19,6 +22,8 @@
 
 namespace cmbrl {
 namespace {
+
+constexpr double kGiB = 1024.0 * 1024.0 * 1024.0;
 
 template <typename T>
 const char* TypeName() {
@@ -50,6 +55,15 @@ class Section {
     try {
       field = value.as<T>();
     } catch (const YAML::Exception&) {
+      if constexpr (std::is_integral_v<T> && !std::is_same_v<T, bool>) {
+        // A number that is not an integer of this range (1e12, 2.5, -1 for an unsigned key).
+        double number = 0.0;
+        if (YAML::convert<double>::decode(value, number)) {
+          Fail("config '{}': key '{}' is '{}': expected an integer from {} to {}", source_,
+               Name(key), Dump(value), std::numeric_limits<T>::min(),
+               std::numeric_limits<T>::max());
+        }
+      }
       Fail("config '{}': key '{}' is '{}': expected {}", source_, Name(key), Dump(value),
            TypeName<T>());
     }
@@ -144,7 +158,7 @@ void VisitConfig(Config& c, Visitor& v) {
   v.Field("planning", "epsilon", ce.epsilon);
   v.Field("planning", "alpha", ce.alpha);
   v.Field("planning", "initial_variance", ce.initial_variance);
-  v.Field("planning", "penalty", ce.penalty);
+  v.Field("planning", "penalty", c.planning.penalty);
   v.Field("planning", "warm_start", ce.warm_start);
   v.Field("planning", "random_samples", c.planning.random.samples);
   auto& o = c.objective;
@@ -162,11 +176,22 @@ void VisitConfig(Config& c, Visitor& v) {
 class ConfigReader {
  public:
   ConfigReader(const YAML::Node& document, const std::string& source)
-      : root_(document, "", source) {}
+      : root_(document, "", source), source_(source) {}
 
   template <typename T>
   void Field(const std::string& section, const char* key, T& value) {
     SectionFor(section).Read(key, value);
+  }
+
+  // The variant is parsed here, once, and a bad one is named under its own key.
+  void Field(const std::string& section, const char* key, Variant& value) {
+    std::string name = VariantName(value);
+    SectionFor(section).Read(key, name);
+    try {
+      value = ParseVariant(name);
+    } catch (const Error& error) {
+      Fail("config '{}': key '{}': {}", source_, key, error.what());
+    }
   }
 
   void RejectUnknownKeys() const {
@@ -183,6 +208,7 @@ class ConfigReader {
   }
 
   Section root_;
+  const std::string& source_;
   std::map<std::string, Section> sections_;
 };
 
@@ -200,7 +226,11 @@ class ConfigWriter {
     }
     out_ << YAML::Key << key << YAML::Value;
     if constexpr (std::is_same_v<T, std::vector<int>>) out_ << YAML::Flow;
-    out_ << value;
+    if constexpr (std::is_same_v<T, Variant>) {
+      out_ << VariantName(value);
+    } else {
+      out_ << value;
+    }
   }
 
   std::string Finish() {
@@ -255,7 +285,6 @@ TrainConfig ParseTrainConfig(const std::string& yaml, const std::string& source)
   VisitConfig(config, reader);
   reader.RejectUnknownKeys();
   SetTrainDevice(config, config.device);  // one device for everything
-  config.planning.random.penalty = config.planning.cross_entropy.penalty;  // one penalty
   ValidateTrainConfig(config, source);
   return config;
 }
@@ -269,41 +298,113 @@ TrainConfig LoadTrainConfig(const std::string& path) {
 }
 
 void ValidateTrainConfig(const TrainConfig& c, const std::string& source) {
-  AtKey(source, "task", [&] { GoalTaskSpecByName(c.task, ParseVariant(c.variant)); });
-  const std::vector<std::string>& planners = PlannerNames();
-  Require(std::find(planners.begin(), planners.end(), c.planner) != planners.end(),
+  AtKey(source, "task", [&] { GoalTaskSpecByName(c.task, c.variant); });
+  Require(FindPlannerOrNull(c.planner) != nullptr,
           "config '{}': key 'planner' is '{}': expected one of {}", source, c.planner,
-          fmt::join(planners, ", "));
+          fmt::join(PlannerNames(), ", "));
   AtKey(source, "device", [&] { ParseDevice(c.device); });
   const TrainingLoopOptions& t = c.training;
   InSection(source, "training", [&] {
-    Require(t.pretrain_episodes >= 0, "pretrain_episodes is {}: expected 0 or more",
-            t.pretrain_episodes);
-    Require(t.pretrain_steps >= 1, "pretrain_steps is {}: expected at least 1", t.pretrain_steps);
-    Require(t.episodes_per_epoch >= 1, "episodes_per_epoch is {}: expected at least 1",
-            t.episodes_per_epoch);
-    Require(t.total_steps >= 1, "total_steps is {}: expected at least 1", t.total_steps);
-    Require(t.transition_capacity >= 2, "transition_capacity is {}: expected at least 2",
-            t.transition_capacity);
-    Require(t.safe_capacity >= 1 && t.unsafe_capacity >= 1,
-            "safe_capacity and unsafe_capacity are {} and {}: expected at least 1", t.safe_capacity,
-            t.unsafe_capacity);
+    Require(t.pretrain_episodes >= 0 && t.pretrain_episodes <= 10'000'000,
+            "pretrain_episodes is {}: expected 0 to 10000000", t.pretrain_episodes);
+    Require(t.pretrain_steps >= 1 && t.pretrain_steps <= 1'000'000,
+            "pretrain_steps is {}: expected 1 to 1000000", t.pretrain_steps);
+    Require(t.episodes_per_epoch >= 1 && t.episodes_per_epoch <= 1'000'000,
+            "episodes_per_epoch is {}: expected 1 to 1000000", t.episodes_per_epoch);
+    Require(t.total_steps >= 1 && t.total_steps <= kMaxTotalSteps,
+            "total_steps is {}: expected 1 to {}", t.total_steps, kMaxTotalSteps);
+    Require(t.transition_capacity >= 2 && t.transition_capacity <= 100'000'000,
+            "transition_capacity is {}: expected 2 to 100000000", t.transition_capacity);
+    Require(t.safe_capacity >= 1 && t.unsafe_capacity >= 1 && t.safe_capacity <= 100'000'000 &&
+                t.unsafe_capacity <= 100'000'000,
+            "safe_capacity and unsafe_capacity are {} and {}: expected 1 to 100000000 each",
+            t.safe_capacity, t.unsafe_capacity);
   });
   InSection(source, "ensemble", [&] { ValidateEnsembleOptions(c.ensemble); });
   InSection(source, "classifier", [&] { ValidateXgbCostModelOptions(c.classifier); });
   InSection(source, "planning", [&] {
+    Require(c.planning.penalty >= 0 && std::isfinite(c.planning.penalty),
+            "penalty is {}: expected a non-negative number", c.planning.penalty);
     ValidateCrossEntropyOptions(c.planning.cross_entropy);
     ValidateRandomShootingOptions(c.planning.random);
     ValidatePlanningProblem(c.planning.problem);
   });
   // The planning objective reads the goal from the paper's ego-state vector.
-  const GoalTaskSpec spec = GoalTaskSpecByName(c.task, ParseVariant(c.variant));
+  const GoalTaskSpec spec = GoalTaskSpecByName(c.task, c.variant);
   Require(spec.observation == ObservationKind::kEgoState,
           "config '{}': key 'variant' is '{}': training plans on the paper variant's ego-state "
           "vector (the standard variant observes lidar)",
-          source, c.variant);
+          source, VariantName(c.variant));
   InSection(source, "objective",
             [&] { ValidateTrajectoryObjectiveOptions(c.objective, ObservationSize(spec)); });
+  // What the run will hold in memory, before it takes any: sizes each within its bound can
+  // still add up to more than the machine has.
+  const RunMemory memory = EstimateRunMemory(c, ObservationSize(spec), 2);
+  const double available = static_cast<double>(PhysicalMemoryBytes());
+  Require(available <= 0 || memory.total() <= 0.8 * available,
+          "config '{}': the run would need about {:.1f} GiB ({}), more than 80% of this "
+          "machine's {:.1f} GiB: lower the sizes named",
+          source, memory.total() / kGiB, memory.Describe(), available / kGiB);
+}
+
+double RunMemory::total() const {
+  return transitions + labeled_states + ensemble + planning + classifier_fit;
+}
+
+std::string RunMemory::Describe() const {
+  const auto part = [](const char* name, double bytes) {
+    return fmt::format("{} {:.2f} GiB", name, bytes / kGiB);
+  };
+  return fmt::format("{}, {}, {}, {}, {}",
+                     part("training.transition_capacity", transitions),
+                     part("training.safe_capacity and unsafe_capacity", labeled_states),
+                     part("ensemble", ensemble),
+                     part("planning (population x members x horizon)", planning),
+                     part("classifier fit", classifier_fit));
+}
+
+RunMemory EstimateRunMemory(const TrainConfig& c, int state_dim, int action_dim) {
+  constexpr double kFloat = 4.0;
+  const double s = state_dim, a = action_dim;
+  const TrainingLoopOptions& t = c.training;
+  RunMemory m;
+  m.transitions = static_cast<double>(t.transition_capacity) * (2 * s + a) * kFloat;
+  m.labeled_states =
+      (static_cast<double>(t.safe_capacity) + t.unsafe_capacity) * s * kFloat;
+  // Weights, gradients and Adam's two moments of every member, and one batch's activations.
+  double parameters = 0.0, widest = s;
+  double in = s + a;
+  for (const int width : c.ensemble.hidden_sizes) {
+    parameters += (in + 1) * width;
+    in = width;
+    widest = std::max(widest, static_cast<double>(width));
+  }
+  parameters += (in + 1) * s;
+  const double members = c.ensemble.ensemble_size;
+  m.ensemble = members * (4 * parameters * kFloat +
+                          static_cast<double>(c.ensemble.batch_size) * widest * kFloat *
+                              (c.ensemble.hidden_sizes.size() + 1));
+  // The planner keeps every step's predicted states of the population (E, N, H, S) and the
+  // widest layer's activations; random shooting scores its samples the same way.
+  const double samples = std::max<double>(c.planning.cross_entropy.population,
+                                          c.planning.random.samples);
+  const double horizon = c.planning.problem.horizon;
+  m.planning = members * samples * (horizon * (s + a) + 2 * widest) * kFloat;
+  // The classifier's training matrix: every unsafe state and up to safe_per_unsafe times as
+  // many safe ones, in XGBoost's copy too.
+  m.classifier_fit = 2.0 * std::min<double>(t.safe_capacity + t.unsafe_capacity,
+                                            (c.classifier.safe_per_unsafe + 1.0) *
+                                                t.unsafe_capacity) *
+                     s * kFloat;
+  return m;
+}
+
+std::uint64_t PhysicalMemoryBytes() {
+  const long pages = sysconf(_SC_PHYS_PAGES);
+  const long page_size = sysconf(_SC_PAGE_SIZE);
+  return pages > 0 && page_size > 0
+             ? static_cast<std::uint64_t>(pages) * static_cast<std::uint64_t>(page_size)
+             : 0;
 }
 
 std::string TrainConfigToYaml(const TrainConfig& c) {

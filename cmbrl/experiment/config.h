@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <string>
 
+#include "cmbrl/env/variant.h"
 #include "cmbrl/models/ensemble.h"
 #include "cmbrl/models/xgboost_cost_model.h"
 #include "cmbrl/planning/planner_registry.h"
@@ -39,7 +40,7 @@ struct TrainingLoopOptions {
 
 struct TrainConfig {
   std::string task = "PointGoal1";
-  std::string variant = "paper";
+  Variant variant = Variant::kPaper;  // parsed once, where the file is read
   std::string planner = "rce";  // rce, cem or random
   std::uint64_t seed = 0;
   std::string device = "cpu";  // models and planner
@@ -50,6 +51,25 @@ struct TrainConfig {
   TrajectoryObjectiveOptions objective;
 };
 
+// The largest budget of agent steps a run may have.
+inline constexpr std::int64_t kMaxTotalSteps = 10'000'000'000;
+
+// Bytes a run will hold in memory, part by part (an estimate from the configuration).
+struct RunMemory {
+  double transitions = 0.0;
+  double labeled_states = 0.0;
+  double ensemble = 0.0;
+  double planning = 0.0;
+  double classifier_fit = 0.0;
+  double total() const;
+  std::string Describe() const;  // each part with its config keys and GiB
+};
+
+RunMemory EstimateRunMemory(const TrainConfig& config, int state_dim, int action_dim);
+
+// This machine's physical memory in bytes (0 when unknown).
+std::uint64_t PhysicalMemoryBytes();
+
 // Reads a YAML file. Throws cmbrl::Error naming the file, the key (as section.key) and the value
 // for a missing file, invalid YAML, an unknown key, a value of the wrong type or a bad setting.
 TrainConfig LoadTrainConfig(const std::string& path);
@@ -58,7 +78,8 @@ TrainConfig LoadTrainConfig(const std::string& path);
 TrainConfig ParseTrainConfig(const std::string& yaml, const std::string& source);
 
 // Checks every setting (task, variant, planner, device and each component's options, for example
-// more elites than samples or a horizon of 0); throws cmbrl::Error naming the key.
+// more elites than samples or a horizon of 0, each within a bound), and that what the run will
+// allocate fits this machine; throws cmbrl::Error naming the key.
 void ValidateTrainConfig(const TrainConfig& config, const std::string& source);
 
 // Sets the one device of the models and the planner ("cpu", "cuda", "cuda:N").

@@ -8,10 +8,10 @@
 #include "cmbrl/agent/mpc_agent.h"
 #include "cmbrl/core/check.h"
 #include "cmbrl/core/rng.h"
-#include "cmbrl/env/goal_env.h"
 #include "cmbrl/experiment/config.h"
-#include "cmbrl/models/ensemble.h"
-#include "cmbrl/models/xgboost_cost_model.h"
+#include "cmbrl/experiment/mpc_learner.h"
+#include "cmbrl/experiment/mpc_parts.h"
+#include "cmbrl/run/run_directory.h"
 
 namespace cmbrl {
 namespace fs = std::filesystem;
@@ -55,22 +55,19 @@ std::vector<PredictedPath> WorldPaths(MpcAgent& agent, const BoxSpec& spec, Vec2
 
 std::vector<EvaluatedEpisode> EvaluateRun(const std::string& run_dir,
                                           const EvaluationOptions& options) {
-  const fs::path dir(run_dir);
-  const fs::path checkpoint = dir / "checkpoint";
-  Require(fs::exists(dir / "config.yaml") && fs::exists(checkpoint / "ensemble.pt"),
-          "'{}' holds no trained run (config.yaml and checkpoint/ensemble.pt expected)", run_dir);
+  const RunDirectory run(run_dir);
   Require(options.episodes >= 1, "episodes is {}: expected at least 1", options.episodes);
-  const TrainConfig config = LoadTrainConfig((dir / "config.yaml").string());
-  GoalEnv env(GoalTaskSpecByName(config.task, ParseVariant(config.variant)));
-  const int state_dim = env.observation_spec().size(), action_dim = env.action_spec().size();
-  EnsembleDynamics ensemble(state_dim, action_dim, config.ensemble, options.seed);
-  ensemble.Load((checkpoint / "ensemble.pt").string());
-  XgbCostModel classifier(state_dim, config.classifier, options.seed);
-  classifier.Load((checkpoint / "classifier.json").string());
-  PlannerSettings planning = config.planning;
-  planning.problem.action_dim = action_dim;
-  MpcAgent agent(ensemble, classifier, config.planner, planning, config.objective,
-                 DeriveSeed(options.seed, kPlannerSeedStream));
+  Require(run.HoldsRun(), "'{}' holds no run (no {})", run_dir,
+          run.config_file().filename().string());
+  // Refuses a checkpoint whose files were changed.
+  Require(VerifiedCheckpoint(run).has_value(), "'{}' holds no trained run yet (no checkpoint)",
+          run_dir);
+  const TrainConfig config = LoadTrainConfig(run.config_file().string());
+  MpcPartSeeds seeds{options.seed, options.seed, DeriveSeed(options.seed, kPlannerSeedStream)};
+  MpcParts parts = AssembleMpc(config, seeds);
+  LoadMpcModels(run.checkpoint_dir(), parts);
+  Env& env = *parts.env;
+  MpcAgent& agent = *parts.agent;
 
   std::vector<EvaluatedEpisode> episodes;
   for (int k = 0; k < options.episodes; ++k) {

@@ -13,30 +13,15 @@
 
 #include "cmbrl/core/check.h"
 #include "cmbrl/env/registry.h"
+#include "cmbrl/experiment/mpc_learner.h"
 #include "cmbrl/experiment/reference.h"
+#include "cmbrl/run/progress_table.h"
+#include "cmbrl/run/run_directory.h"
 #include "cmbrl/planning/planner_registry.h"
 
 namespace cmbrl {
 namespace fs = std::filesystem;
 namespace {
-
-std::vector<std::string> SplitCsv(const std::string& line) {
-  std::vector<std::string> fields;
-  std::stringstream in(line);
-  std::string field;
-  while (std::getline(in, field, ',')) fields.push_back(field);
-  return fields;
-}
-
-double Number(const std::string& text, const fs::path& file, int line, const std::string& column) {
-  try {
-    size_t used = 0;
-    const double value = std::stod(text, &used);
-    if (used == text.size()) return value;
-  } catch (const std::exception&) {
-  }
-  Fail("{} line {}: {} is '{}': expected a number", file.string(), line, column, text);
-}
 
 double Mean(const std::vector<double>& values) {
   double sum = 0.0;
@@ -72,50 +57,31 @@ std::vector<std::string> InOrder(const std::vector<RunRecord>& runs, Get get,
 
 }  // namespace
 
-std::string PlannerLabel(const std::string& planner) {
-  if (planner == "rce") return "MPC-RCE";
-  if (planner == "cem") return "MPC-CEM";
-  return "MPC-random";
-}
-
 std::vector<EpisodePoint> ReadProgressEpisodes(const std::string& file) {
   return ReadEpisodeColumns(file, /*has_steps=*/true);
 }
 
 std::vector<EpisodePoint> ReadEpisodeColumns(const std::string& file, bool has_steps) {
-  const fs::path path(file);
-  std::ifstream in(path);
-  Require(static_cast<bool>(in), "cannot read '{}'", path.string());
-  std::string line;
-  std::getline(in, line);
-  const std::vector<std::string> header = SplitCsv(line);
-  const auto column = [&](const std::string& name) {
-    const auto it = std::find(header.begin(), header.end(), name);
-    Require(it != header.end(), "'{}' has no column {}: expected a progress log with {}",
-            path.string(), name, has_steps ? "EpRet, EpCost, TotalEnvInteracts and Steps"
-                                           : "EpRet, EpCost and TotalEnvInteracts");
-    return static_cast<size_t>(it - header.begin());
-  };
-  const size_t ret = column("EpRet"), cost = column("EpCost"), total = column("TotalEnvInteracts");
-  const size_t steps = has_steps ? column("Steps") : 0;
+  const ProgressTable table = ProgressTable::Read(file);
+  const std::string expected = fmt::format(
+      "a progress log with {}, {}, {}{}", kEpRetColumn, kEpCostColumn, kTotalEnvInteractsColumn,
+      has_steps ? fmt::format(" and {}", kStepsColumn) : "");
+  const size_t ret = table.Column(kEpRetColumn, expected);
+  const size_t cost = table.Column(kEpCostColumn, expected);
+  const size_t total = table.Column(kTotalEnvInteractsColumn, expected);
+  const size_t steps = has_steps ? table.Column(kStepsColumn, expected) : 0;
   std::vector<EpisodePoint> episodes;
-  int number = 1;
-  while (std::getline(in, line)) {
-    ++number;
-    if (line.empty()) continue;
-    const std::vector<std::string> f = SplitCsv(line);
-    Require(f.size() == header.size(), "{} line {}: {} fields, the header has {}", path.string(),
-            number, f.size(), header.size());
+  for (size_t row = 0; row < table.rows(); ++row) {
     EpisodePoint point;
-    point.episode_return = Number(f[ret], path, number, "EpRet");
-    point.episode_cost = Number(f[cost], path, number, "EpCost");
-    point.end_step = static_cast<std::int64_t>(Number(f[total], path, number, "TotalEnvInteracts"));
+    point.episode_return = table.Number(row, ret);
+    point.episode_cost = table.Number(row, cost);
+    point.end_step = static_cast<std::int64_t>(table.Number(row, total));
     const std::int64_t previous = episodes.empty() ? 0 : episodes.back().end_step;
-    point.steps = has_steps ? static_cast<int>(Number(f[steps], path, number, "Steps"))
+    point.steps = has_steps ? static_cast<int>(table.Number(row, steps))
                             : static_cast<int>(point.end_step - previous);
     Require(point.end_step >= previous && point.steps >= 0,
-            "{} line {}: TotalEnvInteracts {} after {}: expected a count that never falls",
-            path.string(), number, point.end_step, previous);
+            "{} line {}: TotalEnvInteracts {} after {}: expected a count that never falls", file,
+            table.line(row), point.end_step, previous);
     episodes.push_back(point);
   }
   return episodes;
@@ -127,17 +93,19 @@ std::vector<RunRecord> ReadSweep(const std::string& sweep_dir) {
           sweep_dir);
   std::vector<fs::path> dirs;
   for (const fs::directory_entry& entry : fs::directory_iterator(runs_dir)) {
-    if (entry.is_directory() && fs::exists(entry.path() / "config.yaml")) {
-      dirs.push_back(entry.path());
-    }
+    if (entry.is_directory() && RunDirectory(entry.path()).HoldsRun()) dirs.push_back(entry.path());
   }
   std::sort(dirs.begin(), dirs.end());
   std::vector<RunRecord> runs;
   for (const fs::path& dir : dirs) {
+    const RunDirectory run_dir(dir);
+    // A run whose progress.csv or checkpoint was changed is refused, naming the file; rows
+    // written after the last checkpoint (a run in progress, or stopped) are kept.
+    VerifiedCheckpoint(run_dir);
     RunRecord run;
     run.name = dir.filename().string();
-    run.config = LoadTrainConfig((dir / "config.yaml").string());
-    run.episodes = ReadProgressEpisodes((dir / "progress.csv").string());
+    run.config = LoadTrainConfig(run_dir.config_file().string());
+    run.episodes = ReadProgressEpisodes(run_dir.progress_file().string());
     runs.push_back(std::move(run));
   }
   return runs;
@@ -423,9 +391,9 @@ std::vector<std::string> SetupDifferences(const std::vector<RunRecord>& runs,
                        c.training.pretrain_episodes, c.training.episodes_per_epoch,
                        paper.training.pretrain_episodes, paper.training.episodes_per_epoch));
     }
-    if (c.variant != "paper") {
+    if (c.variant != Variant::kPaper) {
       note(fmt::format("Tasks: the '{}' variant, not the modified suite the paper ran.",
-                       c.variant));
+                       VariantName(c.variant)));
     }
   }
   size_t fewest = SIZE_MAX, most = 0;
@@ -470,19 +438,25 @@ std::optional<std::string> OriginalComparison(const TableCell& cell, std::int64_
   return std::nullopt;
 }
 
-// Per task: whether MPC-RCE violated less than each other planner, and whether its final return
-// is comparable to the best other's.
-void RceAgainstOthers(const std::string& task,
-                      const std::map<std::string, const TableCell*>& row, const TableCell& rce,
-                      std::vector<std::string>& notes) {
+bool IsPapersMethod(const std::string& planner) {
+  const PlannerEntry* entry = FindPlannerOrNull(planner);
+  return entry != nullptr && entry->is_papers_method;
+}
+
+// Per task: whether the paper's method (MPC-RCE) violated less than each other planner, and
+// whether its final return is comparable to the best other's.
+void PapersMethodAgainstOthers(const std::string& task,
+                               const std::map<std::string, const TableCell*>& row,
+                               const TableCell& method, std::vector<std::string>& notes) {
+  const std::string name = PlannerLabel(method.planner);
   std::vector<std::string> worse, not_worse;
   for (const auto& [planner, cell] : row) {
-    if (planner == "rce") continue;
-    (cell->mean > rce.mean ? worse : not_worse).push_back(PlannerLabel(planner));
+    if (cell == &method) continue;
+    (cell->mean > method.mean ? worse : not_worse).push_back(PlannerLabel(planner));
   }
   if (!worse.empty() || !not_worse.empty()) {
     notes.push_back(fmt::format(
-        "{}: MPC-RCE {:.1f} violations on average; {}{}{}.", task, rce.mean,
+        "{}: {} {:.1f} violations on average; {}{}{}.", task, name, method.mean,
         worse.empty() ? "" : fmt::format("more for {}", fmt::join(worse, " and ")),
         !worse.empty() && !not_worse.empty() ? "; " : "",
         not_worse.empty() ? ""
@@ -492,16 +466,16 @@ void RceAgainstOthers(const std::string& task,
   double best_other = -std::numeric_limits<double>::infinity();
   std::string best_label;
   for (const auto& [planner, cell] : row) {
-    if (planner != "rce" && cell->return_mean > best_other) {
+    if (cell != &method && cell->return_mean > best_other) {
       best_other = cell->return_mean;
       best_label = PlannerLabel(planner);
     }
   }
   if (!best_label.empty()) {
     notes.push_back(fmt::format(
-        "{}: MPC-RCE's final return {:.2f} against {:.2f} for {}, the best of the others{}.",
-        task, rce.return_mean, best_other, best_label,
-        rce.return_mean >= 0.8 * best_other || best_other <= 0
+        "{}: {}'s final return {:.2f} against {:.2f} for {}, the best of the others{}.", task,
+        name, method.return_mean, best_other, best_label,
+        method.return_mean >= 0.8 * best_other || best_other <= 0
             ? ""
             : " (less than 80% of it: not comparable reward)"));
   }
@@ -520,8 +494,9 @@ std::vector<std::string> OutcomeDifferences(const std::vector<TableCell>& cells,
   }
   for (const std::string& task : tasks) {
     const auto& row = by_task[task];
-    const auto rce = row.find("rce");
-    if (rce != row.end()) RceAgainstOthers(task, row, *rce->second, notes);
+    for (const auto& [planner, cell] : row) {
+      if (IsPapersMethod(planner)) PapersMethodAgainstOthers(task, row, *cell, notes);
+    }
     for (const TableCell& cell : cells) {  // the table's planner order
       if (cell.task != task) continue;
       if (const auto note = OriginalComparison(cell, window)) notes.push_back(*note);

@@ -34,9 +34,6 @@ std::vector<EpisodePoint> ReadProgressEpisodes(const std::string& path);
 // original's logs).
 std::vector<EpisodePoint> ReadEpisodeColumns(const std::string& path, bool has_steps);
 
-// "MPC-RCE", "MPC-CEM", "MPC-random": the paper's names of the planners.
-std::string PlannerLabel(const std::string& planner);
-
 // Every run under sweep_dir/runs (a folder with config.yaml), in name order. Throws
 // cmbrl::Error naming a progress.csv that lacks a column or holds a value that is not a number.
 std::vector<RunRecord> ReadSweep(const std::string& sweep_dir);

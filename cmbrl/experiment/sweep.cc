@@ -13,6 +13,7 @@
 #include "cmbrl/env/registry.h"
 #include "cmbrl/experiment/config.h"
 #include "cmbrl/experiment/report.h"
+#include "cmbrl/run/run_directory.h"
 #include "cmbrl/planning/planner_registry.h"
 
 namespace cmbrl {
@@ -77,12 +78,12 @@ std::vector<SweepRun> PlanSweep(const SweepGrid& grid, const std::string& sweep_
 }
 
 RunStatus StatusOf(const SweepRun& run) {
-  const fs::path dir(run.run_dir);
-  if (!fs::exists(dir / "config.yaml")) return RunStatus::kNew;
-  const TrainConfig config = LoadTrainConfig((dir / "config.yaml").string());
+  const RunDirectory dir(run.run_dir);
+  if (!dir.HoldsRun()) return RunStatus::kNew;
+  const TrainConfig config = LoadTrainConfig(dir.config_file().string());
   std::vector<EpisodePoint> episodes;
   try {
-    episodes = ReadProgressEpisodes((dir / "progress.csv").string());
+    episodes = ReadProgressEpisodes(dir.progress_file().string());
   } catch (const Error&) {
     // A process killed while writing a row leaves it half written; resuming repairs that.
     return RunStatus::kStarted;
@@ -165,7 +166,9 @@ std::string SlurmScript(const std::vector<SweepRun>& runs, const SweepGrid& grid
   }
   script += ")\n";
   script += "IFS='|' read -r run_dir config seed <<< \"${runs[$SLURM_ARRAY_TASK_ID]}\"\n";
-  script += "if [ -f \"$run_dir/config.yaml\" ]; then\n";
+  // A run exists once its config file does (RunDirectory::HoldsRun).
+  script += fmt::format("if [ -f \"$run_dir/{}\" ]; then\n",
+                        RunDirectory("").config_file().filename().string());
   script += "  exec \"$cmbrl\" train --resume \"$run_dir\"\n";
   script += "fi\n";
   script += "exec \"$cmbrl\" train --config \"$config\" --seed \"$seed\" --out \"$run_dir\"";

@@ -1,6 +1,7 @@
-// The training loop of the paper (Algorithm 2; facts B6): random-action pre-training, model fits,
-// then epochs of MPC episodes each followed by refits, until a budget of agent steps. A run lives
-// in one directory and survives being stopped at any moment.
+// A training run: one learner (MPC with learned models, the paper's Algorithm 2, or another
+// behind run/learner.h) working in one run directory (run/run_directory.h) that survives being
+// stopped at any moment. The run owns the lock, progress.csv, checkpoints and resume; the learner
+// owns the algorithm.
 #pragma once
 
 #include <cstdint>
@@ -9,53 +10,39 @@
 #include <string>
 
 #include "cmbrl/experiment/config.h"
+#include "cmbrl/run/learner.h"
 
 namespace cmbrl {
 
-// One row of progress.csv: one MPC episode, with the diagnostics of the latest fit and of the
-// episode's plans.
-struct ProgressRow {
-  int epoch = 0;                         // 1-based; refits happen between epochs
-  int episode = 0;                       // 1-based MPC episode
-  double episode_return = 0.0;           // EpRet
-  double episode_cost = 0.0;             // EpCost: agent steps with a violation
-  std::int64_t total_env_interacts = 0;  // MPC agent steps so far
-  std::int64_t pretrain_interacts = 0;   // random pre-training agent steps (not counted above)
-  double time_seconds = 0.0;             // since the run began, across resumes
-  double dynamics_validation_mse = 0.0;
-  double classifier_safe_accuracy = 0.0;
-  double classifier_unsafe_accuracy = 0.0;
-  double feasible_fraction = 0.0;  // mean over the episode's plans
-  double ms_per_plan = 0.0;        // mean over the episode's plans
-  int steps = 0;
-  int goals_met = 0;
-};
+// The learner of a configuration. Throws cmbrl::Error for settings its components refuse.
+std::unique_ptr<Learner> MakeLearner(const TrainConfig& config);
 
-// The CSV header and one line (no newline) of progress.csv.
-std::string ProgressCsvHeader();
-std::string ProgressCsvLine(const ProgressRow& row);
-
-// Owns the environment, buffers, models and agent of one run. Files in the run directory:
-// config.yaml (resolved), progress.csv, checkpoint/ (rewritten after every episode, swapped in
-// atomically). Resume truncates progress.csv to the rows the checkpoint covers and continues;
-// on the CPU the rows then equal an uninterrupted run's (Time aside). Not thread-safe.
+// Files in the run directory: config.yaml (resolved), progress.csv, checkpoint/ (rewritten after
+// every unit of work, swapped in atomically, with a manifest of what it covers). Resume checks
+// the checkpoint against its manifest and progress.csv, drops rows written after it and
+// continues; on the CPU the rows then equal an uninterrupted run's (Time aside). Not
+// thread-safe.
 class Trainer {
  public:
-  // A new run. Throws cmbrl::Error when run_dir already holds a run.
+  // A new run: validates `config` and builds the learner before anything else, and leaves no
+  // directory or file behind when that fails. Throws cmbrl::Error when run_dir already holds a
+  // run, or another process works in it.
   static std::unique_ptr<Trainer> Start(const TrainConfig& config, const std::string& run_dir);
 
   // Continues the run in run_dir from its last checkpoint (or from the start when it stopped
-  // before the first one). Throws cmbrl::Error when run_dir holds no run.
+  // before the first one). Throws cmbrl::Error when run_dir holds no run, or its parts disagree
+  // (naming the file).
   static std::unique_ptr<Trainer> Resume(const std::string& run_dir);
 
   ~Trainer();
 
-  // Trains until total_steps agent steps. `on_episode` sees each row after it is written to
-  // progress.csv and before the checkpoint that covers it.
-  void Run(const std::function<void(const ProgressRow&)>& on_episode = {});
+  // Trains until the learner's budget is spent. `on_unit` sees each unit of work's summary after
+  // its row is in progress.csv and before the checkpoint that covers it.
+  void Run(const std::function<void(const ProgressSummary&)>& on_unit = {});
 
   const TrainConfig& config() const;
-  std::int64_t total_env_interacts() const;
+  const Learner& learner() const;
+  std::int64_t steps_done() const;
 
  private:
   struct State;

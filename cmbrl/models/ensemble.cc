@@ -28,15 +28,21 @@ struct EnsembleDynamics::State {
 };
 
 void ValidateEnsembleOptions(const EnsembleOptions& o) {
-  Require(o.ensemble_size >= 1, "ensemble_size is {}: expected at least 1", o.ensemble_size);
+  // Upper bounds keep a typing slip from allocating the machine away or running for ever.
+  Require(o.ensemble_size >= 1 && o.ensemble_size <= 64,
+          "ensemble_size is {}: expected 1 to 64 members", o.ensemble_size);
+  Require(o.hidden_sizes.size() <= 16, "hidden_sizes has {} layers: expected at most 16",
+          o.hidden_sizes.size());
   for (size_t i = 0; i < o.hidden_sizes.size(); ++i) {
-    Require(o.hidden_sizes[i] >= 1, "hidden_sizes[{}] is {}: expected a positive width", i,
-            o.hidden_sizes[i]);
+    Require(o.hidden_sizes[i] >= 1 && o.hidden_sizes[i] <= 65536,
+            "hidden_sizes[{}] is {}: expected a width from 1 to 65536", i, o.hidden_sizes[i]);
   }
   Require(o.learning_rate > 0 && std::isfinite(o.learning_rate),
           "learning_rate is {}: expected a positive number", o.learning_rate);
-  Require(o.batch_size >= 1, "batch_size is {}: expected at least 1", o.batch_size);
-  Require(o.max_epochs >= 1, "max_epochs is {}: expected at least 1", o.max_epochs);
+  Require(o.batch_size >= 1 && o.batch_size <= 10'000'000,
+          "batch_size is {}: expected 1 to 10000000", o.batch_size);
+  Require(o.max_epochs >= 1 && o.max_epochs <= 100'000,
+          "max_epochs is {}: expected 1 to 100000", o.max_epochs);
   Require(o.validation_fraction >= 0 && o.validation_fraction < 1,
           "validation_fraction is {}: expected a number in [0, 1)", o.validation_fraction);
   Require(o.member_subset_fraction > 0 && o.member_subset_fraction <= 1,

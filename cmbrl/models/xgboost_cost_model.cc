@@ -63,11 +63,13 @@ class XgbCostModel::DeviceTrees {
 };
 
 void ValidateXgbCostModelOptions(const XgbCostModelOptions& o) {
-  Require(o.rounds >= 1, "rounds is {}: expected at least 1", o.rounds);
+  Require(o.rounds >= 1 && o.rounds <= 100'000, "rounds is {}: expected 1 to 100000", o.rounds);
   Require(o.learning_rate > 0 && std::isfinite(o.learning_rate),
           "learning_rate is {}: expected a positive number", o.learning_rate);
-  Require(o.max_depth >= 1, "max_depth is {}: expected at least 1", o.max_depth);
-  Require(o.max_leaves >= 2, "max_leaves is {}: expected at least 2", o.max_leaves);
+  Require(o.max_depth >= 1 && o.max_depth <= 64, "max_depth is {}: expected 1 to 64",
+          o.max_depth);
+  Require(o.max_leaves >= 2 && o.max_leaves <= 1'000'000,
+          "max_leaves is {}: expected 2 to 1000000", o.max_leaves);
   Require(o.grow_policy == "lossguide" || o.grow_policy == "depthwise",
           "grow_policy is '{}': expected 'lossguide' or 'depthwise'", o.grow_policy);
   Require(o.tree_method == "hist" || o.tree_method == "approx" || o.tree_method == "exact",

@@ -9,7 +9,8 @@
 namespace cmbrl {
 
 void ValidateRandomShootingOptions(const RandomShootingOptions& o) {
-  Require(o.samples >= 1, "samples is {}: expected at least 1", o.samples);
+  Require(o.samples >= 1 && o.samples <= 10'000'000, "samples is {}: expected 1 to 10000000",
+          o.samples);
   Require(o.penalty >= 0 && std::isfinite(o.penalty),
           "penalty is {}: expected a non-negative number", o.penalty);
 }

@@ -64,7 +64,7 @@ objective: {beta: 0.5}
   EXPECT_DOUBLE_EQ(config.classifier.threshold, 0.3);
   EXPECT_EQ(config.planning.problem.horizon, 5);
   EXPECT_EQ(config.planning.cross_entropy.elites, 10);
-  EXPECT_DOUBLE_EQ(config.planning.random.penalty, 200);  // one penalty for CEM and random
+  EXPECT_DOUBLE_EQ(config.planning.penalty, 200);  // one penalty for CEM and random
   EXPECT_EQ(config.planning.random.samples, 300);
   EXPECT_EQ(config.training.total_steps, 2000);
   EXPECT_DOUBLE_EQ(config.objective.beta, 0.5);
@@ -83,7 +83,7 @@ TEST(ConfigTest, BadConfigurationsNameTheKeyAndTheValue) {
   EXPECT_EQ(ErrorMessage([] { ParseTrainConfig("planning: {elites: 600}", "c.yaml"); }),
             "config 'c.yaml': planning.elites is 600: expected between 1 and population (500)");
   EXPECT_EQ(ErrorMessage([] { ParseTrainConfig("planning: {horizon: 0}", "c.yaml"); }),
-            "config 'c.yaml': planning.horizon is 0: expected at least 1");
+            "config 'c.yaml': planning.horizon is 0: expected 1 to 1000 steps");
   EXPECT_EQ(ErrorMessage([] { ParseTrainConfig("planner: mppi", "c.yaml"); }),
             "config 'c.yaml': key 'planner' is 'mppi': expected one of rce, cem, random");
   EXPECT_THAT(ErrorMessage([] { ParseTrainConfig("task: AntGoal1", "c.yaml"); }),
@@ -113,6 +113,49 @@ TEST(ConfigTest, BadConfigurationsNameTheKeyAndTheValue) {
               ::testing::HasSubstr("config 'c.yaml' is not valid YAML"));
   EXPECT_EQ(ErrorMessage([] { LoadTrainConfig("/nonexistent/x.yaml"); }),
             "config file '/nonexistent/x.yaml' cannot be opened: expected a YAML file");
+}
+
+// Every number a config can give has a bound, checked before the run takes any memory.
+TEST(ConfigTest, SizesOutOfTheirBoundsAreNamedBeforeAnythingIsAllocated) {
+  EXPECT_EQ(ErrorMessage([] { ParseTrainConfig("planning: {population: 1e12}", "c.yaml"); }),
+            "config 'c.yaml': key 'planning.population' is '1e12': expected an integer from "
+            "-2147483648 to 2147483647");
+  EXPECT_EQ(ErrorMessage([] { ParseTrainConfig("seed: -1", "c.yaml"); }),
+            "config 'c.yaml': key 'seed' is '-1': expected an integer from 0 to "
+            "18446744073709551615");
+  EXPECT_EQ(ErrorMessage([] { ParseTrainConfig("planning: {horizon: 1000000000}", "c.yaml"); }),
+            "config 'c.yaml': planning.horizon is 1000000000: expected 1 to 1000 steps");
+  EXPECT_EQ(ErrorMessage([] { ParseTrainConfig("ensemble: {hidden_sizes: [100000000]}", "c"); }),
+            "config 'c': ensemble.hidden_sizes[0] is 100000000: expected a width from 1 to 65536");
+  EXPECT_EQ(ErrorMessage([] { ParseTrainConfig("planning: {population: 2000000000}", "c"); }),
+            "config 'c': planning.population is 2000000000: expected 1 to 1000000");
+  EXPECT_EQ(
+      ErrorMessage([] { ParseTrainConfig("training: {transition_capacity: 2000000000}", "c"); }),
+      "config 'c': training.transition_capacity is 2000000000: expected 2 to 100000000");
+  EXPECT_EQ(ErrorMessage([] { ParseTrainConfig("variant: foo", "c"); }),
+            "config 'c': key 'variant': unknown variant 'foo': expected 'paper' (the paper's "
+            "modified tasks) or 'standard' (Safety-Gymnasium's stock tasks)");
+  // Each size within its bound, together more than any machine has.
+  EXPECT_THAT(ErrorMessage([] {
+                ParseTrainConfig(
+                    "ensemble: {ensemble_size: 64, hidden_sizes: [65536]}\n"
+                    "planning: {population: 1000000, elites: 10, horizon: 1000}",
+                    "c");
+              }),
+              ::testing::AllOf(::testing::HasSubstr("config 'c': the run would need about"),
+                               ::testing::HasSubstr("planning (population x members x horizon)"),
+                               ::testing::HasSubstr("lower the sizes named")));
+}
+
+TEST(ConfigTest, TheMemoryEstimateCountsTheBuffersExactly) {
+  const TrainConfig config = ParseTrainConfig(
+      "training: {transition_capacity: 1000, safe_capacity: 100, unsafe_capacity: 10}", "c");
+  const RunMemory memory = EstimateRunMemory(config, 24, 2);
+  EXPECT_DOUBLE_EQ(memory.transitions, 1000.0 * (24 + 24 + 2) * 4);  // state, action, next
+  EXPECT_DOUBLE_EQ(memory.labeled_states, 110.0 * 24 * 4);
+  EXPECT_GT(memory.ensemble, 4 * 4.0 * (26 * 1024));  // at least the first layer's weights x 4
+  EXPECT_GT(memory.planning, 0.0);
+  EXPECT_GT(PhysicalMemoryBytes(), 0u);
 }
 
 TEST(ConfigTest, EveryPresetInConfigsLoads) {

@@ -10,7 +10,9 @@
 #include <fstream>
 
 #include "cmbrl/experiment/reference.h"
+#include "cmbrl/experiment/mpc_learner.h"
 #include "cmbrl/experiment/trainer.h"
+#include "cmbrl/run/run_directory.h"
 #include "cmbrl/viz/plot.h"
 #include "tests/error_message.h"
 
@@ -43,6 +45,12 @@ void WriteRun(const fs::path& sweep, const std::string& task, const std::string&
     row.steps = steps;
     row.total_env_interacts = static_cast<std::int64_t>(steps) * (static_cast<int>(i) + 1);
     progress << ProgressCsvLine(row) << "\n";
+  }
+  progress.close();
+  // A checkpoint that covers the rows, as a run writes one (empty of a learner's files).
+  if (!costs.empty()) {
+    WriteCheckpoint(RunDirectory(dir), static_cast<std::int64_t>(costs.size()), 0.0,
+                    [](const fs::path&, const fs::path&) {});
   }
 }
 
@@ -307,10 +315,13 @@ TEST_F(ReportTest, ShippedReferenceLogsGiveTheOriginalsCounts) {
 }
 
 TEST_F(ReportTest, BadProgressIsNamed) {
-  std::ofstream(sweep_ / "runs" / "PointGoal1-rce-s0" / "progress.csv")
-      << ProgressCsvHeader() << "\n1,1,oops,0,100,0,0,0,0,0,0,0,100,0\n";
-  EXPECT_THAT(testing::ErrorMessage([&] { ReadSweep(sweep_.string()); }),
+  const fs::path progress = sweep_ / "runs" / "PointGoal1-rce-s0" / "progress.csv";
+  std::ofstream(progress) << ProgressCsvHeader() << "\n1,1,oops,0,100,0,0,0,0,0,0,0,100,0\n";
+  EXPECT_THAT(testing::ErrorMessage([&] { ReadProgressEpisodes(progress.string()); }),
               HasSubstr("progress.csv line 2: EpRet is 'oops': expected a number"));
+  // In a sweep, the run's checkpoint no longer covers what progress.csv holds: refused by name.
+  EXPECT_THAT(testing::ErrorMessage([&] { ReadSweep(sweep_.string()); }),
+              HasSubstr("PointGoal1-rce-s0/progress.csv' has 1 rows but the checkpoint covers 4"));
 }
 
 }  // namespace

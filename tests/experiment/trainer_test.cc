@@ -3,10 +3,13 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 
+#include "cmbrl/experiment/mpc_learner.h"
 #include "cmbrl/models/labeled_state_buffer.h"
 #include "cmbrl/models/transition_buffer.h"
 #include "tests/error_message.h"
@@ -32,8 +35,10 @@ planning: {{horizon: 3, population: 24, elites: 6, min_feasible_elites: 3, max_i
                           "tiny");
 }
 
+// A folder of this test process's own (ctest runs tests as parallel processes).
 std::string TempRunDir(const std::string& name) {
-  const fs::path dir = fs::path(::testing::TempDir()) / ("trainer_test_" + name);
+  const fs::path dir =
+      fs::path(::testing::TempDir()) / fmt::format("trainer_test_{}_{}", name, ::getpid());
   fs::remove_all(dir);
   return dir.string();
 }
@@ -58,12 +63,18 @@ std::vector<std::string> RowsWithoutTimes(const std::string& run_dir) {
 TEST(TrainerTest, AShortRunWritesEveryFile) {
   const std::string dir = TempRunDir("files");
   std::vector<ProgressRow> seen;
-  Trainer::Start(TinyConfig("rce"), dir)->Run([&](const ProgressRow& row) { seen.push_back(row); });
+  const std::unique_ptr<Trainer> trainer = Trainer::Start(TinyConfig("rce"), dir);
+  trainer->Run([&](const ProgressSummary& unit) {
+    seen.push_back(dynamic_cast<const MpcLearner&>(trainer->learner()).last_row());
+    EXPECT_EQ(unit.steps, seen.back().total_env_interacts);
+    EXPECT_EQ(unit.epoch, seen.back().epoch);
+  });
   EXPECT_TRUE(fs::exists(fs::path(dir) / "config.yaml"));
   EXPECT_TRUE(fs::exists(fs::path(dir) / "checkpoint" / "state.json"));
   EXPECT_TRUE(fs::exists(fs::path(dir) / "checkpoint" / "ensemble.pt"));
   EXPECT_TRUE(fs::exists(fs::path(dir) / "checkpoint" / "classifier.json"));
   EXPECT_TRUE(fs::exists(fs::path(dir) / "checkpoint" / "transitions.bin"));
+  EXPECT_TRUE(fs::exists(fs::path(dir) / "checkpoint" / "manifest.json"));
   // 400 agent steps of whole episodes of about 100: four or five rows, one per episode.
   const std::vector<std::string> rows = RowsWithoutTimes(dir);
   ASSERT_GE(seen.size(), 4u);
@@ -120,8 +131,9 @@ TEST(TrainerTest, ResumingAfterACrashGivesTheSameRows) {
   // Stop after the third row is written but before its checkpoint: the worst moment.
   struct Crash {};
   try {
-    Trainer::Start(TinyConfig("rce"), crashed)->Run([](const ProgressRow& row) {
-      if (row.episode == 3) throw Crash{};
+    int units = 0;
+    Trainer::Start(TinyConfig("rce"), crashed)->Run([&](const ProgressSummary&) {
+      if (++units == 3) throw Crash{};
     });
     FAIL() << "expected the simulated crash";
   } catch (const Crash&) {
@@ -147,6 +159,75 @@ TEST(TrainerTest, RunDirectoriesAreNotMixedUp) {
               ::testing::HasSubstr("already holds a run"));
   EXPECT_THAT(ErrorMessage([&] { Trainer::Resume(TempRunDir("nothing")); }),
               ::testing::HasSubstr("holds no run"));
+}
+
+// A run knows its own state: parts that disagree with the checkpoint's manifest are refused,
+// naming the file, instead of being used silently.
+TEST(TrainerTest, ARunWhosePartsDisagreeIsRefusedByName) {
+  const std::string original = TempRunDir("parts");
+  Trainer::Start(TinyConfig("cem"), original)->Run();
+  const auto copy = [&](const std::string& name) {
+    const std::string dir = TempRunDir(name);
+    fs::copy(original, dir, fs::copy_options::recursive);
+    fs::remove(fs::path(dir) / "lock");
+    return fs::path(dir);
+  };
+  const auto rows = [](const fs::path& dir) {
+    std::ifstream in(dir / "progress.csv");
+    std::vector<std::string> lines;
+    for (std::string line; std::getline(in, line);) lines.push_back(line);
+    return lines;
+  };
+  const auto write_rows = [](const fs::path& dir, const std::vector<std::string>& lines) {
+    std::ofstream out(dir / "progress.csv", std::ios::trunc);
+    for (const std::string& line : lines) out << line << "\n";
+  };
+  const size_t n = rows(fs::path(original)).size() - 1;  // rows the last checkpoint covers
+  {
+    const fs::path dir = copy("no_state");
+    fs::remove(dir / "checkpoint" / "state.json");
+    EXPECT_THAT(ErrorMessage([&] { Trainer::Resume(dir.string()); }),
+                ::testing::HasSubstr("state.json' is missing: the checkpoint's manifest lists it"));
+  }
+  {
+    const fs::path dir = copy("no_checkpoint");
+    fs::remove_all(dir / "checkpoint");
+    EXPECT_THAT(ErrorMessage([&] { Trainer::Resume(dir.string()); }),
+                ::testing::HasSubstr(fmt::format(
+                    "progress.csv' has {} rows but the run has no checkpoint", n)));
+  }
+  {
+    const fs::path dir = copy("shortened");
+    std::vector<std::string> lines = rows(dir);
+    lines.pop_back();
+    write_rows(dir, lines);
+    EXPECT_THAT(ErrorMessage([&] { Trainer::Resume(dir.string()); }),
+                ::testing::HasSubstr(fmt::format(
+                    "progress.csv' has {} rows but the checkpoint covers {}", n - 1, n)));
+  }
+  {
+    const fs::path dir = copy("edited");
+    std::vector<std::string> lines = rows(dir);
+    lines[2][0] = '7';  // the second row's epoch
+    write_rows(dir, lines);
+    EXPECT_THAT(ErrorMessage([&] { Trainer::Resume(dir.string()); }),
+                ::testing::HasSubstr(
+                    fmt::format("progress.csv' differs in its first {} rows", n)));
+  }
+  {
+    const fs::path dir = copy("garbage_state");
+    std::ofstream(dir / "checkpoint" / "state.json") << "{ garbage";
+    EXPECT_THAT(ErrorMessage([&] { Trainer::Resume(dir.string()); }),
+                ::testing::HasSubstr("state.json' differs from the file the checkpoint wrote"));
+  }
+  {
+    const fs::path dir = copy("garbage_model");
+    std::ofstream(dir / "checkpoint" / "ensemble.pt", std::ios::trunc) << "not a model";
+    EXPECT_THAT(ErrorMessage([&] { Trainer::Resume(dir.string()); }),
+                ::testing::HasSubstr("ensemble.pt' differs from the file the checkpoint wrote"));
+  }
+  // The untouched copy resumes (nothing left to do: its budget is spent).
+  EXPECT_NO_THROW(Trainer::Resume(copy("untouched").string())->Run());
 }
 
 TEST(TrainerTest, ARunDirectoryServesOneProcessAtATime) {

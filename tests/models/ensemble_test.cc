@@ -175,7 +175,7 @@ TEST(EnsembleTest, BadOptionsAreRefusedByName) {
   EnsembleOptions options = SmallOptions();
   options.hidden_sizes = {64, 0};
   EXPECT_EQ(ErrorMessage([&] { EnsembleDynamics(2, 1, options, 1); }),
-            "hidden_sizes[1] is 0: expected a positive width");
+            "hidden_sizes[1] is 0: expected a width from 1 to 65536");
   options = SmallOptions();
   options.validation_fraction = 1.0;
   EXPECT_THAT(ErrorMessage([&] { EnsembleDynamics(2, 1, options, 1); }),

@@ -216,7 +216,7 @@ TEST(XgbCostModelEdgeTest, BadInputsAreRefusedByName) {
   XgbCostModelOptions options;
   options.max_leaves = 1;
   EXPECT_EQ(ErrorMessage([&] { XgbCostModel(2, options, 1); }),
-            "max_leaves is 1: expected at least 2");
+            "max_leaves is 1: expected 2 to 1000000");
   options = XgbCostModelOptions{};
   options.threshold = 1.0;
   EXPECT_THAT(ErrorMessage([&] { XgbCostModel(2, options, 1); }),

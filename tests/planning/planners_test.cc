@@ -29,6 +29,29 @@ std::vector<float> Target(float x, float y) {
 
 torch::Tensor TargetTensor(float x, float y) { return torch::tensor(Target(x, y)).view({8, 2}); }
 
+TEST(PlannerRegistryTest, EveryEntryIsCompleteAndOneIsThePapersMethod) {
+  int papers = 0;
+  PlannerSettings settings;
+  settings.penalty = 123.0;
+  for (const PlannerEntry& entry : Planners()) {
+    SCOPED_TRACE(entry.name);
+    EXPECT_FALSE(entry.label.empty());
+    EXPECT_EQ(&FindPlanner(entry.name), &entry);
+    EXPECT_EQ(PlannerLabel(entry.name), entry.label);
+    papers += entry.is_papers_method;
+    const PlanWork work = entry.work(settings);
+    EXPECT_GT(work.samples, 0);
+    EXPECT_GE(work.iterations, 1);
+    QuadraticObjective objective(Target(0.1f, 0.1f));
+    EXPECT_EQ(entry.make(settings, 1)->Plan(objective).action.numel(), 2);
+  }
+  EXPECT_EQ(papers, 1);
+  EXPECT_EQ(FindPlanner("rce").propagation, Propagation::kPerMember);
+  EXPECT_EQ(FindPlanner("cem").propagation, Propagation::kEnsembleMean);
+  EXPECT_EQ(PlannerLabel("mppi"), "mppi");  // a planner of another build keeps its name
+  EXPECT_EQ(FindPlannerOrNull("mppi"), nullptr);
+}
+
 TEST(CrossEntropyTest, CemAndRceFindAQuadraticOptimum) {
   for (const std::string name : {"cem", "rce"}) {
     QuadraticObjective objective(Target(0.5f, -0.3f));
@@ -211,13 +234,13 @@ TEST(PlannerFactoryTest, BadSettingsAreNamed) {
   settings = PlannerSettings{};
   settings.problem.horizon = 0;
   EXPECT_EQ(ErrorMessage([&] { MakePlanner("cem", settings, 0); }),
-            "horizon is 0: expected at least 1");
+            "horizon is 0: expected 1 to 1000 steps");
   EXPECT_EQ(ErrorMessage([&] { MakePlanner("mppi", PlannerSettings{}, 0); }),
             "unknown planner 'mppi': expected one of rce, cem, random");
   settings = PlannerSettings{};
   settings.random.samples = 0;
   EXPECT_EQ(ErrorMessage([&] { MakePlanner("random", settings, 0); }),
-            "samples is 0: expected at least 1");
+            "samples is 0: expected 1 to 10000000");
 }
 
 }  // namespace

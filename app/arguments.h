@@ -1,0 +1,23 @@
+// Checks of numbers given on the command line: every integer option gets a bound and a message
+// that names the option, the text and the range, instead of being wrapped (-1 as a seed) or
+// clamped (a budget past 2^63) by the conversion.
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+#include <cstdint>
+#include <limits>
+
+namespace cmbrl::app {
+
+// A validator that accepts only the decimal integers in [low, high] (no sign for a low of 0 or
+// more, no exponent, no fraction): "is '-1': expected an integer from 0 to 100".
+CLI::Validator IntegerIn(std::int64_t low, std::int64_t high);
+
+// The same for seeds: 0 to 2^64 - 1.
+CLI::Validator SeedInteger();
+
+// Budgets of agent or environment steps: 1 to 10^10.
+inline constexpr std::int64_t kMaxSteps = 10'000'000'000;
+
+}  // namespace cmbrl::app

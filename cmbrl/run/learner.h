@@ -1,0 +1,62 @@
+// The seam between a run and its training algorithm. A run (experiment/trainer.h) owns the
+// directory, the lock, progress.csv, checkpoints and resume; a learner owns its environment,
+// models and counters, and says what its progress rows and checkpoints hold. MPC with learned
+// models (the paper's Algorithm 2) is one learner; model-free policy optimisers are others.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <optional>
+#include <string>
+
+namespace cmbrl {
+
+// What every learner reports after a unit of work, for the live progress line and summaries.
+struct ProgressSummary {
+  int epoch = 0;
+  std::int64_t steps = 0;   // of the budget (agent steps for MPC, environment steps otherwise)
+  std::int64_t budget = 0;
+  double episode_return = 0.0;  // of the unit's episode(s)
+  double episode_cost = 0.0;
+  double seconds = 0.0;         // the run's training time when the unit ended
+};
+
+// One unit of work done: the progress row it wrote (empty for work without a row, such as the
+// random pre-training of Algorithm 2) and whether the learner's large files (its models)
+// changed, so that checkpoints can carry unchanged ones over without copying.
+struct LearnerStep {
+  std::optional<std::string> row;  // a line of progress.csv, no newline
+  ProgressSummary summary;
+  bool models_changed = true;
+};
+
+// Not thread-safe.
+class Learner {
+ public:
+  virtual ~Learner() = default;
+
+  // The header of its progress.csv (no newline).
+  virtual std::string ProgressHeader() const = 0;
+
+  // Whether its budget is spent.
+  virtual bool Finished() const = 0;
+
+  // Does the next unit of work. `elapsed_seconds` gives the run's training time so far (across
+  // sessions), for the rows' Time column.
+  virtual LearnerStep Advance(const std::function<double()>& elapsed_seconds) = 0;
+
+  // Writes everything it needs to continue into the empty folder `folder`; may hard-link files
+  // of `previous` (the last checkpoint, or an empty path) that did not change.
+  virtual void Save(const std::filesystem::path& folder, const std::filesystem::path& previous,
+                    bool models_changed) const = 0;
+
+  // Continues from a folder that Save wrote; throws cmbrl::Error naming a damaged file.
+  virtual void Load(const std::filesystem::path& folder) = 0;
+
+  // Steps of the budget done so far, and the budget.
+  virtual std::int64_t steps_done() const = 0;
+  virtual std::int64_t budget() const = 0;
+};
+
+}  // namespace cmbrl

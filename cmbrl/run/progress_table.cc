@@ -1,0 +1,72 @@
+#include "cmbrl/run/progress_table.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include "cmbrl/core/check.h"
+
+namespace cmbrl {
+namespace {
+
+std::vector<std::string> SplitCsv(const std::string& line) {
+  std::vector<std::string> fields;
+  std::stringstream in(line);
+  std::string field;
+  while (std::getline(in, field, ',')) fields.push_back(field);
+  if (!line.empty() && line.back() == ',') fields.emplace_back();
+  return fields;
+}
+
+}  // namespace
+
+std::string ProgressNumber(double value) {
+  return std::isfinite(value) ? fmt::format("{}", value) : "nan";
+}
+
+ProgressTable ProgressTable::Read(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  Require(static_cast<bool>(in), "cannot read '{}'", path.string());
+  ProgressTable table;
+  table.path_ = path;
+  std::string line;
+  std::getline(in, line);
+  table.header_ = SplitCsv(line);
+  for (int number = 2; std::getline(in, line); ++number) {
+    if (line.empty()) continue;
+    std::vector<std::string> fields = SplitCsv(line);
+    Require(fields.size() == table.header_.size(), "{} line {}: {} fields, the header has {}",
+            path.string(), number, fields.size(), table.header_.size());
+    table.rows_.push_back(std::move(fields));
+    table.line_numbers_.push_back(number);
+  }
+  return table;
+}
+
+bool ProgressTable::HasColumn(const std::string& name) const {
+  return std::find(header_.begin(), header_.end(), name) != header_.end();
+}
+
+size_t ProgressTable::Column(const std::string& name, const std::string& expected) const {
+  const auto it = std::find(header_.begin(), header_.end(), name);
+  Require(it != header_.end(), "'{}' has no column {}: expected {}", path_.string(), name,
+          expected);
+  return static_cast<size_t>(it - header_.begin());
+}
+
+double ProgressTable::Number(size_t row, size_t column) const {
+  const std::string& text = rows_.at(row).at(column);
+  try {
+    size_t used = 0;
+    const double value = std::stod(text, &used);
+    if (used == text.size()) return value;
+  } catch (const std::exception&) {
+  }
+  Fail("{} line {}: {} is '{}': expected a number", path_.string(), line_numbers_.at(row),
+       header_.at(column), text);
+}
+
+}  // namespace cmbrl

@@ -1,0 +1,68 @@
+// progress.csv and logs like it: a header of column names and one row of values per line. The
+// one reader and writer of such files; learners define their columns (names and values) once,
+// and reports find columns by name.
+#pragma once
+
+#include <cstddef>
+#include <filesystem>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace cmbrl {
+
+// A learner's progress column: its name and how a row's value is written.
+template <typename Row>
+struct ProgressColumn {
+  const char* name;
+  std::function<std::string(const Row&)> value;
+};
+
+// The header line (no newline) of a column list.
+template <typename Row>
+std::string ProgressHeader(const std::vector<ProgressColumn<Row>>& columns) {
+  std::string line;
+  for (const ProgressColumn<Row>& column : columns) line += (line.empty() ? "" : ",") + std::string(column.name);
+  return line;
+}
+
+// One row's line (no newline).
+template <typename Row>
+std::string ProgressLine(const std::vector<ProgressColumn<Row>>& columns, const Row& row) {
+  std::string line;
+  for (size_t i = 0; i < columns.size(); ++i) line += (i ? "," : "") + columns[i].value(row);
+  return line;
+}
+
+// A number as progress files write it: shortest round-trip form, "nan" for NaN or infinity.
+std::string ProgressNumber(double value);
+
+// A whole table read back. Not thread-safe.
+class ProgressTable {
+ public:
+  // Throws cmbrl::Error naming the file when it cannot be read or a row's field count differs
+  // from the header's. Empty lines are skipped.
+  static ProgressTable Read(const std::filesystem::path& path);
+
+  const std::vector<std::string>& header() const { return header_; }
+  size_t rows() const { return rows_.size(); }
+
+  // The index of a column; throws cmbrl::Error naming the file, the column and `expected` (what
+  // kind of log was expected) when there is none.
+  size_t Column(const std::string& name, const std::string& expected) const;
+  bool HasColumn(const std::string& name) const;
+
+  // The file's line number of a row (the header is line 1).
+  int line(size_t row) const { return line_numbers_.at(row); }
+
+  // A value as a number; throws cmbrl::Error naming the file, the line, the column and the text.
+  double Number(size_t row, size_t column) const;
+
+ private:
+  std::filesystem::path path_;
+  std::vector<std::string> header_;
+  std::vector<std::vector<std::string>> rows_;
+  std::vector<int> line_numbers_;
+};
+
+}  // namespace cmbrl

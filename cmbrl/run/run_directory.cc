@@ -1,0 +1,247 @@
+#include "cmbrl/run/run_directory.h"
+
+#include <zlib.h>
+
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "cmbrl/core/check.h"
+
+namespace cmbrl {
+namespace fs = std::filesystem;
+namespace {
+
+constexpr const char* kManifest = "manifest.json";
+constexpr const char* kManifestFormat = "cmbrl-checkpoint-v1";
+
+fs::path TmpCheckpoint(const RunDirectory& run) { return run.root() / "checkpoint.tmp"; }
+fs::path OldCheckpoint(const RunDirectory& run) { return run.root() / "checkpoint.old"; }
+
+std::uint32_t Crc(std::uint32_t crc, const char* data, size_t size) {
+  return static_cast<std::uint32_t>(
+      crc32_z(crc, reinterpret_cast<const Bytef*>(data), static_cast<z_size_t>(size)));
+}
+
+// The header and the first `rows` rows of progress.csv, and how many rows it holds in all.
+struct ProgressPrefix {
+  std::string text;
+  std::int64_t rows_in_file = 0;
+};
+
+ProgressPrefix ReadProgressPrefix(const RunDirectory& run, std::int64_t rows) {
+  std::ifstream in(run.progress_file());
+  Require(static_cast<bool>(in), "cannot read '{}'", run.progress_file().string());
+  ProgressPrefix prefix;
+  std::string line;
+  for (std::int64_t i = -1; std::getline(in, line); ++i) {
+    if (i < rows) prefix.text += line + "\n";
+    if (i >= 0) ++prefix.rows_in_file;
+  }
+  return prefix;
+}
+
+void WriteManifest(const fs::path& folder, const CheckpointManifest& m) {
+  nlohmann::ordered_json files = nlohmann::ordered_json::array();
+  for (const CheckpointManifest::File& f : m.files) {
+    files.push_back({{"name", f.name}, {"size", f.size}, {"crc32", f.crc}});
+  }
+  const nlohmann::ordered_json json = {{"format", kManifestFormat},
+                                       {"rows", m.rows},
+                                       {"elapsed_seconds", m.elapsed_seconds},
+                                       {"progress_crc32", m.progress_crc},
+                                       {"files", files}};
+  std::ofstream out(folder / kManifest);
+  out << json.dump(2) << "\n";
+  out.close();
+  Require(!out.fail(), "could not write '{}'", (folder / kManifest).string());
+}
+
+CheckpointManifest ReadManifest(const fs::path& path) {
+  CheckpointManifest m;
+  try {
+    std::ifstream in(path);
+    const nlohmann::json json = nlohmann::json::parse(in);
+    Require(json.at("format") == kManifestFormat, "format is {}: expected \"{}\"",
+            json.at("format").dump(), kManifestFormat);
+    m.rows = json.at("rows").get<std::int64_t>();
+    m.elapsed_seconds = json.at("elapsed_seconds").get<double>();
+    m.progress_crc = json.at("progress_crc32").get<std::uint32_t>();
+    for (const nlohmann::json& f : json.at("files")) {
+      m.files.push_back({f.at("name").get<std::string>(), f.at("size").get<std::uintmax_t>(),
+                         f.at("crc32").get<std::uint32_t>()});
+    }
+    Require(m.rows >= 0, "rows is {}: expected 0 or more", m.rows);
+  } catch (const nlohmann::json::exception& error) {
+    Fail("'{}' is damaged: {}", path.string(), error.what());
+  } catch (const Error& error) {
+    Fail("'{}' is damaged: {}", path.string(), error.what());
+  }
+  return m;
+}
+
+// A checkpoint of v0.2 has no manifest; its state.json holds the rows and seconds it covered.
+CheckpointManifest LegacyManifest(const fs::path& state_path) {
+  CheckpointManifest m;
+  try {
+    std::ifstream in(state_path);
+    const nlohmann::json state = nlohmann::json::parse(in);
+    m.rows = state.at("rows").get<std::int64_t>();
+    m.elapsed_seconds = state.at("elapsed_seconds").get<double>();
+  } catch (const nlohmann::json::exception& error) {
+    Fail("'{}' is damaged: {}", state_path.string(), error.what());
+  }
+  return m;
+}
+
+}  // namespace
+
+RunDirectory::RunDirectory(fs::path root) : root_(std::move(root)) {}
+
+bool RunDirectory::HoldsRun() const { return fs::exists(config_file()); }
+
+RunDirectory RunDirectory::Create(const fs::path& root, const std::string& config_yaml,
+                                  const std::string& progress_header,
+                                  const std::function<void()>& claim) {
+  RunDirectory run(root);
+  const auto refuse_existing = [&] {
+    Require(!run.HoldsRun(),
+            "'{}' already holds a run: resume it with --resume, or choose another directory",
+            root.string());
+  };
+  refuse_existing();
+  std::error_code error;
+  const bool existed = fs::exists(root, error);
+  std::vector<fs::path> made;
+  try {
+    fs::create_directories(root, error);
+    Require(!error, "cannot create the run directory '{}': {}", root.string(), error.message());
+    made.push_back(root / "lock");
+    claim();
+    refuse_existing();
+    made.push_back(run.progress_file());
+    {
+      std::ofstream progress(run.progress_file(), std::ios::trunc);
+      progress << progress_header << "\n";
+      progress.close();
+      Require(!progress.fail(), "cannot write '{}'", run.progress_file().string());
+    }
+    const fs::path tmp = root / "config.yaml.tmp";
+    made.push_back(tmp);
+    {
+      std::ofstream out(tmp);
+      out << config_yaml;
+      out.close();
+      Require(!out.fail(), "cannot write '{}'", tmp.string());
+    }
+    made.push_back(run.config_file());
+    fs::rename(tmp, run.config_file());
+  } catch (...) {
+    if (!existed) {
+      fs::remove_all(root, error);
+    } else {
+      for (const fs::path& path : made) fs::remove(path, error);
+    }
+    throw;
+  }
+  return run;
+}
+
+std::uint32_t FileCrc(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  Require(static_cast<bool>(in), "cannot read '{}'", path.string());
+  std::uint32_t crc = Crc(0, nullptr, 0);
+  std::vector<char> block(1 << 20);
+  while (in) {
+    in.read(block.data(), static_cast<std::streamsize>(block.size()));
+    crc = Crc(crc, block.data(), static_cast<size_t>(in.gcount()));
+  }
+  Require(in.eof(), "cannot read '{}'", path.string());
+  return crc;
+}
+
+void WriteCheckpoint(const RunDirectory& run, std::int64_t rows, double elapsed_seconds,
+                     const std::function<void(const fs::path&, const fs::path&)>& write) {
+  const fs::path tmp = TmpCheckpoint(run), old = OldCheckpoint(run);
+  const fs::path final_dir = run.checkpoint_dir();
+  fs::remove_all(tmp);
+  fs::create_directories(tmp);
+  write(tmp, fs::exists(final_dir) ? final_dir : fs::path());
+  CheckpointManifest manifest;
+  manifest.rows = rows;
+  manifest.elapsed_seconds = elapsed_seconds;
+  const std::string prefix = ReadProgressPrefix(run, rows).text;
+  manifest.progress_crc = Crc(Crc(0, nullptr, 0), prefix.data(), prefix.size());
+  std::vector<fs::path> files;
+  for (const fs::directory_entry& entry : fs::directory_iterator(tmp)) files.push_back(entry.path());
+  std::sort(files.begin(), files.end());
+  for (const fs::path& file : files) {
+    manifest.files.push_back(
+        {file.filename().string(), fs::file_size(file), FileCrc(file)});
+  }
+  WriteManifest(tmp, manifest);
+  fs::remove_all(old);
+  if (fs::exists(final_dir)) fs::rename(final_dir, old);
+  fs::rename(tmp, final_dir);
+  fs::remove_all(old);
+}
+
+void RecoverInterruptedCheckpoint(const RunDirectory& run) {
+  if (!fs::exists(run.checkpoint_dir()) && fs::exists(OldCheckpoint(run))) {
+    fs::rename(OldCheckpoint(run), run.checkpoint_dir());
+  }
+  fs::remove_all(TmpCheckpoint(run));
+}
+
+std::optional<CheckpointManifest> VerifiedCheckpoint(const RunDirectory& run) {
+  // A stop between the two renames of WriteCheckpoint leaves only checkpoint.old.
+  fs::path folder = run.checkpoint_dir();
+  if (!fs::exists(folder) && fs::exists(OldCheckpoint(run))) folder = OldCheckpoint(run);
+  if (!fs::exists(folder)) {
+    const std::int64_t rows = ReadProgressPrefix(run, 0).rows_in_file;
+    Require(rows == 0,
+            "'{}' has {} rows but the run has no checkpoint ('{}' is missing): its parts "
+            "disagree; start a new run",
+            run.progress_file().string(), rows, folder.string());
+    return std::nullopt;
+  }
+  CheckpointManifest manifest;
+  if (fs::exists(folder / kManifest)) {
+    manifest = ReadManifest(folder / kManifest);
+    for (const CheckpointManifest::File& file : manifest.files) {
+      const fs::path path = folder / file.name;
+      Require(fs::exists(path), "'{}' is missing: the checkpoint's manifest lists it",
+              path.string());
+      Require(fs::file_size(path) == file.size && FileCrc(path) == file.crc,
+              "'{}' differs from the file the checkpoint wrote (size or checksum): it was "
+              "changed or damaged",
+              path.string());
+    }
+  } else {
+    const fs::path state = folder / "state.json";
+    Require(fs::exists(state),
+            "'{}' holds neither {} nor state.json: the checkpoint is incomplete or was changed",
+            folder.string(), kManifest);
+    manifest = LegacyManifest(state);  // written by v0.2: nothing to check the files against
+    return manifest;
+  }
+  const ProgressPrefix prefix = ReadProgressPrefix(run, manifest.rows);
+  Require(prefix.rows_in_file >= manifest.rows,
+          "'{}' has {} rows but the checkpoint covers {}: it was shortened",
+          run.progress_file().string(), prefix.rows_in_file, manifest.rows);
+  Require(Crc(Crc(0, nullptr, 0), prefix.text.data(), prefix.text.size()) ==
+              manifest.progress_crc,
+          "'{}' differs in its first {} rows from what the checkpoint recorded: it was edited",
+          run.progress_file().string(), manifest.rows);
+  return manifest;
+}
+
+void TruncateProgress(const RunDirectory& run, std::int64_t rows) {
+  const std::string kept = ReadProgressPrefix(run, rows).text;
+  std::ofstream out(run.progress_file(), std::ios::trunc);
+  out << kept;
+  out.close();
+  Require(!out.fail(), "could not rewrite '{}'", run.progress_file().string());
+}
+
+}  // namespace cmbrl

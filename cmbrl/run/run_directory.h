@@ -1,0 +1,93 @@
+// What a run is on disk (one home for it): the directory's layout, its creation (all or
+// nothing), its checkpoints (written whole, swapped in atomically) and the manifest that lets a
+// run know its own state. train, eval, sweep and report all find a run's parts through here.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace cmbrl {
+
+// The files of one run directory. Cheap to copy; touches the disk only where a function says so.
+// Thread-compatible (no shared state).
+class RunDirectory {
+ public:
+  explicit RunDirectory(std::filesystem::path root);
+
+  const std::filesystem::path& root() const { return root_; }
+  // The resolved configuration, every key with its value. Its presence marks a run.
+  std::filesystem::path config_file() const { return root_ / "config.yaml"; }
+  // One row per unit of work (an MPC episode, a policy-optimisation epoch).
+  std::filesystem::path progress_file() const { return root_ / "progress.csv"; }
+  // The last whole checkpoint; a learner's files and manifest.json.
+  std::filesystem::path checkpoint_dir() const { return root_ / "checkpoint"; }
+  // A file of the checkpoint.
+  std::filesystem::path checkpoint_file(const std::string& name) const {
+    return checkpoint_dir() / name;
+  }
+
+  bool HoldsRun() const;
+
+  // Creates the run directory and runs `claim` (which takes the run's lock) before writing any
+  // file; then checks again that no other process made a run there meanwhile, and writes a
+  // progress.csv of `progress_header` alone and config.yaml (written whole, then renamed into
+  // place: its presence marks the run). If anything throws, whatever this call created is
+  // removed again, the directory itself included when it did not exist before. Throws
+  // cmbrl::Error when the directory already holds a run or cannot be written.
+  static RunDirectory Create(const std::filesystem::path& root, const std::string& config_yaml,
+                             const std::string& progress_header,
+                             const std::function<void()>& claim);
+
+ private:
+  std::filesystem::path root_;
+};
+
+// What a checkpoint covers, from its manifest.json: the rows of progress.csv written before it,
+// the seconds the run had trained, and every file of the checkpoint with its size and CRC-32.
+struct CheckpointManifest {
+  std::int64_t rows = 0;
+  double elapsed_seconds = 0.0;
+  std::uint32_t progress_crc = 0;  // of progress.csv's header and first `rows` rows
+  struct File {
+    std::string name;
+    std::uintmax_t size = 0;
+    std::uint32_t crc = 0;
+  };
+  std::vector<File> files;
+};
+
+// Writes a checkpoint: `write` fills an empty folder with the learner's files; a manifest for
+// them and the first `rows` rows of progress.csv is added; then the folder replaces the old
+// checkpoint, so that a stop at any moment leaves either the old or the new one whole. `write`
+// may hard-link unchanged files from the previous checkpoint (its second argument; empty path
+// when there is none): files of a checkpoint are never rewritten in place.
+void WriteCheckpoint(
+    const RunDirectory& run, std::int64_t rows, double elapsed_seconds,
+    const std::function<void(const std::filesystem::path& folder,
+                             const std::filesystem::path& previous)>& write);
+
+// Puts back the checkpoint that a stop between WriteCheckpoint's two renames left as
+// checkpoint.old, and removes a half-written checkpoint.tmp. Only for the process holding the
+// run's lock.
+void RecoverInterruptedCheckpoint(const RunDirectory& run);
+
+// The run's last checkpoint (checkpoint/, or checkpoint.old after a stop between the renames),
+// checked against its manifest and progress.csv: every file present
+// with its size and checksum, and progress.csv's first `rows` rows those it covered (rows after
+// them were written after it and are dropped on resume). nullopt when the run has no checkpoint
+// yet and progress.csv has no rows. Throws cmbrl::Error naming the file that disagrees: a
+// missing or changed file, a progress.csv shorter than or different from what the checkpoint
+// covered, rows without a checkpoint.
+std::optional<CheckpointManifest> VerifiedCheckpoint(const RunDirectory& run);
+
+// Keeps progress.csv's header and its first `rows` rows.
+void TruncateProgress(const RunDirectory& run, std::int64_t rows);
+
+// CRC-32 (zlib) of a file's bytes; throws cmbrl::Error naming a file that cannot be read.
+std::uint32_t FileCrc(const std::filesystem::path& path);
+
+}  // namespace cmbrl
