@@ -1,124 +1,85 @@
-// `cmbrl bench ...`: measurements printed as JSON lines (median of several runs). Benchmarks
-// print figures; nothing here judges them.
-#include <algorithm>
-#include <chrono>
-#include <cstdint>
+// `cmbrl bench ...`: the benchmarks of bench/ with their options; each figure printed as one
+// JSON line (median of several runs). Benchmarks print figures; nothing here judges them.
 #include <iostream>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
-#include "app/bench_util.h"
 #include "app/arguments.h"
 #include "app/commands.h"
-#include "cmbrl/agent/policy.h"
-#include "cmbrl/core/check.h"
-#include "cmbrl/core/rng.h"
-#include "cmbrl/env/goal_env.h"
-#include "cmbrl/env/registry.h"
-#include "cmbrl/experiment/config.h"
+#include "bench/env_throughput.h"
+#include "bench/learning_bench.h"
+#include "cmbrl/planning/planner_registry.h"
 
 namespace cmbrl::app {
 namespace {
 
-struct EnvBenchArgs {
-  std::vector<std::string> tasks = EnvNames();
-  std::vector<std::string> variants = {"paper", "standard"};
-  int steps = 2000;  // agent steps per run
-  int runs = 5;
-  std::uint64_t seed = 0;
-  std::string device = "cpu";
-  std::string config_path;  // when set, its task and variant replace tasks and variants
-};
+void PrintFigure(const nlohmann::ordered_json& line) { std::cout << line.dump() << std::endl; }
 
-using Clock = std::chrono::steady_clock;
-
-// The ceiling of an env benchmark: bare mj_step calls on the same compiled model, from the same
-// start and with the same kind of random controls, as many per agent step as the environment
-// runs (frame_skip x action_repeat). Returns agent steps per second at that rate.
-double PhysicsCeiling(const std::string& task, Variant variant, std::uint64_t seed, int steps) {
-  GoalEnv env(GoalTaskSpecByName(task, variant));
-  env.Reset(seed);
-  const mjModel& model = env.model();
-  MjDataPtr data = MakeMjData(model);
-  mj_copyData(data.get(), &model, &env.data());
-  RandomPolicy policy(env.action_spec(), seed);
-  const int frames = env.spec().frame_skip * env.spec().action_repeat;
-  const auto start = Clock::now();
-  for (int step = 0; step < steps; ++step) {
-    const std::vector<double> action = policy.Act({});
-    for (int i = 0; i < model.nu; ++i) {
-      data->ctrl[i] = std::clamp(action[i], model.actuator_ctrlrange[2 * i],
-                                 model.actuator_ctrlrange[2 * i + 1]);
-    }
-    for (int frame = 0; frame < frames; ++frame) mj_step(&model, data.get());
-  }
-  const std::chrono::duration<double> elapsed = Clock::now() - start;
-  return steps / elapsed.count();
+void AddCommonOptions(CLI::App& command, bench::LearningBenchOptions& args) {
+  command.add_option("--config", args.config_path, "training config (YAML) whose settings to use")
+      ->check(CLI::ExistingFile)
+      ->capture_default_str();
+  command.add_option("--device", args.device, "cpu, cuda or cuda:N (default: the config's)");
+  command.add_option("--runs", args.runs, "runs per figure; the median is reported")
+      ->check(IntegerIn(1, 1000))
+      ->capture_default_str();
+  command.add_option("--seed", args.seed, "seed")->check(SeedInteger())->capture_default_str();
 }
 
-// Agent steps of a random policy per wall-clock second, resets included, beside the bare
-// physics ceiling measured in the same run.
-void RunEnvBench(EnvBenchArgs args) {
-  if (!args.config_path.empty()) {
-    const TrainConfig config = LoadTrainConfig(args.config_path);
-    args.tasks = {config.task};
-    args.variants = {VariantName(config.variant)};
-  }
-  for (const std::string& variant_name : args.variants) {
-    const Variant variant = ParseVariant(variant_name);
-    for (const std::string& task : args.tasks) {
-      std::unique_ptr<Env> env = MakeEnv(task, variant);
-      RandomPolicy policy(env->action_spec(), DeriveSeed(args.seed, 1));
-      std::vector<double> rates, ceilings;
-      int env_steps = 0;
-      for (int run = 0; run < args.runs; ++run) {
-        ceilings.push_back(
-            PhysicsCeiling(task, variant, DeriveSeed(args.seed, 100 + run), args.steps));
-        std::vector<double> observation = env->Reset(DeriveSeed(args.seed, 100 + run));
-        env_steps = 0;
-        const auto start = Clock::now();
-        for (int step = 0; step < args.steps; ++step) {
-          StepResult result = env->Step(policy.Act(observation));
-          env_steps += result.info.env_steps;
-          observation =
-              result.terminated || result.truncated ? env->Reset() : std::move(result.observation);
-        }
-        const std::chrono::duration<double> elapsed = Clock::now() - start;
-        rates.push_back(args.steps / elapsed.count());
-      }
-      const double median = Median(rates);
-      const double ceiling = Median(ceilings);
-      const nlohmann::ordered_json line = {
-          {"bench", "env"},
-          {"task", task},
-          {"variant", variant_name},
-          {"device", "cpu"},
-          {"agent_steps_per_second", median},
-          {"env_steps_per_second", median * env_steps / args.steps},
-          {"min_agent_steps_per_second", *std::min_element(rates.begin(), rates.end())},
-          {"max_agent_steps_per_second", *std::max_element(rates.begin(), rates.end())},
-          {"ceiling_agent_steps_per_second", ceiling},
-          {"ratio_to_ceiling", median / ceiling},
-          {"agent_step_sim_seconds", env->agent_step_seconds()},
-          {"realtime_factor", median * env->agent_step_seconds()},
-          {"steps_per_run", args.steps},
-          {"runs", args.runs},
-      };
-      std::cout << line.dump() << std::endl;
-    }
-  }
+void AddBenchLearningCommands(CLI::App& bench_command) {
+  auto plan_args = std::make_shared<bench::LearningBenchOptions>();
+  CLI::App* plan = bench_command.add_subcommand(
+      "plan",
+      "Time of one MPC planning step (the action's copy to the host included) at a config's "
+      "settings, with its dynamics and classifier parts, beside the matrix-product floor");
+  AddCommonOptions(*plan, *plan_args);
+  plan->add_option("--planners", plan_args->planners, "rce, cem, random (default: the config's)")
+      ->check(CLI::IsMember(PlannerNames()));
+  plan->add_option("--precisions", plan_args->precisions,
+                   "fp32, tf32 (CUDA), bf16 (default: the config's); with several, the models are "
+                   "first fitted briefly and each later precision's prediction errors and chosen "
+                   "actions are compared with the first's")
+      ->check(CLI::IsMember({"fp32", "tf32", "bf16"}));
+  plan->add_option("--fit-steps", plan_args->fit_steps,
+                   "random-policy transitions of that fit")
+      ->check(IntegerIn(1, 100'000'000))
+      ->capture_default_str();
+  plan->add_option("--agreement-states", plan_args->agreement_states,
+                   "start states whose chosen actions are compared")
+      ->check(IntegerIn(1, 100'000))
+      ->capture_default_str();
+  plan->callback([plan_args] { bench::RunPlanBench(*plan_args, PrintFigure); });
+
+  auto train_args = std::make_shared<bench::LearningBenchOptions>();
+  train_args->runs = 3;
+  CLI::App* train = bench_command.add_subcommand(
+      "train",
+      "Time of one dynamics training epoch and of a classifier fit at a config's settings, "
+      "beside the matrix-product floor");
+  AddCommonOptions(*train, *train_args);
+  train->add_option("--transitions", train_args->transitions, "transitions of the epoch")
+      ->check(IntegerIn(1, 100'000'000))
+      ->capture_default_str();
+  train->add_option("--classifier-states", train_args->classifier_states,
+                    "states of the classifier fit")
+      ->check(IntegerIn(4, 1 << 30))
+      ->capture_default_str();
+  train->add_flag("--full-fit", train_args->full_fit,
+                  "also time one whole fit, up to the config's max_epochs");
+  train->callback([train_args] { bench::RunTrainBench(*train_args, PrintFigure); });
 }
 
 }  // namespace
 
 void AddBenchCommand(CLI::App& parent) {
-  CLI::App* bench =
+  CLI::App* bench_command =
       parent.add_subcommand("bench", "Measure speed; print one JSON line per measurement");
-  bench->require_subcommand(1);
+  bench_command->require_subcommand(1);
 
-  auto env_args = std::make_shared<EnvBenchArgs>();
-  CLI::App* env = bench->add_subcommand(
+  auto env_args = std::make_shared<bench::EnvBenchOptions>();
+  CLI::App* env = bench_command->add_subcommand(
       "env", "Agent steps per second of a random policy, per task and variant (median of runs)");
   env->add_option("--tasks", env_args->tasks, "tasks to measure")->capture_default_str();
   env->add_option("--variants", env_args->variants, "paper and/or standard")->capture_default_str();
@@ -135,9 +96,9 @@ void AddBenchCommand(CLI::App& parent) {
   env->add_option("--device", env_args->device,
                   "accepted for symmetry with bench plan and train: MuJoCo simulates on the CPU")
       ->check(CLI::IsMember({"cpu", "cuda"}));
-  env->callback([env_args] { RunEnvBench(*env_args); });
+  env->callback([env_args] { bench::RunEnvBench(*env_args, PrintFigure); });
 
-  AddBenchLearningCommands(*bench);
+  AddBenchLearningCommands(*bench_command);
 }
 
 }  // namespace cmbrl::app

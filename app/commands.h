@@ -13,7 +13,4 @@ void AddBenchCommand(CLI::App& parent);
 void AddSweepCommand(CLI::App& parent);
 void AddReportCommand(CLI::App& parent);
 
-// `bench plan` and `bench train`, registered under the `bench` command.
-void AddBenchLearningCommands(CLI::App& bench);
-
 }  // namespace cmbrl::app

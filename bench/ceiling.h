@@ -4,13 +4,15 @@
 
 #include <string>
 
+#include "bench/bench_util.h"
+
 #include <torch/torch.h>
 
-namespace cmbrl::app {
+namespace cmbrl::bench {
 
-// Prints one JSON line with the median FLOP/s of a large square matrix product (n = 2048 on a
+// One figure with the median FLOP/s of a large square matrix product (n = 2048 on a
 // CPU, 8192 on CUDA): fp32 always; on CUDA also TF32 and bf16; on the CPU the BLAS kernels in use.
-void PrintGemmCeilings(const torch::Device& device, int runs);
+void GemmCeilings(const torch::Device& device, int runs, const FigureSink& emit);
 
 // One matrix product of the ceiling's size at one precision ("fp32", "tf32" on CUDA, "bf16"),
 // to measure just before each run of a figure: on a shared machine a ceiling measured seconds
@@ -28,4 +30,4 @@ class CeilingProbe {
 // Waits for the device's queued work (a no-op on the CPU).
 void Synchronize(const torch::Device& device);
 
-}  // namespace cmbrl::app
+}  // namespace cmbrl::bench

@@ -1,4 +1,4 @@
-#include "app/bench_ceiling.h"
+#include "bench/ceiling.h"
 
 #include <torch/cuda.h>
 
@@ -6,10 +6,10 @@
 #include <cstdlib>
 #include <vector>
 
-#include "app/bench_util.h"
+#include "bench/bench_util.h"
 #include "cmbrl/core/process_setup.h"
 
-namespace cmbrl::app {
+namespace cmbrl::bench {
 
 void Synchronize(const torch::Device& device) {
   if (device.is_cuda()) torch::cuda::synchronize(device.index());
@@ -27,7 +27,7 @@ double MedianRate(const torch::Device& device, const std::string& precision, int
 
 }  // namespace
 
-void PrintGemmCeilings(const torch::Device& device, int runs) {
+void GemmCeilings(const torch::Device& device, int runs, const FigureSink& emit) {
   const std::int64_t n = device.is_cuda() ? 8192 : 2048;
   const int gemm_runs = std::max(5, runs);
   nlohmann::ordered_json line = {{"bench", "ceiling"}, {"what", "gemm"}, {"n", n},
@@ -45,7 +45,7 @@ void PrintGemmCeilings(const torch::Device& device, int runs) {
     line["blas_core_best_for_cpu"] = blas.best_core;
     line["torch_threads"] = at::get_num_threads();
   }
-  PrintJsonLine(line);
+  emit(line);
 }
 
 CeilingProbe::CeilingProbe(const torch::Device& device, const std::string& precision)
@@ -74,4 +74,4 @@ double CeilingProbe::Measure() {
   return 2.0 * n * n * n / seconds;
 }
 
-}  // namespace cmbrl::app
+}  // namespace cmbrl::bench

@@ -1,5 +1,5 @@
-// `cmbrl bench plan` and `cmbrl bench train`: planning steps and model fits at a config's
-// settings, each figure beside the matrix-product ceiling measured in the same run.
+#include "bench/learning_bench.h"
+
 #include <torch/torch.h>
 
 #include <unistd.h>
@@ -10,10 +10,8 @@
 #include <string>
 #include <vector>
 
-#include "app/bench_ceiling.h"
-#include "app/bench_util.h"
-#include "app/arguments.h"
-#include "app/commands.h"
+#include "bench/bench_util.h"
+#include "bench/ceiling.h"
 #include "cmbrl/agent/mpc_agent.h"
 #include "cmbrl/agent/policy.h"
 #include "cmbrl/core/check.h"
@@ -25,24 +23,11 @@
 #include "cmbrl/models/ensemble.h"
 #include "cmbrl/models/xgboost_cost_model.h"
 
-namespace cmbrl::app {
+namespace cmbrl::bench {
 namespace {
 
-struct LearningBenchArgs {
-  std::string config_path = "configs/pointgoal1-rce.yaml";
-  std::string device;                  // empty: the config's
-  std::vector<std::string> planners;   // empty: the config's
-  std::vector<std::string> precisions; // bench plan; empty: the config's; the first is the reference
-  int fit_steps = 5000;                // bench plan with several precisions: random-policy data
-  int agreement_states = 8;            // start states of the action comparison
-  int runs = 5;
-  int transitions = 50000;             // bench train: the epoch's data
-  int classifier_states = 40000;       // bench train: the classifier fit's data
-  bool full_fit = false;               // bench train: also a whole fit (up to max_epochs)
-  std::uint64_t seed = 0;
-};
 
-TrainConfig LoadBenchConfig(const LearningBenchArgs& args) {
+TrainConfig LoadBenchConfig(const LearningBenchOptions& args) {
   TrainConfig config = LoadTrainConfig(args.config_path);
   if (!args.device.empty()) {
     SetTrainDevice(config, args.device);
@@ -227,10 +212,12 @@ nlohmann::ordered_json PrecisionErrors(const TrainConfig& config, const std::str
           {"agreement_states", states}};
 }
 
-void RunPlanBench(const LearningBenchArgs& args) {
+}  // namespace
+
+void RunPlanBench(const LearningBenchOptions& args, const FigureSink& emit) {
   const TrainConfig config = LoadBenchConfig(args);
   const torch::Device device = ParseDevice(config.device);
-  PrintGemmCeilings(device, args.runs);
+  GemmCeilings(device, args.runs, emit);
   const TaskShape shape = ShapeOf(config, args.seed);
   const std::vector<std::string> precisions =
       args.precisions.empty() ? std::vector<std::string>{config.ensemble.precision}
@@ -305,15 +292,15 @@ void RunPlanBench(const LearningBenchArgs& args) {
                                     ensemble, *data, args.agreement_states,
                                     DeriveSeed(args.seed, kPlannerSeedStream)));
       }
-      PrintJsonLine(line);
+      emit(line);
     }
   }
 }
 
-void RunTrainBench(const LearningBenchArgs& args) {
+void RunTrainBench(const LearningBenchOptions& args, const FigureSink& emit) {
   const TrainConfig config = LoadBenchConfig(args);
   const torch::Device device = ParseDevice(config.device);
-  PrintGemmCeilings(device, args.runs);
+  GemmCeilings(device, args.runs, emit);
   const TaskShape shape = ShapeOf(config, args.seed);
   // Training runs in float32, on TF32 tensor cores when the config asks for them.
   CeilingProbe probe(device, config.ensemble.precision == "tf32" ? "tf32" : "fp32");
@@ -347,7 +334,7 @@ void RunTrainBench(const LearningBenchArgs& args) {
   epoch["rows_per_member"] = rows;
   epoch["batch_size"] = config.ensemble.batch_size;
   AddRate(epoch, 3.0 * trainee.PredictFlops(rows), epoch_runs);
-  PrintJsonLine(epoch);
+  emit(epoch);
 
   if (args.full_fit) {
     EnsembleDynamics fitted(shape.state_dim, shape.action_dim, config.ensemble, args.seed);
@@ -361,7 +348,7 @@ void RunTrainBench(const LearningBenchArgs& args) {
     fit["epochs"] = report.epochs;
     fit["max_epochs"] = config.ensemble.max_epochs;
     AddRate(fit, 3.0 * fitted.PredictFlops(rows) * report.epochs, fit_run);
-    PrintJsonLine(fit);
+    emit(fit);
   }
 
   CostFitReport fit;
@@ -374,63 +361,7 @@ void RunTrainBench(const LearningBenchArgs& args) {
   line["trees"] = fit.trees;
   line["unsafe_accuracy"] = fit.unsafe_accuracy;
   line["safe_accuracy"] = fit.safe_accuracy;
-  PrintJsonLine(line);
+  emit(line);
 }
 
-void AddCommonOptions(CLI::App& command, LearningBenchArgs& args) {
-  command.add_option("--config", args.config_path, "training config (YAML) whose settings to use")
-      ->check(CLI::ExistingFile)
-      ->capture_default_str();
-  command.add_option("--device", args.device, "cpu, cuda or cuda:N (default: the config's)");
-  command.add_option("--runs", args.runs, "runs per figure; the median is reported")
-      ->check(IntegerIn(1, 1000))
-      ->capture_default_str();
-  command.add_option("--seed", args.seed, "seed")->check(SeedInteger())->capture_default_str();
-}
-
-}  // namespace
-
-void AddBenchLearningCommands(CLI::App& bench) {
-  auto plan_args = std::make_shared<LearningBenchArgs>();
-  CLI::App* plan = bench.add_subcommand(
-      "plan",
-      "Time of one MPC planning step (the action's copy to the host included) at a config's "
-      "settings, with its dynamics and classifier parts, beside the matrix-product floor");
-  AddCommonOptions(*plan, *plan_args);
-  plan->add_option("--planners", plan_args->planners, "rce, cem, random (default: the config's)")
-      ->check(CLI::IsMember(PlannerNames()));
-  plan->add_option("--precisions", plan_args->precisions,
-                   "fp32, tf32 (CUDA), bf16 (default: the config's); with several, the models are "
-                   "first fitted briefly and each later precision's prediction errors and chosen "
-                   "actions are compared with the first's")
-      ->check(CLI::IsMember({"fp32", "tf32", "bf16"}));
-  plan->add_option("--fit-steps", plan_args->fit_steps,
-                   "random-policy transitions of that fit")
-      ->check(IntegerIn(1, 100'000'000))
-      ->capture_default_str();
-  plan->add_option("--agreement-states", plan_args->agreement_states,
-                   "start states whose chosen actions are compared")
-      ->check(IntegerIn(1, 100'000))
-      ->capture_default_str();
-  plan->callback([plan_args] { RunPlanBench(*plan_args); });
-
-  auto train_args = std::make_shared<LearningBenchArgs>();
-  train_args->runs = 3;
-  CLI::App* train = bench.add_subcommand(
-      "train",
-      "Time of one dynamics training epoch and of a classifier fit at a config's settings, "
-      "beside the matrix-product floor");
-  AddCommonOptions(*train, *train_args);
-  train->add_option("--transitions", train_args->transitions, "transitions of the epoch")
-      ->check(IntegerIn(1, 100'000'000))
-      ->capture_default_str();
-  train->add_option("--classifier-states", train_args->classifier_states,
-                    "states of the classifier fit")
-      ->check(IntegerIn(4, 1 << 30))
-      ->capture_default_str();
-  train->add_flag("--full-fit", train_args->full_fit,
-                  "also time one whole fit, up to the config's max_epochs");
-  train->callback([train_args] { RunTrainBench(*train_args); });
-}
-
-}  // namespace cmbrl::app
+}  // namespace cmbrl::bench

@@ -1,15 +1,14 @@
-// Helpers shared by the `cmbrl bench` commands.
+// Helpers shared by the benchmarks behind `cmbrl bench`.
 #pragma once
 
 #include <algorithm>
 #include <chrono>
 #include <cstdint>
 #include <functional>
-#include <iostream>
 #include <nlohmann/json.hpp>
 #include <vector>
 
-namespace cmbrl::app {
+namespace cmbrl::bench {
 
 // Median of a non-empty list (mean of the middle two for an even count).
 inline double Median(std::vector<double> values) {
@@ -38,9 +37,8 @@ inline double MedianSeconds(int runs, const std::function<void()>& work) {
   return Median(TimeRuns(runs, work));
 }
 
-inline void PrintJsonLine(const nlohmann::ordered_json& line) {
-  std::cout << line.dump() << std::endl;
-}
+// Where a benchmark's figures go, one JSON object each (the program prints them as lines).
+using FigureSink = std::function<void(const nlohmann::ordered_json&)>;
 
 // States shaped like a Goal task's ego state with 0/1 labels, for classifier benchmarks: unsafe
 // when one of the ego-frame hazard pairs from index 10 on lies within 0.2 m; each class drawn
@@ -48,4 +46,4 @@ inline void PrintJsonLine(const nlohmann::ordered_json& line) {
 void ClassifierData(int count, int dim, std::uint64_t seed, std::vector<float>& safe,
                     std::vector<float>& unsafe);
 
-}  // namespace cmbrl::app
+}  // namespace cmbrl::bench

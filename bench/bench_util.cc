@@ -1,10 +1,10 @@
-#include "app/bench_util.h"
+#include "bench/bench_util.h"
 
 #include <cmath>
 
 #include "cmbrl/core/rng.h"
 
-namespace cmbrl::app {
+namespace cmbrl::bench {
 
 void ClassifierData(int count, int dim, std::uint64_t seed, std::vector<float>& safe,
                     std::vector<float>& unsafe) {
@@ -26,4 +26,4 @@ void ClassifierData(int count, int dim, std::uint64_t seed, std::vector<float>& 
   }
 }
 
-}  // namespace cmbrl::app
+}  // namespace cmbrl::bench
