@@ -8,9 +8,10 @@
 #include <vector>
 
 #include "cmbrl/core/check.h"
-#include "cmbrl/core/vec2.h"
 
 namespace cmbrl {
+
+class SceneSource;  // scene.h
 
 // A box of real vectors: component i lies in [low[i], high[i]] (infinite where unbounded).
 struct BoxSpec {
@@ -49,31 +50,6 @@ struct StepResult {
   StepInfo info;
 };
 
-// A planar pose: position on the floor and heading (rad, counter-clockwise from world +x).
-struct Pose2 {
-  Vec2 position;
-  double yaw = 0.0;
-};
-
-// Axis-aligned rectangle on the floor.
-struct Extents {
-  double x_min = 0.0, y_min = 0.0, x_max = 0.0, y_max = 0.0;
-};
-
-// Ground truth of the arena, for pictures and tests; never part of what an agent observes.
-struct SceneState {
-  std::string robot_name;     // "point", "car" (stock two-wheel) or "rover"
-  double robot_radius = 0.0;  // radius of a disc that covers the robot's footprint (m)
-  Pose2 robot;
-  Vec2 goal;
-  std::vector<Vec2> hazards;
-  std::vector<Pose2> vases;  // live positions: vases can be pushed
-  double goal_radius = 0.0;
-  double hazard_radius = 0.0;
-  double vase_half_size = 0.0;
-  Extents placement;  // where layouts are sampled
-};
-
 // An episodic environment with a continuous action box, a reward and a 0/1 constraint cost.
 // Implementations own their random generator; they are not thread-safe, but distinct instances
 // may be used from distinct threads.
@@ -99,8 +75,9 @@ class Env {
   // Simulated seconds per agent step.
   virtual double agent_step_seconds() const = 0;
 
-  // Ground truth: robot pose, goal, hazards, vases.
-  virtual SceneState Scene() const = 0;
+  // The environment's ground truth for pictures and tests (robot pose, goal, hazards, vases),
+  // or nullptr when it has none to show. Never part of what an agent observes.
+  virtual const SceneSource* scene_source() const { return nullptr; }
 
   // The generator's state as text, for checkpoints: restoring it before Reset() reproduces the
   // layouts that would have followed. Throws cmbrl::Error for text that is not such a state.

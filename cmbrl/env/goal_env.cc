@@ -12,83 +12,6 @@
 #include "cmbrl/env/observation.h"
 
 namespace cmbrl {
-namespace {
-
-constexpr double kInf = std::numeric_limits<double>::infinity();
-
-// Colours (rgba) of the scene objects, as Safety Gym draws them.
-constexpr const char* kGoalRgba = "0 1 0 0.25";
-constexpr const char* kHazardRgba = "0 0 1 0.25";
-constexpr const char* kVaseRgba = "0 1 1 1";
-
-void AppendNames(BoxSpec& box, const std::string& key, int count, double low, double high) {
-  static const char* const kAxes[] = {"x", "y", "z"};
-  for (int i = 0; i < count; ++i) {
-    box.low.push_back(low);
-    box.high.push_back(high);
-    box.names.push_back(count == 1   ? key
-                        : count <= 3 ? fmt::format("{}_{}", key, kAxes[i])
-                                     : fmt::format("{}_{}", key, i));
-  }
-}
-
-}  // namespace
-
-std::string BuildGoalWorldMjcf(const GoalTaskSpec& spec, const RobotDescription& robot) {
-  std::string objects;
-  objects += fmt::format(
-      R"(
-    <body name="goal" mocap="true" pos="0 0 {}">
-      <geom name="goal" type="cylinder" size="{} {}" contype="0" conaffinity="0" rgba="{}"/>
-    </body>)",
-      spec.goal_size / 2 + 0.01, spec.goal_size, spec.goal_size / 2, kGoalRgba);
-  for (int i = 0; i < spec.num_hazards; ++i) {
-    objects += fmt::format(
-        R"(
-    <body name="hazard{0}" mocap="true" pos="0 0 0.02">
-      <geom name="hazard{0}" type="cylinder" size="{1} 0.01" contype="0" conaffinity="0"
-            rgba="{2}"/>
-    </body>)",
-        i, spec.hazard_size, kHazardRgba);
-  }
-  for (int i = 0; i < spec.num_vases; ++i) {
-    // Parked apart from each other until the first reset places them.
-    objects += fmt::format(
-        R"(
-    <body name="vase{0}" pos="{1} 10 {2}">
-      <freejoint name="vase{0}"/>
-      <geom name="vase{0}" type="box" size="{3} {3} {3}" density="{4}" rgba="{5}"/>
-    </body>)",
-        i, 10.0 + i, spec.vase_half_size - spec.vase_sink, spec.vase_half_size, spec.vase_density,
-        kVaseRgba);
-  }
-  return fmt::format(
-      R"(<mujoco model="{name}">
-  <compiler angle="radian"/>
-  <option timestep="{timestep}"/>
-  <default>
-    <geom condim="6"/>
-    <joint damping="0.001"/>
-  </default>
-  <worldbody>
-    <light pos="0 0 4" dir="0 0 -1"/>
-    <geom name="floor" type="plane" size="3.5 3.5 0.1" condim="6" rgba="1 1 1 1"/>{robot}{objects}
-  </worldbody>
-  <tendon>{tendon}
-  </tendon>
-  <equality>{equality}
-  </equality>
-  <actuator>{actuator}
-  </actuator>
-  <sensor>{sensor}
-  </sensor>
-</mujoco>
-)",
-      fmt::arg("name", spec.name), fmt::arg("timestep", robot.timestep),
-      fmt::arg("robot", robot.body_mjcf), fmt::arg("objects", objects),
-      fmt::arg("tendon", robot.tendon_mjcf), fmt::arg("equality", robot.equality_mjcf),
-      fmt::arg("actuator", robot.actuator_mjcf), fmt::arg("sensor", robot.sensor_mjcf));
-}
 
 namespace {
 
@@ -134,36 +57,7 @@ GoalEnv::GoalEnv(GoalTaskSpec spec, RobotDescription robot)
   } else {
     free_qpos_ = m.jnt_qposadr[RequireMjId(m, mjOBJ_JOINT, "robot")];
   }
-  const auto sensor = [&m](const std::string& name) {
-    const int id = RequireMjId(m, mjOBJ_SENSOR, name);
-    return SensorSlot{m.sensor_adr[id], m.sensor_dim[id]};
-  };
-  accelerometer_ = sensor("accelerometer");
-  velocimeter_ = sensor("velocimeter");
-  gyro_ = sensor("gyro");
-  magnetometer_ = sensor("magnetometer");
-
-  if (spec_.observation == ObservationKind::kLidar) {
-    const int bins = spec_.lidar_bins;
-    lidar_blocks_.push_back({"accelerometer", BlockKind::kSensor, accelerometer_, 3});
-    lidar_blocks_.push_back({"gyro", BlockKind::kSensor, gyro_, 3});
-    lidar_blocks_.push_back({"magnetometer", BlockKind::kSensor, magnetometer_, 3});
-    lidar_blocks_.push_back({"velocimeter", BlockKind::kSensor, velocimeter_, 3});
-    for (const std::string& name : robot_.joint_observation_sensors) {
-      const bool quat = name.rfind("ballquat", 0) == 0;
-      lidar_blocks_.push_back({name, quat ? BlockKind::kBallQuat : BlockKind::kSensor, sensor(name),
-                               quat ? 9 : sensor(name).size});
-    }
-    lidar_blocks_.push_back({"goal_lidar", BlockKind::kGoalLidar, {}, bins});
-    if (spec_.num_hazards > 0) {
-      lidar_blocks_.push_back({"hazards_lidar", BlockKind::kHazardsLidar, {}, bins});
-    }
-    if (spec_.num_vases > 0) {
-      lidar_blocks_.push_back({"vases_lidar", BlockKind::kVasesLidar, {}, bins});
-    }
-    std::sort(lidar_blocks_.begin(), lidar_blocks_.end(),
-              [](const ObservationBlock& a, const ObservationBlock& b) { return a.key < b.key; });
-  }
+  observer_ = MakeGoalObserver(spec_, robot_, m);
   BuildSpecs();
 }
 
@@ -175,32 +69,6 @@ void GoalEnv::BuildSpecs() {
   action_spec_.high.assign(num_actuators, 1.0);
   action_spec_.names = robot_.action_names;
 
-  BoxSpec& box = observation_spec_;
-  if (spec_.observation == ObservationKind::kLidar) {
-    for (const ObservationBlock& block : lidar_blocks_) {
-      const bool lidar = block.kind == BlockKind::kGoalLidar ||
-                         block.kind == BlockKind::kHazardsLidar ||
-                         block.kind == BlockKind::kVasesLidar;
-      AppendNames(box, block.key, block.size, lidar ? 0.0 : -kInf, lidar ? 1.0 : kInf);
-    }
-    return;
-  }
-  // Facts B1: the ego-coordinate state vector.
-  AppendNames(box, "velocimeter", 2, -kInf, kInf);
-  if (robot_.magnetometer_before_gyro) {
-    AppendNames(box, "magnetometer", 3, -kInf, kInf);
-    AppendNames(box, "gyro_z", 1, -kInf, kInf);
-  } else {
-    AppendNames(box, "gyro_z", 1, -kInf, kInf);
-    AppendNames(box, "magnetometer", 3, -kInf, kInf);
-  }
-  AppendNames(box, "goal", 2, -kInf, kInf);
-  for (int i = 0; i < spec_.num_vases; ++i) {
-    AppendNames(box, fmt::format("vase{}", i), 2, -kInf, kInf);
-  }
-  for (int i = 0; i < spec_.num_hazards; ++i) {
-    AppendNames(box, fmt::format("hazard{}", i), 2, -kInf, kInf);
-  }
 }
 
 int GoalEnv::max_episode_steps() const {
@@ -431,63 +299,15 @@ Vec2 GoalEnv::VaseXY(int vase) const {
 double GoalEnv::DistanceToGoal() const { return Distance(RobotXY(), layout_.goal); }
 
 std::vector<double> GoalEnv::Observe() const {
-  std::vector<double> observation(observation_spec_.size());
-  if (spec_.observation == ObservationKind::kLidar) {
-    ObserveLidar(observation.data());
-  } else {
-    ObserveEgoState(observation.data());
-  }
+  GoalWorldView world;
+  world.sensordata = data_->sensordata;
+  world.robot = Frame();
+  world.goal = layout_.goal;
+  world.hazards = &layout_.hazards;
+  for (int i = 0; i < spec_.num_vases; ++i) world.vases.push_back(VaseXY(i));
+  std::vector<double> observation(observer_->spec().size());
+  observer_->Observe(world, observation.data());
   return observation;
-}
-
-void GoalEnv::ObserveLidar(double* out) const {
-  const mjtNum* sensors = data_->sensordata;
-  const RobotFrame frame = Frame();
-  for (const ObservationBlock& block : lidar_blocks_) {
-    switch (block.kind) {
-      case BlockKind::kSensor:
-        std::copy_n(sensors + block.sensor.address, block.size, out);
-        break;
-      case BlockKind::kBallQuat: {
-        mjtNum matrix[9];
-        mju_quat2Mat(matrix, sensors + block.sensor.address);
-        std::copy_n(matrix, 9, out);
-        break;
-      }
-      case BlockKind::kGoalLidar:
-        PseudoLidar(frame, {layout_.goal}, spec_.lidar_bins, spec_.lidar_max_dist, out);
-        break;
-      case BlockKind::kHazardsLidar:
-        PseudoLidar(frame, layout_.hazards, spec_.lidar_bins, spec_.lidar_max_dist, out);
-        break;
-      case BlockKind::kVasesLidar: {
-        std::vector<Vec2> vases(spec_.num_vases);
-        for (int i = 0; i < spec_.num_vases; ++i) vases[i] = VaseXY(i);
-        PseudoLidar(frame, vases, spec_.lidar_bins, spec_.lidar_max_dist, out);
-        break;
-      }
-    }
-    out += block.size;
-  }
-}
-
-void GoalEnv::ObserveEgoState(double* out) const {
-  const mjtNum* sensors = data_->sensordata;
-  const RobotFrame frame = Frame();
-  *out++ = sensors[velocimeter_.address];
-  *out++ = sensors[velocimeter_.address + 1];
-  const double gyro_z = sensors[gyro_.address + 2];
-  if (!robot_.magnetometer_before_gyro) *out++ = gyro_z;
-  out = std::copy_n(sensors + magnetometer_.address, 3, out);
-  if (robot_.magnetometer_before_gyro) *out++ = gyro_z;
-  const auto put = [&out, &frame](Vec2 point) {
-    const Vec2 ego = EgoXY(frame, point);
-    *out++ = ego.x;
-    *out++ = ego.y;
-  };
-  put(layout_.goal);
-  for (int i = 0; i < spec_.num_vases; ++i) put(VaseXY(i));
-  for (const Vec2& hazard : layout_.hazards) put(hazard);
 }
 
 SceneState GoalEnv::Scene() const {

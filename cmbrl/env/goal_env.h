@@ -4,12 +4,16 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "cmbrl/core/rng.h"
 #include "cmbrl/env/env.h"
+#include "cmbrl/env/goal_observer.h"
+#include "cmbrl/env/goal_world_mjcf.h"
+#include "cmbrl/env/scene.h"
 #include "cmbrl/env/mujoco_handles.h"
 #include "cmbrl/env/observation.h"
 #include "cmbrl/env/robots/robot.h"
@@ -24,7 +28,7 @@ namespace cmbrl {
 // agent step's reward is the sum over its env steps and its cost the 0/1 indicator of any
 // violation; with action repeat the loop stops early when the goal is reached (the paper's
 // wrapper). Not thread-safe; owns its model, data and generator.
-class GoalEnv final : public Env {
+class GoalEnv final : public Env, public SceneSource {
  public:
   // The task's own robot (PointRobot or CarRobot of the spec's variant).
   explicit GoalEnv(GoalTaskSpec spec);
@@ -36,11 +40,12 @@ class GoalEnv final : public Env {
   std::vector<double> Reset(std::optional<std::uint64_t> seed = std::nullopt) override;
   StepResult Step(const std::vector<double>& action) override;
 
-  const BoxSpec& observation_spec() const override { return observation_spec_; }
+  const BoxSpec& observation_spec() const override { return observer_->spec(); }
   const BoxSpec& action_spec() const override { return action_spec_; }
   int max_episode_steps() const override;
   double agent_step_seconds() const override;
   SceneState Scene() const override;
+  const SceneSource* scene_source() const override { return this; }
   std::string GeneratorState() const override;
   void SetGeneratorState(const std::string& state) override;
 
@@ -73,8 +78,6 @@ class GoalEnv final : public Env {
   void PlaceLayout(const GoalLayout& layout);
   void ComputeCostTerms(EnvStepOutcome& outcome) const;
   std::vector<double> Observe() const;
-  void ObserveLidar(double* out) const;
-  void ObserveEgoState(double* out) const;
   RobotFrame Frame() const;
   Vec2 RobotXY() const;
   Vec2 VaseXY(int vase) const;
@@ -88,7 +91,6 @@ class GoalEnv final : public Env {
   MjDataPtr data_;
   Rng rng_;
   GoalLayout layout_;  // hazards and goal as placed; robot and vases as of the last relocation
-  BoxSpec observation_spec_;
   BoxSpec action_spec_;
 
   // Ids and addresses into the model, resolved once.
@@ -101,28 +103,11 @@ class GoalEnv final : public Env {
   std::vector<int> robot_contact_geoms_;
   std::array<int, 3> planar_qpos_{-1, -1, -1};  // x, y, yaw (planar robots)
   int free_qpos_ = -1;                          // free joint (other robots)
-  struct SensorSlot {
-    int address = -1;
-    int size = 0;
-  };
-  SensorSlot accelerometer_, velocimeter_, gyro_, magnetometer_;
-  // The stock observation: named blocks in alphabetical order of their keys (facts A5).
-  enum class BlockKind { kSensor, kBallQuat, kGoalLidar, kHazardsLidar, kVasesLidar };
-  struct ObservationBlock {
-    std::string key;
-    BlockKind kind = BlockKind::kSensor;
-    SensorSlot sensor;  // for kSensor and kBallQuat
-    int size = 0;       // values written
-  };
-  std::vector<ObservationBlock> lidar_blocks_;
+  std::unique_ptr<GoalObserver> observer_;  // the spec's observation kind
 
   double last_goal_distance_ = 0.0;
   int env_steps_ = 0;
   bool episode_over_ = true;
 };
-
-// The MJCF document of a Goal world: floor, robot, goal, hazards and vases. Positions are
-// placeholders; GoalEnv places objects at every reset.
-std::string BuildGoalWorldMjcf(const GoalTaskSpec& spec, const RobotDescription& robot);
 
 }  // namespace cmbrl

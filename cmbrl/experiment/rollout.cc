@@ -1,13 +1,17 @@
 #include "cmbrl/experiment/rollout.h"
 
+#include "cmbrl/core/check.h"
+
 namespace cmbrl {
 
 EpisodeRecord RunEpisode(Env& env, Policy& policy, std::optional<std::uint64_t> seed,
                          const AfterActHook& after_act) {
+  const SceneSource* scenes = env.scene_source();
+  Require(scenes != nullptr, "this environment shows no scene to record an episode from");
   EpisodeRecord record;
   std::vector<double> observation = env.Reset(seed);
   policy.BeginEpisode();
-  SceneState scene = env.Scene();
+  SceneState scene = scenes->Scene();
   record.path.push_back(scene.robot.position);
   record.path_violations.push_back(false);
   for (;;) {
@@ -15,7 +19,7 @@ EpisodeRecord RunEpisode(Env& env, Policy& policy, std::optional<std::uint64_t> 
     const std::vector<double> action = policy.Act(observation);
     if (after_act) after_act(record.steps, scene);
     StepResult step = env.Step(action);
-    scene = env.Scene();
+    scene = scenes->Scene();
     record.episode_return += step.reward;
     record.episode_cost += step.cost;
     ++record.steps;

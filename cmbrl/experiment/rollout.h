@@ -8,6 +8,7 @@
 
 #include "cmbrl/agent/policy.h"
 #include "cmbrl/env/env.h"
+#include "cmbrl/env/scene.h"
 
 namespace cmbrl {
 
@@ -31,7 +32,8 @@ struct EpisodeRecord {
 using AfterActHook = std::function<void(int step, const SceneState& scene)>;
 
 // Resets the environment (with `seed`, or continuing its generator) and runs the policy until the
-// episode terminates or is truncated.
+// episode terminates or is truncated. The environment must show its scene (Env::scene_source);
+// throws cmbrl::Error otherwise.
 EpisodeRecord RunEpisode(Env& env, Policy& policy, std::optional<std::uint64_t> seed,
                          const AfterActHook& after_act = {});
 

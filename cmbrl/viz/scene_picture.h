@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "cmbrl/env/env.h"
+#include "cmbrl/env/scene.h"
 
 namespace cmbrl {
 

@@ -1,4 +1,5 @@
 #include "cmbrl/env/registry.h"
+#include "cmbrl/env/scene.h"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -35,7 +36,8 @@ TEST(RegistryTest, EveryTaskRunsInBothVariants) {
         obs = step.observation;
         if (step.truncated || step.terminated) break;
       }
-      const SceneState scene = env->Scene();
+      ASSERT_NE(env->scene_source(), nullptr);
+      const SceneState scene = env->scene_source()->Scene();
       EXPECT_EQ(static_cast<int>(scene.hazards.size()),
                 task.back() == '1' ? (variant == Variant::kPaper ? 7 : 8)
                                    : (variant == Variant::kPaper ? 14 : 10));

@@ -4,7 +4,7 @@
 #include <vector>
 
 #include "cmbrl/core/rng.h"
-#include "cmbrl/env/env.h"
+#include "cmbrl/env/scene.h"
 #include "cmbrl/env/tasks/goal_spec.h"
 
 namespace cmbrl {

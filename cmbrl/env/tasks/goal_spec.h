@@ -4,7 +4,7 @@
 #include <string>
 #include <vector>
 
-#include "cmbrl/env/env.h"
+#include "cmbrl/env/scene.h"
 #include "cmbrl/env/variant.h"
 
 namespace cmbrl {
