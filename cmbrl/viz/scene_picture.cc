@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <memory>
 
 #include "cmbrl/core/check.h"
@@ -128,48 +129,143 @@ void DrawRobot(cairo_t* cr, const SceneState& scene, double pixel) {
   cairo_restore(cr);
 }
 
-void DrawCaption(cairo_t* cr, const std::string& caption, int size_px) {
+void DrawCaption(cairo_t* cr, const std::string& caption, int width, double band) {
   if (caption.empty()) return;
-  cairo_identity_matrix(cr);
+  cairo_save(cr);
   cairo_select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
-  cairo_set_font_size(cr, std::max(10.0, size_px / 50.0));
+  cairo_set_font_size(cr, std::max(10.0, width / 50.0));
   cairo_set_source_rgb(cr, 0.1, 0.1, 0.1);
-  cairo_move_to(cr, size_px / 80.0, size_px / 30.0);
+  cairo_text_extents_t extents;
+  cairo_text_extents(cr, caption.c_str(), &extents);
+  cairo_move_to(cr, width / 80.0, band / 2 - extents.y_bearing / 2);
   cairo_show_text(cr, caption.c_str());
+  cairo_restore(cr);
 }
 
-// A one-metre scale bar in the lower left corner.
-void DrawScaleBar(cairo_t* cr, const Extents& view, double pixel) {
-  const double x = view.x_min + 20 * pixel;
-  const double y = view.y_min + 20 * pixel;
+// A one-metre scale bar in the arena's lower left corner, labelled; in pixels.
+void DrawScaleBar(cairo_t* cr, const PictureGeometry& g) {
+  const double x = 20;
+  const double y = g.arena_top_px + g.arena_size_px - 22;
+  cairo_save(cr);
   cairo_set_source_rgb(cr, 0.1, 0.1, 0.1);
-  cairo_set_line_width(cr, 3 * pixel);
+  cairo_set_line_width(cr, 3);
   cairo_move_to(cr, x, y);
-  cairo_line_to(cr, x + 1.0, y);
+  cairo_line_to(cr, x + g.pixels_per_metre, y);
+  for (const double end : {x, x + g.pixels_per_metre}) {
+    cairo_move_to(cr, end, y - 5);
+    cairo_line_to(cr, end, y + 5);
+  }
   cairo_stroke(cr);
+  cairo_select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
+  cairo_set_font_size(cr, 13);
+  cairo_move_to(cr, x + g.pixels_per_metre / 2 - 10, y - 8);
+  cairo_show_text(cr, "1 m");
+  cairo_restore(cr);
+}
+
+// One legend entry: a swatch drawn by `swatch` in a 20-pixel box at (x, y), then the label.
+// Returns the x where the next entry starts.
+double LegendEntry(cairo_t* cr, double x, double y, const char* label,
+                   const std::function<void(double cx, double cy)>& swatch) {
+  cairo_save(cr);
+  cairo_new_path(cr);  // no segment from the previous label's end
+  swatch(x + 10, y);
+  cairo_restore(cr);
+  cairo_new_path(cr);
+  cairo_set_source_rgb(cr, 0.1, 0.1, 0.1);
+  cairo_text_extents_t extents;
+  cairo_text_extents(cr, label, &extents);
+  cairo_move_to(cr, x + 24, y - extents.y_bearing / 2);
+  cairo_show_text(cr, label);
+  return x + 24 + extents.x_advance + 18;
+}
+
+// Every mark of the picture, in two rows under the arena, in the colours the arena uses.
+void DrawLegend(cairo_t* cr, const PictureGeometry& g, double band) {
+  cairo_save(cr);
+  cairo_select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
+  cairo_set_font_size(cr, std::max(10.0, g.width_px / 62.0));
+  const double row1 = g.arena_top_px + g.arena_size_px + band * 0.3;
+  const double row2 = g.arena_top_px + g.arena_size_px + band * 0.72;
+  const auto disc = [cr](double r, double g_, double b, double a) {
+    return [=](double cx, double cy) {
+      cairo_set_source_rgba(cr, r, g_, b, a);
+      cairo_arc(cr, cx, cy, 8, 0, 2 * M_PI);
+      cairo_fill(cr);
+    };
+  };
+  const auto line = [cr](double r, double g_, double b, double a, double width) {
+    return [=](double cx, double cy) {
+      cairo_set_source_rgba(cr, r, g_, b, a);
+      cairo_set_line_width(cr, width);
+      cairo_move_to(cr, cx - 10, cy);
+      cairo_line_to(cr, cx + 10, cy);
+      cairo_stroke(cr);
+    };
+  };
+  double x = 12;
+  x = LegendEntry(cr, x, row1, "hazard", disc(0.2, 0.35, 1.0, 0.45));
+  x = LegendEntry(cr, x, row1, "vase", [cr](double cx, double cy) {
+    cairo_set_source_rgb(cr, 0.0, 0.65, 0.65);
+    cairo_rectangle(cr, cx - 6, cy - 6, 12, 12);
+    cairo_fill(cr);
+  });
+  x = LegendEntry(cr, x, row1, "goal", disc(0.1, 0.8, 0.2, 0.5));
+  x = LegendEntry(cr, x, row1, "reached goal", disc(0.1, 0.8, 0.2, 0.18));
+  x = LegendEntry(cr, x, row1, "robot", disc(0.85, 0.1, 0.1, 1.0));
+  x = LegendEntry(cr, x, row1, "start", [cr](double cx, double cy) {
+    cairo_set_source_rgb(cr, 0, 0, 0);
+    cairo_set_line_width(cr, 2);
+    cairo_arc(cr, cx, cy, 6, 0, 2 * M_PI);
+    cairo_stroke(cr);
+  });
+  x = 12;
+  x = LegendEntry(cr, x, row2, "path", line(0.45, 0.1, 0.1, 0.8, 2));
+  x = LegendEntry(cr, x, row2, "violating step", disc(1.0, 0.5, 0.0, 1.0));
+  x = LegendEntry(cr, x, row2, "feasible plan", line(0.0, 0.6, 0.2, 0.6, 1.5));
+  x = LegendEntry(cr, x, row2, "infeasible plan", line(0.9, 0.1, 0.1, 0.6, 1.5));
+  LegendEntry(cr, x, row2, "executed plan", line(0.1, 0.1, 0.1, 0.9, 2.5));
+  cairo_restore(cr);
 }
 
 }  // namespace
 
-void WriteScenePng(const ScenePicture& picture, const std::string& path,
-                   const ScenePictureOptions& options) {
+Vec2 PictureGeometry::PixelOf(Vec2 world) const {
+  return {(world.x - view.x_min) * pixels_per_metre,
+          arena_top_px + arena_size_px - (world.y - view.y_min) * pixels_per_metre};
+}
+
+PictureGeometry WriteScenePng(const ScenePicture& picture, const std::string& path,
+                              const ScenePictureOptions& options) {
   Require(options.size_px >= 64 && options.size_px <= 8192,
           "picture size_px is {}: expected 64 to 8192 pixels", options.size_px);
   const SceneState& scene = picture.scene;
   const int size = options.size_px;
+  const double title_band = std::round(size / 18.0);
+  const double legend_band = std::round(size / 9.0);
+  PictureGeometry g;
+  g.width_px = size;
+  g.height_px = static_cast<int>(title_band + size + legend_band);
+  g.arena_top_px = title_band;
+  g.arena_size_px = size;
+  g.view = ViewOf(picture, options.margin_m);
+  g.pixels_per_metre = size / (g.view.x_max - g.view.x_min);
   std::unique_ptr<cairo_surface_t, SurfaceDeleter> surface(
-      cairo_image_surface_create(CAIRO_FORMAT_ARGB32, size, size));
+      cairo_image_surface_create(CAIRO_FORMAT_ARGB32, g.width_px, g.height_px));
   std::unique_ptr<cairo_t, ContextDeleter> context(cairo_create(surface.get()));
   cairo_t* cr = context.get();
 
   cairo_set_source_rgb(cr, 1, 1, 1);
   cairo_paint(cr);
 
-  // World coordinates: metres, y up.
-  const Extents view = ViewOf(picture, options.margin_m);
-  const double scale = size / (view.x_max - view.x_min);
+  // The arena: world coordinates (metres, y up), everything clipped to it.
+  cairo_save(cr);
+  cairo_rectangle(cr, 0, title_band, size, size);
+  cairo_clip(cr);
+  const Extents& view = g.view;
+  const double scale = g.pixels_per_metre;
   const double pixel = 1.0 / scale;
-  cairo_translate(cr, 0, size);
+  cairo_translate(cr, 0, title_band + size);
   cairo_scale(cr, scale, -scale);
   cairo_translate(cr, -view.x_min, -view.y_min);
 
@@ -200,13 +296,22 @@ void WriteScenePng(const ScenePicture& picture, const std::string& path,
   DrawPredictions(cr, picture.predictions, pixel);
   DrawPath(cr, picture, pixel);
   DrawRobot(cr, scene, pixel);
-  DrawScaleBar(cr, view, pixel);
-  DrawCaption(cr, picture.caption, size);
+  cairo_restore(cr);
+
+  // Frame of the arena, then the bands (device pixels).
+  cairo_set_source_rgb(cr, 0.6, 0.6, 0.6);
+  cairo_set_line_width(cr, 1);
+  cairo_rectangle(cr, 0.5, title_band + 0.5, size - 1, size - 1);
+  cairo_stroke(cr);
+  DrawScaleBar(cr, g);
+  DrawCaption(cr, picture.caption, size, title_band);
+  DrawLegend(cr, g, legend_band);
 
   cairo_surface_flush(surface.get());
   const cairo_status_t status = cairo_surface_write_to_png(surface.get(), path.c_str());
   Require(status == CAIRO_STATUS_SUCCESS, "could not write the picture to '{}': {}", path,
           cairo_status_to_string(status));
+  return g;
 }
 
 }  // namespace cmbrl

@@ -27,13 +27,30 @@ struct ScenePicture {
 };
 
 struct ScenePictureOptions {
-  int size_px = 800;      // width and height of the image (pixels)
+  int size_px = 800;      // width of the image and height of the arena (pixels)
   double margin_m = 0.4;  // floor shown around the placement area and the path (m)
 };
 
-// Draws the picture and writes it as PNG. Throws cmbrl::Error when the file cannot be written.
+// Where things landed in a written picture: a title band on top, the arena (square, metres equal
+// in x and y, y up), a legend band below.
+struct PictureGeometry {
+  int width_px = 0;
+  int height_px = 0;
+  double arena_top_px = 0.0;     // the arena's first pixel row
+  double arena_size_px = 0.0;    // its width and height
+  double pixels_per_metre = 0.0;
+  Extents view;                  // the world rectangle the arena shows
+
+  // Pixel (x right, y down) of a world point.
+  Vec2 PixelOf(Vec2 world) const;
+};
+
+// Draws the picture and writes it as PNG: the caption in its own band, objects, path and the
+// planner's predictions clipped to the arena, a labelled one-metre scale bar, and a legend of
+// every mark (hazard, vase, goal, reached goal, start, robot, path, violating step, feasible,
+// infeasible and executed plans). Throws cmbrl::Error when the file cannot be written.
 // Thread-safe (no shared state).
-void WriteScenePng(const ScenePicture& picture, const std::string& path,
-                   const ScenePictureOptions& options = {});
+PictureGeometry WriteScenePng(const ScenePicture& picture, const std::string& path,
+                              const ScenePictureOptions& options = {});
 
 }  // namespace cmbrl
