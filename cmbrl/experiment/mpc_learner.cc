@@ -48,7 +48,7 @@ const std::vector<ProgressColumn<ProgressRow>>& MpcProgressColumns() {
       {"ClassifierSafeAcc", [](const R& r) { return ProgressNumber(r.classifier_safe_accuracy); }},
       {"ClassifierUnsafeAcc",
        [](const R& r) { return ProgressNumber(r.classifier_unsafe_accuracy); }},
-      {"FeasibleFraction", [](const R& r) { return ProgressNumber(r.feasible_fraction); }},
+      {kFeasibleFractionColumn, [](const R& r) { return ProgressNumber(r.feasible_fraction); }},
       {"MsPerPlan", [](const R& r) { return Fixed3(r.ms_per_plan); }},
       {kStepsColumn, [](const R& r) { return std::to_string(r.steps); }},
       {"GoalsMet", [](const R& r) { return std::to_string(r.goals_met); }},

@@ -41,6 +41,7 @@ inline constexpr const char* kEpRetColumn = "EpRet";
 inline constexpr const char* kEpCostColumn = "EpCost";
 inline constexpr const char* kTotalEnvInteractsColumn = "TotalEnvInteracts";
 inline constexpr const char* kStepsColumn = "Steps";
+inline constexpr const char* kFeasibleFractionColumn = "FeasibleFraction";
 
 // The columns of an MPC run's progress.csv, the one definition of their names and formats.
 const std::vector<ProgressColumn<ProgressRow>>& MpcProgressColumns();

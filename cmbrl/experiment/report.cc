@@ -70,12 +70,15 @@ std::vector<EpisodePoint> ReadEpisodeColumns(const std::string& file, bool has_s
   const size_t cost = table.Column(kEpCostColumn, expected);
   const size_t total = table.Column(kTotalEnvInteractsColumn, expected);
   const size_t steps = has_steps ? table.Column(kStepsColumn, expected) : 0;
+  const bool has_feasible = table.HasColumn(kFeasibleFractionColumn);
+  const size_t feasible = has_feasible ? table.Column(kFeasibleFractionColumn, expected) : 0;
   std::vector<EpisodePoint> episodes;
   for (size_t row = 0; row < table.rows(); ++row) {
     EpisodePoint point;
     point.episode_return = table.Number(row, ret);
     point.episode_cost = table.Number(row, cost);
     point.end_step = static_cast<std::int64_t>(table.Number(row, total));
+    if (has_feasible) point.feasible_fraction = table.Number(row, feasible);
     const std::int64_t previous = episodes.empty() ? 0 : episodes.back().end_step;
     point.steps = has_steps ? static_cast<int>(table.Number(row, steps))
                             : static_cast<int>(point.end_step - previous);
@@ -117,6 +120,22 @@ double ViolationsWithin(const RunRecord& run, std::int64_t window) {
     if (episode.end_step <= window) violations += episode.episode_cost;
   }
   return violations;
+}
+
+int HeavyEpisodesWithin(const RunRecord& run, std::int64_t window) {
+  int heavy = 0;
+  for (const EpisodePoint& episode : run.episodes) {
+    heavy += episode.end_step <= window && episode.episode_cost >= kHeavyEpisodeCost;
+  }
+  return heavy;
+}
+
+double FeasibleFractionWithin(const RunRecord& run, std::int64_t window) {
+  std::vector<double> fractions;
+  for (const EpisodePoint& episode : run.episodes) {
+    if (episode.end_step <= window) fractions.push_back(episode.feasible_fraction);
+  }
+  return fractions.empty() ? std::numeric_limits<double>::quiet_NaN() : Mean(fractions);
 }
 
 double FinalReturn(const RunRecord& run, std::int64_t window, int episodes) {
@@ -175,6 +194,8 @@ std::vector<TableCell> ViolationTable(const std::vector<RunRecord>& runs, std::i
       for (const RunRecord* run : members) {
         cell.per_seed.push_back(ViolationsWithin(*run, window));
         cell.final_returns.push_back(FinalReturn(*run, window));
+        cell.heavy_episodes.push_back(HeavyEpisodesWithin(*run, window));
+        cell.feasible_fractions.push_back(FeasibleFractionWithin(*run, window));
         cell.fewest_steps = std::min(cell.fewest_steps, run->episodes.back().end_step);
       }
       cell.mean = Mean(cell.per_seed);
@@ -190,6 +211,7 @@ std::vector<TableCell> ViolationTable(const std::vector<RunRecord>& runs, std::i
         for (const RunRecord* run : original) {
           cell.original_per_seed.push_back(ViolationsWithin(*run, window));
           cell.original_final_returns.push_back(FinalReturn(*run, window));
+          cell.original_heavy_episodes.push_back(HeavyEpisodesWithin(*run, window));
         }
       }
       cells.push_back(cell);
@@ -262,15 +284,18 @@ std::string TableMarkdown(const std::vector<TableCell>& cells, std::int64_t wind
       "data/reference/): where our mean lies against its seeds' range, and the same for the "
       "return of the last 10 episodes.\n\n"
       "| task | planner | ours (per seed) | original (per seed) | ours vs its range | return, "
-      "ours | return, original |\n|---|---|---|---|---|---|---|\n",
+      "ours | return, original | episodes with >= 20, ours | the original's | feasible "
+      "fraction, ours |\n|---|---|---|---|---|---|---|---|---|---|\n",
       window);
   for (const TableCell& cell : cells) {
     if (cell.original_per_seed.empty()) continue;
-    text += fmt::format("| {} | {} | {:.1f} ({}) | {:.1f} ({}) | {} | {:.2f} | {:.2f} |\n",
-                        cell.task, PlannerLabel(cell.planner), cell.mean,
-                        fmt::join(cell.per_seed, ", "), Mean(cell.original_per_seed),
-                        fmt::join(cell.original_per_seed, ", "), VersusOriginal(cell),
-                        cell.return_mean, Mean(cell.original_final_returns));
+    text += fmt::format(
+        "| {} | {} | {:.1f} ({}) | {:.1f} ({}) | {} | {:.2f} | {:.2f} | {} | {} | {:.3f} |\n",
+        cell.task, PlannerLabel(cell.planner), cell.mean, fmt::join(cell.per_seed, ", "),
+        Mean(cell.original_per_seed), fmt::join(cell.original_per_seed, ", "),
+        VersusOriginal(cell), cell.return_mean, Mean(cell.original_final_returns),
+        fmt::join(cell.heavy_episodes, ", "), fmt::join(cell.original_heavy_episodes, ", "),
+        Mean(cell.feasible_fractions));
   }
   return text;
 }
@@ -278,16 +303,19 @@ std::string TableMarkdown(const std::vector<TableCell>& cells, std::int64_t wind
 std::string TableCsv(const std::vector<TableCell>& cells, std::int64_t window) {
   std::string text =
       "task,planner,window,seeds,mean,std,per_seed,paper,fewest_steps,return_mean,return_std,"
-      "original_per_seed,original_mean,versus_original,original_return_mean\n";
+      "original_per_seed,original_mean,versus_original,original_return_mean,heavy_per_seed,"
+      "feasible_fraction,original_heavy_per_seed\n";
   for (const TableCell& cell : cells) {
     const bool original = !cell.original_per_seed.empty();
     text += fmt::format(
-        "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n", cell.task, cell.planner, window,
+        "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n", cell.task, cell.planner, window,
         cell.per_seed.size(), cell.mean, cell.std, fmt::join(cell.per_seed, " "),
         cell.paper ? fmt::format("{}", *cell.paper) : "", cell.fewest_steps, cell.return_mean,
         cell.return_std, fmt::join(cell.original_per_seed, " "),
         original ? fmt::format("{}", Mean(cell.original_per_seed)) : "", VersusOriginal(cell),
-        original ? fmt::format("{}", Mean(cell.original_final_returns)) : "");
+        original ? fmt::format("{}", Mean(cell.original_final_returns)) : "",
+        fmt::join(cell.heavy_episodes, " "), ProgressNumber(Mean(cell.feasible_fractions)),
+        fmt::join(cell.original_heavy_episodes, " "));
   }
   return text;
 }

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -17,6 +18,7 @@ struct EpisodePoint {
   int steps = 0;              // agent steps of the episode
   double episode_return = 0.0;
   double episode_cost = 0.0;
+  double feasible_fraction = std::numeric_limits<double>::quiet_NaN();  // NaN: not logged
 };
 
 struct RunRecord {
@@ -24,6 +26,18 @@ struct RunRecord {
   TrainConfig config;
   std::vector<EpisodePoint> episodes;
 };
+
+// An episode with at least this many violations is a "heavy" one: on level 2 a few such
+// episodes (a robot held at a hazard's edge that slips in again and again) hold most of a run's
+// violations.
+inline constexpr double kHeavyEpisodeCost = 20.0;
+
+// Episodes that ended within the window with at least kHeavyEpisodeCost violations.
+int HeavyEpisodesWithin(const RunRecord& run, std::int64_t window);
+
+// Mean FeasibleFraction of the episodes that ended within the window (NaN when not logged).
+double FeasibleFractionWithin(const RunRecord& run, std::int64_t window);
+
 
 // The episodes of one progress.csv. Throws cmbrl::Error naming a missing column or a value that
 // is not a number.
@@ -67,6 +81,9 @@ struct TableCell {
   // for this cell, or a window past the end of one of its runs).
   std::vector<double> original_per_seed;
   std::vector<double> original_final_returns;
+  std::vector<int> heavy_episodes;           // HeavyEpisodesWithin per seed
+  std::vector<double> feasible_fractions;    // FeasibleFractionWithin per seed
+  std::vector<int> original_heavy_episodes;  // the original's, per seed
 };
 
 // Where a cell's mean lies against the original's seeds: "below" the lowest, "inside" their

@@ -119,7 +119,7 @@ TEST_F(ReportTest, TableOneHasTheExpectedNumbers) {
   EXPECT_THAT(markdown, HasSubstr("| CarGoal2 | 8.0 ± 0.0 (1) [96] | 2.0 ± 0.0 (1) [578] |"));
   const std::string csv = TableCsv(cells, 300);
   EXPECT_THAT(csv, HasSubstr("PointGoal1,cem,300,2,16.5,2.1213203435596424,15 18,184,300,2,"
-                             "1.4142135623730951,,,,\n"));
+                             "1.4142135623730951,,,,,0 0,0,\n"));
   // Returns of the episodes begun in the window: rce 0,1,2 and 1,2,3; cem 0,1,2 and 2,3,4.
   EXPECT_EQ(cells[0].final_returns, (std::vector<double>{1, 2}));
   EXPECT_DOUBLE_EQ(cells[1].return_mean, 2.0);
@@ -258,8 +258,8 @@ TEST_F(ReportTest, CellsCompareWithTheOriginalsSeedsOverTheSameWindow) {
   EXPECT_TRUE(cells[1].original_per_seed.empty());  // no log for PointGoal1 CEM
   const std::string markdown = TableMarkdown(cells, 300);
   EXPECT_THAT(markdown, HasSubstr("| PointGoal1 | MPC-RCE | 2.0 (3, 1) | 2.5 (1, 4) | inside | "
-                                  "1.50 | 4.75 |"));
-  EXPECT_THAT(TableCsv(cells, 300), HasSubstr(",1 4,2.5,inside,4.75\n"));
+                                  "1.50 | 4.75 | 0, 0 | 0, 0 | 0.000 |"));
+  EXPECT_THAT(TableCsv(cells, 300), HasSubstr(",1 4,2.5,inside,4.75,0 0,0,0 0\n"));
   EXPECT_THAT(OutcomeDifferences(cells, 300),
               ::testing::Contains("PointGoal1 MPC-RCE: 2.0 in the first 300 steps, the original "
                                   "2.5 (1, 4); ours is inside its seeds' range."));
@@ -275,6 +275,23 @@ TEST_F(ReportTest, CellsCompareWithTheOriginalsSeedsOverTheSameWindow) {
   EXPECT_TRUE(long_window[0].original_per_seed.empty());
   EXPECT_THAT(OutcomeDifferences(long_window, 400),
               ::testing::Not(::testing::Contains(HasSubstr("PointGoal1 MPC-RCE: 11.0"))));
+}
+
+TEST(ReportEpisodesTest, HeavyEpisodesAndFeasibleFractionCountOnlyTheWindow) {
+  RunRecord run;
+  const auto episode = [](std::int64_t end, double cost, double feasible) {
+    EpisodePoint point;
+    point.end_step = end;
+    point.steps = 100;
+    point.episode_cost = cost;
+    point.feasible_fraction = feasible;
+    return point;
+  };
+  run.episodes = {episode(100, 25, 0.2), episode(200, 19, 0.6), episode(300, 20, 0.4),
+                  episode(400, 40, 0.0)};
+  EXPECT_EQ(HeavyEpisodesWithin(run, 300), 2);  // 25 and 20; 19 is not, 40 ends at 400
+  EXPECT_NEAR(FeasibleFractionWithin(run, 300), 0.4, 1e-12);
+  EXPECT_TRUE(std::isnan(FeasibleFractionWithin(run, 50)));
 }
 
 TEST_F(ReportTest, BadReferenceLogsAreNamed) {
