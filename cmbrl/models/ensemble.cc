@@ -47,8 +47,10 @@ void ValidateEnsembleOptions(const EnsembleOptions& o) {
           "validation_fraction is {}: expected a number in [0, 1)", o.validation_fraction);
   Require(o.member_subset_fraction > 0 && o.member_subset_fraction <= 1,
           "member_subset_fraction is {}: expected a number in (0, 1]", o.member_subset_fraction);
-  Require(o.validate_every >= 1, "validate_every is {}: expected at least 1", o.validate_every);
-  Require(o.patience >= 1, "patience is {}: expected at least 1", o.patience);
+  Require(o.validate_every >= 1 && o.validate_every <= 100'000,
+          "validate_every is {}: expected 1 to 100000 epochs", o.validate_every);
+  Require(o.patience >= 1 && o.patience <= 100'000, "patience is {}: expected 1 to 100000",
+          o.patience);
   Require(o.init_std > 0 && std::isfinite(o.init_std), "init_std is {}: expected a positive number",
           o.init_std);
   Require(o.min_std >= 0, "min_std is {}: expected a non-negative number", o.min_std);

@@ -80,13 +80,13 @@ void ValidateXgbCostModelOptions(const XgbCostModelOptions& o) {
           o.min_child_weight);
   Require(o.threshold > 0 && o.threshold < 1, "threshold is {}: expected a probability in (0, 1)",
           o.threshold);
-  Require(o.safe_per_unsafe >= 0, "safe_per_unsafe is {}: expected a non-negative number",
-          o.safe_per_unsafe);
+  Require(o.safe_per_unsafe >= 0 && o.safe_per_unsafe <= 1000,
+          "safe_per_unsafe is {}: expected 0 to 1000", o.safe_per_unsafe);
   Require(o.safe_selection == "storage_order" || o.safe_selection == "newest",
           "safe_selection is '{}': expected 'storage_order' or 'newest'", o.safe_selection);
-  Require(o.threads >= 1, "threads is {}: expected at least 1", o.threads);
-  Require(o.predict_threads >= 0, "predict_threads is {}: expected 0 (one per core) or more",
-          o.predict_threads);
+  Require(o.threads >= 1 && o.threads <= 1024, "threads is {}: expected 1 to 1024", o.threads);
+  Require(o.predict_threads >= 0 && o.predict_threads <= 1024,
+          "predict_threads is {}: expected 0 (one per core) to 1024", o.predict_threads);
 }
 
 XgbCostModel::XgbCostModel(int state_dim, XgbCostModelOptions options, std::uint64_t seed)
