@@ -1,0 +1,123 @@
+#include "cmbrl/policy_opt/networks.h"
+
+#include <cmath>
+
+#include "cmbrl/core/check.h"
+
+namespace cmbrl {
+namespace {
+
+constexpr double kEps = 1e-8;  // the original's EPS
+
+}  // namespace
+
+TanhMlp::TanhMlp(int input_dim, const std::vector<int>& hidden, int output_dim,
+                 at::Generator& generator) {
+  Require(input_dim >= 1 && output_dim >= 1, "MLP sizes {} -> {}: expected positive sizes",
+          input_dim, output_dim);
+  std::vector<int> sizes = {input_dim};
+  sizes.insert(sizes.end(), hidden.begin(), hidden.end());
+  sizes.push_back(output_dim);
+  const torch::NoGradGuard no_grad;
+  for (size_t l = 0; l + 1 < sizes.size(); ++l) {
+    Require(sizes[l + 1] >= 1, "hidden width {} of layer {}: expected a positive width",
+            sizes[l + 1], l);
+    const double limit = std::sqrt(6.0 / (sizes[l] + sizes[l + 1]));
+    torch::Tensor weight = torch::empty({sizes[l + 1], sizes[l]}, torch::kFloat);
+    weight.uniform_(-limit, limit, generator);
+    parameters_.push_back(weight.requires_grad_());
+    parameters_.push_back(torch::zeros({sizes[l + 1]}, torch::kFloat).requires_grad_());
+  }
+}
+
+torch::Tensor TanhMlp::Forward(const torch::Tensor& input) const {
+  torch::Tensor x = input;
+  const size_t layers = parameters_.size() / 2;
+  for (size_t l = 0; l < layers; ++l) {
+    x = torch::addmm(parameters_[2 * l + 1], x, parameters_[2 * l].t());
+    if (l + 1 < layers) x = torch::tanh(x);
+  }
+  return x;
+}
+
+GaussianPolicy::GaussianPolicy(int observation_dim, int action_dim,
+                               const std::vector<int>& hidden, double initial_log_std,
+                               at::Generator& generator)
+    : action_dim_(action_dim),
+      mean_(observation_dim, hidden, action_dim, generator),
+      log_std_(torch::full({action_dim}, initial_log_std, torch::kFloat).requires_grad_()) {}
+
+torch::Tensor GaussianPolicy::Mean(const torch::Tensor& observations) const {
+  return mean_.Forward(observations);
+}
+
+torch::Tensor GaussianPolicy::LogProb(const torch::Tensor& observations,
+                                      const torch::Tensor& actions) const {
+  const torch::Tensor mean = Mean(observations);
+  const torch::Tensor z = (actions - mean) / (torch::exp(log_std_) + kEps);
+  return (-0.5 * (z * z + 2 * log_std_ + std::log(2 * M_PI))).sum(-1);
+}
+
+torch::Tensor GaussianPolicy::MeanKl(const torch::Tensor& observations,
+                                     const torch::Tensor& old_mean,
+                                     const torch::Tensor& old_log_std) const {
+  const torch::Tensor mean = Mean(observations);
+  const torch::Tensor old_var = torch::exp(2 * old_log_std), var = torch::exp(2 * log_std_);
+  const torch::Tensor per_dim =
+      0.5 * (((mean - old_mean).pow(2) + old_var) / (var + kEps) - 1) + log_std_ - old_log_std;
+  return per_dim.sum(-1).mean();
+}
+
+torch::Tensor GaussianPolicy::Sample(const torch::Tensor& observations,
+                                     at::Generator& generator) const {
+  const torch::NoGradGuard no_grad;
+  const torch::Tensor mean = Mean(observations);
+  torch::Tensor noise = torch::empty_like(mean);
+  noise.normal_(0.0, 1.0, generator);
+  return mean + torch::exp(log_std_) * noise;
+}
+
+double GaussianPolicy::Entropy() const {
+  return (log_std_ + 0.5 * std::log(2 * M_PI * M_E)).sum().item<double>();
+}
+
+std::vector<torch::Tensor> GaussianPolicy::parameters() const {
+  std::vector<torch::Tensor> all = mean_.parameters();
+  all.push_back(log_std_);
+  return all;
+}
+
+torch::Tensor GaussianPolicy::FlatParameters() const {
+  std::vector<torch::Tensor> flat;
+  for (const torch::Tensor& p : parameters()) flat.push_back(p.detach().reshape(-1));
+  return torch::cat(flat);
+}
+
+void GaussianPolicy::SetFlatParameters(const torch::Tensor& flat) {
+  const torch::NoGradGuard no_grad;
+  std::int64_t offset = 0;
+  for (torch::Tensor p : parameters()) {
+    const std::int64_t n = p.numel();
+    Require(offset + n <= flat.numel(), "flat parameters of {} values: too few for the policy",
+            flat.numel());
+    p.copy_(flat.narrow(0, offset, n).view_as(p));
+    offset += n;
+  }
+  Require(offset == flat.numel(), "flat parameters of {} values: the policy has {}", flat.numel(),
+          offset);
+}
+
+torch::Tensor FlatGradient(const torch::Tensor& scalar, const std::vector<torch::Tensor>& parameters,
+                           bool create_graph) {
+  const std::vector<torch::Tensor> grads =
+      torch::autograd::grad({scalar}, parameters, /*grad_outputs=*/{},
+                            /*retain_graph=*/true, create_graph, /*allow_unused=*/true);
+  std::vector<torch::Tensor> flat;
+  for (size_t i = 0; i < grads.size(); ++i) {
+    flat.push_back(grads[i].defined() ? grads[i].reshape(-1)
+                                      : torch::zeros({parameters[i].numel()}, torch::kFloat));
+  }
+  return torch::cat(flat);
+}
+
+}  // namespace cmbrl

@@ -1,0 +1,63 @@
+// The networks of the model-free baselines (safety-starter-agents' defaults, paper Section V-B):
+// a Gaussian policy whose mean is a tanh MLP and whose log standard deviation is one
+// state-independent parameter per action, and tanh MLP value functions for rewards and costs.
+#pragma once
+
+#include <torch/torch.h>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace cmbrl {
+
+// A tanh MLP: Glorot-uniform weights drawn from `generator`, zero biases (TensorFlow's dense
+// defaults, which the original used). Thread-compatible.
+class TanhMlp {
+ public:
+  TanhMlp(int input_dim, const std::vector<int>& hidden, int output_dim, at::Generator& generator);
+  torch::Tensor Forward(const torch::Tensor& input) const;  // (N, in) -> (N, out), no activation last
+  std::vector<torch::Tensor>& parameters() { return parameters_; }
+  const std::vector<torch::Tensor>& parameters() const { return parameters_; }
+
+ private:
+  std::vector<torch::Tensor> parameters_;  // weight (out, in), bias (out), per layer
+};
+
+// pi(a | s) = N(mean(s), exp(log_std)^2), actions unclipped (the environment clips).
+class GaussianPolicy {
+ public:
+  GaussianPolicy(int observation_dim, int action_dim, const std::vector<int>& hidden,
+                 double initial_log_std, at::Generator& generator);
+
+  int action_dim() const { return action_dim_; }
+  torch::Tensor Mean(const torch::Tensor& observations) const;  // (N, A)
+  const torch::Tensor& log_std() const { return log_std_; }      // (A)
+  // log pi(a | s), summed over action dimensions: (N).
+  torch::Tensor LogProb(const torch::Tensor& observations, const torch::Tensor& actions) const;
+  // Mean KL(old || this) over the batch, the old distribution given by its (N, A) means and (A)
+  // log std (the original's gaussian_kl, its 1e-8 included).
+  torch::Tensor MeanKl(const torch::Tensor& observations, const torch::Tensor& old_mean,
+                       const torch::Tensor& old_log_std) const;
+  // (N, A) actions drawn from the policy.
+  torch::Tensor Sample(const torch::Tensor& observations, at::Generator& generator) const;
+  // Differential entropy, summed over action dimensions.
+  double Entropy() const;
+
+  // Every parameter as one flat vector, in a fixed order, and back.
+  std::vector<torch::Tensor> parameters() const;
+  torch::Tensor FlatParameters() const;
+  void SetFlatParameters(const torch::Tensor& flat);
+
+ private:
+  int action_dim_;
+  TanhMlp mean_;
+  torch::Tensor log_std_;
+};
+
+// Flat gradient of a scalar with respect to `parameters` (kept in the graph when `create_graph`,
+// for Hessian-vector products).
+torch::Tensor FlatGradient(const torch::Tensor& scalar, const std::vector<torch::Tensor>& parameters,
+                           bool create_graph = false);
+
+}  // namespace cmbrl
