@@ -5,15 +5,27 @@
 namespace cmbrl {
 
 std::string VariantName(Variant variant) {
-  return variant == Variant::kPaper ? "paper" : "standard";
+  switch (variant) {
+    case Variant::kPaper:
+      return "paper";
+    case Variant::kStandard:
+      return "standard";
+    case Variant::kPaperLidar:
+      return "paper-lidar";
+  }
+  return "paper";
 }
+
+bool IsPaperWorld(Variant variant) { return variant != Variant::kStandard; }
 
 Variant ParseVariant(const std::string& name) {
   if (name == "paper") return Variant::kPaper;
   if (name == "standard") return Variant::kStandard;
+  if (name == "paper-lidar") return Variant::kPaperLidar;
   Fail(
-      "unknown variant '{}': expected 'paper' (the paper's modified tasks) or 'standard' "
-      "(Safety-Gymnasium's stock tasks)",
+      "unknown variant '{}': expected 'paper' (the paper's modified tasks), 'standard' "
+      "(Safety-Gymnasium's stock tasks) or 'paper-lidar' (the paper's tasks as its model-free "
+      "baselines observed them)",
       name);
 }
 

@@ -14,6 +14,31 @@
 namespace cmbrl {
 namespace {
 
+// The paper's world as its model-free baselines saw it: the same layout, robots and costs,
+// Safety Gym's lidar observation, one env step per agent step, 30 s episodes.
+TEST(GoalEnvTest, PaperLidarIsThePapersWorldWithSafetyGymsObservation) {
+  for (const std::string task : {"PointGoal1", "CarGoal2"}) {
+    SCOPED_TRACE(task);
+    GoalEnv paper(GoalTaskSpecByName(task, Variant::kPaper));
+    GoalEnv lidar(GoalTaskSpecByName(task, Variant::kPaperLidar));
+    EXPECT_EQ(lidar.spec().num_hazards, paper.spec().num_hazards);
+    EXPECT_EQ(lidar.spec().action_repeat, 1);
+    EXPECT_EQ(lidar.max_episode_steps(), task[0] == 'P' ? 300 : 150);
+    // Sensors (12; the rover has no joint sensors) and three lidars of 16 bins.
+    EXPECT_EQ(lidar.observation_spec().size(), 12 + 3 * 16);
+    EXPECT_EQ(lidar.observation_spec().size(), ObservationSize(lidar.spec()));
+    EXPECT_EQ(lidar.observation_spec().names[0], "accelerometer_x");
+    EXPECT_EQ(lidar.Scene().robot_name, paper.Scene().robot_name);
+    // The same seed lays the same world out.
+    lidar.Reset(5);
+    paper.Reset(5);
+    EXPECT_EQ(lidar.Scene().hazards.size(), paper.Scene().hazards.size());
+    EXPECT_NEAR(lidar.Scene().goal.x, paper.Scene().goal.x, 1e-12);
+    const StepResult step = lidar.Step({0.1, 0.1});
+    EXPECT_EQ(step.info.env_steps, 1);
+  }
+}
+
 using testing::ErrorMessage;
 
 using testing::FarLayout;

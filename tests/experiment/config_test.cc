@@ -134,7 +134,8 @@ TEST(ConfigTest, SizesOutOfTheirBoundsAreNamedBeforeAnythingIsAllocated) {
       "config 'c': training.transition_capacity is 2000000000: expected 2 to 100000000");
   EXPECT_EQ(ErrorMessage([] { ParseTrainConfig("variant: foo", "c"); }),
             "config 'c': key 'variant': unknown variant 'foo': expected 'paper' (the paper's "
-            "modified tasks) or 'standard' (Safety-Gymnasium's stock tasks)");
+            "modified tasks), 'standard' (Safety-Gymnasium's stock tasks) or 'paper-lidar' (the "
+            "paper's tasks as its model-free baselines observed them)");
   // Each size within its bound, together more than any machine has.
   EXPECT_THAT(ErrorMessage([] {
                 ParseTrainConfig(

@@ -3,7 +3,7 @@
 namespace cmbrl {
 
 RobotDescription CarRobot(Variant variant) {
-  return variant == Variant::kPaper ? RoverRobot() : TwoWheelCarRobot();
+  return IsPaperWorld(variant) ? RoverRobot() : TwoWheelCarRobot();
 }
 
 RobotDescription TwoWheelCarRobot() {

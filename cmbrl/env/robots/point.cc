@@ -5,7 +5,7 @@
 namespace cmbrl {
 
 RobotDescription PointRobot(Variant variant) {
-  const bool paper = variant == Variant::kPaper;
+  const bool paper = IsPaperWorld(variant);
   // Facts A6 (stock) and B0 (paper's point.xml).
   const double density = paper ? 5.0 : 1.0;
   const double turn_gear = paper ? 0.5 : 0.3;

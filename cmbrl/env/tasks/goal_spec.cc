@@ -9,7 +9,7 @@ namespace cmbrl {
 
 GoalTaskSpec MakeGoalTaskSpec(RobotKind robot, int level, Variant variant) {
   Require(level == 1 || level == 2, "Goal task level {} is not supported: expected 1 or 2", level);
-  const bool paper = variant == Variant::kPaper;
+  const bool paper = IsPaperWorld(variant);
   GoalTaskSpec spec;
   spec.robot = robot;
   spec.level = level;
@@ -28,6 +28,12 @@ GoalTaskSpec MakeGoalTaskSpec(RobotKind robot, int level, Variant variant) {
     // 30 s of simulated time: 300 env steps of 0.1 s (Point), 150 of 0.2 s (rover).
     spec.max_env_steps = robot == RobotKind::kPoint ? 300 : 150;
     spec.observation = ObservationKind::kEgoState;
+    if (variant == Variant::kPaperLidar) {
+      // safety-starter-agents stepped the modified env itself: one env step per agent step,
+      // episodes of 300 (Point) or 150 (Car) env steps, Safety Gym's observation.
+      spec.action_repeat = 1;
+      spec.observation = ObservationKind::kLidar;
+    }
   } else {
     spec.num_hazards = level == 1 ? 8 : 10;
     spec.num_vases = level == 1 ? 1 : 10;
@@ -45,8 +51,10 @@ int ObservationSize(const GoalTaskSpec& spec) {
   if (spec.observation == ObservationKind::kEgoState) {
     return 8 + 2 * (spec.num_vases + spec.num_hazards);
   }
-  // accelerometer, gyro, magnetometer, velocimeter; the stock car's ball joint (3 + 9); lidars.
-  const int sensors = 12 + (spec.robot == RobotKind::kCar ? 12 : 0);
+  // accelerometer, gyro, magnetometer, velocimeter; the stock car's ball joint (3 + 9; the
+  // paper's rover has no joint sensors); lidars.
+  const bool stock_car = spec.robot == RobotKind::kCar && !IsPaperWorld(spec.variant);
+  const int sensors = 12 + (stock_car ? 12 : 0);
   const int lidars = 1 + (spec.num_hazards > 0) + (spec.num_vases > 0);
   return sensors + lidars * spec.lidar_bins;
 }

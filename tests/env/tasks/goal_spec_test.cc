@@ -59,6 +59,7 @@ TEST(GoalSpecTest, UnknownTaskAndLevelAreNamed) {
 TEST(GoalSpecTest, VariantNamesRoundTripAndUnknownOnesAreNamed) {
   EXPECT_EQ(ParseVariant("paper"), Variant::kPaper);
   EXPECT_EQ(ParseVariant(VariantName(Variant::kStandard)), Variant::kStandard);
+  EXPECT_EQ(ParseVariant(VariantName(Variant::kPaperLidar)), Variant::kPaperLidar);
   EXPECT_THAT(ErrorMessage([&] { ParseVariant("stock"); }),
               ::testing::HasSubstr("unknown variant 'stock'"));
 }
