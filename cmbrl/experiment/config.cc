@@ -105,6 +105,7 @@ template <typename Config, typename Visitor>
 void VisitConfig(Config& c, Visitor& v) {
   v.Field("", "task", c.task);
   v.Field("", "variant", c.variant);
+  v.Field("", "algorithm", c.algorithm);
   v.Field("", "planner", c.planner);
   v.Field("", "seed", c.seed);
   v.Field("", "device", c.device);
@@ -170,6 +171,23 @@ void VisitConfig(Config& c, Visitor& v) {
   v.Field("objective", "at_goal_radius", o.at_goal_radius);
   v.Field("objective", "at_goal_bonus", o.at_goal_bonus);
   v.Field("objective", "at_goal_test_after_near_bonus", o.at_goal_test_after_near_bonus);
+  auto& m = c.policy_optimisation;
+  v.Field("policy_optimisation", "steps_per_epoch", m.steps_per_epoch);
+  v.Field("policy_optimisation", "policy_hidden", m.policy_hidden);
+  v.Field("policy_optimisation", "initial_log_std", m.initial_log_std);
+  v.Field("policy_optimisation", "value_hidden", m.value_hidden);
+  v.Field("policy_optimisation", "value_learning_rate", m.value_learning_rate);
+  v.Field("policy_optimisation", "value_iterations", m.value_iterations);
+  v.Field("policy_optimisation", "gamma", m.gamma);
+  v.Field("policy_optimisation", "lambda", m.lambda);
+  v.Field("policy_optimisation", "target_kl", m.target_kl);
+  v.Field("policy_optimisation", "damping", m.damping);
+  v.Field("policy_optimisation", "cg_iterations", m.cg_iterations);
+  v.Field("policy_optimisation", "backtrack_coefficient", m.backtrack_coefficient);
+  v.Field("policy_optimisation", "backtrack_iterations", m.backtrack_iterations);
+  v.Field("policy_optimisation", "cost_limit", m.cost_limit);
+  v.Field("policy_optimisation", "penalty_init", m.penalty_init);
+  v.Field("policy_optimisation", "penalty_learning_rate", m.penalty_learning_rate);
 }
 
 // Reads the fields that the file names; then refuses any key it does not know.
@@ -266,6 +284,15 @@ void AtKey(const std::string& source, const std::string& key, Check&& check) {
 
 }  // namespace
 
+const std::vector<std::string>& AlgorithmNames() {
+  static const std::vector<std::string> names = {"mpc", "trpo", "trpo-lagrangian", "cpo"};
+  return names;
+}
+
+std::string MethodOf(const TrainConfig& config) {
+  return config.algorithm == "mpc" ? config.planner : config.algorithm;
+}
+
 void SetTrainDevice(TrainConfig& c, const std::string& device) {
   c.device = device;
   c.ensemble.device = device;
@@ -299,6 +326,12 @@ TrainConfig LoadTrainConfig(const std::string& path) {
 
 void ValidateTrainConfig(const TrainConfig& c, const std::string& source) {
   AtKey(source, "task", [&] { GoalTaskSpecByName(c.task, c.variant); });
+  const std::vector<std::string>& algorithms = AlgorithmNames();
+  Require(std::find(algorithms.begin(), algorithms.end(), c.algorithm) != algorithms.end(),
+          "config '{}': key 'algorithm' is '{}': expected one of {}", source, c.algorithm,
+          fmt::join(algorithms, ", "));
+  InSection(source, "policy_optimisation",
+            [&] { ValidatePolicyOptimisationOptions(c.policy_optimisation); });
   Require(FindPlannerOrNull(c.planner) != nullptr,
           "config '{}': key 'planner' is '{}': expected one of {}", source, c.planner,
           fmt::join(PlannerNames(), ", "));
@@ -329,8 +362,9 @@ void ValidateTrainConfig(const TrainConfig& c, const std::string& source) {
     ValidateRandomShootingOptions(c.planning.random);
     ValidatePlanningProblem(c.planning.problem);
   });
-  // The planning objective reads the goal from the paper's ego-state vector.
   const GoalTaskSpec spec = GoalTaskSpecByName(c.task, c.variant);
+  if (c.algorithm != "mpc") return;  // the rest concerns the MPC learner's parts
+  // The planning objective reads the goal from the paper's ego-state vector.
   Require(spec.observation == ObservationKind::kEgoState,
           "config '{}': key 'variant' is '{}': training plans on the paper variant's ego-state "
           "vector (the standard variant observes lidar)",

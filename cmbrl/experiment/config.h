@@ -5,12 +5,14 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "cmbrl/env/variant.h"
 #include "cmbrl/models/ensemble.h"
 #include "cmbrl/models/xgboost_cost_model.h"
 #include "cmbrl/planning/planner_registry.h"
 #include "cmbrl/planning/trajectory_objective.h"
+#include "cmbrl/policy_opt/policy_opt_options.h"
 
 namespace cmbrl {
 
@@ -38,10 +40,15 @@ struct TrainingLoopOptions {
   bool label_every_step = false;
 };
 
+// The training algorithms `cmbrl train` knows: "mpc" (the paper's Algorithm 2 with `planner`)
+// and the model-free baselines "trpo", "trpo-lagrangian" and "cpo".
+const std::vector<std::string>& AlgorithmNames();
+
 struct TrainConfig {
   std::string task = "PointGoal1";
   Variant variant = Variant::kPaper;  // parsed once, where the file is read
-  std::string planner = "rce";  // rce, cem or random
+  std::string algorithm = "mpc";      // AlgorithmNames()
+  std::string planner = "rce";        // rce, cem or random (algorithm mpc)
   std::uint64_t seed = 0;
   std::string device = "cpu";  // models and planner
   TrainingLoopOptions training;
@@ -49,7 +56,12 @@ struct TrainConfig {
   XgbCostModelOptions classifier;
   PlannerSettings planning;
   TrajectoryObjectiveOptions objective;
+  PolicyOptimisationOptions policy_optimisation;  // the model-free algorithms
 };
+
+// What a run's results are grouped by in sweeps and reports: the planner of an MPC run
+// ("rce"), the algorithm of a model-free one ("cpo").
+std::string MethodOf(const TrainConfig& config);
 
 // The largest budget of agent steps a run may have.
 inline constexpr std::int64_t kMaxTotalSteps = 10'000'000'000;

@@ -43,12 +43,17 @@ std::vector<SweepRun> PlanSweep(const SweepGrid& grid, const std::string& sweep_
     Require(std::find(known_tasks.begin(), known_tasks.end(), task) != known_tasks.end(),
             "unknown task '{}': expected some of {}", task, fmt::join(known_tasks, ", "));
   }
-  const std::vector<std::string>& known_planners = PlannerNames();
-  for (const std::string& planner : grid.planners) {
-    Require(std::find(known_planners.begin(), known_planners.end(), planner) !=
-                known_planners.end(),
-            "unknown planner '{}': expected some of {}", planner, fmt::join(known_planners, ", "));
+  // Methods: the MPC planners and the model-free algorithms (configs <task>-<method>.yaml).
+  std::vector<std::string> known_methods = PlannerNames();
+  for (const std::string& algorithm : AlgorithmNames()) {
+    if (algorithm != "mpc") known_methods.push_back(algorithm);
   }
+  for (const std::string& method : grid.planners) {
+    Require(std::find(known_methods.begin(), known_methods.end(), method) != known_methods.end(),
+            "unknown planner or algorithm '{}': expected some of {}", method,
+            fmt::join(known_methods, ", "));
+  }
+
   Require(std::set<std::uint64_t>(grid.seeds.begin(), grid.seeds.end()).size() ==
               grid.seeds.size(),
           "seeds {} repeat a seed: each run needs its own", fmt::join(grid.seeds, " "));

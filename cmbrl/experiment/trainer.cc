@@ -7,13 +7,15 @@
 #include "cmbrl/core/check.h"
 #include "cmbrl/core/run_lock.h"
 #include "cmbrl/experiment/mpc_learner.h"
+#include "cmbrl/experiment/policy_opt_learner.h"
 #include "cmbrl/run/run_directory.h"
 
 namespace cmbrl {
 namespace fs = std::filesystem;
 
 std::unique_ptr<Learner> MakeLearner(const TrainConfig& config) {
-  return std::make_unique<MpcLearner>(config);
+  if (config.algorithm == "mpc") return std::make_unique<MpcLearner>(config);
+  return std::make_unique<PolicyOptLearner>(config);
 }
 
 struct Trainer::State {

@@ -160,23 +160,32 @@ TEST(ConfigTest, TheMemoryEstimateCountsTheBuffersExactly) {
 }
 
 TEST(ConfigTest, EveryPresetInConfigsLoads) {
-  int presets = 0;
+  int mpc = 0, model_free = 0;
   for (const auto& entry : std::filesystem::directory_iterator(CMBRL_SOURCE_DIR "/configs")) {
     if (entry.path().extension() != ".yaml") continue;
     SCOPED_TRACE(entry.path().string());
     const TrainConfig config = LoadTrainConfig(entry.path().string());
-    ++presets;
     const std::string name = entry.path().stem().string();
     if (name == "quickstart" || name == "tiny-test") continue;
-    // The paper presets: <task>-<planner>.yaml with the paper's sizes.
+    // The paper presets: <task>-<method>.yaml with the paper's sizes.
     std::string task = config.task;
     for (char& c : task) c = static_cast<char>(std::tolower(c));
-    EXPECT_EQ(name, task + "-" + config.planner);
-    EXPECT_EQ(config.ensemble.hidden_sizes, std::vector<int>({1024, 1024, 1024}));
-    EXPECT_EQ(config.ensemble.ensemble_size, config.task.rfind("Car", 0) == 0 ? 5 : 4);
-    EXPECT_EQ(config.planning.cross_entropy.population, 500);
+    EXPECT_EQ(name, task + "-" + MethodOf(config));
+    if (config.algorithm == "mpc") {
+      ++mpc;
+      EXPECT_EQ(config.ensemble.hidden_sizes, std::vector<int>({1024, 1024, 1024}));
+      EXPECT_EQ(config.ensemble.ensemble_size, config.task.rfind("Car", 0) == 0 ? 5 : 4);
+      EXPECT_EQ(config.planning.cross_entropy.population, 500);
+    } else {
+      ++model_free;
+      EXPECT_EQ(config.variant, Variant::kPaperLidar);
+      EXPECT_EQ(config.training.total_steps, 10'000'000);
+      EXPECT_EQ(config.policy_optimisation.steps_per_epoch, 30000);
+      EXPECT_EQ(config.policy_optimisation.policy_hidden, std::vector<int>({256, 256}));
+    }
   }
-  EXPECT_EQ(presets, 14);  // 4 tasks x 3 planners, quickstart, tiny-test
+  EXPECT_EQ(mpc, 12);         // 4 tasks x 3 planners
+  EXPECT_EQ(model_free, 12);  // 4 tasks x trpo, trpo-lagrangian, cpo
 }
 
 TEST(ConfigTest, TheQuickstartGridHasEveryTaskAndPlannerAtQuickstartSize) {

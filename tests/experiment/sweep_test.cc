@@ -43,7 +43,7 @@ TEST(SweepTest, BadGridsAreNamed) {
   EXPECT_THAT(ErrorMessage([&] { PlanSweep(grid, "s"); }), HasSubstr("unknown task 'AntGoal1'"));
   grid = PaperGrid();
   grid.planners = {"mppi"};
-  EXPECT_THAT(ErrorMessage([&] { PlanSweep(grid, "s"); }), HasSubstr("unknown planner 'mppi'"));
+  EXPECT_THAT(ErrorMessage([&] { PlanSweep(grid, "s"); }), HasSubstr("unknown planner or algorithm 'mppi'"));
   grid = PaperGrid();
   grid.seeds = {3, 3};
   EXPECT_THAT(ErrorMessage([&] { PlanSweep(grid, "s"); }), HasSubstr("repeat a seed"));

@@ -1,0 +1,340 @@
+#include "cmbrl/experiment/policy_opt_learner.h"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "cmbrl/core/check.h"
+#include "cmbrl/core/rng.h"
+#include "cmbrl/core/torch_util.h"
+#include "cmbrl/env/registry.h"
+#include "cmbrl/policy_opt/advantages.h"
+
+namespace cmbrl {
+namespace fs = std::filesystem;
+namespace {
+
+constexpr const char* kNetworksFile = "networks.pt";
+constexpr const char* kStateFile = "state.json";
+
+ConstraintHandling HandlingOf(const std::string& algorithm) {
+  if (algorithm == "trpo") return ConstraintHandling::kNone;
+  if (algorithm == "trpo-lagrangian") return ConstraintHandling::kLagrangian;
+  Require(algorithm == "cpo", "algorithm '{}' is not a model-free one: expected trpo, "
+          "trpo-lagrangian or cpo", algorithm);
+  return ConstraintHandling::kCpo;
+}
+
+torch::Tensor Row(const std::vector<double>& values) {
+  return torch::tensor(values, torch::kDouble).to(torch::kFloat).view({1, -1});
+}
+
+void WriteParameters(torch::serialize::OutputArchive& archive, const std::string& prefix,
+                     const std::vector<torch::Tensor>& parameters) {
+  for (size_t i = 0; i < parameters.size(); ++i) {
+    archive.write(fmt::format("{}{}", prefix, i), parameters[i].detach());
+  }
+}
+
+void ReadParameters(torch::serialize::InputArchive& archive, const std::string& prefix,
+                    const std::vector<torch::Tensor>& parameters, const fs::path& file) {
+  const torch::NoGradGuard no_grad;
+  for (size_t i = 0; i < parameters.size(); ++i) {
+    torch::Tensor value;
+    Require(archive.try_read(fmt::format("{}{}", prefix, i), value) &&
+                value.sizes() == parameters[i].sizes(),
+            "'{}' does not hold this run's networks ({}{} missing or of another shape)",
+            file.string(), prefix, i);
+    parameters[i].copy_(value);
+  }
+}
+
+}  // namespace
+
+const std::vector<ProgressColumn<EpochRow>>& PolicyOptProgressColumns() {
+  using R = EpochRow;
+  static const std::vector<ProgressColumn<EpochRow>> columns = {
+      {"Epoch", [](const R& r) { return std::to_string(r.epoch); }},
+      {"AverageEpRet", [](const R& r) { return ProgressNumber(r.average_episode_return); }},
+      {"AverageEpCost", [](const R& r) { return ProgressNumber(r.average_episode_cost); }},
+      {"EpLen", [](const R& r) { return ProgressNumber(r.average_episode_length); }},
+      {"Episodes", [](const R& r) { return std::to_string(r.episodes); }},
+      {"CumulativeCost", [](const R& r) { return ProgressNumber(r.cumulative_cost); }},
+      {"CostRate", [](const R& r) { return ProgressNumber(r.cost_rate); }},
+      {"Penalty", [](const R& r) { return ProgressNumber(r.penalty); }},
+      {"KL", [](const R& r) { return ProgressNumber(r.kl); }},
+      {"BacktrackIters", [](const R& r) { return std::to_string(r.backtrack_iterations); }},
+      {"OptimCase", [](const R& r) { return std::to_string(r.optim_case); }},
+      {"LossPi", [](const R& r) { return ProgressNumber(r.loss_pi); }},
+      {"SurrCost", [](const R& r) { return ProgressNumber(r.surrogate_cost); }},
+      {"LossV", [](const R& r) { return ProgressNumber(r.loss_v); }},
+      {"LossVC", [](const R& r) { return ProgressNumber(r.loss_vc); }},
+      {"Entropy", [](const R& r) { return ProgressNumber(r.entropy); }},
+      {"TotalEnvInteracts", [](const R& r) { return std::to_string(r.total_env_interacts); }},
+      {"Time", [](const R& r) { return fmt::format("{:.3f}", r.time_seconds); }},
+  };
+  return columns;
+}
+
+// One epoch's data, and the episodes it finished.
+struct PolicyOptLearner::Epoch {
+  PolicyBatch batch;
+  torch::Tensor returns, cost_returns;  // (N) value-function targets
+  std::vector<double> episode_returns, episode_costs, episode_lengths;
+  double step_cost = 0.0;  // every step's cost, finished episodes or not
+};
+
+PolicyOptLearner::PolicyOptLearner(TrainConfig config)
+    : config_(std::move(config)),
+      handling_(HandlingOf(config_.algorithm)),
+      env_(MakeEnv(config_.task, config_.variant)),
+      generator_(MakeCpuGenerator(DeriveSeed(config_.seed, kPlannerSeedStream))),
+      lagrange_(LagrangeOptions{config_.policy_optimisation.penalty_init,
+                                config_.policy_optimisation.penalty_learning_rate}) {
+  ValidatePolicyOptimisationOptions(config_.policy_optimisation);
+  const PolicyOptimisationOptions& o = config_.policy_optimisation;
+  const int observation_dim = env_->observation_spec().size();
+  const int action_dim = env_->action_spec().size();
+  policy_ = std::make_unique<GaussianPolicy>(observation_dim, action_dim, o.policy_hidden,
+                                             o.initial_log_std, generator_);
+  value_ = std::make_unique<TanhMlp>(observation_dim, o.value_hidden, 1, generator_);
+  cost_value_ = std::make_unique<TanhMlp>(observation_dim, o.value_hidden, 1, generator_);
+  value_optimizer_ = std::make_unique<torch::optim::Adam>(
+      value_->parameters(), torch::optim::AdamOptions(o.value_learning_rate));
+  cost_value_optimizer_ = std::make_unique<torch::optim::Adam>(
+      cost_value_->parameters(), torch::optim::AdamOptions(o.value_learning_rate));
+}
+
+PolicyOptLearner::~PolicyOptLearner() = default;
+
+std::string PolicyOptLearner::ProgressHeader() const {
+  return cmbrl::ProgressHeader(PolicyOptProgressColumns());
+}
+
+bool PolicyOptLearner::Finished() const { return total_steps_ >= config_.training.total_steps; }
+
+PolicyOptLearner::Epoch PolicyOptLearner::Collect() {
+  const PolicyOptimisationOptions& o = config_.policy_optimisation;
+  const std::int64_t steps =
+      std::min<std::int64_t>(o.steps_per_epoch, config_.training.total_steps - total_steps_);
+  Epoch epoch;
+  std::vector<torch::Tensor> observations, actions, log_probs;
+  std::vector<double> advantages, cost_advantages, returns, cost_returns;
+  std::vector<double> rewards, costs, values, cost_values;
+  double episode_return = 0.0, episode_cost = 0.0;
+  std::vector<double> observation =
+      epochs_ == 0 ? env_->Reset(DeriveSeed(config_.seed, kEnvSeedStream)) : env_->Reset();
+  const torch::NoGradGuard no_grad;
+  const auto finish_path = [&](double last_value, double last_cost_value) {
+    values.push_back(last_value);
+    cost_values.push_back(last_cost_value);
+    PathTargets reward_targets = GaeTargets(rewards, values, o.gamma, o.lambda);
+    PathTargets cost_targets = GaeTargets(costs, cost_values, o.gamma, o.lambda);
+    advantages.insert(advantages.end(), reward_targets.advantages.begin(),
+                      reward_targets.advantages.end());
+    returns.insert(returns.end(), reward_targets.returns.begin(), reward_targets.returns.end());
+    cost_advantages.insert(cost_advantages.end(), cost_targets.advantages.begin(),
+                           cost_targets.advantages.end());
+    cost_returns.insert(cost_returns.end(), cost_targets.returns.begin(),
+                        cost_targets.returns.end());
+    rewards.clear();
+    costs.clear();
+    values.clear();
+    cost_values.clear();
+  };
+  for (std::int64_t t = 0; t < steps; ++t) {
+    const torch::Tensor obs = Row(observation);
+    const torch::Tensor action = policy_->Sample(obs, generator_);
+    observations.push_back(obs);
+    actions.push_back(action);
+    log_probs.push_back(policy_->LogProb(obs, action));
+    values.push_back(value_->Forward(obs).item<double>());
+    cost_values.push_back(cost_value_->Forward(obs).item<double>());
+    const torch::Tensor host = action.to(torch::kDouble).contiguous();
+    StepResult step = env_->Step(
+        std::vector<double>(host.data_ptr<double>(), host.data_ptr<double>() + host.numel()));
+    rewards.push_back(step.reward);
+    costs.push_back(step.cost);
+    episode_return += step.reward;
+    episode_cost += step.cost;
+    epoch.step_cost += step.cost;
+    observation = std::move(step.observation);
+    const bool terminal = step.terminated || step.truncated;
+    if (terminal || t == steps - 1) {
+      // A time limit or the epoch's end bootstraps from the value of the state reached.
+      const torch::Tensor next = Row(observation);
+      const double last_value = step.terminated ? 0.0 : value_->Forward(next).item<double>();
+      const double last_cost_value =
+          step.terminated ? 0.0 : cost_value_->Forward(next).item<double>();
+      if (terminal) {
+        epoch.episode_returns.push_back(episode_return);
+        epoch.episode_costs.push_back(episode_cost);
+        epoch.episode_lengths.push_back(static_cast<double>(rewards.size()));
+      }
+      finish_path(last_value, last_cost_value);
+      episode_return = episode_cost = 0.0;
+      if (t + 1 < steps) observation = env_->Reset();
+    }
+  }
+  NormaliseAdvantages(advantages, /*scale=*/true);
+  NormaliseAdvantages(cost_advantages, /*scale=*/false);
+  PolicyBatch& b = epoch.batch;
+  b.observations = torch::cat(observations);
+  b.actions = torch::cat(actions);
+  b.log_probs = torch::cat(log_probs);
+  b.advantages = torch::tensor(advantages, torch::kDouble).to(torch::kFloat);
+  b.cost_advantages = torch::tensor(cost_advantages, torch::kDouble).to(torch::kFloat);
+  epoch.returns = torch::tensor(returns, torch::kDouble).to(torch::kFloat);
+  epoch.cost_returns = torch::tensor(cost_returns, torch::kDouble).to(torch::kFloat);
+  const auto mean = [](const std::vector<double>& v) {
+    double sum = 0.0;
+    for (double x : v) sum += x;
+    return v.empty() ? std::nan("") : sum / static_cast<double>(v.size());
+  };
+  b.episode_cost = mean(epoch.episode_costs);
+  b.episode_length = mean(epoch.episode_lengths);
+  total_steps_ += steps;
+  return epoch;
+}
+
+LearnerStep PolicyOptLearner::Advance(const std::function<double()>& elapsed_seconds) {
+  const PolicyOptimisationOptions& o = config_.policy_optimisation;
+  Epoch epoch = Collect();
+  ++epochs_;
+  cumulative_cost_ += epoch.step_cost;
+  EpochRow& row = last_row_;
+  row = EpochRow();
+  row.epoch = epochs_;
+  row.episodes = static_cast<int>(epoch.episode_returns.size());
+  const auto mean = [](const std::vector<double>& v) {
+    double sum = 0.0;
+    for (double x : v) sum += x;
+    return v.empty() ? std::nan("") : sum / static_cast<double>(v.size());
+  };
+  row.average_episode_return = mean(epoch.episode_returns);
+  row.average_episode_cost = epoch.batch.episode_cost;
+  row.average_episode_length = epoch.batch.episode_length;
+  // Without a finished episode the constraint has no measurement: it counts as met.
+  if (!std::isfinite(epoch.batch.episode_cost)) {
+    epoch.batch.episode_cost = o.cost_limit;
+    epoch.batch.episode_length = static_cast<double>(epoch.batch.actions.size(0));
+  }
+  if (handling_ == ConstraintHandling::kLagrangian) {
+    lagrange_.Update(epoch.batch.episode_cost, o.cost_limit);
+  }
+  TrustRegionOptions trust;
+  trust.target_kl = o.target_kl;
+  trust.damping = o.damping;
+  trust.cg_iterations = o.cg_iterations;
+  trust.backtrack_coefficient = o.backtrack_coefficient;
+  trust.backtrack_iterations = o.backtrack_iterations;
+  trust.cost_limit = o.cost_limit;
+  const PolicyUpdateReport update =
+      TrustRegionUpdate(*policy_, epoch.batch, handling_, lagrange_.penalty(), trust);
+  row.loss_v = FitValueFunction(*value_, *value_optimizer_, epoch.batch.observations,
+                                epoch.returns, o.value_iterations);
+  row.loss_vc = FitValueFunction(*cost_value_, *cost_value_optimizer_, epoch.batch.observations,
+                                 epoch.cost_returns, o.value_iterations);
+  row.kl = update.kl;
+  row.backtrack_iterations = update.backtrack_iterations;
+  row.optim_case = update.optim_case;
+  row.loss_pi = update.loss_before;
+  row.surrogate_cost = update.surrogate_cost_before;
+  row.penalty = handling_ == ConstraintHandling::kLagrangian ? lagrange_.penalty()
+                : handling_ == ConstraintHandling::kCpo       ? update.cpo_nu
+                                                              : 0.0;
+  row.entropy = policy_->Entropy();
+  row.cumulative_cost = cumulative_cost_;
+  row.total_env_interacts = total_steps_;
+  row.cost_rate = cumulative_cost_ / static_cast<double>(total_steps_);
+  row.time_seconds = elapsed_seconds();
+
+  LearnerStep step;
+  step.row = ProgressLine(PolicyOptProgressColumns(), row);
+  step.summary = {row.epoch,
+                  total_steps_,
+                  budget(),
+                  row.average_episode_return,
+                  row.average_episode_cost,
+                  row.time_seconds};
+  return step;
+}
+
+void PolicyOptLearner::Save(const fs::path& folder, const fs::path&, bool) const {
+  torch::serialize::OutputArchive networks;
+  WriteParameters(networks, "policy", policy_->parameters());
+  WriteParameters(networks, "value", value_->parameters());
+  WriteParameters(networks, "cost_value", cost_value_->parameters());
+  torch::serialize::OutputArchive value_optimizer, cost_value_optimizer;
+  value_optimizer_->save(value_optimizer);
+  cost_value_optimizer_->save(cost_value_optimizer);
+  networks.write("value_optimizer", value_optimizer);
+  networks.write("cost_value_optimizer", cost_value_optimizer);
+  networks.write("generator", generator_.get_state());
+  networks.save_to((folder / kNetworksFile).string());
+  const LagrangeMultiplier::State penalty = lagrange_.state();
+  const nlohmann::json state = {
+      {"epochs", epochs_},
+      {"total_steps", total_steps_},
+      {"cumulative_cost", ProgressNumber(cumulative_cost_)},
+      {"env_generator", env_->GeneratorState()},
+      {"penalty_parameter", ProgressNumber(penalty.parameter)},
+      {"penalty_first_moment", ProgressNumber(penalty.first_moment)},
+      {"penalty_second_moment", ProgressNumber(penalty.second_moment)},
+      {"penalty_steps", penalty.steps},
+  };
+  std::ofstream out(folder / kStateFile);
+  out << state.dump(2);
+  out.close();
+  Require(!out.fail(), "could not write '{}'", (folder / kStateFile).string());
+}
+
+void PolicyOptLearner::Load(const fs::path& folder) {
+  const fs::path state_path = folder / kStateFile;
+  try {
+    std::ifstream in(state_path);
+    Require(static_cast<bool>(in), "cannot read '{}'", state_path.string());
+    const nlohmann::json state = nlohmann::json::parse(in);
+    epochs_ = state.at("epochs").get<int>();
+    total_steps_ = state.at("total_steps").get<std::int64_t>();
+    cumulative_cost_ = std::stod(state.at("cumulative_cost").get<std::string>());
+    env_->SetGeneratorState(state.at("env_generator").get<std::string>());
+    LagrangeMultiplier::State penalty;
+    penalty.parameter = std::stod(state.at("penalty_parameter").get<std::string>());
+    penalty.first_moment = std::stod(state.at("penalty_first_moment").get<std::string>());
+    penalty.second_moment = std::stod(state.at("penalty_second_moment").get<std::string>());
+    penalty.steps = state.at("penalty_steps").get<long long>();
+    lagrange_.set_state(penalty);
+  } catch (const nlohmann::json::exception& error) {
+    Fail("'{}' is damaged: {}", state_path.string(), error.what());
+  } catch (const std::invalid_argument& error) {
+    Fail("'{}' is damaged: a figure is not a number", state_path.string());
+  } catch (const Error& error) {
+    Fail("'{}' is damaged: {}", state_path.string(), error.what());
+  }
+  const fs::path file = folder / kNetworksFile;
+  torch::serialize::InputArchive networks;
+  try {
+    networks.load_from(file.string());
+  } catch (const c10::Error& error) {
+    Fail("could not read the networks from '{}': {}", file.string(),
+         error.what_without_backtrace());
+  }
+  ReadParameters(networks, "policy", policy_->parameters(), file);
+  ReadParameters(networks, "value", value_->parameters(), file);
+  ReadParameters(networks, "cost_value", cost_value_->parameters(), file);
+  torch::serialize::InputArchive value_optimizer, cost_value_optimizer;
+  Require(networks.try_read("value_optimizer", value_optimizer) &&
+              networks.try_read("cost_value_optimizer", cost_value_optimizer),
+          "'{}' holds no value-function optimiser state", file.string());
+  value_optimizer_->load(value_optimizer);
+  cost_value_optimizer_->load(cost_value_optimizer);
+  torch::Tensor generator;
+  Require(networks.try_read("generator", generator), "'{}' holds no generator state",
+          file.string());
+  generator_.set_state(generator);
+}
+
+}  // namespace cmbrl

@@ -1,0 +1,44 @@
+#include "cmbrl/policy_opt/policy_opt_options.h"
+
+#include <cmath>
+
+#include "cmbrl/core/check.h"
+
+namespace cmbrl {
+
+void ValidatePolicyOptimisationOptions(const PolicyOptimisationOptions& o) {
+  Require(o.steps_per_epoch >= 1 && o.steps_per_epoch <= 100'000'000,
+          "steps_per_epoch is {}: expected 1 to 100000000", o.steps_per_epoch);
+  for (const auto* hidden : {&o.policy_hidden, &o.value_hidden}) {
+    Require(hidden->size() <= 16, "hidden layers: {} given, expected at most 16", hidden->size());
+    for (const int width : *hidden) {
+      Require(width >= 1 && width <= 65536, "a hidden width is {}: expected 1 to 65536", width);
+    }
+  }
+  Require(std::isfinite(o.initial_log_std) && o.initial_log_std > -20 && o.initial_log_std < 5,
+          "initial_log_std is {}: expected a number in (-20, 5)", o.initial_log_std);
+  Require(o.value_learning_rate > 0 && std::isfinite(o.value_learning_rate),
+          "value_learning_rate is {}: expected a positive number", o.value_learning_rate);
+  Require(o.value_iterations >= 0 && o.value_iterations <= 100'000,
+          "value_iterations is {}: expected 0 to 100000", o.value_iterations);
+  Require(o.gamma >= 0 && o.gamma <= 1, "gamma is {}: expected a number in [0, 1]", o.gamma);
+  Require(o.lambda >= 0 && o.lambda <= 1, "lambda is {}: expected a number in [0, 1]", o.lambda);
+  Require(o.target_kl > 0 && std::isfinite(o.target_kl),
+          "target_kl is {}: expected a positive number", o.target_kl);
+  Require(o.damping >= 0 && std::isfinite(o.damping), "damping is {}: expected 0 or more",
+          o.damping);
+  Require(o.cg_iterations >= 1 && o.cg_iterations <= 1000,
+          "cg_iterations is {}: expected 1 to 1000", o.cg_iterations);
+  Require(o.backtrack_coefficient > 0 && o.backtrack_coefficient < 1,
+          "backtrack_coefficient is {}: expected a number in (0, 1)", o.backtrack_coefficient);
+  Require(o.backtrack_iterations >= 1 && o.backtrack_iterations <= 1000,
+          "backtrack_iterations is {}: expected 1 to 1000", o.backtrack_iterations);
+  Require(o.cost_limit >= 0 && std::isfinite(o.cost_limit),
+          "cost_limit is {}: expected 0 or more", o.cost_limit);
+  Require(o.penalty_init > 0 && std::isfinite(o.penalty_init),
+          "penalty_init is {}: expected a positive number", o.penalty_init);
+  Require(o.penalty_learning_rate > 0 && std::isfinite(o.penalty_learning_rate),
+          "penalty_learning_rate is {}: expected a positive number", o.penalty_learning_rate);
+}
+
+}  // namespace cmbrl
