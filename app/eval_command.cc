@@ -42,9 +42,11 @@ void RunEval(const EvalArgs& args) {
                            r.path,
                            r.path_violations,
                            r.reached_goals,
-                           fmt::format("episode {}: return {:.2f}, cost {}, goals {} | plans: "
-                                       "green feasible, red not, black chosen",
-                                       k, r.episode_return, r.episode_cost, r.goals_met),
+                           fmt::format("episode {}: return {:.2f}, cost {}, goals {}{}", k,
+                                       r.episode_return, r.episode_cost, r.goals_met,
+                                       episode.predictions.empty()
+                                           ? ""
+                                           : " | plans: green feasible, red not, black chosen"),
                            episode.predictions};
       WriteScenePng(picture, path);
       line["picture"] = path;

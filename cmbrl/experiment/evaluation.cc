@@ -2,6 +2,7 @@
 
 #include <torch/torch.h>
 
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 
@@ -11,6 +12,8 @@
 #include "cmbrl/experiment/config.h"
 #include "cmbrl/experiment/mpc_learner.h"
 #include "cmbrl/experiment/mpc_parts.h"
+#include "cmbrl/experiment/policy_opt_learner.h"
+#include "cmbrl/env/registry.h"
 #include "cmbrl/run/run_directory.h"
 
 namespace cmbrl {
@@ -51,6 +54,28 @@ std::vector<PredictedPath> WorldPaths(MpcAgent& agent, const BoxSpec& spec, Vec2
   return paths;
 }
 
+// A model-free run: its policy's mean action, no predictions to draw.
+std::vector<EvaluatedEpisode> EvaluatePolicyRun(const TrainConfig& config, const RunDirectory& run,
+                                                const EvaluationOptions& options) {
+  PolicyOptLearner learner(config);
+  learner.Load(run.checkpoint_dir());
+  const std::unique_ptr<Env> env = MakeEnv(config.task, config.variant);
+  GaussianMeanPolicy policy(learner.policy(), env->action_spec());
+  std::vector<EvaluatedEpisode> episodes;
+  for (int k = 0; k < options.episodes; ++k) {
+    EvaluatedEpisode result;
+    const auto start = std::chrono::steady_clock::now();
+    result.record = RunEpisode(*env, policy,
+                               k == 0 ? std::optional<std::uint64_t>(options.seed) : std::nullopt);
+    result.mean_ms_per_plan =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+            .count() /
+        result.record.steps;
+    episodes.push_back(std::move(result));
+  }
+  return episodes;
+}
+
 }  // namespace
 
 std::vector<EvaluatedEpisode> EvaluateRun(const std::string& run_dir,
@@ -63,6 +88,7 @@ std::vector<EvaluatedEpisode> EvaluateRun(const std::string& run_dir,
   Require(VerifiedCheckpoint(run).has_value(), "'{}' holds no trained run yet (no checkpoint)",
           run_dir);
   const TrainConfig config = LoadTrainConfig(run.config_file().string());
+  if (config.algorithm != "mpc") return EvaluatePolicyRun(config, run, options);
   MpcPartSeeds seeds{options.seed, options.seed, DeriveSeed(options.seed, kPlannerSeedStream)};
   MpcParts parts = AssembleMpc(config, seeds);
   LoadMpcModels(run.checkpoint_dir(), parts);

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -76,6 +77,20 @@ const std::vector<ProgressColumn<EpochRow>>& PolicyOptProgressColumns() {
       {"Time", [](const R& r) { return fmt::format("{:.3f}", r.time_seconds); }},
   };
   return columns;
+}
+
+GaussianMeanPolicy::GaussianMeanPolicy(const GaussianPolicy& policy, BoxSpec action_spec)
+    : policy_(policy), action_spec_(std::move(action_spec)) {}
+
+std::vector<double> GaussianMeanPolicy::Act(const std::vector<double>& observation) {
+  RequireFinite(observation, "observation");
+  const torch::NoGradGuard no_grad;
+  const torch::Tensor mean = policy_.Mean(Row(observation)).to(torch::kDouble).contiguous();
+  std::vector<double> action(mean.data_ptr<double>(), mean.data_ptr<double>() + mean.numel());
+  for (size_t i = 0; i < action.size(); ++i) {
+    action[i] = std::clamp(action[i], action_spec_.low[i], action_spec_.high[i]);
+  }
+  return action;
 }
 
 // One epoch's data, and the episodes it finished.

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "cmbrl/agent/policy.h"
 #include "cmbrl/env/env.h"
 #include "cmbrl/experiment/config.h"
 #include "cmbrl/policy_opt/lagrange.h"
@@ -40,6 +41,18 @@ struct EpochRow {
 };
 
 const std::vector<ProgressColumn<EpochRow>>& PolicyOptProgressColumns();
+
+// A trained Gaussian policy acting with its mean, clipped to the action box (for evaluation:
+// the environment would clip it too). Borrows the policy. Not thread-safe.
+class GaussianMeanPolicy final : public Policy {
+ public:
+  GaussianMeanPolicy(const GaussianPolicy& policy, BoxSpec action_spec);
+  std::vector<double> Act(const std::vector<double>& observation) override;
+
+ private:
+  const GaussianPolicy& policy_;
+  BoxSpec action_spec_;
+};
 
 // Checkpoint files: policy.pt and values.pt (networks and the value optimisers' moments),
 // state.json (counters, the penalty, the environment's and the sampler's generators). Not
