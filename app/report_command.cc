@@ -39,17 +39,18 @@ void WriteFile(const fs::path& path, const std::string& text) {
 std::vector<PlotPanel> CurvePanels(const std::vector<RunRecord>& runs,
                                    const std::vector<RunRecord>& reference,
                                    const std::vector<std::string>& tasks, CurveMetric metric,
-                                   const ReportArgs& args, std::int64_t longest) {
+                                   const ReportArgs& args, std::int64_t longest,
+                                   const std::string& x_label) {
   std::vector<PlotPanel> panels;
   for (const std::string& task : tasks) {
     PlotPanel panel;
     panel.title = task;
-    panel.x_label = "agent steps";
+    panel.x_label = x_label;
     panel.y_label = metric == CurveMetric::kReturn ? "EpRet" : "EpCost";
     for (const LearningCurve& curve :
          LearningCurves(runs, task, metric, args.grid_step, args.smoothing)) {
       PlotSeries ours;
-      ours.label = PlannerLabel(curve.planner);
+      ours.label = MethodLabel(curve.planner);
       ours.x = curve.steps;
       ours.y = curve.mean;
       ours.band = curve.std;
@@ -60,7 +61,7 @@ std::vector<PlotPanel> CurvePanels(const std::vector<RunRecord>& runs,
     for (const PlotSeries& ours : panel.series) {
       for (const LearningCurve& curve : LearningCurves(reference, task, metric, args.grid_step,
                                                        args.smoothing, longest)) {
-        if (PlannerLabel(curve.planner) != ours.label) continue;
+        if (MethodLabel(curve.planner) != ours.label) continue;
         PlotSeries original;
         original.label = ours.label + " (original)";
         original.x = curve.steps;
@@ -86,14 +87,6 @@ void RunReport(const ReportArgs& args) {
   fs::create_directories(args.out);
   const fs::path out(args.out);
 
-  ReportArgs chosen = args;
-  std::int64_t longest = 1;
-  for (const RunRecord& run : runs) {
-    if (!run.episodes.empty()) longest = std::max(longest, run.episodes.back().end_step);
-  }
-  if (chosen.grid_step == 0) chosen.grid_step = std::max<std::int64_t>(1, longest / 50);
-  if (chosen.smoothing == 0) chosen.smoothing = std::max(4 * chosen.grid_step, longest / 10);
-
   std::vector<RunRecord> reference;
   std::string reference_note;
   const std::string reference_dir = args.reference.value_or(DefaultReferenceDir());
@@ -115,21 +108,55 @@ void RunReport(const ReportArgs& args) {
   for (const TableCell& cell : cells) {
     if (std::find(tasks.begin(), tasks.end(), cell.task) == tasks.end()) tasks.push_back(cell.task);
   }
-  WritePlots(CurvePanels(runs, reference, tasks, CurveMetric::kReturn, chosen, longest),
-             (out / "curves-epret.png").string(), (out / "curves-epret.svg").string());
-  WritePlots(CurvePanels(runs, reference, tasks, CurveMetric::kCost, chosen, longest),
-             (out / "curves-epcost.png").string(), (out / "curves-epcost.svg").string());
+  // Curves per family: MPC runs against agent steps, model-free runs against environment
+  // steps (1e7 of them), each with its own grid.
+  std::string curves;
+  for (const bool model_free : {false, true}) {
+    std::vector<RunRecord> family, family_reference;
+    for (const RunRecord& run : runs) {
+      if (run.epoch_log == model_free) family.push_back(run);
+    }
+    for (const RunRecord& run : reference) {
+      if (run.epoch_log == model_free) family_reference.push_back(run);
+    }
+    if (family.empty()) continue;
+    ReportArgs chosen = args;
+    std::int64_t longest = 1;
+    for (const RunRecord& run : family) {
+      if (!run.episodes.empty()) longest = std::max(longest, run.episodes.back().end_step);
+    }
+    if (chosen.grid_step == 0) chosen.grid_step = std::max<std::int64_t>(1, longest / 50);
+    if (chosen.smoothing == 0) chosen.smoothing = std::max(4 * chosen.grid_step, longest / 10);
+    const std::string prefix = model_free ? "curves-model-free-" : "curves-";
+    const std::string x_label = model_free ? "environment steps" : "agent steps";
+    std::vector<std::string> family_tasks;
+    for (const std::string& task : tasks) {
+      for (const RunRecord& run : family) {
+        if (run.config.task == task) {
+          family_tasks.push_back(task);
+          break;
+        }
+      }
+    }
+    for (const CurveMetric metric : {CurveMetric::kReturn, CurveMetric::kCost}) {
+      const std::string name = prefix + (metric == CurveMetric::kReturn ? "epret" : "epcost");
+      WritePlots(CurvePanels(family, family_reference, family_tasks, metric, chosen, longest,
+                             x_label),
+                 (out / (name + ".png")).string(), (out / (name + ".svg")).string());
+    }
+    curves += fmt::format(
+        "{0}A point every {2} {3}: each run's mean over its {4} that ended in the {1} steps "
+        "before it, then the mean over seeds; the band is one standard deviation over seeds. "
+        "Dashed: the original's mean over its seeds, the same way.\n\n"
+        "![EpRet]({5}epret.png)\n\n![EpCost]({5}epcost.png)\n\n",
+        model_free ? "### Model-free baselines\n\n" : "", chosen.smoothing, chosen.grid_step,
+        x_label, model_free ? "epochs (AverageEpRet, AverageEpCost)" : "episodes", prefix);
+  }
 
   std::string report = fmt::format(
       "# Sweep report: {0}\n\n{1} runs. Generated by `cmbrl report`.\n\n## Table I\n\n{2}\n"
-      "## Learning curves\n\nA point every {4} agent steps: each run's mean over its episodes that "
-      "ended in the {3} steps before it, then the mean over seeds; the band is one standard "
-      "deviation over seeds. Dashed: the original's mean over its three seeds, the same "
-      "way.\n\n"
-      "![EpRet](curves-epret.png)\n\n![EpCost](curves-epcost.png)\n\n"
-      "## Where the setup differs from the paper\n\n",
-      fs::path(args.sweep_dir).filename().string(), runs.size(), table, chosen.smoothing,
-      chosen.grid_step);
+      "## Learning curves\n\n{3}## Where the setup differs from the paper\n\n",
+      fs::path(args.sweep_dir).filename().string(), runs.size(), table, curves);
   for (const std::string& note : SetupDifferences(runs, window)) report += "- " + note + "\n";
   report += "- " + reference_note + "\n";
   report += "\n## Where the outcome differs\n\n";

@@ -293,6 +293,21 @@ std::string MethodOf(const TrainConfig& config) {
   return config.algorithm == "mpc" ? config.planner : config.algorithm;
 }
 
+std::vector<std::string> MethodNames() {
+  std::vector<std::string> names = PlannerNames();
+  for (const std::string& algorithm : AlgorithmNames()) {
+    if (algorithm != "mpc") names.push_back(algorithm);
+  }
+  return names;
+}
+
+std::string MethodLabel(const std::string& method) {
+  if (method == "trpo") return "TRPO";
+  if (method == "trpo-lagrangian") return "TRPO-Lagrangian";
+  if (method == "cpo") return "CPO";
+  return PlannerLabel(method);
+}
+
 void SetTrainDevice(TrainConfig& c, const std::string& device) {
   c.device = device;
   c.ensemble.device = device;

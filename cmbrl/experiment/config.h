@@ -63,6 +63,12 @@ struct TrainConfig {
 // ("rce"), the algorithm of a model-free one ("cpo").
 std::string MethodOf(const TrainConfig& config);
 
+// Every method in the paper's order: the planners, then the model-free algorithms.
+std::vector<std::string> MethodNames();
+
+// The paper's name of a method ("MPC-RCE", "TRPO-Lagrangian"), or the name itself when unknown.
+std::string MethodLabel(const std::string& method);
+
 // The largest budget of agent steps a run may have.
 inline constexpr std::int64_t kMaxTotalSteps = 10'000'000'000;
 

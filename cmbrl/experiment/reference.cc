@@ -46,6 +46,30 @@ std::vector<RunRecord> ReadReferenceRuns(const std::string& dir) {
     run.episodes = ReadEpisodeColumns(file.string(), /*has_steps=*/false);
     runs.push_back(std::move(run));
   }
+  // The model-free baselines of the paper's main comparison (cost limit 10, one seed each);
+  // the appendix's other limits are not compared here.
+  const fs::path model_free = fs::path(dir) / "model-free";
+  if (fs::is_directory(model_free)) {
+    static const std::regex kModelFreeName(R"(([A-Za-z0-9]+)-([a-z-]+)-limit10)");
+    std::vector<fs::path> logs;
+    for (const fs::directory_entry& entry : fs::directory_iterator(model_free)) {
+      if (entry.path().extension() == ".csv") logs.push_back(entry.path());
+    }
+    std::sort(logs.begin(), logs.end());
+    for (const fs::path& file : logs) {
+      std::smatch match;
+      const std::string stem = file.stem().string();
+      if (!std::regex_match(stem, match, kModelFreeName)) continue;
+      RunRecord run;
+      run.name = "original " + stem;
+      run.config.task = match[1];
+      run.config.algorithm = match[2];
+      run.config.variant = Variant::kPaperLidar;
+      run.epoch_log = true;
+      run.episodes = ReadEpochLog(file.string());
+      runs.push_back(std::move(run));
+    }
+  }
   return runs;
 }
 
@@ -53,7 +77,7 @@ std::vector<const RunRecord*> ReferenceRunsOf(const std::vector<RunRecord>& refe
                                               const std::string& task, const std::string& planner) {
   std::vector<const RunRecord*> found;
   for (const RunRecord& run : reference) {
-    if (run.config.task == task && run.config.planner == planner) found.push_back(&run);
+    if (run.config.task == task && MethodOf(run.config) == planner) found.push_back(&run);
   }
   std::sort(found.begin(), found.end(), [](const RunRecord* a, const RunRecord* b) {
     return a->config.seed < b->config.seed;

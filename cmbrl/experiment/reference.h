@@ -16,12 +16,13 @@ std::string DefaultReferenceDir();
 
 // The original's model-based runs under `dir`/mbrl/<Task>-<planner>-s<seed>.csv as run records
 // (config holds only task, planner and seed; name is "original <Task>-<planner>-s<seed>"), in
-// file-name order. Its logs have no Steps column: an episode's steps are the difference of
+// file-name order, then its model-free runs with a cost limit of 10 under
+// `dir`/model-free/<Task>-<algorithm>-limit10.csv (epoch logs, seed 0). Its logs have no Steps column: an episode's steps are the difference of
 // TotalEnvInteracts. Throws cmbrl::Error naming a missing folder, a badly named file, a missing
 // column or a value that is not a number.
 std::vector<RunRecord> ReadReferenceRuns(const std::string& dir);
 
-// The original's runs of one task and planner, in seed order.
+// The original's runs of one task and method (planner or algorithm), in seed order.
 std::vector<const RunRecord*> ReferenceRunsOf(const std::vector<RunRecord>& reference,
                                               const std::string& task, const std::string& planner);
 

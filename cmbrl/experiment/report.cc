@@ -23,6 +23,16 @@ namespace cmbrl {
 namespace fs = std::filesystem;
 namespace {
 
+// Per-seed counts for people: whole numbers as such, interpolated ones (model-free epoch logs)
+// to one decimal.
+std::string Counts(const std::vector<double>& values) {
+  std::vector<std::string> texts;
+  for (const double v : values) {
+    texts.push_back(v == std::round(v) ? fmt::format("{:.0f}", v) : fmt::format("{:.1f}", v));
+  }
+  return fmt::format("{}", fmt::join(texts, ", "));
+}
+
 double Mean(const std::vector<double>& values) {
   double sum = 0.0;
   for (double v : values) sum += v;
@@ -79,6 +89,8 @@ std::vector<EpisodePoint> ReadEpisodeColumns(const std::string& file, bool has_s
     point.episode_cost = table.Number(row, cost);
     point.end_step = static_cast<std::int64_t>(table.Number(row, total));
     if (has_feasible) point.feasible_fraction = table.Number(row, feasible);
+    point.cumulative_violations =
+        (episodes.empty() ? 0.0 : episodes.back().cumulative_violations) + point.episode_cost;
     const std::int64_t previous = episodes.empty() ? 0 : episodes.back().end_step;
     point.steps = has_steps ? static_cast<int>(table.Number(row, steps))
                             : static_cast<int>(point.end_step - previous);
@@ -108,18 +120,60 @@ std::vector<RunRecord> ReadSweep(const std::string& sweep_dir) {
     RunRecord run;
     run.name = dir.filename().string();
     run.config = LoadTrainConfig(run_dir.config_file().string());
-    run.episodes = ReadProgressEpisodes(run_dir.progress_file().string());
+    run.epoch_log = run.config.algorithm != "mpc";
+    run.episodes = run.epoch_log ? ReadEpochLog(run_dir.progress_file().string())
+                                 : ReadProgressEpisodes(run_dir.progress_file().string());
     runs.push_back(std::move(run));
   }
   return runs;
 }
 
 double ViolationsWithin(const RunRecord& run, std::int64_t window) {
-  double violations = 0.0;
-  for (const EpisodePoint& episode : run.episodes) {
-    if (episode.end_step <= window) violations += episode.episode_cost;
+  if (!run.epoch_log) {
+    double violations = 0.0;
+    for (const EpisodePoint& episode : run.episodes) {
+      if (episode.end_step <= window) violations += episode.episode_cost;
+    }
+    return violations;
   }
-  return violations;
+  double before = 0.0;
+  std::int64_t before_step = 0;
+  for (const EpisodePoint& epoch : run.episodes) {
+    if (epoch.end_step >= window) {
+      const double share = static_cast<double>(window - before_step) /
+                           static_cast<double>(epoch.end_step - before_step);
+      return before + share * (epoch.cumulative_violations - before);
+    }
+    before = epoch.cumulative_violations;
+    before_step = epoch.end_step;
+  }
+  return before;
+}
+
+std::vector<EpisodePoint> ReadEpochLog(const std::string& file) {
+  const ProgressTable table = ProgressTable::Read(file);
+  const std::string expected =
+      "a model-free progress log with AverageEpRet, AverageEpCost, CumulativeCost and "
+      "TotalEnvInteracts";
+  const size_t ret = table.Column("AverageEpRet", expected);
+  const size_t cost = table.Column("AverageEpCost", expected);
+  const size_t cumulative = table.Column("CumulativeCost", expected);
+  const size_t total = table.Column("TotalEnvInteracts", expected);
+  std::vector<EpisodePoint> epochs;
+  for (size_t row = 0; row < table.rows(); ++row) {
+    EpisodePoint point;
+    point.episode_return = table.Number(row, ret);
+    point.episode_cost = table.Number(row, cost);
+    point.cumulative_violations = table.Number(row, cumulative);
+    point.end_step = static_cast<std::int64_t>(table.Number(row, total));
+    const std::int64_t previous = epochs.empty() ? 0 : epochs.back().end_step;
+    Require(point.end_step > previous,
+            "{} line {}: TotalEnvInteracts {} after {}: expected a count that rises", file,
+            table.line(row), point.end_step, previous);
+    point.steps = static_cast<int>(point.end_step - previous);
+    epochs.push_back(point);
+  }
+  return epochs;
 }
 
 int HeavyEpisodesWithin(const RunRecord& run, std::int64_t window) {
@@ -171,15 +225,15 @@ std::string VersusOriginal(const TableCell& cell) {
 std::vector<TableCell> ViolationTable(const std::vector<RunRecord>& runs, std::int64_t window,
                                       const std::vector<RunRecord>& reference) {
   const auto task_of = [](const RunRecord& r) { return r.config.task; };
-  const auto planner_of = [](const RunRecord& r) { return r.config.planner; };
+  const auto planner_of = [](const RunRecord& r) { return MethodOf(r.config); };
   std::vector<TableCell> cells;
   for (const std::string& task : InOrder(runs, task_of, EnvNames())) {
-    for (const std::string& planner : InOrder(runs, planner_of, PlannerNames())) {
+    for (const std::string& planner : InOrder(runs, planner_of, MethodNames())) {
       // A run without a finished episode yet (just started) has nothing to say: counted, it
       // would add a seed with no violations and no return.
       std::vector<const RunRecord*> members;
       for (const RunRecord& run : runs) {
-        if (run.config.task == task && run.config.planner == planner && !run.episodes.empty()) {
+        if (run.config.task == task && MethodOf(run.config) == planner && !run.episodes.empty()) {
           members.push_back(&run);
         }
       }
@@ -232,7 +286,7 @@ std::string TableMarkdown(const std::vector<TableCell>& cells, std::int64_t wind
       "paper's Table I (mean of 3 seeds over 10,000 steps) in brackets. * marks a cell whose "
       "shortest run stopped before the window's end.\n\n| task |",
       window);
-  for (const std::string& planner : planners) text += " " + PlannerLabel(planner) + " |";
+  for (const std::string& planner : planners) text += " " + MethodLabel(planner) + " |";
   text += "\n|---|";
   for (size_t i = 0; i < planners.size(); ++i) text += "---|";
   text += "\n";
@@ -258,7 +312,7 @@ std::string TableMarkdown(const std::vector<TableCell>& cells, std::int64_t wind
   }
   text += "\n\nReturn at the end of the same window: mean EpRet of each run's last 10 episodes "
           "that ended in it, mean ± std over seeds.\n\n| task |";
-  for (const std::string& planner : planners) text += " " + PlannerLabel(planner) + " |";
+  for (const std::string& planner : planners) text += " " + MethodLabel(planner) + " |";
   text += "\n|---|";
   for (size_t i = 0; i < planners.size(); ++i) text += "---|";
   task.clear();
@@ -283,19 +337,21 @@ std::string TableMarkdown(const std::vector<TableCell>& cells, std::int64_t wind
       "\nAgainst the original's own logs over the same {} steps (its seeds 0, 10 and 100; "
       "data/reference/): where our mean lies against its seeds' range, and the same for the "
       "return of the last 10 episodes.\n\n"
-      "| task | planner | ours (per seed) | original (per seed) | ours vs its range | return, "
+      "| task | method | ours (per seed) | original (per seed) | ours vs its range | return, "
       "ours | return, original | episodes with >= 20, ours | the original's | feasible "
       "fraction, ours |\n|---|---|---|---|---|---|---|---|---|---|\n",
       window);
   for (const TableCell& cell : cells) {
     if (cell.original_per_seed.empty()) continue;
     text += fmt::format(
-        "| {} | {} | {:.1f} ({}) | {:.1f} ({}) | {} | {:.2f} | {:.2f} | {} | {} | {:.3f} |\n",
-        cell.task, PlannerLabel(cell.planner), cell.mean, fmt::join(cell.per_seed, ", "),
-        Mean(cell.original_per_seed), fmt::join(cell.original_per_seed, ", "),
-        VersusOriginal(cell), cell.return_mean, Mean(cell.original_final_returns),
-        fmt::join(cell.heavy_episodes, ", "), fmt::join(cell.original_heavy_episodes, ", "),
-        Mean(cell.feasible_fractions));
+        "| {} | {} | {:.1f} ({}) | {:.1f} ({}) | {} | {:.2f} | {:.2f} | {} | {} | {} |\n",
+        cell.task, MethodLabel(cell.planner), cell.mean, Counts(cell.per_seed),
+        Mean(cell.original_per_seed), Counts(cell.original_per_seed), VersusOriginal(cell),
+        cell.return_mean, Mean(cell.original_final_returns), fmt::join(cell.heavy_episodes, ", "),
+        fmt::join(cell.original_heavy_episodes, ", "),
+        std::isfinite(Mean(cell.feasible_fractions))
+            ? fmt::format("{:.3f}", Mean(cell.feasible_fractions))
+            : "-");
   }
   return text;
 }
@@ -327,12 +383,12 @@ std::vector<LearningCurve> LearningCurves(const std::vector<RunRecord>& runs,
   Require(grid_step >= 1 && smoothing >= 1, "curve grid {} and smoothing {} must be positive",
           grid_step, smoothing);
   std::vector<LearningCurve> curves;
-  const auto planner_of = [](const RunRecord& r) { return r.config.planner; };
-  for (const std::string& planner : InOrder(runs, planner_of, PlannerNames())) {
+  const auto planner_of = [](const RunRecord& r) { return MethodOf(r.config); };
+  for (const std::string& planner : InOrder(runs, planner_of, MethodNames())) {
     std::vector<const RunRecord*> members;
     std::int64_t longest = 0;
     for (const RunRecord& run : runs) {
-      if (run.config.task != task || run.config.planner != planner || run.episodes.empty()) {
+      if (run.config.task != task || MethodOf(run.config) != planner || run.episodes.empty()) {
         continue;
       }
       members.push_back(&run);
@@ -375,7 +431,26 @@ std::vector<std::string> SetupDifferences(const std::vector<RunRecord>& runs,
   for (const RunRecord& run : runs) {
     const TrainConfig& c = run.config;
     // Seeds as Table I counts them: a run without a finished episode is not in it.
-    if (!run.episodes.empty()) seeds[c.task + " " + c.planner].insert(c.seed);
+    if (!run.episodes.empty()) seeds[c.task + " " + MethodOf(c)].insert(c.seed);
+    if (c.algorithm != "mpc") {
+      // The model-free baselines: 1e7 environment steps in epochs of 30,000 on the paper's
+      // world observed through Safety Gym's lidar.
+      const PolicyOptimisationOptions original;
+      if (c.training.total_steps != 10'000'000) {
+        note(fmt::format("Model-free budget: {} environment steps per run, the original 1e7.",
+                         c.training.total_steps));
+      }
+      if (c.policy_optimisation.steps_per_epoch != original.steps_per_epoch) {
+        note(fmt::format("Model-free epochs: {} environment steps, the original {}.",
+                         c.policy_optimisation.steps_per_epoch, original.steps_per_epoch));
+      }
+      if (c.variant != Variant::kPaperLidar) {
+        note(fmt::format("Model-free tasks: the '{}' variant, not the paper's world observed "
+                         "through lidar ('paper-lidar') that its baselines ran.",
+                         VariantName(c.variant)));
+      }
+      continue;
+    }
     const bool car = c.task.rfind("Car", 0) == 0;
     const int paper_members = car ? 5 : 4;
     if (c.ensemble.hidden_sizes != paper.ensemble.hidden_sizes ||
@@ -448,13 +523,13 @@ namespace {
 // One cell against the original: its seeds over the same window when its logs cover it, else
 // Table I when the window is the paper's; nothing otherwise.
 std::optional<std::string> OriginalComparison(const TableCell& cell, std::int64_t window) {
-  const std::string label = fmt::format("{} {}", cell.task, PlannerLabel(cell.planner));
+  const std::string label = fmt::format("{} {}", cell.task, MethodLabel(cell.planner));
   if (!cell.original_per_seed.empty()) {
     const std::string verdict = VersusOriginal(cell);
     return fmt::format(
         "{}: {:.1f} in the first {} steps, the original {:.1f} ({}); ours is {} its seeds' range{}.",
-        label, cell.mean, window, Mean(cell.original_per_seed),
-        fmt::join(cell.original_per_seed, ", "), verdict,
+        label, cell.mean, window, Mean(cell.original_per_seed), Counts(cell.original_per_seed),
+        verdict,
         verdict == "inside" ? ""
         : verdict == "above" ? ": more violations than the original"
                              : ": fewer violations than the original");
@@ -476,11 +551,11 @@ bool IsPapersMethod(const std::string& planner) {
 void PapersMethodAgainstOthers(const std::string& task,
                                const std::map<std::string, const TableCell*>& row,
                                const TableCell& method, std::vector<std::string>& notes) {
-  const std::string name = PlannerLabel(method.planner);
+  const std::string name = MethodLabel(method.planner);
   std::vector<std::string> worse, not_worse;
   for (const auto& [planner, cell] : row) {
     if (cell == &method) continue;
-    (cell->mean > method.mean ? worse : not_worse).push_back(PlannerLabel(planner));
+    (cell->mean > method.mean ? worse : not_worse).push_back(MethodLabel(planner));
   }
   if (!worse.empty() || !not_worse.empty()) {
     notes.push_back(fmt::format(
@@ -496,7 +571,7 @@ void PapersMethodAgainstOthers(const std::string& task,
   for (const auto& [planner, cell] : row) {
     if (cell != &method && cell->return_mean > best_other) {
       best_other = cell->return_mean;
-      best_label = PlannerLabel(planner);
+      best_label = MethodLabel(planner);
     }
   }
   if (!best_label.empty()) {

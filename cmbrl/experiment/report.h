@@ -19,12 +19,18 @@ struct EpisodePoint {
   double episode_return = 0.0;
   double episode_cost = 0.0;
   double feasible_fraction = std::numeric_limits<double>::quiet_NaN();  // NaN: not logged
+  // The run's violations from its start through this point (the running sum of EpCost for an
+  // MPC run, CumulativeCost for a model-free one).
+  double cumulative_violations = 0.0;
 };
 
 struct RunRecord {
   std::string name;  // the run directory's name
   TrainConfig config;
+  // One point per MPC episode, or per epoch of a model-free run (episode_return and
+  // episode_cost then the epoch's AverageEpRet and AverageEpCost, steps its environment steps).
   std::vector<EpisodePoint> episodes;
+  bool epoch_log = false;  // the points are epochs (model-free)
 };
 
 // An episode with at least this many violations is a "heavy" one: on level 2 a few such
@@ -38,6 +44,10 @@ int HeavyEpisodesWithin(const RunRecord& run, std::int64_t window);
 // Mean FeasibleFraction of the episodes that ended within the window (NaN when not logged).
 double FeasibleFractionWithin(const RunRecord& run, std::int64_t window);
 
+
+// The epochs of a model-free run's progress.csv as points (see RunRecord). Throws
+// cmbrl::Error naming a missing column or a value that is not a number.
+std::vector<EpisodePoint> ReadEpochLog(const std::string& path);
 
 // The episodes of one progress.csv. Throws cmbrl::Error naming a missing column or a value that
 // is not a number.
@@ -54,7 +64,8 @@ std::vector<RunRecord> ReadSweep(const std::string& sweep_dir);
 
 // Violations during the first `window` agent steps of a run: the EpCost of every episode that
 // ended within the window (TotalEnvInteracts <= window), the rule by which the original's logs
-// give Table I and its counts over 3000 steps.
+// give Table I and its counts over 3000 steps. For an epoch log (model-free, 30,000 steps an
+// epoch) the cumulative cost is interpolated linearly within the epoch the window ends in.
 double ViolationsWithin(const RunRecord& run, std::int64_t window);
 
 // The paper's Table I counts violations during the first 10,000 agent steps.

@@ -11,6 +11,7 @@
 
 #include "cmbrl/experiment/reference.h"
 #include "cmbrl/experiment/mpc_learner.h"
+#include "cmbrl/experiment/policy_opt_learner.h"
 #include "cmbrl/experiment/trainer.h"
 #include "cmbrl/run/run_directory.h"
 #include "cmbrl/viz/plot.h"
@@ -294,6 +295,47 @@ TEST(ReportEpisodesTest, HeavyEpisodesAndFeasibleFractionCountOnlyTheWindow) {
   EXPECT_TRUE(std::isnan(FeasibleFractionWithin(run, 50)));
 }
 
+// Model-free runs in a sweep: epoch logs, grouped by algorithm, violations interpolated within
+// the epoch a window ends in.
+TEST_F(ReportTest, ModelFreeRunsAreEpochLogsGroupedByAlgorithm) {
+  TrainConfig config;
+  config.task = "PointGoal1";
+  config.variant = Variant::kPaperLidar;
+  config.algorithm = "cpo";
+  config.training.total_steps = 3000;
+  const fs::path dir = sweep_ / "runs" / "pointgoal1-cpo-s0";
+  fs::create_directories(dir);
+  std::ofstream(dir / "config.yaml") << TrainConfigToYaml(config);
+  {
+    std::ofstream progress(dir / "progress.csv");
+    progress << ProgressHeader(PolicyOptProgressColumns()) << "\n";
+    for (int epoch = 1; epoch <= 3; ++epoch) {
+      EpochRow row;
+      row.epoch = epoch;
+      row.average_episode_return = epoch;
+      row.average_episode_cost = 10.0 / epoch;
+      row.cumulative_cost = 100.0 * epoch;  // 100 violations an epoch of 1000 steps
+      row.total_env_interacts = 1000 * epoch;
+      progress << ProgressLine(PolicyOptProgressColumns(), row) << "\n";
+    }
+  }
+  WriteCheckpoint(RunDirectory(dir), 3, 0.0, [](const fs::path&, const fs::path&) {});
+  const std::vector<RunRecord> runs = ReadSweep(sweep_.string());
+  const auto cpo = std::find_if(runs.begin(), runs.end(),
+                                [](const RunRecord& r) { return r.config.algorithm == "cpo"; });
+  ASSERT_NE(cpo, runs.end());
+  EXPECT_TRUE(cpo->epoch_log);
+  EXPECT_EQ(cpo->episodes.size(), 3u);
+  EXPECT_DOUBLE_EQ(ViolationsWithin(*cpo, 1500), 150.0);  // halfway through the second epoch
+  EXPECT_DOUBLE_EQ(ViolationsWithin(*cpo, 3000), 300.0);
+  const std::vector<TableCell> cells = ViolationTable(runs, 1500);
+  const auto cell = std::find_if(cells.begin(), cells.end(),
+                                 [](const TableCell& c) { return c.planner == "cpo"; });
+  ASSERT_NE(cell, cells.end());
+  EXPECT_EQ(cell->per_seed, (std::vector<double>{150.0}));
+  EXPECT_THAT(TableMarkdown(cells, 1500), HasSubstr("| CPO |"));
+}
+
 TEST_F(ReportTest, BadReferenceLogsAreNamed) {
   const fs::path dir = WriteReference();
   std::ofstream(dir / "mbrl" / "PointGoal1-rce-s100.csv")
@@ -315,7 +357,7 @@ TEST_F(ReportTest, ShippedReferenceLogsGiveTheOriginalsCounts) {
   // data/reference/ as shipped: the counts the original's README gives over 3000 and 10,000
   // agent steps (shared/reference/README.md), which the targets are built on.
   const std::vector<RunRecord> reference = ReadReferenceRuns(DefaultReferenceDir());
-  ASSERT_EQ(reference.size(), 36u);
+  ASSERT_EQ(reference.size(), 36u + 12u);  // 4 x 3 x 3 MPC runs, 4 x 3 model-free at limit 10
   const auto counts = [&](const std::string& task, const std::string& planner,
                           std::int64_t window) {
     std::vector<double> out;
@@ -329,6 +371,12 @@ TEST_F(ReportTest, ShippedReferenceLogsGiveTheOriginalsCounts) {
   EXPECT_EQ(counts("CarGoal1", "cem", 3000), (std::vector<double>{45, 31, 26}));
   EXPECT_EQ(counts("PointGoal1", "cem", 10000), (std::vector<double>{182, 157, 208}));
   EXPECT_EQ(counts("CarGoal2", "random", 10000), (std::vector<double>{460, 498, 523}));
+  // A model-free log has a row per 30,000-step epoch: PointGoal1 TRPO's first epoch cost 2383,
+  // so its count over 10,000 steps is interpolated to a third of it.
+  const std::vector<double> trpo = counts("PointGoal1", "trpo", 10000);
+  ASSERT_EQ(trpo.size(), 1u);
+  EXPECT_NEAR(trpo[0], 2383.0 / 3, 1e-9);
+  EXPECT_EQ(counts("PointGoal1", "trpo", 30000), (std::vector<double>{2383}));
 }
 
 TEST_F(ReportTest, BadProgressIsNamed) {
