@@ -173,6 +173,8 @@ void VisitConfig(Config& c, Visitor& v) {
   v.Field("objective", "at_goal_test_after_near_bonus", o.at_goal_test_after_near_bonus);
   auto& m = c.policy_optimisation;
   v.Field("policy_optimisation", "steps_per_epoch", m.steps_per_epoch);
+  v.Field("policy_optimisation", "envs", m.envs);
+  v.Field("policy_optimisation", "env_threads", m.env_threads);
   v.Field("policy_optimisation", "policy_hidden", m.policy_hidden);
   v.Field("policy_optimisation", "initial_log_std", m.initial_log_std);
   v.Field("policy_optimisation", "value_hidden", m.value_hidden);

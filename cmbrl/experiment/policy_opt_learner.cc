@@ -4,10 +4,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <exception>
+#include <mutex>
 #include <fstream>
 #include <nlohmann/json.hpp>
 
 #include "cmbrl/core/check.h"
+#include "cmbrl/core/parallel.h"
 #include "cmbrl/core/rng.h"
 #include "cmbrl/core/torch_util.h"
 #include "cmbrl/env/registry.h"
@@ -104,14 +107,15 @@ struct PolicyOptLearner::Epoch {
 PolicyOptLearner::PolicyOptLearner(TrainConfig config)
     : config_(std::move(config)),
       handling_(HandlingOf(config_.algorithm)),
-      env_(MakeEnv(config_.task, config_.variant)),
+
       generator_(MakeCpuGenerator(DeriveSeed(config_.seed, kPlannerSeedStream))),
       lagrange_(LagrangeOptions{config_.policy_optimisation.penalty_init,
                                 config_.policy_optimisation.penalty_learning_rate}) {
   ValidatePolicyOptimisationOptions(config_.policy_optimisation);
   const PolicyOptimisationOptions& o = config_.policy_optimisation;
-  const int observation_dim = env_->observation_spec().size();
-  const int action_dim = env_->action_spec().size();
+  for (int k = 0; k < o.envs; ++k) envs_.push_back(MakeEnv(config_.task, config_.variant));
+  const int observation_dim = envs_[0]->observation_spec().size();
+  const int action_dim = envs_[0]->action_spec().size();
   policy_ = std::make_unique<GaussianPolicy>(observation_dim, action_dim, o.policy_hidden,
                                              o.initial_log_std, generator_);
   value_ = std::make_unique<TanhMlp>(observation_dim, o.value_hidden, 1, generator_);
@@ -130,68 +134,134 @@ std::string PolicyOptLearner::ProgressHeader() const {
 
 bool PolicyOptLearner::Finished() const { return total_steps_ >= config_.training.total_steps; }
 
+namespace {
+
+// One environment's share of an epoch: its steps in order, cut into paths.
+struct EnvTrace {
+  std::vector<double> observation;  // the current one
+  std::vector<torch::Tensor> observations, actions, log_probs;  // (1, O), (1, A), (1)
+  std::vector<double> advantages, cost_advantages, returns, cost_returns;
+  std::vector<double> rewards, costs, values, cost_values;  // the open path
+  double episode_return = 0.0, episode_cost = 0.0;
+};
+
+}  // namespace
+
 PolicyOptLearner::Epoch PolicyOptLearner::Collect() {
   const PolicyOptimisationOptions& o = config_.policy_optimisation;
-  const std::int64_t steps =
+  const int env_count = static_cast<int>(envs_.size());
+  const std::int64_t epoch_steps =
       std::min<std::int64_t>(o.steps_per_epoch, config_.training.total_steps - total_steps_);
+  // Each environment's steps; a last, shorter epoch is shared out as evenly as it goes.
+  std::vector<std::int64_t> quota(env_count, epoch_steps / env_count);
+  for (std::int64_t k = 0; k < epoch_steps % env_count; ++k) ++quota[k];
   Epoch epoch;
+  std::vector<EnvTrace> traces(env_count);
+  for (int k = 0; k < env_count; ++k) {
+    // Environment 0 continues the single-environment seed stream; the others have their own.
+    traces[k].observation =
+        epochs_ == 0 ? envs_[k]->Reset(DeriveSeed(config_.seed, kEnvSeedStream + 100 * k))
+                     : envs_[k]->Reset();
+  }
+  const torch::NoGradGuard no_grad;
+  const auto finish_path = [&](EnvTrace& trace, double last_value, double last_cost_value) {
+    trace.values.push_back(last_value);
+    trace.cost_values.push_back(last_cost_value);
+    const PathTargets reward = GaeTargets(trace.rewards, trace.values, o.gamma, o.lambda);
+    const PathTargets cost = GaeTargets(trace.costs, trace.cost_values, o.gamma, o.lambda);
+    trace.advantages.insert(trace.advantages.end(), reward.advantages.begin(),
+                            reward.advantages.end());
+    trace.returns.insert(trace.returns.end(), reward.returns.begin(), reward.returns.end());
+    trace.cost_advantages.insert(trace.cost_advantages.end(), cost.advantages.begin(),
+                                 cost.advantages.end());
+    trace.cost_returns.insert(trace.cost_returns.end(), cost.returns.begin(), cost.returns.end());
+    trace.rewards.clear();
+    trace.costs.clear();
+    trace.values.clear();
+    trace.cost_values.clear();
+  };
+  const std::int64_t longest = *std::max_element(quota.begin(), quota.end());
+  std::vector<StepResult> results(env_count);
+  for (std::int64_t t = 0; t < longest; ++t) {
+    // The environments still stepping this round, their observations in one batch.
+    std::vector<int> active;
+    std::vector<torch::Tensor> rows;
+    for (int k = 0; k < env_count; ++k) {
+      if (t < quota[k]) {
+        active.push_back(k);
+        rows.push_back(Row(traces[k].observation));
+      }
+    }
+    const torch::Tensor batch = torch::cat(rows);
+    const torch::Tensor actions = policy_->Sample(batch, generator_);  // one draw, env order
+    const torch::Tensor log_probs = policy_->LogProb(batch, actions);
+    const torch::Tensor values = value_->Forward(batch).squeeze(-1).to(torch::kDouble);
+    const torch::Tensor cost_values = cost_value_->Forward(batch).squeeze(-1).to(torch::kDouble);
+    const torch::Tensor host = actions.to(torch::kDouble).contiguous();
+    const int action_dim = static_cast<int>(actions.size(1));
+    // Environments are independent: step them on the cores this process has.
+    std::exception_ptr failure;
+    std::mutex failure_mutex;
+    ParallelRanges(static_cast<std::int64_t>(active.size()),
+                   std::min({CoreCount(), o.env_threads, static_cast<int>(active.size())}),
+                   [&](std::int64_t begin, std::int64_t end) {
+                     for (std::int64_t i = begin; i < end; ++i) {
+                       try {
+                         const double* a = host.data_ptr<double>() + i * action_dim;
+                         results[active[i]] =
+                             envs_[active[i]]->Step(std::vector<double>(a, a + action_dim));
+                       } catch (...) {
+                         const std::lock_guard<std::mutex> lock(failure_mutex);
+                         if (!failure) failure = std::current_exception();
+                       }
+                     }
+                   });
+    if (failure) std::rethrow_exception(failure);
+    for (size_t i = 0; i < active.size(); ++i) {
+      const int k = active[i];
+      EnvTrace& trace = traces[k];
+      StepResult& step = results[k];
+      trace.observations.push_back(rows[i]);
+      trace.actions.push_back(actions.narrow(0, static_cast<std::int64_t>(i), 1));
+      trace.log_probs.push_back(log_probs.narrow(0, static_cast<std::int64_t>(i), 1));
+      trace.values.push_back(values[static_cast<std::int64_t>(i)].item<double>());
+      trace.cost_values.push_back(cost_values[static_cast<std::int64_t>(i)].item<double>());
+      trace.rewards.push_back(step.reward);
+      trace.costs.push_back(step.cost);
+      trace.episode_return += step.reward;
+      trace.episode_cost += step.cost;
+      epoch.step_cost += step.cost;
+      trace.observation = std::move(step.observation);
+      const bool terminal = step.terminated || step.truncated;
+      if (terminal || t == quota[k] - 1) {
+        // A time limit or the epoch's end bootstraps from the value of the state reached.
+        const torch::Tensor next = Row(trace.observation);
+        const double last_value = step.terminated ? 0.0 : value_->Forward(next).item<double>();
+        const double last_cost_value =
+            step.terminated ? 0.0 : cost_value_->Forward(next).item<double>();
+        if (terminal) {
+          epoch.episode_returns.push_back(trace.episode_return);
+          epoch.episode_costs.push_back(trace.episode_cost);
+          epoch.episode_lengths.push_back(static_cast<double>(trace.rewards.size()));
+        }
+        finish_path(trace, last_value, last_cost_value);
+        trace.episode_return = trace.episode_cost = 0.0;
+        if (t + 1 < quota[k]) trace.observation = envs_[k]->Reset();
+      }
+    }
+  }
+  // The batch in environment order, each environment's steps in time order.
   std::vector<torch::Tensor> observations, actions, log_probs;
   std::vector<double> advantages, cost_advantages, returns, cost_returns;
-  std::vector<double> rewards, costs, values, cost_values;
-  double episode_return = 0.0, episode_cost = 0.0;
-  std::vector<double> observation =
-      epochs_ == 0 ? env_->Reset(DeriveSeed(config_.seed, kEnvSeedStream)) : env_->Reset();
-  const torch::NoGradGuard no_grad;
-  const auto finish_path = [&](double last_value, double last_cost_value) {
-    values.push_back(last_value);
-    cost_values.push_back(last_cost_value);
-    PathTargets reward_targets = GaeTargets(rewards, values, o.gamma, o.lambda);
-    PathTargets cost_targets = GaeTargets(costs, cost_values, o.gamma, o.lambda);
-    advantages.insert(advantages.end(), reward_targets.advantages.begin(),
-                      reward_targets.advantages.end());
-    returns.insert(returns.end(), reward_targets.returns.begin(), reward_targets.returns.end());
-    cost_advantages.insert(cost_advantages.end(), cost_targets.advantages.begin(),
-                           cost_targets.advantages.end());
-    cost_returns.insert(cost_returns.end(), cost_targets.returns.begin(),
-                        cost_targets.returns.end());
-    rewards.clear();
-    costs.clear();
-    values.clear();
-    cost_values.clear();
-  };
-  for (std::int64_t t = 0; t < steps; ++t) {
-    const torch::Tensor obs = Row(observation);
-    const torch::Tensor action = policy_->Sample(obs, generator_);
-    observations.push_back(obs);
-    actions.push_back(action);
-    log_probs.push_back(policy_->LogProb(obs, action));
-    values.push_back(value_->Forward(obs).item<double>());
-    cost_values.push_back(cost_value_->Forward(obs).item<double>());
-    const torch::Tensor host = action.to(torch::kDouble).contiguous();
-    StepResult step = env_->Step(
-        std::vector<double>(host.data_ptr<double>(), host.data_ptr<double>() + host.numel()));
-    rewards.push_back(step.reward);
-    costs.push_back(step.cost);
-    episode_return += step.reward;
-    episode_cost += step.cost;
-    epoch.step_cost += step.cost;
-    observation = std::move(step.observation);
-    const bool terminal = step.terminated || step.truncated;
-    if (terminal || t == steps - 1) {
-      // A time limit or the epoch's end bootstraps from the value of the state reached.
-      const torch::Tensor next = Row(observation);
-      const double last_value = step.terminated ? 0.0 : value_->Forward(next).item<double>();
-      const double last_cost_value =
-          step.terminated ? 0.0 : cost_value_->Forward(next).item<double>();
-      if (terminal) {
-        epoch.episode_returns.push_back(episode_return);
-        epoch.episode_costs.push_back(episode_cost);
-        epoch.episode_lengths.push_back(static_cast<double>(rewards.size()));
-      }
-      finish_path(last_value, last_cost_value);
-      episode_return = episode_cost = 0.0;
-      if (t + 1 < steps) observation = env_->Reset();
-    }
+  for (EnvTrace& trace : traces) {
+    observations.insert(observations.end(), trace.observations.begin(), trace.observations.end());
+    actions.insert(actions.end(), trace.actions.begin(), trace.actions.end());
+    log_probs.insert(log_probs.end(), trace.log_probs.begin(), trace.log_probs.end());
+    advantages.insert(advantages.end(), trace.advantages.begin(), trace.advantages.end());
+    cost_advantages.insert(cost_advantages.end(), trace.cost_advantages.begin(),
+                           trace.cost_advantages.end());
+    returns.insert(returns.end(), trace.returns.begin(), trace.returns.end());
+    cost_returns.insert(cost_returns.end(), trace.cost_returns.begin(), trace.cost_returns.end());
   }
   NormaliseAdvantages(advantages, /*scale=*/true);
   NormaliseAdvantages(cost_advantages, /*scale=*/false);
@@ -210,7 +280,7 @@ PolicyOptLearner::Epoch PolicyOptLearner::Collect() {
   };
   b.episode_cost = mean(epoch.episode_costs);
   b.episode_length = mean(epoch.episode_lengths);
-  total_steps_ += steps;
+  total_steps_ += epoch_steps;
   return epoch;
 }
 
@@ -277,6 +347,12 @@ LearnerStep PolicyOptLearner::Advance(const std::function<double()>& elapsed_sec
   return step;
 }
 
+std::vector<std::string> PolicyOptLearner::EnvGenerators() const {
+  std::vector<std::string> states;
+  for (const std::unique_ptr<Env>& env : envs_) states.push_back(env->GeneratorState());
+  return states;
+}
+
 void PolicyOptLearner::Save(const fs::path& folder, const fs::path&, bool) const {
   torch::serialize::OutputArchive networks;
   WriteParameters(networks, "policy", policy_->parameters());
@@ -294,7 +370,7 @@ void PolicyOptLearner::Save(const fs::path& folder, const fs::path&, bool) const
       {"epochs", epochs_},
       {"total_steps", total_steps_},
       {"cumulative_cost", ProgressNumber(cumulative_cost_)},
-      {"env_generator", env_->GeneratorState()},
+      {"env_generators", EnvGenerators()},
       {"penalty_parameter", ProgressNumber(penalty.parameter)},
       {"penalty_first_moment", ProgressNumber(penalty.first_moment)},
       {"penalty_second_moment", ProgressNumber(penalty.second_moment)},
@@ -315,7 +391,12 @@ void PolicyOptLearner::Load(const fs::path& folder) {
     epochs_ = state.at("epochs").get<int>();
     total_steps_ = state.at("total_steps").get<std::int64_t>();
     cumulative_cost_ = std::stod(state.at("cumulative_cost").get<std::string>());
-    env_->SetGeneratorState(state.at("env_generator").get<std::string>());
+    const std::vector<std::string> generators =
+        state.at("env_generators").get<std::vector<std::string>>();
+    Require(generators.size() == envs_.size(),
+            "the checkpoint holds {} environment generators, this run steps {} environments",
+            generators.size(), envs_.size());
+    for (size_t k = 0; k < envs_.size(); ++k) envs_[k]->SetGeneratorState(generators[k]);
     LagrangeMultiplier::State penalty;
     penalty.parameter = std::stod(state.at("penalty_parameter").get<std::string>());
     penalty.first_moment = std::stod(state.at("penalty_first_moment").get<std::string>());

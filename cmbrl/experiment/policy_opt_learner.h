@@ -54,8 +54,8 @@ class GaussianMeanPolicy final : public Policy {
   BoxSpec action_spec_;
 };
 
-// Checkpoint files: policy.pt and values.pt (networks and the value optimisers' moments),
-// state.json (counters, the penalty, the environment's and the sampler's generators). Not
+// Checkpoint files: networks.pt (policy, value functions, the value optimisers' moments, the
+// sampler's generator) and state.json (counters, the penalty, the environments' generators). Not
 // thread-safe.
 class PolicyOptLearner final : public Learner {
  public:
@@ -79,10 +79,11 @@ class PolicyOptLearner final : public Learner {
  private:
   struct Epoch;
   Epoch Collect();
+  std::vector<std::string> EnvGenerators() const;
 
   TrainConfig config_;
   ConstraintHandling handling_;
-  std::unique_ptr<Env> env_;
+  std::vector<std::unique_ptr<Env>> envs_;
   at::Generator generator_;  // initialisation, then action sampling
   std::unique_ptr<GaussianPolicy> policy_;
   std::unique_ptr<TanhMlp> value_, cost_value_;

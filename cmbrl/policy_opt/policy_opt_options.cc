@@ -9,6 +9,12 @@ namespace cmbrl {
 void ValidatePolicyOptimisationOptions(const PolicyOptimisationOptions& o) {
   Require(o.steps_per_epoch >= 1 && o.steps_per_epoch <= 100'000'000,
           "steps_per_epoch is {}: expected 1 to 100000000", o.steps_per_epoch);
+  Require(o.envs >= 1 && o.envs <= 1024, "envs is {}: expected 1 to 1024", o.envs);
+  Require(o.env_threads >= 1 && o.env_threads <= 1024, "env_threads is {}: expected 1 to 1024",
+          o.env_threads);
+  Require(o.steps_per_epoch % o.envs == 0,
+          "steps_per_epoch is {} and envs {}: expected steps_per_epoch to be a multiple of envs",
+          o.steps_per_epoch, o.envs);
   for (const auto* hidden : {&o.policy_hidden, &o.value_hidden}) {
     Require(hidden->size() <= 16, "hidden layers: {} given, expected at most 16", hidden->size());
     for (const int width : *hidden) {

@@ -10,6 +10,14 @@ namespace cmbrl {
 
 struct PolicyOptimisationOptions {
   std::int64_t steps_per_epoch = 30000;  // environment steps collected between updates
+  // Environments stepped side by side, each steps_per_epoch / envs steps an epoch, their
+  // observations through one batched policy forward (the original: 1 process, 1 environment).
+  // Results depend on the count, never on thread timing.
+  int envs = 1;
+  // Threads that step the environments of a round (at most envs, and the cores this process
+  // has). A thread is started per round, which costs more than it saves on a loaded machine
+  // (PERFORMANCE.md); results do not depend on it.
+  int env_threads = 1;
   std::vector<int> policy_hidden = {256, 256};
   double initial_log_std = -0.5;
   std::vector<int> value_hidden = {256, 256};  // reward and cost value functions alike

@@ -276,6 +276,29 @@ TEST(TrainerTest, ModelFreeLearnersResumeToTheSameRows) {
   }
 }
 
+// Several environments stepped side by side (on threads) give the same rows every time, and
+// resume to them.
+TEST(TrainerTest, ModelFreeRowsWithSeveralEnvironmentsDoNotDependOnThreads) {
+  TrainConfig config = TinyModelFree("trpo-lagrangian");
+  config.policy_optimisation.envs = 3;
+  config.policy_optimisation.env_threads = 3;
+  const std::string a = TempRunDir("mf_envs_a"), b = TempRunDir("mf_envs_b");
+  Trainer::Start(config, a)->Run();
+  struct Crash {};
+  try {
+    Trainer::Start(config, b)->Run([](const ProgressSummary& unit) {
+      if (unit.epoch == 2) throw Crash{};
+    });
+  } catch (const Crash&) {
+  }
+  Trainer::Resume(b)->Run();
+  EXPECT_EQ(EpochRowsWithoutTime(a), EpochRowsWithoutTime(b));
+  EXPECT_EQ(EpochRowsWithoutTime(a).size(), 4u);
+  config.policy_optimisation.envs = 7;  // 300 steps cannot be shared by 7
+  EXPECT_THAT(ErrorMessage([&] { Trainer::Start(config, TempRunDir("mf_envs_bad")); }),
+              ::testing::HasSubstr("steps_per_epoch is 300 and envs 7"));
+}
+
 TEST(TrainerTest, ARunDirectoryServesOneProcessAtATime) {
   const std::string dir = TempRunDir("locked");
   const std::unique_ptr<Trainer> first = Trainer::Start(TinyConfig("rce"), dir);
