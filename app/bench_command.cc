@@ -10,6 +10,7 @@
 #include "app/commands.h"
 #include "bench/env_throughput.h"
 #include "bench/learning_bench.h"
+#include "bench/policy_opt_bench.h"
 #include "cmbrl/planning/planner_registry.h"
 
 namespace cmbrl::app {
@@ -99,6 +100,28 @@ void AddBenchCommand(CLI::App& parent) {
   env->callback([env_args] { bench::RunEnvBench(*env_args, PrintFigure); });
 
   AddBenchLearningCommands(*bench_command);
+
+  auto learn_args = std::make_shared<bench::PolicyOptBenchOptions>();
+  CLI::App* learn = bench_command->add_subcommand(
+      "learn",
+      "Epochs of a model-free baseline (TRPO, TRPO-Lagrangian, CPO) at a config's settings: the "
+      "rollout beside bare physics, the trust-region step, the value fits beside their GEMM "
+      "floor");
+  learn->add_option("--config", learn_args->config_path, "model-free config (YAML)")
+      ->check(CLI::ExistingFile)
+      ->capture_default_str();
+  learn->add_option("--runs", learn_args->runs, "epochs timed after a warm-up; the median is "
+                    "reported")
+      ->check(IntegerIn(1, 1000))
+      ->capture_default_str();
+  learn->add_option("--steps", learn_args->steps, "environment steps an epoch")
+      ->check(IntegerIn(1, 100'000'000))
+      ->capture_default_str();
+  learn->add_option("--envs", learn_args->envs, "environments side by side (default: the "
+                    "config's)")
+      ->check(IntegerIn(1, 1024));
+  learn->add_option("--seed", learn_args->seed, "seed")->check(SeedInteger())->capture_default_str();
+  learn->callback([learn_args] { bench::RunPolicyOptBench(*learn_args, PrintFigure); });
 }
 
 }  // namespace cmbrl::app

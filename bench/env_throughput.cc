@@ -15,9 +15,8 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-// The ceiling of an env benchmark: bare mj_step calls on the same compiled model, from the same
-// start and with the same kind of random controls, as many per agent step as the environment
-// runs (frame_skip x action_repeat). Returns agent steps per second at that rate.
+}  // namespace
+
 double PhysicsCeiling(const std::string& task, Variant variant, std::uint64_t seed, int steps) {
   GoalEnv env(GoalTaskSpecByName(task, variant));
   env.Reset(seed);
@@ -41,8 +40,6 @@ double PhysicsCeiling(const std::string& task, Variant variant, std::uint64_t se
 
 // Agent steps of a random policy per wall-clock second, resets included, beside the bare
 // physics ceiling measured in the same run.
-}  // namespace
-
 void RunEnvBench(EnvBenchOptions args, const FigureSink& emit) {
   if (!args.config_path.empty()) {
     const TrainConfig config = LoadTrainConfig(args.config_path);

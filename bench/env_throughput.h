@@ -21,6 +21,11 @@ struct EnvBenchOptions {
   std::string config_path;  // when set, its task and variant replace tasks and variants
 };
 
+// The ceiling of an env benchmark: bare mj_step calls on the same compiled model, from the same
+// start and with the same kind of random controls, as many per agent step as the environment
+// runs. Returns agent steps per second at that rate.
+double PhysicsCeiling(const std::string& task, Variant variant, std::uint64_t seed, int steps);
+
 // Agent steps of a random policy per wall-clock second, resets included, per task and variant.
 void RunEnvBench(EnvBenchOptions options, const FigureSink& emit);
 

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <exception>
 #include <mutex>
@@ -284,9 +285,29 @@ PolicyOptLearner::Epoch PolicyOptLearner::Collect() {
   return epoch;
 }
 
+double PolicyOptLearner::ValueFitFlops(std::int64_t samples) const {
+  const PolicyOptimisationOptions& o = config_.policy_optimisation;
+  double macs = 0.0;
+  int in = envs_[0]->observation_spec().size();
+  for (const int width : o.value_hidden) {
+    macs += static_cast<double>(in) * width;
+    in = width;
+  }
+  macs += in;
+  // Forward 2 FLOPs a multiply-add, backward about twice the forward; two networks.
+  return 2.0 * 3.0 * 2.0 * macs * static_cast<double>(samples) * o.value_iterations;
+}
+
 LearnerStep PolicyOptLearner::Advance(const std::function<double()>& elapsed_seconds) {
   const PolicyOptimisationOptions& o = config_.policy_optimisation;
+  using Clock = std::chrono::steady_clock;
+  const auto seconds_since = [](Clock::time_point start) {
+    return std::chrono::duration<double>(Clock::now() - start).count();
+  };
+  auto start = Clock::now();
   Epoch epoch = Collect();
+  timings_.rollout = seconds_since(start);
+  start = Clock::now();
   ++epochs_;
   cumulative_cost_ += epoch.step_cost;
   EpochRow& row = last_row_;
@@ -318,10 +339,13 @@ LearnerStep PolicyOptLearner::Advance(const std::function<double()>& elapsed_sec
   trust.cost_limit = o.cost_limit;
   const PolicyUpdateReport update =
       TrustRegionUpdate(*policy_, epoch.batch, handling_, lagrange_.penalty(), trust);
+  timings_.policy_update = seconds_since(start);
+  start = Clock::now();
   row.loss_v = FitValueFunction(*value_, *value_optimizer_, epoch.batch.observations,
                                 epoch.returns, o.value_iterations);
   row.loss_vc = FitValueFunction(*cost_value_, *cost_value_optimizer_, epoch.batch.observations,
                                  epoch.cost_returns, o.value_iterations);
+  timings_.value_fits = seconds_since(start);
   row.kl = update.kl;
   row.backtrack_iterations = update.backtrack_iterations;
   row.optim_case = update.optim_case;

@@ -74,6 +74,15 @@ class PolicyOptLearner final : public Learner {
   std::int64_t budget() const override { return config_.training.total_steps; }
 
   const EpochRow& last_row() const { return last_row_; }
+  // Wall seconds of the last epoch's parts (for benchmarks).
+  struct Timings {
+    double rollout = 0.0;        // environment steps with the networks' forwards
+    double policy_update = 0.0;  // penalty and trust-region step
+    double value_fits = 0.0;     // both value functions' iterations
+  };
+  const Timings& last_timings() const { return timings_; }
+  // Floating-point operations of one epoch's value fits (forward and backward, both networks).
+  double ValueFitFlops(std::int64_t samples) const;
   const GaussianPolicy& policy() const { return *policy_; }
 
  private:
@@ -94,6 +103,7 @@ class PolicyOptLearner final : public Learner {
   std::int64_t total_steps_ = 0;
   double cumulative_cost_ = 0.0;
   EpochRow last_row_;
+  Timings timings_;
 };
 
 }  // namespace cmbrl
