@@ -327,6 +327,8 @@ LearnerStep PolicyOptLearner::Advance(const std::function<double()>& elapsed_sec
     epoch.batch.episode_cost = o.cost_limit;
     epoch.batch.episode_length = static_cast<double>(epoch.batch.actions.size(0));
   }
+  // The original logs the penalty measured before this epoch's update (its Penalty column).
+  const double penalty_before = lagrange_.penalty();
   if (handling_ == ConstraintHandling::kLagrangian) {
     lagrange_.Update(epoch.batch.episode_cost, o.cost_limit);
   }
@@ -351,7 +353,7 @@ LearnerStep PolicyOptLearner::Advance(const std::function<double()>& elapsed_sec
   row.optim_case = update.optim_case;
   row.loss_pi = update.loss_before;
   row.surrogate_cost = update.surrogate_cost_before;
-  row.penalty = handling_ == ConstraintHandling::kLagrangian ? lagrange_.penalty()
+  row.penalty = handling_ == ConstraintHandling::kLagrangian ? penalty_before
                 : handling_ == ConstraintHandling::kCpo       ? update.cpo_nu
                                                               : 0.0;
   row.entropy = policy_->Entropy();

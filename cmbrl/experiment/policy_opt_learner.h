@@ -27,7 +27,7 @@ struct EpochRow {
   int episodes = 0;                  // finished in the epoch
   double cumulative_cost = 0.0;      // every step's cost since the run began
   double cost_rate = 0.0;            // cumulative_cost / TotalEnvInteracts
-  double penalty = 0.0;              // TRPO-L's lambda, CPO's nu, 0 for TRPO
+  double penalty = 0.0;  // TRPO-L's lambda before the epoch's update, CPO's nu, 0 for TRPO
   double kl = 0.0;                   // after the policy update
   int backtrack_iterations = 0;
   int optim_case = -1;               // CPO's, -1 otherwise
