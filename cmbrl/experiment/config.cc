@@ -190,6 +190,10 @@ void VisitConfig(Config& c, Visitor& v) {
   v.Field("policy_optimisation", "cost_limit", m.cost_limit);
   v.Field("policy_optimisation", "penalty_init", m.penalty_init);
   v.Field("policy_optimisation", "penalty_learning_rate", m.penalty_learning_rate);
+  v.Field("policy_optimisation", "policy_learning_rate", m.policy_learning_rate);
+  v.Field("policy_optimisation", "policy_iterations", m.policy_iterations);
+  v.Field("policy_optimisation", "clip_ratio", m.clip_ratio);
+  v.Field("policy_optimisation", "kl_margin", m.kl_margin);
 }
 
 // Reads the fields that the file names; then refuses any key it does not know.
@@ -287,7 +291,8 @@ void AtKey(const std::string& source, const std::string& key, Check&& check) {
 }  // namespace
 
 const std::vector<std::string>& AlgorithmNames() {
-  static const std::vector<std::string> names = {"mpc", "trpo", "trpo-lagrangian", "cpo"};
+  static const std::vector<std::string> names = {"mpc",  "trpo", "trpo-lagrangian",
+                                                 "cpo",  "ppo",  "ppo-lagrangian"};
   return names;
 }
 
@@ -307,6 +312,8 @@ std::string MethodLabel(const std::string& method) {
   if (method == "trpo") return "TRPO";
   if (method == "trpo-lagrangian") return "TRPO-Lagrangian";
   if (method == "cpo") return "CPO";
+  if (method == "ppo") return "PPO";
+  if (method == "ppo-lagrangian") return "PPO-Lagrangian";
   return PlannerLabel(method);
 }
 

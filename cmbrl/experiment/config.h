@@ -40,8 +40,9 @@ struct TrainingLoopOptions {
   bool label_every_step = false;
 };
 
-// The training algorithms `cmbrl train` knows: "mpc" (the paper's Algorithm 2 with `planner`)
-// and the model-free baselines "trpo", "trpo-lagrangian" and "cpo".
+// The training algorithms `cmbrl train` knows: "mpc" (the paper's Algorithm 2 with `planner`),
+// the paper's model-free baselines "trpo", "trpo-lagrangian" and "cpo", and "ppo" and
+// "ppo-lagrangian", which share their machinery.
 const std::vector<std::string>& AlgorithmNames();
 
 struct TrainConfig {

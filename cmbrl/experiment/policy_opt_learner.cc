@@ -25,12 +25,16 @@ constexpr const char* kNetworksFile = "networks.pt";
 constexpr const char* kStateFile = "state.json";
 
 ConstraintHandling HandlingOf(const std::string& algorithm) {
-  if (algorithm == "trpo") return ConstraintHandling::kNone;
-  if (algorithm == "trpo-lagrangian") return ConstraintHandling::kLagrangian;
+  if (algorithm == "trpo" || algorithm == "ppo") return ConstraintHandling::kNone;
+  if (algorithm == "trpo-lagrangian" || algorithm == "ppo-lagrangian") {
+    return ConstraintHandling::kLagrangian;
+  }
   Require(algorithm == "cpo", "algorithm '{}' is not a model-free one: expected trpo, "
-          "trpo-lagrangian or cpo", algorithm);
+          "trpo-lagrangian, cpo, ppo or ppo-lagrangian", algorithm);
   return ConstraintHandling::kCpo;
 }
+
+bool IsFirstOrder(const std::string& algorithm) { return algorithm.rfind("ppo", 0) == 0; }
 
 torch::Tensor Row(const std::vector<double>& values) {
   return torch::tensor(values, torch::kDouble).to(torch::kFloat).view({1, -1});
@@ -121,6 +125,8 @@ PolicyOptLearner::PolicyOptLearner(TrainConfig config)
                                              o.initial_log_std, generator_);
   value_ = std::make_unique<TanhMlp>(observation_dim, o.value_hidden, 1, generator_);
   cost_value_ = std::make_unique<TanhMlp>(observation_dim, o.value_hidden, 1, generator_);
+  policy_optimizer_ = std::make_unique<torch::optim::Adam>(
+      policy_->parameters(), torch::optim::AdamOptions(o.policy_learning_rate));
   value_optimizer_ = std::make_unique<torch::optim::Adam>(
       value_->parameters(), torch::optim::AdamOptions(o.value_learning_rate));
   cost_value_optimizer_ = std::make_unique<torch::optim::Adam>(
@@ -339,8 +345,16 @@ LearnerStep PolicyOptLearner::Advance(const std::function<double()>& elapsed_sec
   trust.backtrack_coefficient = o.backtrack_coefficient;
   trust.backtrack_iterations = o.backtrack_iterations;
   trust.cost_limit = o.cost_limit;
+  PpoOptions ppo;
+  ppo.clip_ratio = o.clip_ratio;
+  ppo.iterations = o.policy_iterations;
+  ppo.kl_margin = o.kl_margin;
+  ppo.target_kl = o.target_kl;
   const PolicyUpdateReport update =
-      TrustRegionUpdate(*policy_, epoch.batch, handling_, lagrange_.penalty(), trust);
+      IsFirstOrder(config_.algorithm)
+          ? PpoUpdate(*policy_, *policy_optimizer_, epoch.batch,
+                      handling_ == ConstraintHandling::kLagrangian, lagrange_.penalty(), ppo)
+          : TrustRegionUpdate(*policy_, epoch.batch, handling_, lagrange_.penalty(), trust);
   timings_.policy_update = seconds_since(start);
   start = Clock::now();
   row.loss_v = FitValueFunction(*value_, *value_optimizer_, epoch.batch.observations,
@@ -384,7 +398,9 @@ void PolicyOptLearner::Save(const fs::path& folder, const fs::path&, bool) const
   WriteParameters(networks, "policy", policy_->parameters());
   WriteParameters(networks, "value", value_->parameters());
   WriteParameters(networks, "cost_value", cost_value_->parameters());
-  torch::serialize::OutputArchive value_optimizer, cost_value_optimizer;
+  torch::serialize::OutputArchive policy_optimizer, value_optimizer, cost_value_optimizer;
+  policy_optimizer_->save(policy_optimizer);
+  networks.write("policy_optimizer", policy_optimizer);
   value_optimizer_->save(value_optimizer);
   cost_value_optimizer_->save(cost_value_optimizer);
   networks.write("value_optimizer", value_optimizer);
@@ -447,10 +463,12 @@ void PolicyOptLearner::Load(const fs::path& folder) {
   ReadParameters(networks, "policy", policy_->parameters(), file);
   ReadParameters(networks, "value", value_->parameters(), file);
   ReadParameters(networks, "cost_value", cost_value_->parameters(), file);
-  torch::serialize::InputArchive value_optimizer, cost_value_optimizer;
-  Require(networks.try_read("value_optimizer", value_optimizer) &&
+  torch::serialize::InputArchive policy_optimizer, value_optimizer, cost_value_optimizer;
+  Require(networks.try_read("policy_optimizer", policy_optimizer) &&
+              networks.try_read("value_optimizer", value_optimizer) &&
               networks.try_read("cost_value_optimizer", cost_value_optimizer),
-          "'{}' holds no value-function optimiser state", file.string());
+          "'{}' holds no optimiser state", file.string());
+  policy_optimizer_->load(policy_optimizer);
   value_optimizer_->load(value_optimizer);
   cost_value_optimizer_->load(cost_value_optimizer);
   torch::Tensor generator;

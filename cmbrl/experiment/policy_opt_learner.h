@@ -1,5 +1,5 @@
 // The model-free baselines of the paper (Section V-B; TRPO, TRPO-Lagrangian, CPO as
-// safety-starter-agents ran them) as a learner: epochs of steps_per_epoch environment steps with
+// safety-starter-agents ran them, and its PPO and PPO-Lagrangian) as a learner: epochs of steps_per_epoch environment steps with
 // the current Gaussian policy, then the penalty, policy and value-function updates.
 #pragma once
 
@@ -96,6 +96,7 @@ class PolicyOptLearner final : public Learner {
   at::Generator generator_;  // initialisation, then action sampling
   std::unique_ptr<GaussianPolicy> policy_;
   std::unique_ptr<TanhMlp> value_, cost_value_;
+  std::unique_ptr<torch::optim::Adam> policy_optimizer_;  // PPO's (unused by the others)
   std::unique_ptr<torch::optim::Adam> value_optimizer_, cost_value_optimizer_;
   LagrangeMultiplier lagrange_;
 

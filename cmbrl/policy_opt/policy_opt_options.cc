@@ -45,6 +45,14 @@ void ValidatePolicyOptimisationOptions(const PolicyOptimisationOptions& o) {
           "penalty_init is {}: expected a positive number", o.penalty_init);
   Require(o.penalty_learning_rate > 0 && std::isfinite(o.penalty_learning_rate),
           "penalty_learning_rate is {}: expected a positive number", o.penalty_learning_rate);
+  Require(o.policy_learning_rate > 0 && std::isfinite(o.policy_learning_rate),
+          "policy_learning_rate is {}: expected a positive number", o.policy_learning_rate);
+  Require(o.policy_iterations >= 1 && o.policy_iterations <= 100'000,
+          "policy_iterations is {}: expected 1 to 100000", o.policy_iterations);
+  Require(o.clip_ratio > 0 && o.clip_ratio < 1, "clip_ratio is {}: expected a number in (0, 1)",
+          o.clip_ratio);
+  Require(o.kl_margin > 0 && std::isfinite(o.kl_margin), "kl_margin is {}: expected a positive "
+          "number", o.kl_margin);
 }
 
 }  // namespace cmbrl

@@ -33,6 +33,11 @@ struct PolicyOptimisationOptions {
   double cost_limit = 10.0;  // per episode (EpCost)
   double penalty_init = 1.0;  // TRPO-Lagrangian's lambda before the first update
   double penalty_learning_rate = 0.05;
+  // PPO and PPO-Lagrangian (safety-starter-agents' PPOAgent defaults).
+  double policy_learning_rate = 3e-4;
+  int policy_iterations = 80;
+  double clip_ratio = 0.2;
+  double kl_margin = 1.2;
 };
 
 // Throws cmbrl::Error naming the first field with a bad value.

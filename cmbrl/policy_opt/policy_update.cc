@@ -125,6 +125,53 @@ PolicyUpdateReport TrustRegionUpdate(GaussianPolicy& policy, const PolicyBatch& 
   return report;
 }
 
+PolicyUpdateReport PpoUpdate(GaussianPolicy& policy, torch::optim::Adam& optimizer,
+                             const PolicyBatch& batch, bool lagrangian, double penalty,
+                             const PpoOptions& o) {
+  Require(o.clip_ratio > 0 && o.iterations >= 1 && o.kl_margin > 0 && o.target_kl > 0,
+          "PPO options: clip_ratio {}, iterations {}, kl_margin {}, target_kl {}: expected "
+          "positive values",
+          o.clip_ratio, o.iterations, o.kl_margin, o.target_kl);
+  torch::Tensor old_mean, old_log_std;
+  {
+    const torch::NoGradGuard no_grad;
+    old_mean = policy.Mean(batch.observations);
+    old_log_std = policy.log_std().clone();
+  }
+  // The clipped advantage: (1 + clip) A where A > 0, (1 - clip) A elsewhere.
+  const torch::Tensor clipped_advantage =
+      torch::where(batch.advantages > 0, (1 + o.clip_ratio) * batch.advantages,
+                   (1 - o.clip_ratio) * batch.advantages);
+  const auto losses = [&] {
+    const torch::Tensor ratio =
+        torch::exp(policy.LogProb(batch.observations, batch.actions) - batch.log_probs);
+    torch::Tensor objective = torch::min(ratio * batch.advantages, clipped_advantage).mean();
+    const torch::Tensor surrogate_cost = (ratio * batch.cost_advantages).mean();
+    if (lagrangian) objective = (objective - penalty * surrogate_cost) / (1 + penalty);
+    return std::make_pair(-objective, surrogate_cost);
+  };
+  PolicyUpdateReport report;
+  {
+    const auto [loss, cost] = losses();
+    report.loss_before = loss.item<double>();
+    report.surrogate_cost_before = cost.item<double>();
+  }
+  for (int i = 0; i < o.iterations; ++i) {
+    optimizer.zero_grad();
+    losses().first.backward();
+    optimizer.step();
+    report.backtrack_iterations = i;
+    const torch::NoGradGuard no_grad;
+    report.kl = policy.MeanKl(batch.observations, old_mean, old_log_std).item<double>();
+    if (report.kl > o.kl_margin * o.target_kl) break;
+  }
+  const torch::NoGradGuard no_grad;
+  const auto [loss, cost] = losses();
+  report.loss_after = loss.item<double>();
+  report.surrogate_cost_after = cost.item<double>();
+  return report;
+}
+
 double FitValueFunction(TanhMlp& value, torch::optim::Adam& optimizer,
                         const torch::Tensor& observations, const torch::Tensor& targets,
                         int iterations) {

@@ -55,6 +55,21 @@ PolicyUpdateReport TrustRegionUpdate(GaussianPolicy& policy, const PolicyBatch& 
                                      ConstraintHandling handling, double penalty,
                                      const TrustRegionOptions& options);
 
+// PPO's first-order update (safety-starter-agents' PPOAgent): up to `iterations` full-batch
+// Adam steps on the clipped surrogate (PPO-Lagrangian: (surr - lambda surr_cost) / (1 +
+// lambda)), stopping once the mean KL from the epoch's policy exceeds kl_margin * target_kl.
+struct PpoOptions {
+  double clip_ratio = 0.2;
+  int iterations = 80;
+  double kl_margin = 1.2;
+  double target_kl = 0.01;
+};
+
+// report.backtrack_iterations holds the iteration it stopped at (the original's StopIter).
+PolicyUpdateReport PpoUpdate(GaussianPolicy& policy, torch::optim::Adam& optimizer,
+                             const PolicyBatch& batch, bool lagrangian, double penalty,
+                             const PpoOptions& options);
+
 // `iterations` full-batch Adam steps of the value function on the MSE to `targets`, with the
 // caller's optimizer (whose moments persist across epochs, as the original's); returns the loss
 // before the first step.

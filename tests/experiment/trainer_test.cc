@@ -254,7 +254,7 @@ std::vector<std::string> EpochRowsWithoutTime(const std::string& run_dir) {
 }
 
 TEST(TrainerTest, ModelFreeLearnersResumeToTheSameRows) {
-  for (const std::string algorithm : {"trpo", "trpo-lagrangian", "cpo"}) {
+  for (const std::string algorithm : {"trpo", "trpo-lagrangian", "cpo", "ppo-lagrangian"}) {
     SCOPED_TRACE(algorithm);
     const std::string whole = TempRunDir("mf_whole_" + algorithm);
     const std::string crashed = TempRunDir("mf_crashed_" + algorithm);

@@ -43,10 +43,12 @@ BanditEpoch CollectBandit(const GaussianPolicy& policy, int samples, at::Generat
 }
 
 // The mean episode cost over the last 20 of `epochs` epochs of training on the bandit.
-double TrainBandit(ConstraintHandling handling, int epochs, std::vector<PolicyUpdateReport>* log) {
+double TrainBandit(ConstraintHandling handling, int epochs, std::vector<PolicyUpdateReport>* log,
+                   bool ppo = false) {
   at::Generator generator = MakeCpuGenerator(7);
   GaussianPolicy policy(1, 1, {16, 16}, -0.5, generator);
   LagrangeMultiplier lagrange(LagrangeOptions{1.0, 0.5});
+  torch::optim::Adam optimizer(policy.parameters(), torch::optim::AdamOptions(3e-3));
   TrustRegionOptions options;
   options.target_kl = 0.02;
   options.cost_limit = 0.2;
@@ -56,8 +58,12 @@ double TrainBandit(ConstraintHandling handling, int epochs, std::vector<PolicyUp
     if (handling == ConstraintHandling::kLagrangian) {
       lagrange.Update(data.mean_cost, options.cost_limit);
     }
+    PpoOptions ppo_options;
+    ppo_options.target_kl = options.target_kl;
     const PolicyUpdateReport report =
-        TrustRegionUpdate(policy, data.batch, handling, lagrange.penalty(), options);
+        ppo ? PpoUpdate(policy, optimizer, data.batch, handling == ConstraintHandling::kLagrangian,
+                        lagrange.penalty(), ppo_options)
+            : TrustRegionUpdate(policy, data.batch, handling, lagrange.penalty(), options);
     if (log != nullptr) log->push_back(report);
     if (epoch >= epochs - 20) late_cost += data.mean_cost / 20;
   }
@@ -87,6 +93,23 @@ TEST(PolicyUpdateTest, TrpoLagrangianAndCpoKeepTheCostLimitWhereTrpoDoesNot) {
   // Within the limit up to the sampling noise of 2000 draws and the methods' own oscillation.
   EXPECT_LT(lagrangian, 0.2 + 0.05);
   EXPECT_LT(cpo, 0.2 + 0.05);
+}
+
+}  // namespace
+}  // namespace cmbrl
+
+namespace cmbrl {
+namespace {
+
+TEST(PolicyUpdateTest, PpoLagrangianKeepsTheCostLimitWherePpoDoesNot) {
+  std::vector<PolicyUpdateReport> log;
+  const double ppo = TrainBandit(ConstraintHandling::kNone, 120, &log, /*ppo=*/true);
+  const double lagrangian = TrainBandit(ConstraintHandling::kLagrangian, 120, nullptr, true);
+  std::cout << "late episode cost: PPO " << ppo << ", PPO-L " << lagrangian << " (limit 0.2)\n";
+  EXPECT_GT(ppo, 0.9);
+  EXPECT_LT(lagrangian, 0.2 + 0.05);
+  // Early stopping keeps each epoch's KL near the margin (1.2 x 0.02, one step past it at most).
+  for (const PolicyUpdateReport& report : log) EXPECT_LT(report.kl, 0.1);
 }
 
 }  // namespace
