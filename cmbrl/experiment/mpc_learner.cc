@@ -11,6 +11,7 @@
 #include "cmbrl/agent/policy.h"
 #include "cmbrl/core/check.h"
 #include "cmbrl/core/rng.h"
+#include "cmbrl/run/learner_state.h"
 
 namespace cmbrl {
 namespace fs = std::filesystem;
@@ -27,10 +28,6 @@ constexpr const char* kPlannerGeneratorFile = "planner_generator.pt";
 constexpr const char* kStateFile = "state.json";
 
 std::string Fixed3(double value) { return fmt::format("{:.3f}", value); }
-
-double ParseNumber(const nlohmann::json& state, const char* key) {
-  return std::stod(state.at(key).get<std::string>());
-}
 
 }  // namespace
 
@@ -208,36 +205,23 @@ void MpcLearner::Save(const fs::path& folder, const fs::path& previous,
       {"classifier_safe_accuracy", ProgressNumber(classifier_safe_accuracy_)},
       {"classifier_unsafe_accuracy", ProgressNumber(classifier_unsafe_accuracy_)},
   };
-  std::ofstream out(folder / kStateFile);
-  out << state.dump(2);
-  out.close();
-  Require(!out.fail(), "could not write '{}'", (folder / kStateFile).string());
+  WriteLearnerState(folder / kStateFile, state);
 }
 
 void MpcLearner::Load(const fs::path& folder) {
-  const fs::path state_path = folder / kStateFile;
-  try {
-    std::ifstream in(state_path);
-    Require(static_cast<bool>(in), "cannot read '{}'", state_path.string());
-    const nlohmann::json state = nlohmann::json::parse(in);
+  ReadLearnerState(folder / kStateFile, [&](const nlohmann::json& state) {
     pretrained_ = state.at("pretrained").get<bool>();
     episodes_ = state.at("episodes").get<int>();
     total_steps_ = state.at("total_steps").get<std::int64_t>();
     pretrain_steps_ = state.at("pretrain_steps").get<std::int64_t>();
     parts_.env->SetGeneratorState(state.at("env_generator").get<std::string>());
-    dynamics_validation_mse_ = ParseNumber(state, "dynamics_validation_mse");
-    classifier_safe_accuracy_ = ParseNumber(state, "classifier_safe_accuracy");
-    classifier_unsafe_accuracy_ = ParseNumber(state, "classifier_unsafe_accuracy");
+    dynamics_validation_mse_ = StateNumber(state, "dynamics_validation_mse");
+    classifier_safe_accuracy_ = StateNumber(state, "classifier_safe_accuracy");
+    classifier_unsafe_accuracy_ = StateNumber(state, "classifier_unsafe_accuracy");
     Require(episodes_ >= 0 && total_steps_ >= 0 && pretrain_steps_ >= 0,
             "negative counters (episodes {}, total_steps {}, pretrain_steps {})", episodes_,
             total_steps_, pretrain_steps_);
-  } catch (const nlohmann::json::exception& error) {
-    Fail("'{}' is damaged: {}", state_path.string(), error.what());
-  } catch (const std::invalid_argument& error) {
-    Fail("'{}' is damaged: a figure is not a number ({})", state_path.string(), error.what());
-  } catch (const Error& error) {
-    Fail("'{}' is damaged: {}", state_path.string(), error.what());
-  }
+  });
   transitions_->Load((folder / kTransitionsFile).string());
   labeled_->Load((folder / kLabeledStatesFile).string());
   LoadMpcModels(folder, parts_);

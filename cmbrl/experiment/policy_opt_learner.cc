@@ -16,6 +16,7 @@
 #include "cmbrl/core/torch_util.h"
 #include "cmbrl/env/registry.h"
 #include "cmbrl/policy_opt/advantages.h"
+#include "cmbrl/run/learner_state.h"
 
 namespace cmbrl {
 namespace fs = std::filesystem;
@@ -35,6 +36,12 @@ ConstraintHandling HandlingOf(const std::string& algorithm) {
 }
 
 bool IsFirstOrder(const std::string& algorithm) { return algorithm.rfind("ppo", 0) == 0; }
+
+double MeanOf(const std::vector<double>& values) {
+  double sum = 0.0;
+  for (const double x : values) sum += x;
+  return values.empty() ? std::nan("") : sum / static_cast<double>(values.size());
+}
 
 torch::Tensor Row(const std::vector<double>& values) {
   return torch::tensor(values, torch::kDouble).to(torch::kFloat).view({1, -1});
@@ -280,13 +287,8 @@ PolicyOptLearner::Epoch PolicyOptLearner::Collect() {
   b.cost_advantages = torch::tensor(cost_advantages, torch::kDouble).to(torch::kFloat);
   epoch.returns = torch::tensor(returns, torch::kDouble).to(torch::kFloat);
   epoch.cost_returns = torch::tensor(cost_returns, torch::kDouble).to(torch::kFloat);
-  const auto mean = [](const std::vector<double>& v) {
-    double sum = 0.0;
-    for (double x : v) sum += x;
-    return v.empty() ? std::nan("") : sum / static_cast<double>(v.size());
-  };
-  b.episode_cost = mean(epoch.episode_costs);
-  b.episode_length = mean(epoch.episode_lengths);
+  b.episode_cost = MeanOf(epoch.episode_costs);
+  b.episode_length = MeanOf(epoch.episode_lengths);
   total_steps_ += epoch_steps;
   return epoch;
 }
@@ -320,12 +322,7 @@ LearnerStep PolicyOptLearner::Advance(const std::function<double()>& elapsed_sec
   row = EpochRow();
   row.epoch = epochs_;
   row.episodes = static_cast<int>(epoch.episode_returns.size());
-  const auto mean = [](const std::vector<double>& v) {
-    double sum = 0.0;
-    for (double x : v) sum += x;
-    return v.empty() ? std::nan("") : sum / static_cast<double>(v.size());
-  };
-  row.average_episode_return = mean(epoch.episode_returns);
+  row.average_episode_return = MeanOf(epoch.episode_returns);
   row.average_episode_cost = epoch.batch.episode_cost;
   row.average_episode_length = epoch.batch.episode_length;
   // Without a finished episode the constraint has no measurement: it counts as met.
@@ -418,21 +415,14 @@ void PolicyOptLearner::Save(const fs::path& folder, const fs::path&, bool) const
       {"penalty_second_moment", ProgressNumber(penalty.second_moment)},
       {"penalty_steps", penalty.steps},
   };
-  std::ofstream out(folder / kStateFile);
-  out << state.dump(2);
-  out.close();
-  Require(!out.fail(), "could not write '{}'", (folder / kStateFile).string());
+  WriteLearnerState(folder / kStateFile, state);
 }
 
 void PolicyOptLearner::Load(const fs::path& folder) {
-  const fs::path state_path = folder / kStateFile;
-  try {
-    std::ifstream in(state_path);
-    Require(static_cast<bool>(in), "cannot read '{}'", state_path.string());
-    const nlohmann::json state = nlohmann::json::parse(in);
+  ReadLearnerState(folder / kStateFile, [&](const nlohmann::json& state) {
     epochs_ = state.at("epochs").get<int>();
     total_steps_ = state.at("total_steps").get<std::int64_t>();
-    cumulative_cost_ = std::stod(state.at("cumulative_cost").get<std::string>());
+    cumulative_cost_ = StateNumber(state, "cumulative_cost");
     const std::vector<std::string> generators =
         state.at("env_generators").get<std::vector<std::string>>();
     Require(generators.size() == envs_.size(),
@@ -440,18 +430,12 @@ void PolicyOptLearner::Load(const fs::path& folder) {
             generators.size(), envs_.size());
     for (size_t k = 0; k < envs_.size(); ++k) envs_[k]->SetGeneratorState(generators[k]);
     LagrangeMultiplier::State penalty;
-    penalty.parameter = std::stod(state.at("penalty_parameter").get<std::string>());
-    penalty.first_moment = std::stod(state.at("penalty_first_moment").get<std::string>());
-    penalty.second_moment = std::stod(state.at("penalty_second_moment").get<std::string>());
+    penalty.parameter = StateNumber(state, "penalty_parameter");
+    penalty.first_moment = StateNumber(state, "penalty_first_moment");
+    penalty.second_moment = StateNumber(state, "penalty_second_moment");
     penalty.steps = state.at("penalty_steps").get<long long>();
     lagrange_.set_state(penalty);
-  } catch (const nlohmann::json::exception& error) {
-    Fail("'{}' is damaged: {}", state_path.string(), error.what());
-  } catch (const std::invalid_argument& error) {
-    Fail("'{}' is damaged: a figure is not a number", state_path.string());
-  } catch (const Error& error) {
-    Fail("'{}' is damaged: {}", state_path.string(), error.what());
-  }
+  });
   const fs::path file = folder / kNetworksFile;
   torch::serialize::InputArchive networks;
   try {
