@@ -45,6 +45,9 @@ BanditEpoch CollectBandit(const GaussianPolicy& policy, int samples, at::Generat
 // The mean episode cost over the last 20 of `epochs` epochs of training on the bandit.
 double TrainBandit(ConstraintHandling handling, int epochs, std::vector<PolicyUpdateReport>* log,
                    bool ppo = false) {
+  // Thousands of tiny tensor operations: one thread, so that ctest's parallel processes do not
+  // make LibTorch's thread pools wait on each other (the results do not depend on it).
+  torch::set_num_threads(1);
   at::Generator generator = MakeCpuGenerator(7);
   GaussianPolicy policy(1, 1, {16, 16}, -0.5, generator);
   LagrangeMultiplier lagrange(LagrangeOptions{1.0, 0.5});
