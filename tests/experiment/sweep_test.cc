@@ -7,6 +7,7 @@
 #include <fstream>
 
 #include "tests/error_message.h"
+#include "tests/temp_path.h"
 
 namespace cmbrl {
 namespace {
@@ -66,7 +67,7 @@ TEST(SweepTest, SlurmScriptHasOneArrayTaskPerRun) {
 }
 
 TEST(SweepTest, ARestartWithOtherSettingsIsRefused) {
-  const std::string dir = (fs::path(::testing::TempDir()) / "sweep_settings").string();
+  const std::string dir = testing::TestTempPath("sweep_settings");
   fs::remove_all(dir);
   SweepGrid grid = PaperGrid();
   grid.steps = 3000;

@@ -7,6 +7,7 @@
 #include "cmbrl/models/labeled_state_buffer.h"
 #include "cmbrl/models/transition_buffer.h"
 #include "tests/error_message.h"
+#include "tests/temp_path.h"
 
 namespace cmbrl {
 namespace {
@@ -48,7 +49,7 @@ TEST(TransitionBufferTest, BadRowsAreRefusedByName) {
 }
 
 TEST(TransitionBufferTest, SaveAndLoadRestoreTheRingExactly) {
-  const std::string path = ::testing::TempDir() + "/transitions_test.bin";
+  const std::string path = testing::TestTempPath("transitions_test.bin");
   TransitionBuffer buffer(1, 1, 3);
   for (int i = 0; i < 5; ++i) buffer.Add({double(i)}, {0.5}, {double(i + 1)});
   buffer.Save(path);
@@ -69,7 +70,7 @@ TEST(TransitionBufferTest, SaveAndLoadRestoreTheRingExactly) {
 }
 
 TEST(LabeledStateBufferTest, SaveAndLoadKeepTheNewestOrder) {
-  const std::string path = ::testing::TempDir() + "/labeled_test.bin";
+  const std::string path = testing::TestTempPath("labeled_test.bin");
   LabeledStateBuffer buffer(1, 4, 2);
   for (int i = 0; i < 6; ++i) buffer.Add({double(i)}, false);
   buffer.Add({100}, true);

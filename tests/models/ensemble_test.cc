@@ -8,6 +8,7 @@
 #include <filesystem>
 
 #include "tests/error_message.h"
+#include "tests/temp_path.h"
 #include "tests/models/pendulum.h"
 
 namespace cmbrl {
@@ -114,7 +115,7 @@ TEST(EnsembleTest, InputNormalisationRoundTrips) {
 }
 
 TEST(EnsembleTest, SaveThenLoadGivesIdenticalPredictionsAndContinuesIdentically) {
-  const std::string path = ::testing::TempDir() + "/ensemble_test.pt";
+  const std::string path = testing::TestTempPath("ensemble_test.pt");
   const TransitionBuffer data = testing::PendulumData(1000, 4);
   EnsembleOptions options = SmallOptions();
   options.max_epochs = 5;
@@ -135,7 +136,7 @@ TEST(EnsembleTest, SaveThenLoadGivesIdenticalPredictionsAndContinuesIdentically)
 }
 
 TEST(EnsembleTest, LoadingAFileOfOtherShapeIsRefused) {
-  const std::string path = ::testing::TempDir() + "/ensemble_shape_test.pt";
+  const std::string path = testing::TestTempPath("ensemble_shape_test.pt");
   EnsembleDynamics small(2, 1, SmallOptions(), 1);
   small.Save(path);
   EnsembleOptions wider = SmallOptions();
@@ -212,7 +213,7 @@ TEST(EnsembleTest, Bfloat16PredictionsStayCloseAndTrainingStaysFloat32) {
   EXPECT_LT(error, 2e-2);
   // Training ran in float32 in both: saving the bf16 model and loading it into the fp32 one
   // reproduces the fp32 predictions exactly.
-  const std::string path = ::testing::TempDir() + "/bf16_ensemble.pt";
+  const std::string path = testing::TestTempPath("bf16_ensemble.pt");
   reduced.Save(path);
   EnsembleDynamics reloaded(2, 1, SmallOptions(), 9);
   reloaded.Load(path);

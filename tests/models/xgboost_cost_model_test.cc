@@ -8,6 +8,7 @@
 
 #include "cmbrl/models/tree_ensemble_tensor.h"
 #include "tests/error_message.h"
+#include "tests/temp_path.h"
 #include "tests/models/hazard_data.h"
 
 namespace cmbrl {
@@ -165,7 +166,7 @@ TEST_F(XgbCostModelTest, TensorTreesOnCudaAgreeWhenAvailable) {
 }
 
 TEST_F(XgbCostModelTest, SaveThenLoadPredictsTheSame) {
-  const std::string path = ::testing::TempDir() + "/cost_model_test.json";
+  const std::string path = testing::TestTempPath("cost_model_test.json");
   model_->Save(path);
   XgbCostModel loaded(kHazardStateDim, XgbCostModelOptions{}, 99);
   loaded.Load(path);

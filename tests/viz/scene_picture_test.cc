@@ -9,6 +9,7 @@
 
 #include "cmbrl/core/check.h"
 #include "tests/error_message.h"
+#include "tests/temp_path.h"
 
 namespace cmbrl {
 namespace {
@@ -49,7 +50,7 @@ SceneState Scene() {
 }
 
 TEST(ScenePictureTest, DrawsEachObjectWhereItIs) {
-  const std::string file = ::testing::TempDir() + "/scene_picture_test.png";
+  const std::string file = testing::TestTempPath("scene_picture_test.png");
   ScenePicture picture{
       Scene(), {{-1.2, -1.2}, {-1.1, -1.1}, {-1.0, -1.0}}, {false, true, false}, {}, "test scene",
       {}};
@@ -90,7 +91,7 @@ TEST(ScenePictureTest, DrawsEachObjectWhereItIs) {
 }
 
 TEST(ScenePictureTest, PredictedPlansStayInsideTheArena) {
-  const std::string file = ::testing::TempDir() + "/scene_picture_clip_test.png";
+  const std::string file = testing::TestTempPath("scene_picture_clip_test.png");
   ScenePicture picture{Scene(), {}, {}, {}, "", {}};
   // An executed plan that runs straight up, far out of the arena through the title band.
   PredictedPath plan;
