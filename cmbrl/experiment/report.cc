@@ -3,6 +3,8 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <chrono>
+#include <thread>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -114,9 +116,15 @@ std::vector<RunRecord> ReadSweep(const std::string& sweep_dir) {
   std::vector<RunRecord> runs;
   for (const fs::path& dir : dirs) {
     const RunDirectory run_dir(dir);
-    // A run whose progress.csv or checkpoint was changed is refused, naming the file; rows
-    // written after the last checkpoint (a run in progress, or stopped) are kept.
-    VerifiedCheckpoint(run_dir);
+    // A run whose progress.csv disagrees with its checkpoint's manifest is refused, naming the
+    // file; rows written after the last checkpoint (a run in progress, or stopped) are kept.
+    // A run in progress may swap its checkpoint while this reads it: a second look settles it.
+    try {
+      VerifiedCheckpoint(run_dir, /*files=*/false);
+    } catch (const Error&) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(500));
+      VerifiedCheckpoint(run_dir, /*files=*/false);
+    }
     RunRecord run;
     run.name = dir.filename().string();
     run.config = LoadTrainConfig(run_dir.config_file().string());

@@ -193,7 +193,7 @@ void RecoverInterruptedCheckpoint(const RunDirectory& run) {
   fs::remove_all(TmpCheckpoint(run));
 }
 
-std::optional<CheckpointManifest> VerifiedCheckpoint(const RunDirectory& run) {
+std::optional<CheckpointManifest> VerifiedCheckpoint(const RunDirectory& run, bool files) {
   // A stop between the two renames of WriteCheckpoint leaves only checkpoint.old.
   fs::path folder = run.checkpoint_dir();
   if (!fs::exists(folder) && fs::exists(OldCheckpoint(run))) folder = OldCheckpoint(run);
@@ -209,6 +209,7 @@ std::optional<CheckpointManifest> VerifiedCheckpoint(const RunDirectory& run) {
   if (fs::exists(folder / kManifest)) {
     manifest = ReadManifest(folder / kManifest);
     for (const CheckpointManifest::File& file : manifest.files) {
+      if (!files) break;
       const fs::path path = folder / file.name;
       Require(fs::exists(path), "'{}' is missing: the checkpoint's manifest lists it",
               path.string());

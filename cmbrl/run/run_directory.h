@@ -82,7 +82,9 @@ void RecoverInterruptedCheckpoint(const RunDirectory& run);
 // yet and progress.csv has no rows. Throws cmbrl::Error naming the file that disagrees: a
 // missing or changed file, a progress.csv shorter than or different from what the checkpoint
 // covered, rows without a checkpoint.
-std::optional<CheckpointManifest> VerifiedCheckpoint(const RunDirectory& run);
+// `files` false checks only what the manifest says of progress.csv, not the checkpoint's own
+// files (for readers of progress such as reports: a run's model files can be large).
+std::optional<CheckpointManifest> VerifiedCheckpoint(const RunDirectory& run, bool files = true);
 
 // Keeps progress.csv's header and its first `rows` rows.
 void TruncateProgress(const RunDirectory& run, std::int64_t rows);
