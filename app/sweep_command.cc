@@ -59,7 +59,10 @@ void AddSweepCommand(CLI::App& parent) {
       "Train a grid of tasks x planners x seeds, N runs at a time, skipping finished runs and "
       "resuming interrupted ones; also writes SWEEP_DIR/slurm.sh for a cluster");
   command->add_option("--tasks", args->grid.tasks, "tasks")->capture_default_str();
-  command->add_option("--planners", args->grid.planners, "planners")->capture_default_str();
+  command->add_option("--planners,--methods", args->grid.planners,
+                      "planners (rce, cem, random) and/or model-free algorithms (trpo, "
+                      "trpo-lagrangian, cpo, ppo, ppo-lagrangian)")
+      ->capture_default_str();
   command->add_option("--seeds", args->grid.seeds, "seeds")
       ->check(SeedInteger())
       ->capture_default_str();
