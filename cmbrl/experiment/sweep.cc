@@ -44,10 +44,7 @@ std::vector<SweepRun> PlanSweep(const SweepGrid& grid, const std::string& sweep_
             "unknown task '{}': expected some of {}", task, fmt::join(known_tasks, ", "));
   }
   // Methods: the MPC planners and the model-free algorithms (configs <task>-<method>.yaml).
-  std::vector<std::string> known_methods = PlannerNames();
-  for (const std::string& algorithm : AlgorithmNames()) {
-    if (algorithm != "mpc") known_methods.push_back(algorithm);
-  }
+  const std::vector<std::string> known_methods = MethodNames();
   for (const std::string& method : grid.planners) {
     Require(std::find(known_methods.begin(), known_methods.end(), method) != known_methods.end(),
             "unknown planner or algorithm '{}': expected some of {}", method,

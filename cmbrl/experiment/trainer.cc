@@ -45,9 +45,7 @@ struct Trainer::State {
 
 std::unique_ptr<Trainer> Trainer::Start(const TrainConfig& config, const std::string& run_dir) {
   ValidateTrainConfig(config, "(command line)");
-  Require(!RunDirectory(run_dir).HoldsRun(),
-          "'{}' already holds a run: resume it with --resume, or choose another directory",
-          run_dir);
+  RunDirectory(run_dir).RefuseExistingRun();  // before the costly learner is built
   // The learner first: should building it (and taking its memory) fail, nothing is on disk yet.
   auto state = std::make_unique<State>(config, RunDirectory(run_dir));
   state->learner = MakeLearner(config);

@@ -100,16 +100,17 @@ RunDirectory::RunDirectory(fs::path root) : root_(std::move(root)) {}
 
 bool RunDirectory::HoldsRun() const { return fs::exists(config_file()); }
 
+void RunDirectory::RefuseExistingRun() const {
+  Require(!HoldsRun(),
+          "'{}' already holds a run: resume it with --resume, or choose another directory",
+          root_.string());
+}
+
 RunDirectory RunDirectory::Create(const fs::path& root, const std::string& config_yaml,
                                   const std::string& progress_header,
                                   const std::function<void()>& claim) {
   RunDirectory run(root);
-  const auto refuse_existing = [&] {
-    Require(!run.HoldsRun(),
-            "'{}' already holds a run: resume it with --resume, or choose another directory",
-            root.string());
-  };
-  refuse_existing();
+  run.RefuseExistingRun();
   std::error_code error;
   const bool existed = fs::exists(root, error);
   std::vector<fs::path> made;
@@ -118,7 +119,7 @@ RunDirectory RunDirectory::Create(const fs::path& root, const std::string& confi
     Require(!error, "cannot create the run directory '{}': {}", root.string(), error.message());
     made.push_back(root / "lock");
     claim();
-    refuse_existing();
+    run.RefuseExistingRun();  // another process may have made one meanwhile
     made.push_back(run.progress_file());
     {
       std::ofstream progress(run.progress_file(), std::ios::trunc);

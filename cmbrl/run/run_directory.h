@@ -31,6 +31,8 @@ class RunDirectory {
   }
 
   bool HoldsRun() const;
+  // Throws cmbrl::Error naming the directory when it already holds a run.
+  void RefuseExistingRun() const;
 
   // Creates the run directory and runs `claim` (which takes the run's lock) before writing any
   // file; then checks again that no other process made a run there meanwhile, and writes a
