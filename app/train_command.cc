@@ -38,11 +38,11 @@ void RunTrain(const TrainArgs& args) {
   std::unique_ptr<Trainer> trainer;
   std::string run_dir;
   if (!args.resume.empty()) {
-    Require(args.config.empty() && args.out.empty() && !args.steps && !args.seed && !args.device,
-            "--resume continues a run with its own config: give no --config, --out, --steps, "
-            "--seed or --device with it");
+    Require(args.config.empty() && args.out.empty() && !args.seed && !args.device,
+            "--resume continues a run with its own config: give no --config, --out, --seed or "
+            "--device with it (--steps gives it a new budget)");
     run_dir = args.resume;
-    trainer = Trainer::Resume(run_dir);
+    trainer = Trainer::Resume(run_dir, args.steps);
   } else {
     Require(!args.config.empty() && !args.out.empty(),
             "a new run needs --config FILE and --out RUN_DIR (or --resume RUN_DIR)");
@@ -96,7 +96,9 @@ void AddTrainCommand(CLI::App& parent) {
   command->add_option("--out", args->out, "run directory to create");
   command->add_option("--resume", args->resume, "run directory to continue")
       ->check(CLI::ExistingDirectory);
-  command->add_option("--steps", args->steps, "budget of agent steps (training.total_steps)")
+  command->add_option("--steps", args->steps,
+                      "budget of agent steps (training.total_steps); with --resume, continues the "
+                      "run (finished or not) to this budget as if it had been started with it")
       ->check(IntegerIn(1, kMaxSteps));
   command->add_option("--seed", args->seed, "run seed")->check(SeedInteger());
   command->add_option("--device", args->device, "cpu, cuda or cuda:N");

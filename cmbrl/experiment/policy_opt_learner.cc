@@ -146,6 +146,15 @@ std::string PolicyOptLearner::ProgressHeader() const {
   return cmbrl::ProgressHeader(PolicyOptProgressColumns());
 }
 
+void PolicyOptLearner::CheckNewBudget(std::int64_t new_budget) const {
+  const std::int64_t epoch_steps = config_.policy_optimisation.steps_per_epoch;
+  Require(total_steps_ % epoch_steps == 0,
+          "cannot continue to {} steps: the run's last epoch was cut to {} of its {} steps by the "
+          "old budget of {}, where a run of {} steps has a whole epoch",
+          new_budget, total_steps_ % epoch_steps, epoch_steps, config_.training.total_steps,
+          new_budget);
+}
+
 bool PolicyOptLearner::Finished() const { return total_steps_ >= config_.training.total_steps; }
 
 namespace {

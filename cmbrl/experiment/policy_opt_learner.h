@@ -70,6 +70,9 @@ class PolicyOptLearner final : public Learner {
   void Save(const std::filesystem::path& folder, const std::filesystem::path& previous,
             bool models_changed) const override;
   void Load(const std::filesystem::path& folder) override;
+  // Refuses when the last epoch was cut short by the old budget: a longer run has a whole epoch
+  // there.
+  void CheckNewBudget(std::int64_t new_budget) const override;
   std::int64_t steps_done() const override { return total_steps_; }
   std::int64_t budget() const override { return config_.training.total_steps; }
 

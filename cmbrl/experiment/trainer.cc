@@ -54,7 +54,8 @@ std::unique_ptr<Trainer> Trainer::Start(const TrainConfig& config, const std::st
   return std::unique_ptr<Trainer>(new Trainer(std::move(state)));
 }
 
-std::unique_ptr<Trainer> Trainer::Resume(const std::string& run_dir) {
+std::unique_ptr<Trainer> Trainer::Resume(const std::string& run_dir,
+                                         std::optional<std::int64_t> new_budget) {
   RunDirectory run(run_dir);
   Require(run.HoldsRun(), "'{}' holds no run (no {}): start one with --config", run_dir,
           run.config_file().filename().string());
@@ -63,11 +64,24 @@ std::unique_ptr<Trainer> Trainer::Resume(const std::string& run_dir) {
   state->lock = std::move(lock);
   RecoverInterruptedCheckpoint(run);
   const std::optional<CheckpointManifest> checkpoint = VerifiedCheckpoint(run);
+  const std::int64_t old_budget = state->config.training.total_steps;
+  if (new_budget) {
+    state->config.training.total_steps = *new_budget;
+    ValidateTrainConfig(state->config, run.config_file().string());
+  }
   state->learner = MakeLearner(state->config);
   if (checkpoint) {
     state->learner->Load(run.checkpoint_dir());
     state->rows = checkpoint->rows;
     state->elapsed_before = checkpoint->elapsed_seconds;
+  }
+  if (new_budget && *new_budget != old_budget) {
+    const std::int64_t done = state->learner->steps_done();
+    Require(*new_budget > done,
+            "cannot continue '{}' to {} steps: it has done {} already (its budget was {})",
+            run_dir, *new_budget, done, old_budget);
+    state->learner->CheckNewBudget(*new_budget);
+    run.ReplaceConfig(TrainConfigToYaml(state->config));
   }
   TruncateProgress(run, state->rows);
   return std::unique_ptr<Trainer>(new Trainer(std::move(state)));

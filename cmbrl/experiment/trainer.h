@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "cmbrl/experiment/config.h"
@@ -31,8 +32,11 @@ class Trainer {
 
   // Continues the run in run_dir from its last checkpoint (or from the start when it stopped
   // before the first one). Throws cmbrl::Error when run_dir holds no run, or its parts disagree
-  // (naming the file).
-  static std::unique_ptr<Trainer> Resume(const std::string& run_dir);
+  // (naming the file). With `new_budget`, a run (finished or not) continues to that many steps
+  // instead, as if started with that budget, and its config.yaml says so; refused when the run
+  // has done that many steps already or its learner cannot (Learner::CheckNewBudget).
+  static std::unique_ptr<Trainer> Resume(const std::string& run_dir,
+                                         std::optional<std::int64_t> new_budget = std::nullopt);
 
   ~Trainer();
 

@@ -54,6 +54,11 @@ class Learner {
   // Continues from a folder that Save wrote; throws cmbrl::Error naming a damaged file.
   virtual void Load(const std::filesystem::path& folder) = 0;
 
+  // Throws cmbrl::Error when a resumed run may not continue to `new_budget` steps with the rows
+  // an uninterrupted run of that budget would have written (for example because the old budget
+  // cut its last unit of work short). The trainer has checked new_budget > steps_done().
+  virtual void CheckNewBudget(std::int64_t new_budget) const { (void)new_budget; }
+
   // Steps of the budget done so far, and the budget.
   virtual std::int64_t steps_done() const = 0;
   virtual std::int64_t budget() const = 0;

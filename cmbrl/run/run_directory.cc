@@ -148,6 +148,17 @@ RunDirectory RunDirectory::Create(const fs::path& root, const std::string& confi
   return run;
 }
 
+void RunDirectory::ReplaceConfig(const std::string& config_yaml) const {
+  const fs::path tmp = root_ / "config.yaml.tmp";
+  std::ofstream out(tmp, std::ios::trunc);
+  out << config_yaml;
+  out.close();
+  Require(!out.fail(), "cannot write '{}'", tmp.string());
+  std::error_code error;
+  fs::rename(tmp, config_file(), error);
+  Require(!error, "cannot replace '{}': {}", config_file().string(), error.message());
+}
+
 std::uint32_t FileCrc(const fs::path& path) {
   std::ifstream in(path, std::ios::binary);
   Require(static_cast<bool>(in), "cannot read '{}'", path.string());

@@ -44,6 +44,10 @@ class RunDirectory {
                              const std::string& progress_header,
                              const std::function<void()>& claim);
 
+  // Rewrites config.yaml (written whole, then renamed into place), as when a resumed run gets a
+  // new budget. The caller holds the run's lock. Throws cmbrl::Error when it cannot be written.
+  void ReplaceConfig(const std::string& config_yaml) const;
+
  private:
   std::filesystem::path root_;
 };

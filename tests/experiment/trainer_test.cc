@@ -299,6 +299,43 @@ TEST(TrainerTest, ModelFreeRowsWithSeveralEnvironmentsDoNotDependOnThreads) {
               ::testing::HasSubstr("steps_per_epoch is 300 and envs 7"));
 }
 
+// A finished run continued to a larger budget writes the rows a run started with that budget
+// writes, and its config.yaml then holds the new budget.
+TEST(TrainerTest, AFinishedRunContinuesToALargerBudget) {
+  TrainConfig longer = TinyConfig("cem");
+  longer.training.total_steps = 600;
+  const std::string whole = TempRunDir("budget_whole"), extended = TempRunDir("budget_extended");
+  Trainer::Start(longer, whole)->Run();
+  Trainer::Start(TinyConfig("cem"), extended)->Run();  // 400 steps
+  ASSERT_LT(RowsWithoutTimes(extended).size(), RowsWithoutTimes(whole).size());
+  Trainer::Resume(extended, 600)->Run();
+  EXPECT_EQ(RowsWithoutTimes(extended), RowsWithoutTimes(whole));
+  EXPECT_EQ(LoadTrainConfig((fs::path(extended) / "config.yaml").string()).training.total_steps,
+            600);
+  // Nothing left below what is done.
+  EXPECT_THAT(ErrorMessage([&] { Trainer::Resume(extended, 300); }),
+              ::testing::HasSubstr("to 300 steps: it has done"));
+  EXPECT_EQ(LoadTrainConfig((fs::path(extended) / "config.yaml").string()).training.total_steps,
+            600);
+}
+
+// A model-free run whose last epoch the old budget cut short cannot become the longer run; one
+// that ended on an epoch's end can.
+TEST(TrainerTest, AModelFreeRunContinuesOnlyFromAWholeEpoch) {
+  const std::string whole = TempRunDir("mf_budget_whole"), cut = TempRunDir("mf_budget_cut");
+  const std::string exact = TempRunDir("mf_budget_exact");
+  Trainer::Start(TinyModelFree("cpo"), whole)->Run();  // 900 steps: three epochs
+  TrainConfig shorter = TinyModelFree("cpo");
+  shorter.training.total_steps = 450;  // one epoch and a half
+  Trainer::Start(shorter, cut)->Run();
+  EXPECT_THAT(ErrorMessage([&] { Trainer::Resume(cut, 900); }),
+              ::testing::HasSubstr("last epoch was cut to 150 of its 300 steps"));
+  shorter.training.total_steps = 600;
+  Trainer::Start(shorter, exact)->Run();
+  Trainer::Resume(exact, 900)->Run();
+  EXPECT_EQ(EpochRowsWithoutTime(exact), EpochRowsWithoutTime(whole));
+}
+
 TEST(TrainerTest, ARunDirectoryServesOneProcessAtATime) {
   const std::string dir = TempRunDir("locked");
   const std::unique_ptr<Trainer> first = Trainer::Start(TinyConfig("rce"), dir);
