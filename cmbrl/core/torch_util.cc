@@ -1,5 +1,7 @@
 #include "cmbrl/core/torch_util.h"
 
+#include <dlfcn.h>
+
 #include <ATen/CPUGeneratorImpl.h>
 #include <ATen/detail/CUDAHooksInterface.h>
 
@@ -56,6 +58,39 @@ void CheckFinite(const torch::Tensor& t, const char* what) {
   const std::int64_t columns = t.dim() > 0 ? t.size(-1) : 1;
   Fail("{} has a non-finite value {} at row {}, column {}: expected finite numbers", what,
        t.flatten()[flat].item<float>(), flat / columns, flat % columns);
+}
+
+namespace {
+
+// OpenBLAS's thread controls, looked up at run time (LibTorch may use another BLAS).
+using GetThreads = int (*)();
+using SetThreads = void (*)(int);
+
+GetThreads BlasGetThreads() {
+  return reinterpret_cast<GetThreads>(dlsym(RTLD_DEFAULT, "openblas_get_num_threads"));
+}
+SetThreads BlasSetThreads() {
+  return reinterpret_cast<SetThreads>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"));
+}
+
+}  // namespace
+
+ScopedSingleThreadedMath::ScopedSingleThreadedMath()
+    : torch_threads_(at::get_num_threads()), blas_threads_(0) {
+  at::set_num_threads(1);
+  const GetThreads get = BlasGetThreads();
+  const SetThreads set = BlasSetThreads();
+  if (get != nullptr && set != nullptr) {
+    blas_threads_ = get();
+    set(1);
+  }
+}
+
+ScopedSingleThreadedMath::~ScopedSingleThreadedMath() {
+  at::set_num_threads(torch_threads_);
+  if (blas_threads_ > 0) {
+    if (const SetThreads set = BlasSetThreads()) set(blas_threads_);
+  }
 }
 
 }  // namespace cmbrl

@@ -28,4 +28,20 @@ void CheckFloatTensor(const torch::Tensor& t, const char* what, std::int64_t las
 // One host synchronisation.
 void CheckFinite(const torch::Tensor& t, const char* what);
 
+// While alive, LibTorch's CPU operations and OpenBLAS (when the process has it) run on the
+// calling thread alone; the thread counts before are restored at destruction. For independent
+// pieces of math run side by side on threads of their own: each gives the numbers it gives on
+// one thread, whatever the number of cores. Process-wide: one at a time, from one thread.
+class ScopedSingleThreadedMath {
+ public:
+  ScopedSingleThreadedMath();
+  ~ScopedSingleThreadedMath();
+  ScopedSingleThreadedMath(const ScopedSingleThreadedMath&) = delete;
+  ScopedSingleThreadedMath& operator=(const ScopedSingleThreadedMath&) = delete;
+
+ private:
+  int torch_threads_;
+  int blas_threads_;  // 0 when the process has no OpenBLAS
+};
+
 }  // namespace cmbrl

@@ -363,10 +363,33 @@ LearnerStep PolicyOptLearner::Advance(const std::function<double()>& elapsed_sec
           : TrustRegionUpdate(*policy_, epoch.batch, handling_, lagrange_.penalty(), trust);
   timings_.policy_update = seconds_since(start);
   start = Clock::now();
-  row.loss_v = FitValueFunction(*value_, *value_optimizer_, epoch.batch.observations,
-                                epoch.returns, o.value_iterations);
-  row.loss_vc = FitValueFunction(*cost_value_, *cost_value_optimizer_, epoch.batch.observations,
-                                 epoch.cost_returns, o.value_iterations);
+  {
+    // The two value functions are independent: each is fitted on one thread, side by side where
+    // the process has two cores, so the numbers do not depend on the cores (the fits were 1.4x
+    // faster on 2 threads than on 1; two fits at once are nearly 2x).
+    const ScopedSingleThreadedMath single_threaded;
+    double losses[2] = {0.0, 0.0};
+    std::exception_ptr failure;
+    std::mutex failure_mutex;
+    ParallelRanges(2, std::min(2, CoreCount()), [&](std::int64_t begin, std::int64_t end) {
+      for (std::int64_t i = begin; i < end; ++i) {
+        try {
+          losses[i] = i == 0 ? FitValueFunction(*value_, *value_optimizer_,
+                                                epoch.batch.observations, epoch.returns,
+                                                o.value_iterations)
+                             : FitValueFunction(*cost_value_, *cost_value_optimizer_,
+                                                epoch.batch.observations, epoch.cost_returns,
+                                                o.value_iterations);
+        } catch (...) {
+          const std::lock_guard<std::mutex> lock(failure_mutex);
+          if (!failure) failure = std::current_exception();
+        }
+      }
+    });
+    if (failure) std::rethrow_exception(failure);
+    row.loss_v = losses[0];
+    row.loss_vc = losses[1];
+  }
   timings_.value_fits = seconds_since(start);
   row.kl = update.kl;
   row.backtrack_iterations = update.backtrack_iterations;
