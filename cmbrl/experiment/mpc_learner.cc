@@ -88,10 +88,21 @@ LearnerStep MpcLearner::Advance(const std::function<double()>& elapsed_seconds) 
     step.summary = {0, total_steps_, budget(), 0.0, 0.0, elapsed_seconds()};
     return step;
   }
+  step.models_changed = models_due_;
+  if (models_due_) {  // the run was continued past the budget it had stopped at
+    FitModels();
+    models_due_ = false;
+  }
   last_row_ = Episode(elapsed_seconds);
   step.row = ProgressCsvLine(last_row_);
-  step.models_changed = episodes_ % config_.training.episodes_per_epoch == 0;
-  if (step.models_changed) FitModels();
+  if (episodes_ % config_.training.episodes_per_epoch == 0) {
+    if (Finished()) {
+      models_due_ = true;
+    } else {
+      FitModels();
+      step.models_changed = true;
+    }
+  }
   step.summary = {last_row_.epoch,          total_steps_,
                   budget(),                 last_row_.episode_return,
                   last_row_.episode_cost,   last_row_.time_seconds};
@@ -197,6 +208,7 @@ void MpcLearner::Save(const fs::path& folder, const fs::path& previous,
               (folder / kPlannerGeneratorFile).string());
   const nlohmann::json state = {
       {"pretrained", pretrained_},
+      {"models_due", models_due_},
       {"episodes", episodes_},
       {"total_steps", total_steps_},
       {"pretrain_steps", pretrain_steps_},
@@ -211,6 +223,7 @@ void MpcLearner::Save(const fs::path& folder, const fs::path& previous,
 void MpcLearner::Load(const fs::path& folder) {
   ReadLearnerState(folder / kStateFile, [&](const nlohmann::json& state) {
     pretrained_ = state.at("pretrained").get<bool>();
+    models_due_ = state.value("models_due", false);  // absent before v0.3
     episodes_ = state.at("episodes").get<int>();
     total_steps_ = state.at("total_steps").get<std::int64_t>();
     pretrain_steps_ = state.at("pretrain_steps").get<std::int64_t>();

@@ -1,6 +1,9 @@
 // The training loop of the paper (Algorithm 2; facts B6) as a learner: random-action
 // pre-training, model fits, then epochs of MPC episodes, each epoch followed by refits, until a
-// budget of agent steps.
+// budget of agent steps. The refit due after the episode that spends the budget would act in no
+// episode: it waits until the run is continued to a larger budget (Trainer::Resume), which then
+// gives the rows of a run started with that budget. A finished run's checkpoint therefore holds
+// the models its last episodes acted with.
 #pragma once
 
 #include <cstdint>
@@ -91,6 +94,7 @@ class MpcLearner final : public Learner {
 
   // Counters and the last fits' figures, all in the checkpoint.
   bool pretrained_ = false;
+  bool models_due_ = false;  // a refit the budget's end put off
   int episodes_ = 0;
   std::int64_t total_steps_ = 0;
   std::int64_t pretrain_steps_ = 0;

@@ -9,6 +9,8 @@
 #include <fstream>
 #include <sstream>
 
+#include <nlohmann/json.hpp>
+
 #include "cmbrl/experiment/mpc_learner.h"
 #include "cmbrl/models/labeled_state_buffer.h"
 #include "cmbrl/models/transition_buffer.h"
@@ -308,6 +310,9 @@ TEST(TrainerTest, AFinishedRunContinuesToALargerBudget) {
   Trainer::Start(longer, whole)->Run();
   Trainer::Start(TinyConfig("cem"), extended)->Run();  // 400 steps
   ASSERT_LT(RowsWithoutTimes(extended).size(), RowsWithoutTimes(whole).size());
+  // Its last episode ended an epoch: the refit it would have had is put off, not done.
+  std::ifstream state(fs::path(extended) / "checkpoint" / "state.json");
+  EXPECT_EQ(nlohmann::json::parse(state).at("models_due"), true);
   Trainer::Resume(extended, 600)->Run();
   EXPECT_EQ(RowsWithoutTimes(extended), RowsWithoutTimes(whole));
   EXPECT_EQ(LoadTrainConfig((fs::path(extended) / "config.yaml").string()).training.total_steps,
