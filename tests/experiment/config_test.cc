@@ -212,6 +212,39 @@ TEST(ConfigTest, TheQuickstartGridHasEveryTaskAndPlannerAtQuickstartSize) {
   EXPECT_EQ(presets, 12);
 }
 
+// The CPU presets: the paper's settings but for the dynamics networks' width and the window.
+TEST(ConfigTest, TheCpuPresetsKeepThePapersSettingsButTheNetworksWidth) {
+  const TrainConfig paper = ParseTrainConfig("task: PointGoal1", "paper");
+  int presets = 0;
+  for (const std::string task : {"PointGoal1", "PointGoal2", "CarGoal1", "CarGoal2"}) {
+    for (const std::string planner : {"rce", "cem", "random"}) {
+      std::string stem = task;
+      for (char& c : stem) c = static_cast<char>(std::tolower(c));
+      const std::string path =
+          std::string(CMBRL_SOURCE_DIR "/configs/cpu/") + stem + "-" + planner + ".yaml";
+      SCOPED_TRACE(path);
+      const TrainConfig config = LoadTrainConfig(path);
+      EXPECT_EQ(config.task, task);
+      EXPECT_EQ(config.planner, planner);
+      EXPECT_EQ(config.variant, Variant::kPaper);
+      EXPECT_EQ(config.training.total_steps, 3000);
+      EXPECT_EQ(config.ensemble.hidden_sizes, std::vector<int>({256, 256, 256}));
+      EXPECT_EQ(config.ensemble.ensemble_size, task.rfind("Car", 0) == 0 ? 5 : 4);
+      // Everything else as the paper ran it.
+      TrainConfig expected = paper;
+      expected.task = config.task;
+      expected.planner = config.planner;
+      expected.training.total_steps = config.training.total_steps;
+      expected.ensemble.hidden_sizes = config.ensemble.hidden_sizes;
+      expected.ensemble.ensemble_size = config.ensemble.ensemble_size;
+      expected.objective.goal_index = config.objective.goal_index;
+      EXPECT_EQ(TrainConfigToYaml(config), TrainConfigToYaml(expected));
+      ++presets;
+    }
+  }
+  EXPECT_EQ(presets, 12);
+}
+
 TEST(ConfigTest, ObservationSizesMatchTheEnvironments) {
   for (const std::string& task : EnvNames()) {
     for (const Variant variant : {Variant::kPaper, Variant::kStandard}) {
