@@ -35,6 +35,11 @@ std::string Counts(const std::vector<double>& values) {
   return fmt::format("{}", fmt::join(texts, ", "));
 }
 
+// A figure with `digits` decimals, or "-" where there is none (NaN).
+std::string Figure(double value, int digits) {
+  return std::isfinite(value) ? fmt::format("{:.{}f}", value, digits) : "-";
+}
+
 double Mean(const std::vector<double>& values) {
   double sum = 0.0;
   for (double v : values) sum += v;
@@ -205,6 +210,8 @@ double FinalReturn(const RunRecord& run, std::int64_t window, int episodes) {
   for (const EpisodePoint& episode : run.episodes) {
     if (episode.end_step <= window) returns.push_back(episode.episode_return);
   }
+  // Nothing ended in the window (a model-free epoch is longer than Table I's window): no return.
+  if (returns.empty()) return std::numeric_limits<double>::quiet_NaN();
   const size_t first = returns.size() > static_cast<size_t>(episodes) ? returns.size() - episodes : 0;
   return Mean(std::vector<double>(returns.begin() + first, returns.end()));
 }
@@ -256,7 +263,8 @@ std::vector<TableCell> ViolationTable(const std::vector<RunRecord>& runs, std::i
       for (const RunRecord* run : members) {
         cell.per_seed.push_back(ViolationsWithin(*run, window));
         cell.final_returns.push_back(FinalReturn(*run, window));
-        cell.heavy_episodes.push_back(HeavyEpisodesWithin(*run, window));
+        // An epoch's mean cost is not an episode's: no count of heavy episodes for epoch logs.
+        if (!run->epoch_log) cell.heavy_episodes.push_back(HeavyEpisodesWithin(*run, window));
         cell.feasible_fractions.push_back(FeasibleFractionWithin(*run, window));
         cell.fewest_steps = std::min(cell.fewest_steps, run->episodes.back().end_step);
       }
@@ -273,7 +281,9 @@ std::vector<TableCell> ViolationTable(const std::vector<RunRecord>& runs, std::i
         for (const RunRecord* run : original) {
           cell.original_per_seed.push_back(ViolationsWithin(*run, window));
           cell.original_final_returns.push_back(FinalReturn(*run, window));
-          cell.original_heavy_episodes.push_back(HeavyEpisodesWithin(*run, window));
+          if (!run->epoch_log) {
+            cell.original_heavy_episodes.push_back(HeavyEpisodesWithin(*run, window));
+          }
         }
       }
       cells.push_back(cell);
@@ -332,8 +342,10 @@ std::string TableMarkdown(const std::vector<TableCell>& cells, std::int64_t wind
       const auto it = std::find_if(cells.begin(), cells.end(), [&](const TableCell& c) {
         return c.task == task && c.planner == planner;
       });
-      text += it == cells.end() ? " |"
-                                : fmt::format(" {:.2f} ± {:.2f} |", it->return_mean, it->return_std);
+      text += it == cells.end()                  ? " |"
+              : !std::isfinite(it->return_mean) ? " - |"
+                                                : fmt::format(" {:.2f} ± {:.2f} |", it->return_mean,
+                                                              it->return_std);
     }
   }
   text += "\n";
@@ -352,11 +364,14 @@ std::string TableMarkdown(const std::vector<TableCell>& cells, std::int64_t wind
   for (const TableCell& cell : cells) {
     if (cell.original_per_seed.empty()) continue;
     text += fmt::format(
-        "| {} | {} | {:.1f} ({}) | {:.1f} ({}) | {} | {:.2f} | {:.2f} | {} | {} | {} |\n",
+        "| {} | {} | {:.1f} ({}) | {:.1f} ({}) | {} | {} | {} | {} | {} | {} |\n",
         cell.task, MethodLabel(cell.planner), cell.mean, Counts(cell.per_seed),
         Mean(cell.original_per_seed), Counts(cell.original_per_seed), VersusOriginal(cell),
-        cell.return_mean, Mean(cell.original_final_returns), fmt::join(cell.heavy_episodes, ", "),
-        fmt::join(cell.original_heavy_episodes, ", "),
+        Figure(cell.return_mean, 2), Figure(Mean(cell.original_final_returns), 2),
+        cell.heavy_episodes.empty() ? "-" : fmt::format("{}", fmt::join(cell.heavy_episodes, ", ")),
+        cell.original_heavy_episodes.empty()
+            ? "-"
+            : fmt::format("{}", fmt::join(cell.original_heavy_episodes, ", ")),
         std::isfinite(Mean(cell.feasible_fractions))
             ? fmt::format("{:.3f}", Mean(cell.feasible_fractions))
             : "-");

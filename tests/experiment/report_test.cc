@@ -21,6 +21,7 @@ namespace cmbrl {
 namespace {
 namespace fs = std::filesystem;
 using ::testing::HasSubstr;
+using ::testing::Not;
 
 // A run of a fixture sweep: episodes of `steps` agent steps with the given costs; returns rise
 // by one per episode from `first_return`.
@@ -334,6 +335,12 @@ TEST_F(ReportTest, ModelFreeRunsAreEpochLogsGroupedByAlgorithm) {
   ASSERT_NE(cell, cells.end());
   EXPECT_EQ(cell->per_seed, (std::vector<double>{150.0}));
   EXPECT_THAT(TableMarkdown(cells, 1500), HasSubstr("| CPO |"));
+  // Only the first epoch ended within 1500 steps: its mean return; none within 500: no figure.
+  EXPECT_DOUBLE_EQ(cell->return_mean, 1.0);
+  EXPECT_TRUE(cell->heavy_episodes.empty());  // an epoch's mean cost is no episode's
+  const std::vector<TableCell> early = ViolationTable(runs, 500);
+  EXPECT_THAT(TableMarkdown(early, 500), HasSubstr("| CPO |"));
+  EXPECT_THAT(TableMarkdown(early, 500), Not(HasSubstr("nan")));
 }
 
 TEST_F(ReportTest, BadReferenceLogsAreNamed) {
