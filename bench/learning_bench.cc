@@ -44,7 +44,7 @@ struct TaskShape {
 };
 
 TaskShape ShapeOf(const TrainConfig& config, std::uint64_t seed) {
-  const std::unique_ptr<Env> env = MakeEnv(config.task, config.variant);
+  const std::unique_ptr<Env> env = MakeEnv(config.task, config.variant, config.spawn);
   TaskShape shape;
   shape.state_dim = env->observation_spec().size();
   shape.action_dim = env->action_spec().size();
@@ -115,7 +115,7 @@ void AddRate(nlohmann::ordered_json& line, double flops, const TimedRuns& timed)
 // Random-policy transitions of the config's task: the data of the precision comparison's fit,
 // and its start states.
 TransitionBuffer RandomPolicyData(const TrainConfig& config, int steps, std::uint64_t seed) {
-  const std::unique_ptr<Env> env = MakeEnv(config.task, config.variant);
+  const std::unique_ptr<Env> env = MakeEnv(config.task, config.variant, config.spawn);
   RandomPolicy policy(env->action_spec(), seed);
   TransitionBuffer data(env->observation_spec().size(), env->action_spec().size(), steps);
   std::vector<double> observation = env->Reset(seed);

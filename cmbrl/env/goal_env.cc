@@ -13,13 +13,9 @@
 
 namespace cmbrl {
 
-namespace {
-
 RobotDescription TaskRobot(const GoalTaskSpec& spec) {
   return spec.robot == RobotKind::kPoint ? PointRobot(spec.variant) : CarRobot(spec.variant);
 }
-
-}  // namespace
 
 GoalEnv::GoalEnv(GoalTaskSpec spec) : GoalEnv(spec, TaskRobot(spec)) {}
 

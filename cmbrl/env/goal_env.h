@@ -22,6 +22,9 @@
 
 namespace cmbrl {
 
+// The task's own robot: PointRobot or CarRobot of the spec's variant.
+RobotDescription TaskRobot(const GoalTaskSpec& spec);
+
 // One Goal environment. An agent step writes the clipped action to the actuators and runs
 // action_repeat env steps of frame_skip physics steps each; an env step computes reward
 // (progress to the goal, +1 when reached) and cost terms, and relocates a reached goal. The

@@ -7,8 +7,11 @@ namespace cmbrl {
 
 std::vector<std::string> EnvNames() { return GoalTaskNames(); }
 
-std::unique_ptr<Env> MakeEnv(const std::string& task, Variant variant) {
-  return std::make_unique<GoalEnv>(GoalTaskSpecByName(task, variant));
+std::unique_ptr<Env> MakeEnv(const std::string& task, Variant variant, Spawn spawn) {
+  const GoalTaskSpec spec = GoalTaskSpecByName(task, variant);
+  RobotDescription robot = TaskRobot(spec);
+  if (spawn == Spawn::kModelOrigin) robot.spawn_height = robot.model_origin_height;
+  return std::make_unique<GoalEnv>(spec, std::move(robot));
 }
 
 }  // namespace cmbrl

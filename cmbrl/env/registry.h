@@ -15,6 +15,7 @@ std::vector<std::string> EnvNames();
 
 // A new environment for a task ("PointGoal1", ...) and variant. Throws cmbrl::Error naming an
 // unknown task and listing the known ones.
-std::unique_ptr<Env> MakeEnv(const std::string& task, Variant variant = Variant::kPaper);
+std::unique_ptr<Env> MakeEnv(const std::string& task, Variant variant = Variant::kPaper,
+                             Spawn spawn = Spawn::kStanding);
 
 }  // namespace cmbrl

@@ -18,6 +18,16 @@ std::string VariantName(Variant variant) {
 
 bool IsPaperWorld(Variant variant) { return variant != Variant::kStandard; }
 
+Spawn ParseSpawn(const std::string& name) {
+  if (name == "standing") return Spawn::kStanding;
+  if (name == "model-origin") return Spawn::kModelOrigin;
+  Fail("spawn '{}': expected standing or model-origin", name);
+}
+
+std::string SpawnName(Spawn spawn) {
+  return spawn == Spawn::kStanding ? "standing" : "model-origin";
+}
+
 Variant ParseVariant(const std::string& name) {
   if (name == "paper") return Variant::kPaper;
   if (name == "standard") return Variant::kStandard;

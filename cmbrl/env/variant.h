@@ -22,4 +22,14 @@ std::string VariantName(Variant variant);
 // Parses a variant's name; throws cmbrl::Error naming the value otherwise.
 Variant ParseVariant(const std::string& name);
 
+// Where a robot starts each episode: standing on the floor (every robot's own spawn height), or
+// at the height of its body's origin in the original's model files, where Safety Gym spawned it:
+// the same for the Point and the two-wheel car, 0.2 m lower for the rover, which then starts
+// with its wheels in the floor and is thrown up (docs/ENVIRONMENTS.md, ambiguity 1).
+enum class Spawn { kStanding, kModelOrigin };
+
+// "standing" or "model-origin"; throws cmbrl::Error naming the text and the choices.
+Spawn ParseSpawn(const std::string& name);
+std::string SpawnName(Spawn spawn);
+
 }  // namespace cmbrl

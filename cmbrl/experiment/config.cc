@@ -109,6 +109,7 @@ void VisitConfig(Config& c, Visitor& v) {
   v.Field("", "planner", c.planner);
   v.Field("", "seed", c.seed);
   v.Field("", "device", c.device);
+  v.Field("environment", "spawn", c.spawn);
   auto& t = c.training;
   v.Field("training", "pretrain_episodes", t.pretrain_episodes);
   v.Field("training", "pretrain_steps", t.pretrain_steps);
@@ -218,6 +219,16 @@ class ConfigReader {
     }
   }
 
+  void Field(const std::string& section, const char* key, Spawn& value) {
+    std::string name = SpawnName(value);
+    SectionFor(section).Read(key, name);
+    try {
+      value = ParseSpawn(name);
+    } catch (const Error& error) {
+      Fail("config '{}': {}.{}: {}", source_, section, key, error.what());
+    }
+  }
+
   void RejectUnknownKeys() const {
     for (const auto& [name, section] : sections_) section.RejectUnknownKeys();
     root_.RejectUnknownKeys();
@@ -252,6 +263,8 @@ class ConfigWriter {
     if constexpr (std::is_same_v<T, std::vector<int>>) out_ << YAML::Flow;
     if constexpr (std::is_same_v<T, Variant>) {
       out_ << VariantName(value);
+    } else if constexpr (std::is_same_v<T, Spawn>) {
+      out_ << SpawnName(value);
     } else {
       out_ << value;
     }

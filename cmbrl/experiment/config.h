@@ -48,6 +48,7 @@ const std::vector<std::string>& AlgorithmNames();
 struct TrainConfig {
   std::string task = "PointGoal1";
   Variant variant = Variant::kPaper;  // parsed once, where the file is read
+  Spawn spawn = Spawn::kStanding;     // environment.spawn
   std::string algorithm = "mpc";      // AlgorithmNames()
   std::string planner = "rce";        // rce, cem or random (algorithm mpc)
   std::uint64_t seed = 0;

@@ -59,7 +59,7 @@ std::vector<EvaluatedEpisode> EvaluatePolicyRun(const TrainConfig& config, const
                                                 const EvaluationOptions& options) {
   PolicyOptLearner learner(config);
   learner.Load(run.checkpoint_dir());
-  const std::unique_ptr<Env> env = MakeEnv(config.task, config.variant);
+  const std::unique_ptr<Env> env = MakeEnv(config.task, config.variant, config.spawn);
   GaussianMeanPolicy policy(learner.policy(), env->action_spec());
   std::vector<EvaluatedEpisode> episodes;
   for (int k = 0; k < options.episodes; ++k) {

@@ -18,7 +18,7 @@ PlannerSettings PlannerSettingsFor(const TrainConfig& config, int action_dim) {
 
 MpcParts AssembleMpc(const TrainConfig& config, const MpcPartSeeds& seeds) {
   MpcParts parts;
-  parts.env = MakeEnv(config.task, config.variant);
+  parts.env = MakeEnv(config.task, config.variant, config.spawn);
   const int state_dim = parts.env->observation_spec().size();
   const int action_dim = parts.env->action_spec().size();
   parts.ensemble =

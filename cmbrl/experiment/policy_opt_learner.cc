@@ -125,7 +125,9 @@ PolicyOptLearner::PolicyOptLearner(TrainConfig config)
                                 config_.policy_optimisation.penalty_learning_rate}) {
   ValidatePolicyOptimisationOptions(config_.policy_optimisation);
   const PolicyOptimisationOptions& o = config_.policy_optimisation;
-  for (int k = 0; k < o.envs; ++k) envs_.push_back(MakeEnv(config_.task, config_.variant));
+  for (int k = 0; k < o.envs; ++k) {
+    envs_.push_back(MakeEnv(config_.task, config_.variant, config_.spawn));
+  }
   const int observation_dim = envs_[0]->observation_spec().size();
   const int action_dim = envs_[0]->action_spec().size();
   policy_ = std::make_unique<GaussianPolicy>(observation_dim, action_dim, o.policy_hidden,

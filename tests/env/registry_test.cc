@@ -8,6 +8,8 @@
 
 #include "cmbrl/agent/policy.h"
 #include "cmbrl/core/check.h"
+#include "cmbrl/env/goal_env.h"
+#include "tests/env/test_scenes.h"
 #include "tests/error_message.h"
 
 namespace cmbrl {
@@ -43,6 +45,26 @@ TEST(RegistryTest, EveryTaskRunsInBothVariants) {
                                    : (variant == Variant::kPaper ? 14 : 10));
     }
   }
+}
+
+// Spawned where the original's model file puts the body origin, the rover starts with its wheels
+// in the floor and is thrown up; the Point starts where it stands either way.
+TEST(RegistryTest, ModelOriginSpawnThrowsTheRoverUp) {
+  const auto peak_height = [](const std::string& task, Spawn spawn) {
+    std::unique_ptr<Env> env = MakeEnv(task, Variant::kPaper, spawn);
+    env->Reset(3);
+    double peak = 0.0;
+    for (int i = 0; i < 5; ++i) {
+      env->Step({0.0, 0.0});
+      peak = std::max(peak, testing::RobotHeight(dynamic_cast<const GoalEnv&>(*env)));
+    }
+    return peak;
+  };
+  EXPECT_GT(peak_height("CarGoal1", Spawn::kModelOrigin), 0.25);
+  EXPECT_LT(peak_height("CarGoal1", Spawn::kStanding), 0.21);
+  EXPECT_DOUBLE_EQ(peak_height("PointGoal1", Spawn::kModelOrigin),
+                   peak_height("PointGoal1", Spawn::kStanding));
+  EXPECT_EQ(ParseSpawn(SpawnName(Spawn::kModelOrigin)), Spawn::kModelOrigin);
 }
 
 TEST(RegistryTest, UnknownTaskIsNamed) {

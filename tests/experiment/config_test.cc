@@ -132,6 +132,10 @@ TEST(ConfigTest, SizesOutOfTheirBoundsAreNamedBeforeAnythingIsAllocated) {
   EXPECT_EQ(
       ErrorMessage([] { ParseTrainConfig("training: {transition_capacity: 2000000000}", "c"); }),
       "config 'c': training.transition_capacity is 2000000000: expected 2 to 100000000");
+  EXPECT_EQ(ErrorMessage([] { ParseTrainConfig("environment: {spawn: floating}", "c"); }),
+            "config 'c': environment.spawn: spawn 'floating': expected standing or model-origin");
+  EXPECT_EQ(ParseTrainConfig("environment: {spawn: model-origin}", "c").spawn,
+            Spawn::kModelOrigin);
   EXPECT_EQ(ErrorMessage([] { ParseTrainConfig("variant: foo", "c"); }),
             "config 'c': key 'variant': unknown variant 'foo': expected 'paper' (the paper's "
             "modified tasks), 'standard' (Safety-Gymnasium's stock tasks) or 'paper-lidar' (the "

@@ -15,6 +15,7 @@ RobotDescription TwoWheelCarRobot() {
   robot.timestep = 0.004;
   robot.planar_joints = false;
   robot.spawn_height = 0.1;
+  robot.model_origin_height = 0.1;
   robot.footprint_radius = 0.16;
   robot.body_mjcf = R"(
     <body name="robot" pos="0 0 0.1">

@@ -17,6 +17,7 @@ RobotDescription PointRobot(Variant variant) {
   robot.timestep = paper ? 0.01 : 0.002;
   robot.planar_joints = true;
   robot.spawn_height = 0.1;  // the sphere of radius 0.1 rests on the floor
+  robot.model_origin_height = 0.1;
   robot.footprint_radius = 0.15;
   robot.body_mjcf = fmt::format(R"(
     <body name="robot" pos="0 0 0.1">

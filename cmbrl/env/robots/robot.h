@@ -23,6 +23,9 @@ struct RobotDescription {
   std::string sensor_mjcf;        // children of <sensor>
   bool planar_joints = false;     // slide "x", slide "y", hinge "z"; otherwise a free joint "robot"
   double spawn_height = 0.0;      // z of the robot body's origin at reset (m)
+  // z of the body's origin in the original's model file, where Safety Gym spawned it (m). The
+  // rover's is 0, which puts its wheels 0.2 m into the floor (docs/ENVIRONMENTS.md).
+  double model_origin_height = 0.0;
   double footprint_radius = 0.0;  // radius of a disc covering the footprint, for pictures (m)
   // Robot geoms whose contact with a vase counts as a violation.
   std::vector<std::string> vase_contact_geoms;

@@ -52,6 +52,7 @@ RobotDescription RoverRobot() {
   // floor; see docs/ENVIRONMENTS.md and rover_spawn in goal_env_test for what that does. We spawn
   // it standing on its wheels instead: wheel centres 0.15 below the origin, radius 0.05.
   robot.spawn_height = 0.2;
+  robot.model_origin_height = 0.0;  // facts B0
   robot.footprint_radius = 0.25;
   robot.body_mjcf = R"(
     <body name="robot" pos="0 0 0">
