@@ -208,25 +208,12 @@ class ConfigReader {
     SectionFor(section).Read(key, value);
   }
 
-  // The variant is parsed here, once, and a bad one is named under its own key.
+  // Named choices (variant, spawn) are parsed here, once; a bad one is named under its key.
   void Field(const std::string& section, const char* key, Variant& value) {
-    std::string name = VariantName(value);
-    SectionFor(section).Read(key, name);
-    try {
-      value = ParseVariant(name);
-    } catch (const Error& error) {
-      Fail("config '{}': key '{}': {}", source_, key, error.what());
-    }
+    ReadChoice(section, key, value, VariantName, ParseVariant);
   }
-
   void Field(const std::string& section, const char* key, Spawn& value) {
-    std::string name = SpawnName(value);
-    SectionFor(section).Read(key, name);
-    try {
-      value = ParseSpawn(name);
-    } catch (const Error& error) {
-      Fail("config '{}': {}.{}: {}", source_, section, key, error.what());
-    }
+    ReadChoice(section, key, value, SpawnName, ParseSpawn);
   }
 
   void RejectUnknownKeys() const {
@@ -235,6 +222,20 @@ class ConfigReader {
   }
 
  private:
+  template <typename Choice>
+  void ReadChoice(const std::string& section, const char* key, Choice& value,
+                  std::string (*name_of)(Choice), Choice (*parse)(const std::string&)) {
+    std::string name = name_of(value);
+    SectionFor(section).Read(key, name);
+    try {
+      value = parse(name);
+    } catch (const Error& error) {
+      const std::string where = section.empty() ? fmt::format("key '{}'", key)
+                                                : fmt::format("{}.{}", section, key);
+      Fail("config '{}': {}: {}", source_, where, error.what());
+    }
+  }
+
   Section& SectionFor(const std::string& name) {
     if (name.empty()) return root_;
     auto found = sections_.find(name);

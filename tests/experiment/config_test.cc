@@ -3,6 +3,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <functional>
+
 #include <cctype>
 #include <filesystem>
 #include <fstream>
@@ -192,61 +194,58 @@ TEST(ConfigTest, EveryPresetInConfigsLoads) {
   EXPECT_EQ(model_free, 12);  // 4 tasks x trpo, trpo-lagrangian, cpo
 }
 
-TEST(ConfigTest, TheQuickstartGridHasEveryTaskAndPlannerAtQuickstartSize) {
-  const TrainConfig quickstart = LoadTrainConfig(CMBRL_SOURCE_DIR "/configs/quickstart.yaml");
+// Each preset of a folder of task x planner configs (<task>-<planner>.yaml), as loaded.
+void ForEachPreset(const std::string& folder,
+                   const std::function<void(const std::string& task, const std::string& planner,
+                                            const TrainConfig& config)>& check) {
   int presets = 0;
   for (const std::string task : {"PointGoal1", "PointGoal2", "CarGoal1", "CarGoal2"}) {
     for (const std::string planner : {"rce", "cem", "random"}) {
       std::string stem = task;
       for (char& c : stem) c = static_cast<char>(std::tolower(c));
-      const std::string path =
-          std::string(CMBRL_SOURCE_DIR "/configs/quickstart/") + stem + "-" + planner + ".yaml";
+      const std::string path = folder + "/" + stem + "-" + planner + ".yaml";
       SCOPED_TRACE(path);
       const TrainConfig config = LoadTrainConfig(path);
       EXPECT_EQ(config.task, task);
       EXPECT_EQ(config.planner, planner);
-      EXPECT_EQ(config.ensemble.hidden_sizes, quickstart.ensemble.hidden_sizes);
-      EXPECT_EQ(config.ensemble.ensemble_size, task.rfind("Car", 0) == 0 ? 5 : 4);
-      EXPECT_EQ(config.training.total_steps, quickstart.training.total_steps);
-      EXPECT_EQ(config.planning.cross_entropy.population,
-                quickstart.planning.cross_entropy.population);
+      check(task, planner, config);
       ++presets;
     }
   }
   EXPECT_EQ(presets, 12);
 }
 
+TEST(ConfigTest, TheQuickstartGridHasEveryTaskAndPlannerAtQuickstartSize) {
+  const TrainConfig quickstart = LoadTrainConfig(CMBRL_SOURCE_DIR "/configs/quickstart.yaml");
+  ForEachPreset(CMBRL_SOURCE_DIR "/configs/quickstart",
+                [&](const std::string& task, const std::string&, const TrainConfig& config) {
+                  EXPECT_EQ(config.ensemble.hidden_sizes, quickstart.ensemble.hidden_sizes);
+                  EXPECT_EQ(config.ensemble.ensemble_size, task.rfind("Car", 0) == 0 ? 5 : 4);
+                  EXPECT_EQ(config.training.total_steps, quickstart.training.total_steps);
+                  EXPECT_EQ(config.planning.cross_entropy.population,
+                            quickstart.planning.cross_entropy.population);
+                });
+}
+
 // The CPU presets: the paper's settings but for the dynamics networks' width and the window.
 TEST(ConfigTest, TheCpuPresetsKeepThePapersSettingsButTheNetworksWidth) {
   const TrainConfig paper = ParseTrainConfig("task: PointGoal1", "paper");
-  int presets = 0;
-  for (const std::string task : {"PointGoal1", "PointGoal2", "CarGoal1", "CarGoal2"}) {
-    for (const std::string planner : {"rce", "cem", "random"}) {
-      std::string stem = task;
-      for (char& c : stem) c = static_cast<char>(std::tolower(c));
-      const std::string path =
-          std::string(CMBRL_SOURCE_DIR "/configs/cpu/") + stem + "-" + planner + ".yaml";
-      SCOPED_TRACE(path);
-      const TrainConfig config = LoadTrainConfig(path);
-      EXPECT_EQ(config.task, task);
-      EXPECT_EQ(config.planner, planner);
-      EXPECT_EQ(config.variant, Variant::kPaper);
-      EXPECT_EQ(config.training.total_steps, 3000);
-      EXPECT_EQ(config.ensemble.hidden_sizes, std::vector<int>({256, 256, 256}));
-      EXPECT_EQ(config.ensemble.ensemble_size, task.rfind("Car", 0) == 0 ? 5 : 4);
-      // Everything else as the paper ran it.
-      TrainConfig expected = paper;
-      expected.task = config.task;
-      expected.planner = config.planner;
-      expected.training.total_steps = config.training.total_steps;
-      expected.ensemble.hidden_sizes = config.ensemble.hidden_sizes;
-      expected.ensemble.ensemble_size = config.ensemble.ensemble_size;
-      expected.objective.goal_index = config.objective.goal_index;
-      EXPECT_EQ(TrainConfigToYaml(config), TrainConfigToYaml(expected));
-      ++presets;
-    }
-  }
-  EXPECT_EQ(presets, 12);
+  ForEachPreset(CMBRL_SOURCE_DIR "/configs/cpu", [&](const std::string& task, const std::string&,
+                                                     const TrainConfig& config) {
+    EXPECT_EQ(config.variant, Variant::kPaper);
+    EXPECT_EQ(config.training.total_steps, 3000);
+    EXPECT_EQ(config.ensemble.hidden_sizes, std::vector<int>({256, 256, 256}));
+    EXPECT_EQ(config.ensemble.ensemble_size, task.rfind("Car", 0) == 0 ? 5 : 4);
+    // Everything else as the paper ran it.
+    TrainConfig expected = paper;
+    expected.task = config.task;
+    expected.planner = config.planner;
+    expected.training.total_steps = config.training.total_steps;
+    expected.ensemble.hidden_sizes = config.ensemble.hidden_sizes;
+    expected.ensemble.ensemble_size = config.ensemble.ensemble_size;
+    expected.objective.goal_index = config.objective.goal_index;
+    EXPECT_EQ(TrainConfigToYaml(config), TrainConfigToYaml(expected));
+  });
 }
 
 TEST(ConfigTest, ObservationSizesMatchTheEnvironments) {
