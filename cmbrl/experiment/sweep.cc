@@ -79,7 +79,7 @@ std::vector<SweepRun> PlanSweep(const SweepGrid& grid, const std::string& sweep_
   return runs;
 }
 
-RunStatus StatusOf(const SweepRun& run) {
+RunStatus StatusOf(const SweepRun& run, std::optional<std::int64_t> budget) {
   const RunDirectory dir(run.run_dir);
   if (!dir.HoldsRun()) return RunStatus::kNew;
   const TrainConfig config = LoadTrainConfig(dir.config_file().string());
@@ -90,7 +90,8 @@ RunStatus StatusOf(const SweepRun& run) {
     // A process killed while writing a row leaves it half written; resuming repairs that.
     return RunStatus::kStarted;
   }
-  return !episodes.empty() && episodes.back().end_step >= config.training.total_steps
+  const std::int64_t steps = budget.value_or(config.training.total_steps);
+  return !episodes.empty() && episodes.back().end_step >= steps
              ? RunStatus::kFinished
              : RunStatus::kStarted;
 }
@@ -108,13 +109,20 @@ void RecordOrCheckSweep(const SweepGrid& grid, const std::string& sweep_dir) {
     } catch (const nlohmann::json::exception& error) {
       Fail("'{}' is not valid JSON: {}", path.string(), error.what());
     }
+    const nlohmann::json recorded_steps = recorded.value("steps", nlohmann::json());
+    // A larger budget continues the sweep's runs (train --resume --steps); nothing else may
+    // change.
+    const nlohmann::json& steps = settings["steps"];
+    const bool longer = recorded_steps.is_number_integer() && steps.is_number_integer() &&
+                        steps.get<std::int64_t>() > recorded_steps.get<std::int64_t>();
     for (const char* key : {"config_dir", "steps"}) {
+      if (longer && std::string(key) == "steps") continue;
       Require(recorded.value(key, nlohmann::json()) == settings[key],
               "this sweep was started with {} {}, now {} is {}: finish it with the same "
-              "settings, or use another --out",
+              "settings (or a larger --steps), or use another --out",
               key, recorded.value(key, nlohmann::json()).dump(), key, settings[key].dump());
     }
-    return;
+    if (!longer) return;
   }
   fs::create_directories(sweep_dir);
   const fs::path tmp = path.string() + ".tmp";
@@ -123,7 +131,14 @@ void RecordOrCheckSweep(const SweepGrid& grid, const std::string& sweep_dir) {
 }
 
 std::vector<std::string> TrainArguments(const SweepRun& run, const SweepGrid& grid) {
-  if (StatusOf(run) != RunStatus::kNew) return {"train", "--resume", run.run_dir};
+  if (StatusOf(run) != RunStatus::kNew) {
+    std::vector<std::string> args = {"train", "--resume", run.run_dir};
+    if (grid.steps) {
+      args.push_back("--steps");
+      args.push_back(std::to_string(*grid.steps));
+    }
+    return args;
+  }
   std::vector<std::string> args = {"train",  "--config", run.config_path, "--seed",
                                    std::to_string(run.seed), "--out", run.run_dir};
   if (grid.steps) {
@@ -171,7 +186,9 @@ std::string SlurmScript(const std::vector<SweepRun>& runs, const SweepGrid& grid
   // A run exists once its config file does (RunDirectory::HoldsRun).
   script += fmt::format("if [ -f \"$run_dir/{}\" ]; then\n",
                         RunDirectory("").config_file().filename().string());
-  script += "  exec \"$cmbrl\" train --resume \"$run_dir\"\n";
+  script += "  exec \"$cmbrl\" train --resume \"$run_dir\"";
+  if (grid.steps) script += fmt::format(" --steps {}", *grid.steps);
+  script += "\n";
   script += "fi\n";
   script += "exec \"$cmbrl\" train --config \"$config\" --seed \"$seed\" --out \"$run_dir\"";
   if (grid.steps) script += fmt::format(" --steps {}", *grid.steps);

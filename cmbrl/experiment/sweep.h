@@ -31,17 +31,19 @@ struct SweepRun {
 // an unknown task or planner, an empty list, a repeated seed, or a missing config file.
 std::vector<SweepRun> PlanSweep(const SweepGrid& grid, const std::string& sweep_dir);
 
-// Where a run stands: not started, started (resume it), or finished (its progress reached the
-// config's budget).
+// Where a run stands: not started, started (resume it), or finished (its progress reached
+// `budget`, or the run's own budget without one).
 enum class RunStatus { kNew, kStarted, kFinished };
-RunStatus StatusOf(const SweepRun& run);
+RunStatus StatusOf(const SweepRun& run, std::optional<std::int64_t> budget = std::nullopt);
 
 // Records the grid in sweep_dir/sweep.json, or checks it against the recorded one, so that a
-// restarted sweep cannot silently mix budgets or config folders. Throws cmbrl::Error naming the
-// setting that differs.
+// restarted sweep cannot silently mix budgets or config folders. A larger --steps than recorded
+// is allowed and recorded: the sweep then continues every run to it. Throws cmbrl::Error naming
+// the setting that differs otherwise.
 void RecordOrCheckSweep(const SweepGrid& grid, const std::string& sweep_dir);
 
-// The command line of one run: `train --resume DIR` when it has started, else a new run.
+// The command line of one run: `train --resume DIR` when it has started (with `--steps N` when
+// the grid sets a budget: a run made with a smaller one continues to it), else a new run.
 std::vector<std::string> TrainArguments(const SweepRun& run, const SweepGrid& grid);
 
 // The CPUs of each of `jobs` runs at a time: `cpus` split into `jobs` equal contiguous shares

@@ -82,7 +82,7 @@ SweepOutcome RunSweep(const SweepGrid& grid, const std::string& sweep_dir, int j
   std::deque<const SweepRun*> queue;
   int skipped = 0;
   for (const SweepRun& run : runs) {
-    if (StatusOf(run) == RunStatus::kFinished) {
+    if (StatusOf(run, grid.steps) == RunStatus::kFinished) {
       on_event({run.name, "already finished", "", {}, std::nullopt, std::nullopt});
       ++skipped;
     } else {

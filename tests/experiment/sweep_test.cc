@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "cmbrl/experiment/mpc_learner.h"
 #include "tests/error_message.h"
 #include "tests/temp_path.h"
 
@@ -62,7 +63,7 @@ TEST(SweepTest, SlurmScriptHasOneArrayTaskPerRun) {
   EXPECT_THAT(script, HasSubstr("#SBATCH --array=0-7\n"));
   EXPECT_THAT(script, HasSubstr("cmbrl='/opt/cmbrl/bin/cmbrl'\n"));
   EXPECT_THAT(script, HasSubstr("'/tmp/sweep/runs/cargoal2-random-s1|"));
-  EXPECT_THAT(script, HasSubstr("train --resume \"$run_dir\""));
+  EXPECT_THAT(script, HasSubstr("train --resume \"$run_dir\" --steps 3000\n"));
   EXPECT_THAT(script, HasSubstr("--out \"$run_dir\" --steps 3000\n"));
 }
 
@@ -73,9 +74,32 @@ TEST(SweepTest, ARestartWithOtherSettingsIsRefused) {
   grid.steps = 3000;
   RecordOrCheckSweep(grid, dir);
   RecordOrCheckSweep(grid, dir);  // the same settings again: fine
+  grid.steps = 2000;
+  EXPECT_THAT(ErrorMessage([&] { RecordOrCheckSweep(grid, dir); }),
+              HasSubstr("this sweep was started with steps 3000, now steps is 2000"));
+  grid.steps = std::nullopt;  // the configs' budgets: another grid
+  EXPECT_THAT(ErrorMessage([&] { RecordOrCheckSweep(grid, dir); }),
+              HasSubstr("this sweep was started with steps 3000, now steps is null"));
+  grid.config_dir = CMBRL_SOURCE_DIR "/configs/quickstart";
   grid.steps = 5000;
   EXPECT_THAT(ErrorMessage([&] { RecordOrCheckSweep(grid, dir); }),
-              HasSubstr("this sweep was started with steps 3000, now steps is 5000"));
+              HasSubstr("this sweep was started with config_dir"));
+  // A larger budget continues the sweep: recorded, and every started run resumes to it.
+  grid = PaperGrid();
+  grid.steps = 5000;
+  RecordOrCheckSweep(grid, dir);
+  std::ifstream recorded(fs::path(dir) / "sweep.json");
+  EXPECT_THAT(std::string(std::istreambuf_iterator<char>(recorded), {}),
+              HasSubstr("\"steps\": 5000"));
+  const std::vector<SweepRun> runs = PlanSweep(grid, dir);
+  fs::create_directories(runs[0].run_dir);
+  std::ofstream(fs::path(runs[0].run_dir) / "config.yaml") << "training: {total_steps: 3000}\n";
+  std::ofstream(fs::path(runs[0].run_dir) / "progress.csv")
+      << ProgressCsvHeader() << "\n1,1,0,0,3001,0,0,0,0,0,0,0,100,0\n";
+  EXPECT_EQ(StatusOf(runs[0]), RunStatus::kFinished);  // by its own budget
+  EXPECT_EQ(StatusOf(runs[0], 5000), RunStatus::kStarted);
+  EXPECT_EQ(TrainArguments(runs[0], grid),
+            (std::vector<std::string>{"train", "--resume", runs[0].run_dir, "--steps", "5000"}));
 }
 
 TEST(SweepTest, EachRunAtATimeGetsItsOwnCpus) {
