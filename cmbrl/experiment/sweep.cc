@@ -85,7 +85,9 @@ RunStatus StatusOf(const SweepRun& run, std::optional<std::int64_t> budget) {
   const TrainConfig config = LoadTrainConfig(dir.config_file().string());
   std::vector<EpisodePoint> episodes;
   try {
-    episodes = ReadProgressEpisodes(dir.progress_file().string());
+    // An MPC run has a row per episode, a model-free one a row per epoch.
+    episodes = config.algorithm == "mpc" ? ReadProgressEpisodes(dir.progress_file().string())
+                                         : ReadEpochLog(dir.progress_file().string());
   } catch (const Error&) {
     // A process killed while writing a row leaves it half written; resuming repairs that.
     return RunStatus::kStarted;

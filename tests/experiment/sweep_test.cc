@@ -102,6 +102,30 @@ TEST(SweepTest, ARestartWithOtherSettingsIsRefused) {
             (std::vector<std::string>{"train", "--resume", runs[0].run_dir, "--steps", "5000"}));
 }
 
+// A model-free run's progress has a row per epoch: finished once its last epoch reaches the
+// budget, like an MPC run's last episode.
+TEST(SweepTest, AModelFreeRunIsFinishedByItsEpochs) {
+  const std::string dir = testing::TestTempPath("sweep_model_free");
+  fs::remove_all(dir);
+  SweepGrid grid = PaperGrid();
+  grid.planners = {"cpo"};
+  const std::vector<SweepRun> runs = PlanSweep(grid, dir);
+  fs::create_directories(runs[0].run_dir);
+  std::ofstream(fs::path(runs[0].run_dir) / "config.yaml")
+      << "variant: paper-lidar\nalgorithm: cpo\ntraining: {total_steps: 60000}\n";
+  const auto write_epochs = [&](int epochs) {
+    std::ofstream progress(fs::path(runs[0].run_dir) / "progress.csv");
+    progress << "Epoch,AverageEpRet,AverageEpCost,EpLen,CumulativeCost,TotalEnvInteracts\n";
+    for (int e = 1; e <= epochs; ++e) {
+      progress << e << ",1,2,300," << 200 * e << "," << 30000 * e << "\n";
+    }
+  };
+  write_epochs(1);
+  EXPECT_EQ(StatusOf(runs[0]), RunStatus::kStarted);
+  write_epochs(2);
+  EXPECT_EQ(StatusOf(runs[0]), RunStatus::kFinished);
+}
+
 TEST(SweepTest, EachRunAtATimeGetsItsOwnCpus) {
   using Shares = std::vector<std::vector<int>>;
   EXPECT_EQ(CpuShares({0, 1}, 2), (Shares{{0}, {1}}));
