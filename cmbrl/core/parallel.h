@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <exception>
 #include <thread>
 #include <vector>
 
@@ -14,7 +15,9 @@ namespace cmbrl {
 
 // Calls work(begin, end) on `workers` contiguous parts of [0, count): the first part on the
 // calling thread, each other on a thread of its own (a start costs tens of microseconds, so
-// callers ask for several workers only for large loops). Returns when all parts are done.
+// callers ask for several workers only for large loops). Returns when all parts are done. An
+// exception thrown by a part is rethrown here once every part has ended (that of the earliest
+// part when several throw).
 template <typename Work>
 void ParallelRanges(std::int64_t count, int workers, Work&& work) {
   if (workers <= 1 || count <= 1) {
@@ -22,14 +25,21 @@ void ParallelRanges(std::int64_t count, int workers, Work&& work) {
     return;
   }
   const auto bound = [&](int worker) { return count * worker / workers; };
+  std::vector<std::exception_ptr> failures(static_cast<size_t>(workers));
+  const auto run_part = [&](int worker) {
+    try {
+      work(bound(worker), bound(worker + 1));
+    } catch (...) {
+      failures[static_cast<size_t>(worker)] = std::current_exception();
+    }
+  };
   std::vector<std::thread> helpers;
-  for (int worker = 1; worker < workers; ++worker) {
-    helpers.emplace_back([&work, begin = bound(worker), end = bound(worker + 1)] {
-      work(begin, end);
-    });
-  }
-  work(std::int64_t{0}, bound(1));
+  for (int worker = 1; worker < workers; ++worker) helpers.emplace_back(run_part, worker);
+  run_part(0);
   for (std::thread& helper : helpers) helper.join();
+  for (const std::exception_ptr& failure : failures) {
+    if (failure) std::rethrow_exception(failure);
+  }
 }
 
 // The CPUs this process may run on, from its affinity mask (what taskset, a Slurm task or a

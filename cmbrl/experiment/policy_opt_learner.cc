@@ -5,8 +5,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <exception>
-#include <mutex>
 #include <fstream>
 #include <nlohmann/json.hpp>
 
@@ -225,23 +223,15 @@ PolicyOptLearner::Epoch PolicyOptLearner::Collect() {
     const torch::Tensor host = actions.to(torch::kDouble).contiguous();
     const int action_dim = static_cast<int>(actions.size(1));
     // Environments are independent: step them on the cores this process has.
-    std::exception_ptr failure;
-    std::mutex failure_mutex;
     ParallelRanges(static_cast<std::int64_t>(active.size()),
                    std::min({CoreCount(), o.env_threads, static_cast<int>(active.size())}),
                    [&](std::int64_t begin, std::int64_t end) {
                      for (std::int64_t i = begin; i < end; ++i) {
-                       try {
-                         const double* a = host.data_ptr<double>() + i * action_dim;
-                         results[active[i]] =
-                             envs_[active[i]]->Step(std::vector<double>(a, a + action_dim));
-                       } catch (...) {
-                         const std::lock_guard<std::mutex> lock(failure_mutex);
-                         if (!failure) failure = std::current_exception();
-                       }
+                       const double* a = host.data_ptr<double>() + i * action_dim;
+                       results[active[i]] =
+                           envs_[active[i]]->Step(std::vector<double>(a, a + action_dim));
                      }
                    });
-    if (failure) std::rethrow_exception(failure);
     for (size_t i = 0; i < active.size(); ++i) {
       const int k = active[i];
       EnvTrace& trace = traces[k];
@@ -371,24 +361,16 @@ LearnerStep PolicyOptLearner::Advance(const std::function<double()>& elapsed_sec
     // faster on 2 threads than on 1; two fits at once are nearly 2x).
     const ScopedSingleThreadedMath single_threaded;
     double losses[2] = {0.0, 0.0};
-    std::exception_ptr failure;
-    std::mutex failure_mutex;
     ParallelRanges(2, std::min(2, CoreCount()), [&](std::int64_t begin, std::int64_t end) {
       for (std::int64_t i = begin; i < end; ++i) {
-        try {
-          losses[i] = i == 0 ? FitValueFunction(*value_, *value_optimizer_,
-                                                epoch.batch.observations, epoch.returns,
-                                                o.value_iterations)
-                             : FitValueFunction(*cost_value_, *cost_value_optimizer_,
-                                                epoch.batch.observations, epoch.cost_returns,
-                                                o.value_iterations);
-        } catch (...) {
-          const std::lock_guard<std::mutex> lock(failure_mutex);
-          if (!failure) failure = std::current_exception();
-        }
+        losses[i] = i == 0 ? FitValueFunction(*value_, *value_optimizer_,
+                                              epoch.batch.observations, epoch.returns,
+                                              o.value_iterations)
+                           : FitValueFunction(*cost_value_, *cost_value_optimizer_,
+                                              epoch.batch.observations, epoch.cost_returns,
+                                              o.value_iterations);
       }
     });
-    if (failure) std::rethrow_exception(failure);
     row.loss_v = losses[0];
     row.loss_vc = losses[1];
   }

@@ -40,6 +40,11 @@ std::string Figure(double value, int digits) {
   return std::isfinite(value) ? fmt::format("{:.{}f}", value, digits) : "-";
 }
 
+// Counts joined by ", ", or "-" where there are none.
+std::string CountsOrDash(const std::vector<int>& counts) {
+  return counts.empty() ? "-" : fmt::format("{}", fmt::join(counts, ", "));
+}
+
 double Mean(const std::vector<double>& values) {
   double sum = 0.0;
   for (double v : values) sum += v;
@@ -368,13 +373,8 @@ std::string TableMarkdown(const std::vector<TableCell>& cells, std::int64_t wind
         cell.task, MethodLabel(cell.planner), cell.mean, Counts(cell.per_seed),
         Mean(cell.original_per_seed), Counts(cell.original_per_seed), VersusOriginal(cell),
         Figure(cell.return_mean, 2), Figure(Mean(cell.original_final_returns), 2),
-        cell.heavy_episodes.empty() ? "-" : fmt::format("{}", fmt::join(cell.heavy_episodes, ", ")),
-        cell.original_heavy_episodes.empty()
-            ? "-"
-            : fmt::format("{}", fmt::join(cell.original_heavy_episodes, ", ")),
-        std::isfinite(Mean(cell.feasible_fractions))
-            ? fmt::format("{:.3f}", Mean(cell.feasible_fractions))
-            : "-");
+        CountsOrDash(cell.heavy_episodes), CountsOrDash(cell.original_heavy_episodes),
+        Figure(Mean(cell.feasible_fractions), 3));
   }
   return text;
 }

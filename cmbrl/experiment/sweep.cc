@@ -133,16 +133,11 @@ void RecordOrCheckSweep(const SweepGrid& grid, const std::string& sweep_dir) {
 }
 
 std::vector<std::string> TrainArguments(const SweepRun& run, const SweepGrid& grid) {
-  if (StatusOf(run) != RunStatus::kNew) {
-    std::vector<std::string> args = {"train", "--resume", run.run_dir};
-    if (grid.steps) {
-      args.push_back("--steps");
-      args.push_back(std::to_string(*grid.steps));
-    }
-    return args;
-  }
-  std::vector<std::string> args = {"train",  "--config", run.config_path, "--seed",
-                                   std::to_string(run.seed), "--out", run.run_dir};
+  std::vector<std::string> args =
+      StatusOf(run) != RunStatus::kNew
+          ? std::vector<std::string>{"train", "--resume", run.run_dir}
+          : std::vector<std::string>{"train", "--config", run.config_path, "--seed",
+                                     std::to_string(run.seed), "--out", run.run_dir};
   if (grid.steps) {
     args.push_back("--steps");
     args.push_back(std::to_string(*grid.steps));
@@ -188,13 +183,11 @@ std::string SlurmScript(const std::vector<SweepRun>& runs, const SweepGrid& grid
   // A run exists once its config file does (RunDirectory::HoldsRun).
   script += fmt::format("if [ -f \"$run_dir/{}\" ]; then\n",
                         RunDirectory("").config_file().filename().string());
-  script += "  exec \"$cmbrl\" train --resume \"$run_dir\"";
-  if (grid.steps) script += fmt::format(" --steps {}", *grid.steps);
-  script += "\n";
+  const std::string steps = grid.steps ? fmt::format(" --steps {}", *grid.steps) : "";
+  script += "  exec \"$cmbrl\" train --resume \"$run_dir\"" + steps + "\n";
   script += "fi\n";
-  script += "exec \"$cmbrl\" train --config \"$config\" --seed \"$seed\" --out \"$run_dir\"";
-  if (grid.steps) script += fmt::format(" --steps {}", *grid.steps);
-  script += "\n";
+  script += "exec \"$cmbrl\" train --config \"$config\" --seed \"$seed\" --out \"$run_dir\"" +
+            steps + "\n";
   return script;
 }
 

@@ -5,6 +5,8 @@
 
 #include <atomic>
 #include <numeric>
+#include <stdexcept>
+#include <string>
 
 namespace cmbrl {
 namespace {
@@ -16,6 +18,24 @@ TEST(ParallelTest, RangesCoverTheLoopOnceWhateverTheWorkers) {
       for (std::int64_t i = begin; i < end; ++i) ++visits[static_cast<size_t>(i)];
     });
     for (const auto& count : visits) EXPECT_EQ(count.load(), 1) << workers << " workers";
+  }
+}
+
+// A part that throws on a helper thread does not end the process: every part finishes, then
+// the exception reaches the caller.
+TEST(ParallelTest, AnExceptionOfAnyPartReachesTheCaller) {
+  for (const int failing : {0, 2}) {
+    std::atomic<int> finished{0};
+    try {
+      ParallelRanges(4, 4, [&](std::int64_t begin, std::int64_t) {
+        if (begin == failing) throw std::runtime_error("part " + std::to_string(begin));
+        ++finished;
+      });
+      ADD_FAILURE() << "expected the exception of part " << failing;
+    } catch (const std::runtime_error& error) {
+      EXPECT_EQ(error.what(), "part " + std::to_string(failing));
+    }
+    EXPECT_EQ(finished.load(), 3);
   }
 }
 
