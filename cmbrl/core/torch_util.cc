@@ -60,37 +60,23 @@ void CheckFinite(const torch::Tensor& t, const char* what) {
        t.flatten()[flat].item<float>(), flat / columns, flat % columns);
 }
 
-namespace {
-
-// OpenBLAS's thread controls, looked up at run time (LibTorch may use another BLAS).
-using GetThreads = int (*)();
-using SetThreads = void (*)(int);
-
-GetThreads BlasGetThreads() {
-  return reinterpret_cast<GetThreads>(dlsym(RTLD_DEFAULT, "openblas_get_num_threads"));
-}
-SetThreads BlasSetThreads() {
-  return reinterpret_cast<SetThreads>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"));
-}
-
-}  // namespace
-
-ScopedSingleThreadedMath::ScopedSingleThreadedMath()
-    : torch_threads_(at::get_num_threads()), blas_threads_(0) {
+ScopedSingleThreadedMath::ScopedSingleThreadedMath() : torch_threads_(at::get_num_threads()) {
   at::set_num_threads(1);
-  const GetThreads get = BlasGetThreads();
-  const SetThreads set = BlasSetThreads();
-  if (get != nullptr && set != nullptr) {
+  // OpenBLAS's thread controls, looked up at run time (LibTorch may use another BLAS).
+  using GetThreads = int (*)();
+  const auto get =
+      reinterpret_cast<GetThreads>(dlsym(RTLD_DEFAULT, "openblas_get_num_threads"));
+  blas_set_threads_ =
+      reinterpret_cast<void (*)(int)>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"));
+  if (get != nullptr && blas_set_threads_ != nullptr) {
     blas_threads_ = get();
-    set(1);
+    blas_set_threads_(1);
   }
 }
 
 ScopedSingleThreadedMath::~ScopedSingleThreadedMath() {
   at::set_num_threads(torch_threads_);
-  if (blas_threads_ > 0) {
-    if (const SetThreads set = BlasSetThreads()) set(blas_threads_);
-  }
+  if (blas_threads_ > 0) blas_set_threads_(blas_threads_);
 }
 
 }  // namespace cmbrl

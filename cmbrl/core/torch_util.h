@@ -41,7 +41,8 @@ class ScopedSingleThreadedMath {
 
  private:
   int torch_threads_;
-  int blas_threads_;  // 0 when the process has no OpenBLAS
+  int blas_threads_ = 0;                        // 0 when the process has no OpenBLAS
+  void (*blas_set_threads_)(int) = nullptr;     // OpenBLAS's, looked up once
 };
 
 }  // namespace cmbrl

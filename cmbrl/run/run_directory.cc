@@ -127,16 +127,9 @@ RunDirectory RunDirectory::Create(const fs::path& root, const std::string& confi
       progress.close();
       Require(!progress.fail(), "cannot write '{}'", run.progress_file().string());
     }
-    const fs::path tmp = root / "config.yaml.tmp";
-    made.push_back(tmp);
-    {
-      std::ofstream out(tmp);
-      out << config_yaml;
-      out.close();
-      Require(!out.fail(), "cannot write '{}'", tmp.string());
-    }
+    made.push_back(run.config_tmp_file());
     made.push_back(run.config_file());
-    fs::rename(tmp, run.config_file());
+    run.ReplaceConfig(config_yaml);
   } catch (...) {
     if (!existed) {
       fs::remove_all(root, error);
@@ -149,7 +142,7 @@ RunDirectory RunDirectory::Create(const fs::path& root, const std::string& confi
 }
 
 void RunDirectory::ReplaceConfig(const std::string& config_yaml) const {
-  const fs::path tmp = root_ / "config.yaml.tmp";
+  const fs::path tmp = config_tmp_file();
   std::ofstream out(tmp, std::ios::trunc);
   out << config_yaml;
   out.close();

@@ -44,11 +44,14 @@ class RunDirectory {
                              const std::string& progress_header,
                              const std::function<void()>& claim);
 
-  // Rewrites config.yaml (written whole, then renamed into place), as when a resumed run gets a
-  // new budget. The caller holds the run's lock. Throws cmbrl::Error when it cannot be written.
+  // Writes config.yaml whole, then renames it into place (Create's last step, and a resumed run
+  // given a new budget). The caller holds the run's lock. Throws cmbrl::Error when it cannot be
+  // written.
   void ReplaceConfig(const std::string& config_yaml) const;
 
  private:
+  std::filesystem::path config_tmp_file() const { return root_ / "config.yaml.tmp"; }
+
   std::filesystem::path root_;
 };
 
