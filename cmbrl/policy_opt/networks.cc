@@ -40,6 +40,39 @@ torch::Tensor TanhMlp::Forward(const torch::Tensor& input) const {
   return x;
 }
 
+double TanhMlp::AddSquaredErrorGradient(const torch::Tensor& inputs,
+                                        const torch::Tensor& targets, double scale,
+                                        std::vector<torch::Tensor>& gradients) const {
+  constexpr std::int64_t kBlockRows = 1024;
+  const torch::NoGradGuard no_grad;
+  const size_t layers = parameters_.size() / 2;
+  const std::int64_t rows = inputs.size(0);
+  double squares = 0.0;
+  std::vector<torch::Tensor> activations(layers + 1);
+  for (std::int64_t start = 0; start < rows; start += kBlockRows) {
+    const std::int64_t count = std::min(kBlockRows, rows - start);
+    activations[0] = inputs.narrow(0, start, count);
+    for (size_t l = 0; l < layers; ++l) {
+      activations[l + 1] =
+          torch::addmm(parameters_[2 * l + 1], activations[l], parameters_[2 * l].t());
+      if (l + 1 < layers) activations[l + 1].tanh_();
+    }
+    const torch::Tensor residual =
+        activations[layers].squeeze(-1) - targets.narrow(0, start, count);
+    squares += residual.pow(2).sum().item<double>();
+    torch::Tensor delta = (residual * scale).unsqueeze(-1);  // d loss / d output
+    for (size_t l = layers; l-- > 0;) {
+      gradients[2 * l].addmm_(delta.t(), activations[l]);
+      gradients[2 * l + 1].add_(delta.sum(0));
+      if (l > 0) {
+        // Back through layer l's weights and the tanh before it: tanh' = 1 - tanh^2.
+        delta = delta.mm(parameters_[2 * l]).mul_(1 - activations[l].pow(2));
+      }
+    }
+  }
+  return squares;
+}
+
 GaussianPolicy::GaussianPolicy(int observation_dim, int action_dim,
                                const std::vector<int>& hidden, double initial_log_std,
                                at::Generator& generator)

@@ -17,6 +17,13 @@ class TanhMlp {
  public:
   TanhMlp(int input_dim, const std::vector<int>& hidden, int output_dim, at::Generator& generator);
   torch::Tensor Forward(const torch::Tensor& input) const;  // (N, in) -> (N, out), no activation last
+  // For a network with one output: adds to `gradients` (one tensor per parameter, shaped like
+  // it) the gradient of (scale / 2) * sum over rows of (output - target)^2, and returns that sum
+  // of squares. Forward and backward run over blocks of rows small enough that a block's
+  // activations stay in the core's cache between them (LibTorch's autograd keeps the whole
+  // batch's); the result is autograd's up to the order of the sums. No autograd graph.
+  double AddSquaredErrorGradient(const torch::Tensor& inputs, const torch::Tensor& targets,
+                                 double scale, std::vector<torch::Tensor>& gradients) const;
   std::vector<torch::Tensor>& parameters() { return parameters_; }
   const std::vector<torch::Tensor>& parameters() const { return parameters_; }
 

@@ -175,52 +175,22 @@ PolicyUpdateReport PpoUpdate(GaussianPolicy& policy, torch::optim::Adam& optimiz
 double FitValueFunction(TanhMlp& value, torch::optim::Adam& optimizer,
                         const torch::Tensor& observations, const torch::Tensor& targets,
                         int iterations) {
-  // The gradient of the MSE by hand, over blocks of rows small enough that a block's activations
-  // stay in the core's cache between the forward and the backward pass (the whole batch's are
-  // 30 MB a layer). The same gradient as autograd's up to the order of the sums.
-  constexpr std::int64_t kBlockRows = 1024;
-  const std::vector<torch::Tensor>& parameters = value.parameters();  // W0, b0, W1, b1, ...
-  const size_t layers = parameters.size() / 2;
-  const std::int64_t rows = observations.size(0);
-  const double scale = 2.0 / static_cast<double>(rows);
+  // The MSE's gradient by hand (TanhMlp::AddSquaredErrorGradient), into tensors that are the
+  // parameters' own .grad() throughout: refilled each iteration, never cleared by zero_grad().
+  const std::vector<torch::Tensor>& parameters = value.parameters();
+  const double rows = static_cast<double>(observations.size(0));
   std::vector<torch::Tensor> gradients;
-  for (const torch::Tensor& p : parameters) gradients.push_back(torch::zeros_like(p));
+  for (const torch::Tensor& p : parameters) {
+    gradients.push_back(torch::zeros_like(p));
+    torch::Tensor parameter = p;
+    parameter.mutable_grad() = gradients.back();
+  }
   double first_loss = 0.0;
   for (int i = 0; i < iterations; ++i) {
-    double squares = 0.0;
-    {
-      const torch::NoGradGuard no_grad;
-      for (torch::Tensor& g : gradients) g.zero_();
-      std::vector<torch::Tensor> activations(layers + 1);
-      for (std::int64_t start = 0; start < rows; start += kBlockRows) {
-        const std::int64_t count = std::min(kBlockRows, rows - start);
-        activations[0] = observations.narrow(0, start, count);
-        for (size_t l = 0; l < layers; ++l) {
-          activations[l + 1] =
-              torch::addmm(parameters[2 * l + 1], activations[l], parameters[2 * l].t());
-          if (l + 1 < layers) activations[l + 1].tanh_();
-        }
-        const torch::Tensor residual =
-            activations[layers].squeeze(-1) - targets.narrow(0, start, count);
-        squares += residual.pow(2).sum().item<double>();
-        torch::Tensor delta = (residual * scale).unsqueeze(-1);  // d loss / d output
-        for (size_t l = layers; l-- > 0;) {
-          gradients[2 * l].addmm_(delta.t(), activations[l]);
-          gradients[2 * l + 1].add_(delta.sum(0));
-          if (l > 0) {
-            // Back through layer l's weights and the tanh before it: tanh' = 1 - tanh^2.
-            delta = delta.mm(parameters[2 * l]).mul_(1 - activations[l].pow(2));
-          }
-        }
-      }
-    }
-    if (i == 0) first_loss = squares / static_cast<double>(rows);
-    // The gradients are the parameters' own .grad() from here on (no zero_grad(), which would
-    // clear them: they are refilled above).
-    for (size_t k = 0; k < parameters.size(); ++k) {
-      torch::Tensor parameter = parameters[k];
-      parameter.mutable_grad() = gradients[k];
-    }
+    for (torch::Tensor& g : gradients) g.zero_();
+    const double squares =
+        value.AddSquaredErrorGradient(observations, targets, 2.0 / rows, gradients);
+    if (i == 0) first_loss = squares / rows;
     optimizer.step();
   }
   return first_loss;
