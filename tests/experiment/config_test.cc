@@ -227,10 +227,12 @@ TEST(ConfigTest, TheQuickstartGridHasEveryTaskAndPlannerAtQuickstartSize) {
                 });
 }
 
-// The CPU presets: the paper's settings but for the dynamics networks' width and the window.
-TEST(ConfigTest, TheCpuPresetsKeepThePapersSettingsButTheNetworksWidth) {
+// The CPU presets: the paper's settings but for the dynamics networks' width, RCE's planner
+// (the grid's 200 x 5 with 10 elites: ablation 'population') and the window.
+TEST(ConfigTest, TheCpuPresetsKeepThePapersSettingsButTheNetworksWidthAndRcesPlanner) {
   const TrainConfig paper = ParseTrainConfig("task: PointGoal1", "paper");
-  ForEachPreset(CMBRL_SOURCE_DIR "/configs/cpu", [&](const std::string& task, const std::string&,
+  ForEachPreset(CMBRL_SOURCE_DIR "/configs/cpu", [&](const std::string& task,
+                                                     const std::string& planner,
                                                      const TrainConfig& config) {
     EXPECT_EQ(config.variant, Variant::kPaper);
     EXPECT_EQ(config.training.total_steps, 3000);
@@ -244,8 +246,30 @@ TEST(ConfigTest, TheCpuPresetsKeepThePapersSettingsButTheNetworksWidth) {
     expected.ensemble.hidden_sizes = config.ensemble.hidden_sizes;
     expected.ensemble.ensemble_size = config.ensemble.ensemble_size;
     expected.objective.goal_index = config.objective.goal_index;
+    if (planner == "rce") {
+      expected.planning.cross_entropy.population = 200;
+      expected.planning.cross_entropy.elites = 10;
+      expected.planning.cross_entropy.max_iterations = 5;
+    }
     EXPECT_EQ(TrainConfigToYaml(config), TrainConfigToYaml(expected));
   });
+}
+
+// The level-2 ablation 'combined' is the CPU preset at the 2000-step screening window, so that
+// its runs continue to the CPU grid's 3000 steps (scripts/cpu-grid-queue.sh).
+TEST(ConfigTest, TheCombinedAblationIsTheCpuPresetAtTwoThousandSteps) {
+  int checked = 0;
+  for (const std::string name : {"pointgoal2-rce", "cargoal2-rce", "cargoal1-cem"}) {
+    SCOPED_TRACE(name);
+    TrainConfig combined =
+        LoadTrainConfig(CMBRL_SOURCE_DIR "/configs/ablation-level2/combined/" + name + ".yaml");
+    const TrainConfig preset = LoadTrainConfig(CMBRL_SOURCE_DIR "/configs/cpu/" + name + ".yaml");
+    EXPECT_EQ(combined.training.total_steps, 2000);
+    combined.training.total_steps = preset.training.total_steps;
+    EXPECT_EQ(TrainConfigToYaml(combined), TrainConfigToYaml(preset));
+    ++checked;
+  }
+  EXPECT_EQ(checked, 3);
 }
 
 TEST(ConfigTest, ObservationSizesMatchTheEnvironments) {
