@@ -1,6 +1,8 @@
 #include "cmbrl/policy_opt/networks.h"
 
+#include <algorithm>
 #include <cmath>
+#include <memory>
 
 #include "cmbrl/core/check.h"
 
@@ -8,6 +10,8 @@ namespace cmbrl {
 namespace {
 
 constexpr double kEps = 1e-8;  // the original's EPS
+// Rows per block of the hand-written passes: a block's activations stay in the core's cache.
+constexpr std::int64_t kBlockRows = 1024;
 
 }  // namespace
 
@@ -43,7 +47,6 @@ torch::Tensor TanhMlp::Forward(const torch::Tensor& input) const {
 double TanhMlp::AddSquaredErrorGradient(const torch::Tensor& inputs,
                                         const torch::Tensor& targets, double scale,
                                         std::vector<torch::Tensor>& gradients) const {
-  constexpr std::int64_t kBlockRows = 1024;
   const torch::NoGradGuard no_grad;
   const size_t layers = parameters_.size() / 2;
   const std::int64_t rows = inputs.size(0);
@@ -60,17 +63,56 @@ double TanhMlp::AddSquaredErrorGradient(const torch::Tensor& inputs,
     const torch::Tensor residual =
         activations[layers].squeeze(-1) - targets.narrow(0, start, count);
     squares += residual.pow(2).sum().item<double>();
-    torch::Tensor delta = (residual * scale).unsqueeze(-1);  // d loss / d output
-    for (size_t l = layers; l-- > 0;) {
-      gradients[2 * l].addmm_(delta.t(), activations[l]);
-      gradients[2 * l + 1].add_(delta.sum(0));
-      if (l > 0) {
-        // Back through layer l's weights and the tanh before it: tanh' = 1 - tanh^2.
-        delta = delta.mm(parameters_[2 * l]).mul_(1 - activations[l].pow(2));
-      }
-    }
+    Backward(activations, (residual * scale).unsqueeze(-1), gradients);
   }
   return squares;
+}
+
+void TanhMlp::Backward(const std::vector<torch::Tensor>& activations, torch::Tensor delta,
+                       std::vector<torch::Tensor>& gradients) const {
+  for (size_t l = parameters_.size() / 2; l-- > 0;) {
+    gradients[2 * l].addmm_(delta.t(), activations[l]);
+    gradients[2 * l + 1].add_(delta.sum(0));
+    if (l > 0) {
+      // Back through layer l's weights and the tanh before it: tanh' = 1 - tanh^2.
+      delta = delta.mm(parameters_[2 * l]).mul_(1 - activations[l].pow(2));
+    }
+  }
+}
+
+TanhMlp::Jacobian::Jacobian(const TanhMlp& mlp, const torch::Tensor& inputs) : mlp_(mlp) {
+  const torch::NoGradGuard no_grad;
+  const size_t layers = mlp.parameters_.size() / 2;
+  const std::int64_t rows = inputs.size(0);
+  for (std::int64_t start = 0; start < rows; start += kBlockRows) {
+    std::vector<torch::Tensor> activations = {inputs.narrow(0, start, std::min(kBlockRows, rows - start))};
+    for (size_t l = 0; l + 1 < layers; ++l) {
+      activations.push_back(
+          torch::addmm(mlp.parameters_[2 * l + 1], activations[l], mlp.parameters_[2 * l].t())
+              .tanh_());
+    }
+    blocks_.push_back(std::move(activations));
+  }
+}
+
+void TanhMlp::Jacobian::AddGaussNewtonProduct(const std::vector<torch::Tensor>& v,
+                                              const torch::Tensor& output_weights, double scale,
+                                              std::vector<torch::Tensor>& product) const {
+  const torch::NoGradGuard no_grad;
+  const std::vector<torch::Tensor>& parameters = mlp_.parameters_;
+  const size_t layers = parameters.size() / 2;
+  const torch::Tensor weights = output_weights * scale;
+  for (const std::vector<torch::Tensor>& activations : blocks_) {
+    // The tangent pass: d(layer l's pre-activation) = x_l dW^T + db + dx_l W^T, the last term
+    // absent at the input; through the tanh, times 1 - tanh^2.
+    torch::Tensor tangent;
+    for (size_t l = 0; l < layers; ++l) {
+      torch::Tensor pre = torch::addmm(v[2 * l + 1], activations[l], v[2 * l].t());
+      if (l > 0) pre.addmm_(tangent, parameters[2 * l].t());
+      tangent = l + 1 < layers ? pre.mul_(1 - activations[l + 1].pow(2)) : pre;
+    }
+    mlp_.Backward(activations, tangent.mul_(weights), product);
+  }
 }
 
 GaussianPolicy::GaussianPolicy(int observation_dim, int action_dim,
@@ -112,6 +154,44 @@ torch::Tensor GaussianPolicy::Sample(const torch::Tensor& observations,
 
 double GaussianPolicy::Entropy() const {
   return (log_std_ + 0.5 * std::log(2 * M_PI * M_E)).sum().item<double>();
+}
+
+std::function<torch::Tensor(const torch::Tensor&)> GaussianPolicy::KlHessianProduct(
+    const torch::Tensor& observations) const {
+  // Per action dimension, KL(old || new) = ((mu - mu_old)^2 + var_old) / (2 (var + eps)) - 1/2
+  // + log_std - log_std_old. Where new == old its gradient is zero, so the mean's part of the
+  // Hessian is J^T diag(1 / (var + eps)) J / N; the mean and the log std do not mix; and the log
+  // std's second derivative is, with u = var, 4 u^3 / (u + eps)^3 - 2 u^2 / (u + eps)^2 (2 when
+  // eps = 0).
+  const torch::NoGradGuard no_grad;
+  const torch::Tensor var = torch::exp(2 * log_std_.to(torch::kDouble));
+  const torch::Tensor mean_weights = (1 / (var + kEps)).to(torch::kFloat);
+  const torch::Tensor log_std_curvature =
+      (4 * var.pow(3) / (var + kEps).pow(3) - 2 * var.pow(2) / (var + kEps).pow(2))
+          .to(torch::kFloat);
+  const double rows = static_cast<double>(observations.size(0));
+  auto jacobian = std::make_shared<TanhMlp::Jacobian>(mean_, observations);
+  return [this, jacobian, mean_weights, log_std_curvature, rows](const torch::Tensor& flat) {
+    const torch::NoGradGuard no_grad;
+    const std::vector<torch::Tensor>& mean_parameters = mean_.parameters();
+    std::int64_t size = action_dim_;
+    for (const torch::Tensor& p : mean_parameters) size += p.numel();
+    Require(flat.dim() == 1 && flat.numel() == size,
+            "a vector of {} values for the KL's Hessian: the policy has {} parameters",
+            flat.numel(), size);
+    std::vector<torch::Tensor> v, product;
+    std::int64_t offset = 0;
+    for (const torch::Tensor& p : mean_parameters) {
+      v.push_back(flat.narrow(0, offset, p.numel()).view_as(p));
+      product.push_back(torch::zeros_like(p));
+      offset += p.numel();
+    }
+    jacobian->AddGaussNewtonProduct(v, mean_weights, 1.0 / rows, product);
+    std::vector<torch::Tensor> parts;
+    for (const torch::Tensor& p : product) parts.push_back(p.reshape(-1));
+    parts.push_back(flat.narrow(0, offset, action_dim_) * log_std_curvature);
+    return torch::cat(parts);
+  };
 }
 
 std::vector<torch::Tensor> GaussianPolicy::parameters() const {

@@ -6,6 +6,7 @@
 #include <torch/torch.h>
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -27,7 +28,31 @@ class TanhMlp {
   std::vector<torch::Tensor>& parameters() { return parameters_; }
   const std::vector<torch::Tensor>& parameters() const { return parameters_; }
 
+  // Products with J, the Jacobian of the outputs with respect to the parameters at fixed inputs:
+  // Gauss-Newton products J^T diag(w) J v, the Hessian of a loss whose own Hessian in the
+  // outputs is diag(w) and whose gradient there is zero. Keeps the layers' activations at the
+  // inputs (about N x the hidden widths floats); valid while the network's parameters stay as
+  // they were. No autograd: a tangent pass and a backward pass over blocks of rows.
+  class Jacobian {
+   public:
+    Jacobian(const TanhMlp& mlp, const torch::Tensor& inputs);
+    // Adds scale * sum over rows of J_r^T diag(output_weights) J_r v to `product`; `v` and
+    // `product` hold one tensor per parameter, shaped like it; output_weights is (out).
+    void AddGaussNewtonProduct(const std::vector<torch::Tensor>& v,
+                               const torch::Tensor& output_weights, double scale,
+                               std::vector<torch::Tensor>& product) const;
+
+   private:
+    const TanhMlp& mlp_;
+    std::vector<std::vector<torch::Tensor>> blocks_;  // per block of rows, each layer's input
+  };
+
  private:
+  // Adds the gradient of sum over rows of <delta, output> to `gradients`, given each layer's
+  // input (activations[0] the network's input, then the hidden layers' tanh outputs).
+  void Backward(const std::vector<torch::Tensor>& activations, torch::Tensor delta,
+                std::vector<torch::Tensor>& gradients) const;
+
   std::vector<torch::Tensor> parameters_;  // weight (out, in), bias (out), per layer
 };
 
@@ -50,6 +75,14 @@ class GaussianPolicy {
   torch::Tensor Sample(const torch::Tensor& observations, at::Generator& generator) const;
   // Differential entropy, summed over action dimensions.
   double Entropy() const;
+  // v -> H v for flat vectors v (FlatParameters() order, float), H the Hessian of
+  // MeanKl(observations, old mean, old log std) at the current parameters, the old distribution
+  // being the current one: the Fisher matrix that TRPO's and CPO's steps solve with. Exact there
+  // (the mean's Gauss-Newton product with weights 1 / (var + 1e-8), the log std's diagonal) and
+  // equal to autograd's double backward up to the order of the sums, at about half its work.
+  // Valid while the parameters stay as they were.
+  std::function<torch::Tensor(const torch::Tensor&)> KlHessianProduct(
+      const torch::Tensor& observations) const;
 
   // Every parameter as one flat vector, in a fixed order, and back.
   std::vector<torch::Tensor> parameters() const;

@@ -56,12 +56,9 @@ PolicyUpdateReport TrustRegionUpdate(GaussianPolicy& policy, const PolicyBatch& 
   const Surrogates before = Evaluate(policy, batch, handling, penalty);
   const torch::Tensor g = FlatGradient(before.loss, parameters).to(torch::kDouble);
   // The Fisher-vector product: the Hessian of the KL at the old policy, damped.
-  const torch::Tensor kl = policy.MeanKl(batch.observations, old_mean, old_log_std);
-  const torch::Tensor kl_gradient = FlatGradient(kl, parameters, /*create_graph=*/true);
+  const auto kl_hessian = policy.KlHessianProduct(batch.observations);
   const auto fisher = [&](const torch::Tensor& v) {
-    const torch::Tensor product =
-        FlatGradient((kl_gradient * v.to(torch::kFloat)).sum(), parameters);
-    return product.to(torch::kDouble) + o.damping * v;
+    return kl_hessian(v.to(torch::kFloat)).to(torch::kDouble) + o.damping * v;
   };
 
   PolicyUpdateReport report;

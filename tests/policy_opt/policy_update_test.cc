@@ -5,6 +5,7 @@
 
 #include <cmath>
 
+#include "cmbrl/core/check.h"
 #include "cmbrl/core/torch_util.h"
 #include "cmbrl/policy_opt/lagrange.h"
 
@@ -120,6 +121,36 @@ TEST(PolicyUpdateTest, PpoLagrangianKeepsTheCostLimitWherePpoDoesNot) {
 
 namespace cmbrl {
 namespace {
+
+// The KL's Hessian by hand (GaussianPolicy::KlHessianProduct) against autograd's double
+// backward of MeanKl at the old policy, on random vectors: equal up to rounding.
+TEST(PolicyUpdateTest, TheKlHessianProductIsAutogradsDoubleBackward) {
+  at::Generator init = MakeCpuGenerator(11);
+  GaussianPolicy policy(6, 2, {32, 16}, -0.7, init);
+  at::Generator data = MakeCpuGenerator(12);
+  const torch::Tensor observations = torch::randn({2500, 6}, data);  // three blocks, one short
+  const std::vector<torch::Tensor> parameters = policy.parameters();
+  torch::Tensor old_mean, old_log_std;
+  {
+    const torch::NoGradGuard no_grad;
+    old_mean = policy.Mean(observations);
+    old_log_std = policy.log_std().clone();
+  }
+  const torch::Tensor kl_gradient = FlatGradient(
+      policy.MeanKl(observations, old_mean, old_log_std), parameters, /*create_graph=*/true);
+  const auto by_hand = policy.KlHessianProduct(observations);
+  for (int trial = 0; trial < 3; ++trial) {
+    const torch::Tensor v = torch::randn({kl_gradient.numel()}, data);
+    const torch::Tensor reference = FlatGradient((kl_gradient * v).sum(), parameters);
+    const torch::Tensor product = by_hand(v);
+    const double scale = reference.abs().max().item<double>();
+    EXPECT_GT(scale, 0.1);
+    EXPECT_LT((product - reference).abs().max().item<double>(), 1e-5 * scale) << "trial " << trial;
+    // The log std's part: 2 v per dimension (its second derivative where eps is negligible).
+    EXPECT_TRUE(torch::allclose(product.slice(0, -2), 2 * v.slice(0, -2), 1e-5, 1e-6));
+  }
+  EXPECT_THROW(by_hand(torch::zeros({3})), Error);
+}
 
 // The value fit's hand-written, blocked gradient against LibTorch's autograd on the full batch:
 // the same Adam steps up to rounding, the same loss before the first.
