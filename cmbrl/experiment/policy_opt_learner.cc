@@ -161,18 +161,27 @@ namespace {
 
 // One environment's share of an epoch: its steps in order, cut into paths.
 struct EnvTrace {
-  std::vector<double> observation;  // the current one
-  std::vector<torch::Tensor> observations, actions, log_probs;  // (1, O), (1, A), (1)
-  std::vector<double> advantages, cost_advantages, returns, cost_returns;
-  std::vector<double> rewards, costs, values, cost_values;  // the open path
+  std::vector<double> observation;          // the current one
+  std::vector<float> observations, actions;  // each step's, row after row
+  std::vector<double> rewards, costs;
+  // Each path's end (one past its last step) and, where it bootstraps (a time limit or the
+  // epoch's end, not a terminal state), the row of `bootstrap_observations` it bootstraps from.
+  std::vector<std::int64_t> path_ends, bootstrap_rows;
+  std::vector<float> bootstrap_observations;
   double episode_return = 0.0, episode_cost = 0.0;
 };
+
+// Rows of floats, `width` each, as an (N, width) tensor.
+torch::Tensor Rows(const std::vector<float>& values, std::int64_t width) {
+  return torch::tensor(values, torch::kFloat).view({-1, width});
+}
 
 }  // namespace
 
 PolicyOptLearner::Epoch PolicyOptLearner::Collect() {
   const PolicyOptimisationOptions& o = config_.policy_optimisation;
   const int env_count = static_cast<int>(envs_.size());
+  const std::int64_t observation_dim = envs_[0]->observation_spec().size();
   const std::int64_t epoch_steps =
       std::min<std::int64_t>(o.steps_per_epoch, config_.training.total_steps - total_steps_);
   // Each environment's steps; a last, shorter epoch is shared out as evenly as it goes.
@@ -187,47 +196,34 @@ PolicyOptLearner::Epoch PolicyOptLearner::Collect() {
                      : envs_[k]->Reset();
   }
   const torch::NoGradGuard no_grad;
-  const auto finish_path = [&](EnvTrace& trace, double last_value, double last_cost_value) {
-    trace.values.push_back(last_value);
-    trace.cost_values.push_back(last_cost_value);
-    const PathTargets reward = GaeTargets(trace.rewards, trace.values, o.gamma, o.lambda);
-    const PathTargets cost = GaeTargets(trace.costs, trace.cost_values, o.gamma, o.lambda);
-    trace.advantages.insert(trace.advantages.end(), reward.advantages.begin(),
-                            reward.advantages.end());
-    trace.returns.insert(trace.returns.end(), reward.returns.begin(), reward.returns.end());
-    trace.cost_advantages.insert(trace.cost_advantages.end(), cost.advantages.begin(),
-                                 cost.advantages.end());
-    trace.cost_returns.insert(trace.cost_returns.end(), cost.returns.begin(), cost.returns.end());
-    trace.rewards.clear();
-    trace.costs.clear();
-    trace.values.clear();
-    trace.cost_values.clear();
-  };
+  // The rollout: per round only the actions need the networks (one batched policy forward);
+  // the values and log-probabilities follow in one pass over the epoch's rows.
   const std::int64_t longest = *std::max_element(quota.begin(), quota.end());
   std::vector<StepResult> results(env_count);
+  std::vector<int> active;
+  std::vector<float> round_observations;
   for (std::int64_t t = 0; t < longest; ++t) {
     // The environments still stepping this round, their observations in one batch.
-    std::vector<int> active;
-    std::vector<torch::Tensor> rows;
+    active.clear();
+    round_observations.clear();
     for (int k = 0; k < env_count; ++k) {
       if (t < quota[k]) {
         active.push_back(k);
-        rows.push_back(Row(traces[k].observation));
+        round_observations.insert(round_observations.end(), traces[k].observation.begin(),
+                                  traces[k].observation.end());
       }
     }
-    const torch::Tensor batch = torch::cat(rows);
-    const torch::Tensor actions = policy_->Sample(batch, generator_);  // one draw, env order
-    const torch::Tensor log_probs = policy_->LogProb(batch, actions);
-    const torch::Tensor values = value_->Forward(batch).squeeze(-1).to(torch::kDouble);
-    const torch::Tensor cost_values = cost_value_->Forward(batch).squeeze(-1).to(torch::kDouble);
-    const torch::Tensor host = actions.to(torch::kDouble).contiguous();
+    const torch::Tensor actions =
+        policy_->Sample(Rows(round_observations, observation_dim), generator_);  // env order
+    const torch::Tensor host = actions.contiguous();
     const int action_dim = static_cast<int>(actions.size(1));
+    const float* action_rows = host.data_ptr<float>();
     // Environments are independent: step them on the cores this process has.
     ParallelRanges(static_cast<std::int64_t>(active.size()),
                    std::min({CoreCount(), o.env_threads, static_cast<int>(active.size())}),
                    [&](std::int64_t begin, std::int64_t end) {
                      for (std::int64_t i = begin; i < end; ++i) {
-                       const double* a = host.data_ptr<double>() + i * action_dim;
+                       const float* a = action_rows + i * action_dim;
                        results[active[i]] =
                            envs_[active[i]]->Step(std::vector<double>(a, a + action_dim));
                      }
@@ -236,11 +232,11 @@ PolicyOptLearner::Epoch PolicyOptLearner::Collect() {
       const int k = active[i];
       EnvTrace& trace = traces[k];
       StepResult& step = results[k];
-      trace.observations.push_back(rows[i]);
-      trace.actions.push_back(actions.narrow(0, static_cast<std::int64_t>(i), 1));
-      trace.log_probs.push_back(log_probs.narrow(0, static_cast<std::int64_t>(i), 1));
-      trace.values.push_back(values[static_cast<std::int64_t>(i)].item<double>());
-      trace.cost_values.push_back(cost_values[static_cast<std::int64_t>(i)].item<double>());
+      trace.observations.insert(trace.observations.end(),
+                                round_observations.begin() + i * observation_dim,
+                                round_observations.begin() + (i + 1) * observation_dim);
+      trace.actions.insert(trace.actions.end(), action_rows + i * action_dim,
+                           action_rows + (i + 1) * action_dim);
       trace.rewards.push_back(step.reward);
       trace.costs.push_back(step.cost);
       trace.episode_return += step.reward;
@@ -249,41 +245,89 @@ PolicyOptLearner::Epoch PolicyOptLearner::Collect() {
       trace.observation = std::move(step.observation);
       const bool terminal = step.terminated || step.truncated;
       if (terminal || t == quota[k] - 1) {
+        trace.path_ends.push_back(t + 1);
         // A time limit or the epoch's end bootstraps from the value of the state reached.
-        const torch::Tensor next = Row(trace.observation);
-        const double last_value = step.terminated ? 0.0 : value_->Forward(next).item<double>();
-        const double last_cost_value =
-            step.terminated ? 0.0 : cost_value_->Forward(next).item<double>();
+        if (step.terminated) {
+          trace.bootstrap_rows.push_back(-1);
+        } else {
+          trace.bootstrap_rows.push_back(static_cast<std::int64_t>(
+              trace.bootstrap_observations.size() / observation_dim));
+          trace.bootstrap_observations.insert(trace.bootstrap_observations.end(),
+                                              trace.observation.begin(), trace.observation.end());
+        }
         if (terminal) {
+          const std::int64_t start = trace.path_ends.size() > 1
+                                         ? trace.path_ends[trace.path_ends.size() - 2]
+                                         : 0;
           epoch.episode_returns.push_back(trace.episode_return);
           epoch.episode_costs.push_back(trace.episode_cost);
-          epoch.episode_lengths.push_back(static_cast<double>(trace.rewards.size()));
+          epoch.episode_lengths.push_back(static_cast<double>(t + 1 - start));
         }
-        finish_path(trace, last_value, last_cost_value);
         trace.episode_return = trace.episode_cost = 0.0;
         if (t + 1 < quota[k]) trace.observation = envs_[k]->Reset();
       }
     }
   }
-  // The batch in environment order, each environment's steps in time order.
-  std::vector<torch::Tensor> observations, actions, log_probs;
-  std::vector<double> advantages, cost_advantages, returns, cost_returns;
-  for (EnvTrace& trace : traces) {
+  // The batch in environment order, each environment's steps in time order; the values of its
+  // states and of the states the paths bootstrap from, each in one forward pass.
+  std::vector<float> observations, actions, bootstrap_observations;
+  std::vector<std::int64_t> bootstrap_offsets;  // each environment's first bootstrap row
+  for (const EnvTrace& trace : traces) {
     observations.insert(observations.end(), trace.observations.begin(), trace.observations.end());
     actions.insert(actions.end(), trace.actions.begin(), trace.actions.end());
-    log_probs.insert(log_probs.end(), trace.log_probs.begin(), trace.log_probs.end());
-    advantages.insert(advantages.end(), trace.advantages.begin(), trace.advantages.end());
-    cost_advantages.insert(cost_advantages.end(), trace.cost_advantages.begin(),
-                           trace.cost_advantages.end());
-    returns.insert(returns.end(), trace.returns.begin(), trace.returns.end());
-    cost_returns.insert(cost_returns.end(), trace.cost_returns.begin(), trace.cost_returns.end());
+    bootstrap_offsets.push_back(
+        static_cast<std::int64_t>(bootstrap_observations.size() / observation_dim));
+    bootstrap_observations.insert(bootstrap_observations.end(),
+                                  trace.bootstrap_observations.begin(),
+                                  trace.bootstrap_observations.end());
+  }
+  PolicyBatch& b = epoch.batch;
+  b.observations = Rows(observations, observation_dim);
+  b.actions = Rows(actions, envs_[0]->action_spec().size());
+  b.log_probs = policy_->LogProb(b.observations, b.actions);
+  const auto values_of = [](const TanhMlp& value, const torch::Tensor& rows) {
+    if (rows.size(0) == 0) return std::vector<double>();
+    const torch::Tensor v = value.Forward(rows).squeeze(-1).to(torch::kDouble).contiguous();
+    return std::vector<double>(v.data_ptr<double>(), v.data_ptr<double>() + v.numel());
+  };
+  const torch::Tensor bootstrap_batch = Rows(bootstrap_observations, observation_dim);
+  const std::vector<double> values = values_of(*value_, b.observations);
+  const std::vector<double> cost_values = values_of(*cost_value_, b.observations);
+  const std::vector<double> bootstrap_values = values_of(*value_, bootstrap_batch);
+  const std::vector<double> bootstrap_cost_values = values_of(*cost_value_, bootstrap_batch);
+  // GAE over each path.
+  std::vector<double> advantages, cost_advantages, returns, cost_returns;
+  const auto append = [](std::vector<double>& to, const std::vector<double>& from) {
+    to.insert(to.end(), from.begin(), from.end());
+  };
+  std::int64_t offset = 0;  // the environment's first row in the batch
+  for (int k = 0; k < env_count; ++k) {
+    const EnvTrace& trace = traces[k];
+    std::int64_t start = 0;
+    for (size_t p = 0; p < trace.path_ends.size(); ++p) {
+      const std::int64_t end = trace.path_ends[p];
+      const std::int64_t row = trace.bootstrap_rows[p];
+      const std::vector<double> rewards(trace.rewards.begin() + start, trace.rewards.begin() + end);
+      const std::vector<double> costs(trace.costs.begin() + start, trace.costs.begin() + end);
+      std::vector<double> path_values(values.begin() + offset + start,
+                                      values.begin() + offset + end);
+      std::vector<double> path_cost_values(cost_values.begin() + offset + start,
+                                           cost_values.begin() + offset + end);
+      path_values.push_back(row < 0 ? 0.0 : bootstrap_values[bootstrap_offsets[k] + row]);
+      path_cost_values.push_back(row < 0 ? 0.0
+                                         : bootstrap_cost_values[bootstrap_offsets[k] + row]);
+      const PathTargets reward = GaeTargets(rewards, path_values, o.gamma, o.lambda);
+      const PathTargets cost = GaeTargets(costs, path_cost_values, o.gamma, o.lambda);
+      append(advantages, reward.advantages);
+      append(returns, reward.returns);
+      append(cost_advantages, cost.advantages);
+      append(cost_returns, cost.returns);
+      start = end;
+    }
+    offset += quota[k];
   }
   NormaliseAdvantages(advantages, /*scale=*/true);
   NormaliseAdvantages(cost_advantages, /*scale=*/false);
-  PolicyBatch& b = epoch.batch;
-  b.observations = torch::cat(observations);
-  b.actions = torch::cat(actions);
-  b.log_probs = torch::cat(log_probs);
   b.advantages = torch::tensor(advantages, torch::kDouble).to(torch::kFloat);
   b.cost_advantages = torch::tensor(cost_advantages, torch::kDouble).to(torch::kFloat);
   epoch.returns = torch::tensor(returns, torch::kDouble).to(torch::kFloat);
