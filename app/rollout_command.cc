@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -27,6 +28,44 @@ struct RolloutArgs {
   int episodes = 1;
   std::uint64_t seed = 0;
   std::string render;
+  std::string trace;
+};
+
+// Forwards to an environment and writes every reset and step as one JSON line: the episode, the
+// action, the observation, reward, cost and flags, doubles at full precision (round-trip).
+class TracingEnv final : public Env {
+ public:
+  TracingEnv(Env& env, std::ostream& out) : env_(env), out_(out) {}
+  std::vector<double> Reset(std::optional<std::uint64_t> seed) override {
+    std::vector<double> observation = env_.Reset(seed);
+    ++episode_;
+    nlohmann::ordered_json line = {{"episode", episode_}, {"reset", true}};
+    line["seed"] = seed ? nlohmann::json(*seed) : nlohmann::json(nullptr);
+    line["observation"] = observation;
+    out_ << line.dump() << "\n";
+    return observation;
+  }
+  StepResult Step(const std::vector<double>& action) override {
+    StepResult step = env_.Step(action);
+    const nlohmann::ordered_json line = {
+        {"episode", episode_},        {"action", action},           {"observation", step.observation},
+        {"reward", step.reward},      {"cost", step.cost},          {"terminated", step.terminated},
+        {"truncated", step.truncated}};
+    out_ << line.dump() << "\n";
+    return step;
+  }
+  const BoxSpec& observation_spec() const override { return env_.observation_spec(); }
+  const BoxSpec& action_spec() const override { return env_.action_spec(); }
+  int max_episode_steps() const override { return env_.max_episode_steps(); }
+  double agent_step_seconds() const override { return env_.agent_step_seconds(); }
+  const SceneSource* scene_source() const override { return env_.scene_source(); }
+  std::string GeneratorState() const override { return env_.GeneratorState(); }
+  void SetGeneratorState(const std::string& state) override { env_.SetGeneratorState(state); }
+
+ private:
+  Env& env_;
+  std::ostream& out_;
+  int episode_ = -1;
 };
 
 // out.png for a single episode; out-ep0.png, out-ep1.png, ... for several.
@@ -40,7 +79,15 @@ std::string PicturePath(const std::string& render, int episode, int episodes) {
 
 void RunRollout(const RolloutArgs& args) {
   const Variant variant = ParseVariant(args.variant);
-  std::unique_ptr<Env> env = MakeEnv(args.task, variant);
+  std::unique_ptr<Env> made = MakeEnv(args.task, variant);
+  std::ofstream trace_file;
+  std::unique_ptr<Env> tracing;
+  if (!args.trace.empty()) {
+    trace_file.open(args.trace);
+    Require(trace_file.good(), "--trace '{}': cannot write this file", args.trace);
+    tracing = std::make_unique<TracingEnv>(*made, trace_file);
+  }
+  Env* env = tracing ? tracing.get() : made.get();
   // The policy draws from its own stream of the seed, apart from the environment's.
   std::unique_ptr<Policy> policy =
       MakePolicy(args.policy, env->action_spec(), DeriveSeed(args.seed, 1));
@@ -104,6 +151,9 @@ void AddRolloutCommand(CLI::App& parent) {
   command->add_option("--render", args->render,
                       "write a top-down PNG of each episode here (FILE, or FILE-epK.png when "
                       "several)");
+  command->add_option("--trace", args->trace,
+                      "write every reset and step here as JSON lines (action, observation, reward, "
+                      "cost), doubles at full precision");
   command->callback([args] { RunRollout(*args); });
 }
 

@@ -10,6 +10,7 @@
 #include "cmbrl/core/check.h"
 #include "cmbrl/core/rng.h"
 #include "cmbrl/experiment/config.h"
+#include "cmbrl/experiment/loaded_run.h"
 #include "cmbrl/experiment/mpc_learner.h"
 #include "cmbrl/experiment/mpc_parts.h"
 #include "cmbrl/experiment/policy_opt_learner.h"
@@ -54,46 +55,43 @@ std::vector<PredictedPath> WorldPaths(MpcAgent& agent, const BoxSpec& spec, Vec2
   return paths;
 }
 
-// A model-free run: its policy's mean action, no predictions to draw.
-std::vector<EvaluatedEpisode> EvaluatePolicyRun(const TrainConfig& config, const RunDirectory& run,
-                                                const EvaluationOptions& options) {
-  PolicyOptLearner learner(config);
-  learner.Load(run.checkpoint_dir());
-  const std::unique_ptr<Env> env = MakeEnv(config.task, config.variant, config.spawn);
-  GaussianMeanPolicy policy(learner.policy(), env->action_spec());
-  std::vector<EvaluatedEpisode> episodes;
-  for (int k = 0; k < options.episodes; ++k) {
-    EvaluatedEpisode result;
-    const auto start = std::chrono::steady_clock::now();
-    result.record = RunEpisode(*env, policy,
-                               k == 0 ? std::optional<std::uint64_t>(options.seed) : std::nullopt);
-    result.mean_ms_per_plan =
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
-            .count() /
-        result.record.steps;
-    episodes.push_back(std::move(result));
-  }
-  return episodes;
-}
-
 }  // namespace
+
+std::vector<PredictedPath> PlannerPredictions(MpcAgent& agent, const BoxSpec& spec,
+                                              const SceneState& scene, int samples) {
+  std::vector<PredictedPath> paths =
+      WorldPaths(agent, spec, scene.goal, scene.robot.position, samples);
+  // The executed plan: its final mean rolled through the objective once more.
+  agent.objective().Evaluate(agent.last_result().sequence.unsqueeze(0));
+  for (PredictedPath& chosen : WorldPaths(agent, spec, scene.goal, scene.robot.position, 1)) {
+    chosen.chosen = true;
+    paths.push_back(std::move(chosen));
+  }
+  return paths;
+}
 
 std::vector<EvaluatedEpisode> EvaluateRun(const std::string& run_dir,
                                           const EvaluationOptions& options) {
-  const RunDirectory run(run_dir);
   Require(options.episodes >= 1, "episodes is {}: expected at least 1", options.episodes);
-  Require(run.HoldsRun(), "'{}' holds no run (no {})", run_dir,
-          run.config_file().filename().string());
-  // Refuses a checkpoint whose files were changed.
-  Require(VerifiedCheckpoint(run).has_value(), "'{}' holds no trained run yet (no checkpoint)",
-          run_dir);
-  const TrainConfig config = LoadTrainConfig(run.config_file().string());
-  if (config.algorithm != "mpc") return EvaluatePolicyRun(config, run, options);
-  MpcPartSeeds seeds{options.seed, options.seed, DeriveSeed(options.seed, kPlannerSeedStream)};
-  MpcParts parts = AssembleMpc(config, seeds);
-  LoadMpcModels(run.checkpoint_dir(), parts);
-  Env& env = *parts.env;
-  MpcAgent& agent = *parts.agent;
+  LoadedRun run(run_dir, options.seed);
+  Env& env = run.env();
+  if (!run.is_mpc()) {
+    // A model-free run: its policy's mean action, no predictions to draw.
+    std::vector<EvaluatedEpisode> episodes;
+    for (int k = 0; k < options.episodes; ++k) {
+      EvaluatedEpisode result;
+      const auto start = std::chrono::steady_clock::now();
+      result.record = RunEpisode(
+          env, run.policy(), k == 0 ? std::optional<std::uint64_t>(options.seed) : std::nullopt);
+      result.mean_ms_per_plan =
+          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+              .count() /
+          result.record.steps;
+      episodes.push_back(std::move(result));
+    }
+    return episodes;
+  }
+  MpcAgent& agent = run.mpc_agent();
 
   std::vector<EvaluatedEpisode> episodes;
   for (int k = 0; k < options.episodes; ++k) {
@@ -102,15 +100,8 @@ std::vector<EvaluatedEpisode> EvaluateRun(const std::string& run_dir,
     const auto record_plan = [&](int step, const SceneState& scene) {
       milliseconds += agent.last_plan().milliseconds;
       if (options.predictions_every <= 0 || step % options.predictions_every != 0) return;
-      const BoxSpec& spec = env.observation_spec();
-      std::vector<PredictedPath> paths =
-          WorldPaths(agent, spec, scene.goal, scene.robot.position, options.predicted_samples);
-      // The executed plan: its final mean rolled through the objective once more.
-      agent.objective().Evaluate(agent.last_result().sequence.unsqueeze(0));
-      for (PredictedPath& chosen : WorldPaths(agent, spec, scene.goal, scene.robot.position, 1)) {
-        chosen.chosen = true;
-        paths.push_back(std::move(chosen));
-      }
+      const std::vector<PredictedPath> paths =
+          PlannerPredictions(agent, env.observation_spec(), scene, options.predicted_samples);
       result.predictions.insert(result.predictions.end(), paths.begin(), paths.end());
     };
     const std::optional<std::uint64_t> reset_seed =

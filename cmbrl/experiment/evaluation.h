@@ -24,6 +24,15 @@ struct EvaluatedEpisode {
   double mean_ms_per_plan = 0.0;
 };
 
+class MpcAgent;
+
+// The agent's last plan in world coordinates, for pictures: `samples` of its sampled action
+// sequences (each as every ensemble member predicted it) and the executed plan (chosen).
+// `scene` is the one the plan was made in; `spec` the environment's observation spec. Rolls the
+// executed plan through the objective once more, so the objective's last values change.
+std::vector<PredictedPath> PlannerPredictions(MpcAgent& agent, const BoxSpec& spec,
+                                              const SceneState& scene, int samples);
+
 // Loads run_dir's config and checkpoint and runs the episodes. Throws cmbrl::Error when run_dir
 // holds no trained run.
 std::vector<EvaluatedEpisode> EvaluateRun(const std::string& run_dir,

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <functional>
 #include <memory>
 
@@ -235,23 +236,26 @@ Vec2 PictureGeometry::PixelOf(Vec2 world) const {
           arena_top_px + arena_size_px - (world.y - view.y_min) * pixels_per_metre};
 }
 
-PictureGeometry WriteScenePng(const ScenePicture& picture, const std::string& path,
-                              const ScenePictureOptions& options) {
+namespace {
+
+using Surface = std::unique_ptr<cairo_surface_t, SurfaceDeleter>;
+
+// Draws the picture on a new image surface; fills `g`.
+Surface DrawScenePicture(const ScenePicture& picture, const ScenePictureOptions& options,
+                         PictureGeometry& g) {
   Require(options.size_px >= 64 && options.size_px <= 8192,
           "picture size_px is {}: expected 64 to 8192 pixels", options.size_px);
   const SceneState& scene = picture.scene;
   const int size = options.size_px;
   const double title_band = std::round(size / 18.0);
   const double legend_band = std::round(size / 9.0);
-  PictureGeometry g;
   g.width_px = size;
   g.height_px = static_cast<int>(title_band + size + legend_band);
   g.arena_top_px = title_band;
   g.arena_size_px = size;
   g.view = ViewOf(picture, options.margin_m);
   g.pixels_per_metre = size / (g.view.x_max - g.view.x_min);
-  std::unique_ptr<cairo_surface_t, SurfaceDeleter> surface(
-      cairo_image_surface_create(CAIRO_FORMAT_ARGB32, g.width_px, g.height_px));
+  Surface surface(cairo_image_surface_create(CAIRO_FORMAT_ARGB32, g.width_px, g.height_px));
   std::unique_ptr<cairo_t, ContextDeleter> context(cairo_create(surface.get()));
   cairo_t* cr = context.get();
 
@@ -308,10 +312,41 @@ PictureGeometry WriteScenePng(const ScenePicture& picture, const std::string& pa
   DrawLegend(cr, g, legend_band);
 
   cairo_surface_flush(surface.get());
+  return surface;
+}
+
+}  // namespace
+
+PictureGeometry WriteScenePng(const ScenePicture& picture, const std::string& path,
+                              const ScenePictureOptions& options) {
+  PictureGeometry g;
+  const Surface surface = DrawScenePicture(picture, options, g);
   const cairo_status_t status = cairo_surface_write_to_png(surface.get(), path.c_str());
   Require(status == CAIRO_STATUS_SUCCESS, "could not write the picture to '{}': {}", path,
           cairo_status_to_string(status));
   return g;
+}
+
+RgbImage DrawScenePictureRgb(const ScenePicture& picture, const ScenePictureOptions& options) {
+  PictureGeometry g;
+  const Surface surface = DrawScenePicture(picture, options, g);
+  RgbImage image;
+  image.geometry = g;
+  image.pixels.resize(static_cast<size_t>(g.width_px) * g.height_px * 3);
+  // ARGB32 is one native-endian 32-bit word a pixel, premultiplied; the white background makes
+  // every pixel opaque, so the colour channels are the colours.
+  const unsigned char* data = cairo_image_surface_get_data(surface.get());
+  const int stride = cairo_image_surface_get_stride(surface.get());
+  std::uint8_t* out = image.pixels.data();
+  for (int y = 0; y < g.height_px; ++y) {
+    const auto* row = reinterpret_cast<const std::uint32_t*>(data + static_cast<size_t>(y) * stride);
+    for (int x = 0; x < g.width_px; ++x) {
+      *out++ = static_cast<std::uint8_t>(row[x] >> 16);
+      *out++ = static_cast<std::uint8_t>(row[x] >> 8);
+      *out++ = static_cast<std::uint8_t>(row[x]);
+    }
+  }
+  return image;
 }
 
 }  // namespace cmbrl

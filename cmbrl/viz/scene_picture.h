@@ -2,6 +2,7 @@
 // this folder.
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -52,5 +53,12 @@ struct PictureGeometry {
 // Thread-safe (no shared state).
 PictureGeometry WriteScenePng(const ScenePicture& picture, const std::string& path,
                               const ScenePictureOptions& options = {});
+
+// The same picture in memory: rows of RGB bytes, top row first (height x width x 3).
+struct RgbImage {
+  PictureGeometry geometry;
+  std::vector<std::uint8_t> pixels;
+};
+RgbImage DrawScenePictureRgb(const ScenePicture& picture, const ScenePictureOptions& options = {});
 
 }  // namespace cmbrl

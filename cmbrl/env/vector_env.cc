@@ -1,0 +1,86 @@
+#include "cmbrl/env/vector_env.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "cmbrl/core/check.h"
+#include "cmbrl/core/parallel.h"
+
+namespace cmbrl {
+
+VectorEnv::VectorEnv(std::vector<std::unique_ptr<Env>> envs, int threads)
+    : envs_(std::move(envs)), threads_(threads) {
+  Require(!envs_.empty(), "a vector of 0 environments: expected at least one");
+  Require(threads_ >= 1, "threads is {}: expected at least 1", threads_);
+  for (const std::unique_ptr<Env>& env : envs_) {
+    Require(env->observation_spec().size() == envs_[0]->observation_spec().size() &&
+                env->action_spec().size() == envs_[0]->action_spec().size(),
+            "environments with {} and {} observations, {} and {} actions: a vector needs one "
+            "shape", envs_[0]->observation_spec().size(), env->observation_spec().size(),
+            envs_[0]->action_spec().size(), env->action_spec().size());
+  }
+}
+
+std::vector<double> VectorEnv::Reset(std::optional<std::uint64_t> seed) {
+  const int n = size();
+  const size_t width = static_cast<size_t>(envs_[0]->observation_spec().size());
+  std::vector<double> observations(n * width);
+  ParallelRanges(n, std::min(threads_, n), [&](std::int64_t begin, std::int64_t end) {
+    for (std::int64_t k = begin; k < end; ++k) {
+      const std::vector<double> first = envs_[static_cast<size_t>(k)]->Reset(
+          seed ? std::optional<std::uint64_t>(*seed + static_cast<std::uint64_t>(k))
+               : std::nullopt);
+      std::copy(first.begin(), first.end(), observations.begin() + k * width);
+    }
+  });
+  return observations;
+}
+
+VectorStep VectorEnv::Step(const std::vector<double>& actions) {
+  const int n = size();
+  const size_t width = static_cast<size_t>(envs_[0]->observation_spec().size());
+  const size_t action_dim = static_cast<size_t>(envs_[0]->action_spec().size());
+  Require(actions.size() == n * action_dim,
+          "actions of {} values for {} environments of {} actions: expected {}", actions.size(),
+          n, action_dim, n * action_dim);
+  for (size_t i = 0; i < actions.size(); ++i) {
+    Require(std::isfinite(actions[i]), "action {} of environment {} is {}: expected a finite value",
+            i % action_dim, i / action_dim, actions[i]);
+  }
+  VectorStep out;
+  out.observations.resize(n * width);
+  out.final_observations.assign(n * width, 0.0);
+  out.rewards.resize(n);
+  out.costs.resize(n);
+  out.terminated.resize(n);
+  out.truncated.resize(n);
+  out.goal_met.resize(n);
+  out.cost_hazards.resize(n);
+  out.cost_vases_contact.resize(n);
+  out.cost_vases_velocity.resize(n);
+  ParallelRanges(n, std::min(threads_, n), [&](std::int64_t begin, std::int64_t end) {
+    for (std::int64_t k = begin; k < end; ++k) {
+      Env& env = *envs_[static_cast<size_t>(k)];
+      StepResult step = env.Step(std::vector<double>(actions.begin() + k * action_dim,
+                                                     actions.begin() + (k + 1) * action_dim));
+      out.rewards[k] = step.reward;
+      out.costs[k] = step.cost;
+      out.terminated[k] = step.terminated;
+      out.truncated[k] = step.truncated;
+      out.goal_met[k] = step.info.goal_met;
+      out.cost_hazards[k] = step.info.cost_hazards;
+      out.cost_vases_contact[k] = step.info.cost_vases_contact;
+      out.cost_vases_velocity[k] = step.info.cost_vases_velocity;
+      if (step.terminated || step.truncated) {
+        std::copy(step.observation.begin(), step.observation.end(),
+                  out.final_observations.begin() + k * width);
+        step.observation = env.Reset();
+      }
+      std::copy(step.observation.begin(), step.observation.end(),
+                out.observations.begin() + k * width);
+    }
+  });
+  return out;
+}
+
+}  // namespace cmbrl

@@ -1,0 +1,75 @@
+#include "cmbrl/experiment/loaded_run.h"
+
+#include "cmbrl/core/check.h"
+#include "cmbrl/core/rng.h"
+#include "cmbrl/env/registry.h"
+#include "cmbrl/experiment/mpc_learner.h"
+#include "cmbrl/experiment/mpc_parts.h"
+#include "cmbrl/experiment/policy_opt_learner.h"
+#include "cmbrl/run/run_directory.h"
+
+namespace cmbrl {
+
+struct LoadedRun::Mpc {
+  MpcParts parts;
+};
+
+struct LoadedRun::ModelFree {
+  explicit ModelFree(const TrainConfig& config)
+      : learner(config), env(MakeEnv(config.task, config.variant, config.spawn)) {}
+  PolicyOptLearner learner;
+  std::unique_ptr<Env> env;
+  std::unique_ptr<GaussianMeanPolicy> policy;
+};
+
+LoadedRun::LoadedRun(const std::string& run_dir, std::uint64_t seed) {
+  const RunDirectory run(run_dir);
+  Require(run.HoldsRun(), "'{}' holds no run (no {})", run_dir,
+          run.config_file().filename().string());
+  // Refuses a checkpoint whose files were changed.
+  Require(VerifiedCheckpoint(run).has_value(), "'{}' holds no trained run yet (no checkpoint)",
+          run_dir);
+  config_ = LoadTrainConfig(run.config_file().string());
+  if (config_.algorithm == "mpc") {
+    mpc_ = std::make_unique<Mpc>();
+    mpc_->parts = AssembleMpc(config_, MpcPartSeeds{seed, seed, DeriveSeed(seed, kPlannerSeedStream)});
+    LoadMpcModels(run.checkpoint_dir(), mpc_->parts);
+  } else {
+    model_free_ = std::make_unique<ModelFree>(config_);
+    model_free_->learner.Load(run.checkpoint_dir());
+    model_free_->policy = std::make_unique<GaussianMeanPolicy>(
+        model_free_->learner.policy(), model_free_->env->action_spec());
+  }
+}
+
+LoadedRun::~LoadedRun() = default;
+
+std::unique_ptr<Env> LoadedRun::MakeRunEnv() const {
+  return MakeEnv(config_.task, config_.variant, config_.spawn);
+}
+
+Env& LoadedRun::env() { return mpc_ ? *mpc_->parts.env : *model_free_->env; }
+
+Policy& LoadedRun::policy() {
+  if (mpc_) return *mpc_->parts.agent;
+  return *model_free_->policy;
+}
+
+MpcAgent& LoadedRun::mpc_agent() {
+  Require(mpc_ != nullptr, "the run is '{}', not an MPC run: it has no planner", config_.algorithm);
+  return *mpc_->parts.agent;
+}
+
+const EnsembleDynamics& LoadedRun::dynamics() const {
+  Require(mpc_ != nullptr, "the run is '{}', not an MPC run: it has no dynamics model",
+          config_.algorithm);
+  return *mpc_->parts.ensemble;
+}
+
+const XgbCostModel& LoadedRun::classifier() const {
+  Require(mpc_ != nullptr, "the run is '{}', not an MPC run: it has no constraint classifier",
+          config_.algorithm);
+  return *mpc_->parts.classifier;
+}
+
+}  // namespace cmbrl

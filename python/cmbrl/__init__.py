@@ -1,0 +1,232 @@
+"""cmbrl from Python: the Safety Gym Goal environments, vectors of them, training and trained runs.
+
+    import cmbrl
+    env = cmbrl.make("PointGoal1")                 # the paper's variant
+    obs, info = env.reset(seed=0)
+    obs, reward, cost, terminated, truncated, info = env.step(env.action_space.sample())
+
+    envs = cmbrl.make_vec("PointGoal1", num_envs=4)  # stepped in C++ threads, auto-reset
+    cmbrl.train(config="configs/quickstart.yaml", out="runs/q", steps=200)
+    agent = cmbrl.load_run("runs/q")
+    action = agent.act(obs)
+
+Errors from the C++ core are raised as cmbrl.Error (a ValueError) with its message.
+"""
+import json
+import os
+
+import numpy as np
+
+from . import _cmbrl
+from .spaces import Box
+
+Error = _cmbrl.Error
+
+__all__ = ["Error", "Box", "Env", "VectorEnv", "Agent", "make", "make_vec", "tasks", "train",
+           "load_run"]
+
+
+def tasks():
+    """The registered task names."""
+    return list(_cmbrl.env_names())
+
+
+def _box(spec, dtype=np.float64):
+    return Box(low=spec["low"], high=spec["high"], dtype=dtype)
+
+
+class Env:
+    """One Goal environment with Safety-Gymnasium's API (reset, step with a separate cost,
+    observation_space, action_space, render to an RGB array, close).
+
+    ground_truth() gives what the agent does not observe: the robot's pose, the goal, hazards
+    and vases in world coordinates. render() draws the arena from above with the episode's path.
+    """
+
+    metadata = {"render_modes": ["rgb_array"]}
+
+    def __init__(self, task, variant="paper", spawn="standing", render_mode=None, render_size=400):
+        if render_mode not in (None, "rgb_array"):
+            raise Error(f"render_mode '{render_mode}': expected None or 'rgb_array'")
+        self._env = _cmbrl.Env(task, variant, spawn)
+        self.task, self.variant, self.spawn = task, variant, spawn
+        self.render_mode = render_mode
+        self.render_size = int(render_size)
+        obs_spec, act_spec = self._env.observation_spec(), self._env.action_spec()
+        self.observation_names = list(obs_spec["names"])
+        self.action_names = list(act_spec["names"])
+        self.observation_space = _box(obs_spec)
+        self.action_space = _box(act_spec)
+        self.max_episode_steps = self._env.max_episode_steps
+        self.agent_step_seconds = self._env.agent_step_seconds
+
+    def reset(self, seed=None, options=None):
+        """Starts an episode: (observation, info). A seed re-seeds the layouts' generator;
+        without one the generator continues (Gymnasium's convention)."""
+        if seed is not None:
+            self.action_space.seed(int(seed))
+        return self._env.reset(None if seed is None else int(seed))
+
+    def step(self, action):
+        """(observation, reward, cost, terminated, truncated, info) for one agent step."""
+        return self._env.step(action)
+
+    def ground_truth(self):
+        return self._env.ground_truth()
+
+    def render(self):
+        """The arena from above as an (H, W, 3) uint8 array."""
+        return self._env.render(self.render_size)
+
+    def save_picture(self, path, caption="", predictions=None):
+        """Writes render()'s picture as PNG, with a caption and, optionally, the planner's
+        predicted paths (Agent.predictions)."""
+        self._env.save_picture(os.fspath(path), self.render_size, caption, list(predictions or []))
+
+    def close(self):
+        self._env.close()
+
+    @property
+    def closed(self):
+        return self._env.closed
+
+    @property
+    def unwrapped(self):
+        return self
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+
+    def __repr__(self):
+        return f"cmbrl.Env({self.task!r}, variant={self.variant!r})"
+
+
+class VectorEnv:
+    """num_envs environments stepped together in C++ threads, in Gymnasium's vector API:
+    batched (num_envs, ...) arrays in and out, and automatic resets in the same step (an
+    environment whose episode ended returns its next episode's first observation; the last one
+    is info["final_observation"][k], with info["_final_observation"][k] True)."""
+
+    metadata = {"autoreset_mode": "same-step"}
+
+    def __init__(self, task, num_envs, variant="paper", spawn="standing", threads=None):
+        threads = int(threads) if threads is not None else max(1, min(int(num_envs), os.cpu_count() or 1))
+        self._env = _cmbrl.VectorEnv(task, int(num_envs), variant, spawn, threads)
+        self.task, self.variant, self.num_envs = task, variant, int(num_envs)
+        obs_spec, act_spec = self._env.observation_spec(), self._env.action_spec()
+        self.single_observation_space = _box(obs_spec)
+        self.single_action_space = _box(act_spec)
+        self.observation_space = Box(
+            low=np.tile(obs_spec["low"], (self.num_envs, 1)),
+            high=np.tile(obs_spec["high"], (self.num_envs, 1)), dtype=np.float64)
+        self.action_space = Box(
+            low=np.tile(act_spec["low"], (self.num_envs, 1)),
+            high=np.tile(act_spec["high"], (self.num_envs, 1)), dtype=np.float64)
+
+    def reset(self, seed=None, options=None):
+        """Resets all; with a seed, environment k gets seed + k."""
+        if seed is not None:
+            self.action_space.seed(int(seed))
+        return self._env.reset(None if seed is None else int(seed))
+
+    def step(self, actions):
+        return self._env.step(actions)
+
+    def close(self):
+        self._env.close()
+
+    @property
+    def closed(self):
+        return self._env.closed
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+
+
+def make(task, variant="paper", spawn="standing", render_mode=None, render_size=400):
+    """An environment: task is one of tasks(); variant 'paper' (the paper's modified suite),
+    'standard' (Safety-Gymnasium's stock tasks) or 'paper-lidar' (the paper's world as its
+    model-free baselines observed it); spawn 'standing' or 'model-origin'."""
+    return Env(task, variant=variant, spawn=spawn, render_mode=render_mode,
+               render_size=render_size)
+
+
+def make_vec(task, num_envs, variant="paper", spawn="standing", threads=None):
+    """A VectorEnv of num_envs environments on `threads` threads (default: one per core, at
+    most one per environment)."""
+    return VectorEnv(task, num_envs, variant=variant, spawn=spawn, threads=threads)
+
+
+def train(config=None, out=None, steps=None, seed=None, device=None, resume=None, progress=None):
+    """Trains a run as `cmbrl train` does, into the run directory `out`.
+
+    config: a YAML file (path) or a dict of the same keys. steps, seed and device override the
+    config's. resume=RUN_DIR continues a stopped run instead (steps then gives a new budget).
+    progress(summary) is called after each unit of work (an MPC episode or a model-free epoch)
+    with a dict of epoch, steps, budget, episode_return, episode_cost and seconds. An exception
+    it raises, or Ctrl-C (checked after each unit), stops training; the run resumes later from
+    its last checkpoint.
+    Returns {"run", "steps", "budget"}.
+    """
+    config_path = config_text = None
+    if isinstance(config, dict):
+        config_text = json.dumps(config)  # JSON is YAML
+    elif config is not None:
+        config_path = os.fspath(config)
+    out = os.fspath(out) if out is not None else None
+    resume = os.fspath(resume) if resume is not None else None
+    return _cmbrl.train(config_path, config_text, out, resume,
+                        None if steps is None else int(steps),
+                        None if seed is None else int(seed), device, progress)
+
+
+class Agent:
+    """A trained run's agent (load_run): act(observation) gives its action. An MPC run also
+    offers its planner's last plan and predictions and its learned models on numpy arrays."""
+
+    def __init__(self, run_dir, seed=0):
+        self._agent = _cmbrl.Agent(os.fspath(run_dir), int(seed))
+        self.run_dir = os.fspath(run_dir)
+        self.observation_space = _box(self._agent.observation_spec())
+        self.action_space = _box(self._agent.action_spec())
+        self.is_mpc = self._agent.is_mpc
+
+    def config(self):
+        """The run's resolved config, as YAML text."""
+        return self._agent.config_yaml()
+
+    def begin_episode(self):
+        """Call at each episode's start (the MPC planner forgets its warm start)."""
+        self._agent.begin_episode()
+
+    def act(self, observation):
+        return self._agent.act(observation)
+
+    def last_plan(self):
+        """MPC only: the executed plan's action sequence (H, A) and its planning time."""
+        return self._agent.last_plan()
+
+    def predictions(self, env, samples=8):
+        """MPC only: the last plan's predicted robot paths in world coordinates, for plotting:
+        dicts of points (H + 1, 2), feasible and chosen (the executed plan). `env` is the
+        environment the plan was made in (its ground truth places the paths)."""
+        return self._agent.predictions(env.ground_truth(), int(samples))
+
+    def predict_next(self, states, actions):
+        """MPC only: every ensemble member's next state, (E, N, S) for (N, S) and (N, A)."""
+        return self._agent.predict_next(states, actions)
+
+    def predict_violation(self, states):
+        """MPC only: the constraint classifier's verdict per state, (N) bool."""
+        return self._agent.predict_violation(states)
+
+
+def load_run(run_dir, seed=0):
+    """The agent of a trained run directory (its last checkpoint); seed seeds the planner."""
+    return Agent(run_dir, seed=seed)

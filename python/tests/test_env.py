@@ -1,0 +1,108 @@
+"""The environments from Python: Safety-Gymnasium's API, equal to the C++ program bit for bit."""
+import json
+import math
+import subprocess
+
+import numpy as np
+import pytest
+
+import cmbrl
+
+
+@pytest.mark.parametrize("task", ["PointGoal1", "CarGoal2"])
+def test_an_episode_from_python_equals_cmbrl_rollout_bit_for_bit(task, cmbrl_binary, tmp_path):
+    trace = tmp_path / "trace.jsonl"
+    subprocess.run([cmbrl_binary, "rollout", "--task", task, "--seed", "7", "--trace", str(trace)],
+                   check=True, stdout=subprocess.DEVNULL)
+    lines = [json.loads(line) for line in trace.read_text().splitlines()]
+    assert lines[0]["reset"] and lines[0]["seed"] == 7
+    env = cmbrl.make(task)
+    obs, info = env.reset(seed=7)
+    assert np.array_equal(obs, np.array(lines[0]["observation"]))
+    for line in lines[1:]:
+        obs, reward, cost, terminated, truncated, info = env.step(np.array(line["action"]))
+        assert np.array_equal(obs, np.array(line["observation"]))
+        assert reward == line["reward"] and cost == line["cost"]
+        assert (terminated, truncated) == (line["terminated"], line["truncated"])
+    assert terminated or truncated
+    assert len(lines) > 50
+
+
+def test_the_api_is_safety_gymnasiums():
+    env = cmbrl.make("PointGoal1", variant="paper")
+    assert env.observation_space.shape == (len(env.observation_names),)
+    assert env.action_space.shape == (2,)
+    assert env.action_space.dtype == np.float64
+    assert np.all(env.action_space.low == -1) and np.all(env.action_space.high == 1)
+    obs, info = env.reset(seed=0)
+    assert isinstance(info, dict)
+    assert obs.dtype == np.float64 and obs.shape == env.observation_space.shape
+    action = env.action_space.sample()
+    assert env.action_space.contains(action)
+    obs, reward, cost, terminated, truncated, info = env.step(action)
+    assert isinstance(reward, float) and cost in (0.0, 1.0)
+    assert isinstance(terminated, bool) and isinstance(truncated, bool)
+    assert {"goal_met", "cost_hazards", "env_steps"} <= set(info)
+    assert env.max_episode_steps > 0
+    # float32 and integer actions are real numbers too.
+    env.step(np.zeros(2, dtype=np.float32))
+    env.step([0, 1])
+
+
+def test_reset_with_a_seed_repeats_and_without_continues():
+    env = cmbrl.make("CarGoal1")
+    first, _ = env.reset(seed=3)
+    again, _ = env.reset(seed=3)
+    assert np.array_equal(first, again)
+    other, _ = env.reset()
+    assert not np.array_equal(first, other)
+
+
+def test_ground_truth_and_render():
+    env = cmbrl.make("PointGoal2", render_mode="rgb_array", render_size=256)
+    env.reset(seed=1)
+    for _ in range(5):
+        env.step(np.array([1.0, 0.2]))
+    truth = env.ground_truth()
+    assert truth["robot_position"].shape == (2,) and truth["goal"].shape == (2,)
+    assert truth["hazards"].shape[1] == 2 and len(truth["hazards"]) > 0
+    assert truth["vases"].shape[1] == 3
+    assert math.isfinite(truth["robot_yaw"])
+    image = env.render()
+    assert image.dtype == np.uint8 and image.ndim == 3 and image.shape[2] == 3
+    assert image.shape[1] == 256
+    assert (image != 255).any() and (image == 255).any()
+
+
+@pytest.mark.parametrize("action, words", [
+    (np.zeros(3), "shape"),
+    (np.zeros((1, 2)), "shape"),
+    (np.array(["a", "b"]), "dtype"),
+    (np.array([1j, 0]), "dtype"),
+    (np.array([np.nan, 0.0]), "finite"),
+])
+def test_bad_actions_raise_errors_that_name_them(action, words):
+    env = cmbrl.make("PointGoal1")
+    env.reset(seed=0)
+    with pytest.raises(cmbrl.Error, match=words):
+        env.step(action)
+    env.step(np.zeros(2))  # still usable
+
+
+def test_bad_use_raises_python_exceptions():
+    with pytest.raises(cmbrl.Error, match="NoSuchTask"):
+        cmbrl.make("NoSuchTask")
+    with pytest.raises(ValueError, match="variant"):
+        cmbrl.make("PointGoal1", variant="sideways")
+    env = cmbrl.make("PointGoal1")
+    with pytest.raises(cmbrl.Error, match="reset"):
+        env.step(np.zeros(2))
+    env.reset(seed=0)
+    env.close()
+    assert env.closed
+    with pytest.raises(cmbrl.Error, match="closed"):
+        env.step(np.zeros(2))
+    with pytest.raises(cmbrl.Error, match="closed"):
+        env.reset()
+    assert issubclass(cmbrl.Error, ValueError)
+    assert set(cmbrl.tasks()) >= {"PointGoal1", "PointGoal2", "CarGoal1", "CarGoal2"}

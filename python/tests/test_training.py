@@ -1,0 +1,107 @@
+"""Training from Python, resuming, and acting with a trained run's agent and models."""
+import csv
+
+import numpy as np
+import pytest
+
+import cmbrl
+
+TINY = {
+    "task": "PointGoal1", "planner": "rce", "seed": 0,
+    "training": {"pretrain_episodes": 6, "pretrain_steps": 20, "episodes_per_epoch": 2,
+                 "total_steps": 300},
+    "ensemble": {"hidden_sizes": [16], "max_epochs": 5},
+    "classifier": {"rounds": 10},
+    "planning": {"horizon": 3, "population": 24, "elites": 6, "min_feasible_elites": 3,
+                 "max_iterations": 2, "random_samples": 50},
+}
+
+
+def rows(run_dir):
+    """progress.csv without its clock columns."""
+    with open(run_dir / "progress.csv") as f:
+        return [{k: v for k, v in row.items() if k not in ("Time", "MsPerPlan")}
+                for row in csv.DictReader(f)]
+
+
+def test_train_resume_and_act(tmp_path, source_dir):
+    seen = []
+    summary = cmbrl.train(config=TINY, out=tmp_path / "run", steps=200, progress=seen.append)
+    assert summary["steps"] >= 200 and summary["budget"] == 200
+    assert seen and seen[-1]["steps"] == summary["steps"]
+    assert {"epoch", "episode_return", "episode_cost", "seconds"} <= set(seen[0])
+    # Continued to 300 steps, the rows are those of a run made with 300 from the start (the
+    # YAML file of the same settings).
+    cmbrl.train(resume=tmp_path / "run", steps=300)
+    cmbrl.train(config=source_dir / "configs" / "tiny-test.yaml", out=tmp_path / "whole")
+    assert rows(tmp_path / "run") == rows(tmp_path / "whole")
+
+    agent = cmbrl.load_run(tmp_path / "run", seed=1)
+    assert agent.is_mpc and "planner: rce" in agent.config()
+    env = cmbrl.make("PointGoal1")
+    obs, _ = env.reset(seed=2)
+    agent.begin_episode()
+    action = agent.act(obs)
+    assert action.shape == (2,) and np.all(np.abs(action) <= 1)
+    plan = agent.last_plan()
+    assert plan["actions"].shape == (3, 2)
+    paths = agent.predictions(env, samples=4)
+    assert any(p["chosen"] for p in paths)
+    assert all(p["points"].shape == (4, 2) for p in paths)
+    states = np.repeat(obs[None, :], 5, axis=0)
+    nxt = agent.predict_next(states, np.zeros((5, 2)))
+    assert nxt.shape[1:] == (5, obs.shape[0]) and np.isfinite(nxt).all()
+    verdict = agent.predict_violation(states)
+    assert verdict.dtype == bool and verdict.shape == (5,)
+    with pytest.raises(cmbrl.Error, match="observation"):
+        agent.act(np.zeros(3))
+
+
+def test_bad_training_input_is_named(tmp_path):
+    bad = dict(TINY, planner="sideways")
+    with pytest.raises(cmbrl.Error, match="sideways"):
+        cmbrl.train(config=bad, out=tmp_path / "bad")
+    assert not (tmp_path / "bad").exists()
+    with pytest.raises(cmbrl.Error, match="no run"):
+        cmbrl.load_run(tmp_path)
+    with pytest.raises(cmbrl.Error, match="resume"):
+        cmbrl.train(resume=tmp_path, seed=3)
+
+
+def test_a_progress_callback_that_raises_stops_training_and_the_run_resumes(tmp_path):
+    def stop(summary):
+        raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        cmbrl.train(config=TINY, out=tmp_path / "run", steps=200, progress=stop)
+    summary = cmbrl.train(resume=tmp_path / "run")
+    assert summary["steps"] >= 200
+    cmbrl.train(config=TINY, out=tmp_path / "whole", steps=200)
+    assert rows(tmp_path / "run") == rows(tmp_path / "whole")
+
+
+def test_a_model_free_run_acts_with_its_policy_mean(tmp_path):
+    config = {"task": "PointGoal1", "variant": "paper-lidar", "algorithm": "trpo-lagrangian",
+              "training": {"total_steps": 600},
+              "policy_optimisation": {"steps_per_epoch": 300, "envs": 2, "value_iterations": 2,
+                                      "policy_hidden": [8], "value_hidden": [8]}}
+    cmbrl.train(config=config, out=tmp_path / "mf")
+    agent = cmbrl.load_run(tmp_path / "mf")
+    assert not agent.is_mpc
+    env = cmbrl.make("PointGoal1", variant="paper-lidar")
+    obs, _ = env.reset(seed=0)
+    assert agent.act(obs).shape == (2,)
+    with pytest.raises(cmbrl.Error, match="not an MPC run"):
+        agent.predict_violation(obs[None, :])
+
+
+def test_the_example_trains_evaluates_and_draws(tmp_path, source_dir):
+    import os
+    import subprocess
+    import sys
+
+    out = tmp_path / "example"
+    subprocess.run([sys.executable, str(source_dir / "examples" / "train_quickstart.py"),
+                    "--config", str(source_dir / "configs" / "tiny-test.yaml"), "--out", str(out),
+                    "--steps", "100"], check=True, env=dict(os.environ), stdout=subprocess.PIPE)
+    assert (out / "python-evaluation.png").stat().st_size > 10_000

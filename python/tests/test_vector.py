@@ -1,0 +1,52 @@
+"""Vectors of environments: batched arrays, C++ threads, same-step automatic resets."""
+import numpy as np
+import pytest
+
+import cmbrl
+
+
+def test_a_vector_steps_as_its_environments_do_one_by_one_with_auto_reset():
+    n = 3
+    envs = cmbrl.make_vec("PointGoal1", num_envs=n, threads=2)
+    singles = [cmbrl.make("PointGoal1") for _ in range(n)]
+    obs, _ = envs.reset(seed=10)
+    assert obs.shape == (n, envs.single_observation_space.shape[0])
+    for k, env in enumerate(singles):
+        assert np.array_equal(obs[k], env.reset(seed=10 + k)[0])
+    rng = np.random.default_rng(0)
+    ended = np.zeros(n, dtype=bool)
+    steps = singles[0].max_episode_steps + 5
+    for _ in range(steps):
+        actions = rng.uniform(-1, 1, size=(n, 2))
+        obs, rewards, costs, terminated, truncated, info = envs.step(actions)
+        assert obs.shape[0] == rewards.shape[0] == costs.shape[0] == n
+        assert terminated.dtype == bool and truncated.dtype == bool
+        for k, env in enumerate(singles):
+            o, r, c, te, tr, _ = env.step(actions[k])
+            assert rewards[k] == r and costs[k] == c
+            assert (terminated[k], truncated[k]) == (te, tr)
+            if te or tr:
+                assert info["_final_observation"][k]
+                assert np.array_equal(info["final_observation"][k], o)
+                o, _ = env.reset()
+                ended[k] = True
+            else:
+                assert not info["_final_observation"][k]
+            assert np.array_equal(obs[k], o)
+    assert ended.all()
+
+
+def test_bad_actions_for_a_vector_are_named():
+    envs = cmbrl.make_vec("CarGoal1", num_envs=2)
+    envs.reset(seed=0)
+    with pytest.raises(cmbrl.Error, match="shape"):
+        envs.step(np.zeros(2))
+    bad = np.zeros((2, 2))
+    bad[1, 0] = np.inf
+    with pytest.raises(cmbrl.Error, match="environment 1"):
+        envs.step(bad)
+    envs.close()
+    with pytest.raises(cmbrl.Error, match="closed"):
+        envs.step(np.zeros((2, 2)))
+    with pytest.raises(cmbrl.Error, match="num_envs"):
+        cmbrl.make_vec("CarGoal1", num_envs=0)
