@@ -4,14 +4,13 @@
 #include <cmath>
 
 #include "cmbrl/core/check.h"
-#include "cmbrl/core/parallel.h"
 
 namespace cmbrl {
 
 VectorEnv::VectorEnv(std::vector<std::unique_ptr<Env>> envs, int threads)
-    : envs_(std::move(envs)), threads_(threads) {
+    : envs_(std::move(envs)) {
   Require(!envs_.empty(), "a vector of 0 environments: expected at least one");
-  Require(threads_ >= 1, "threads is {}: expected at least 1", threads_);
+  Require(threads >= 1, "threads is {}: expected at least 1", threads);
   for (const std::unique_ptr<Env>& env : envs_) {
     Require(env->observation_spec().size() == envs_[0]->observation_spec().size() &&
                 env->action_spec().size() == envs_[0]->action_spec().size(),
@@ -19,13 +18,14 @@ VectorEnv::VectorEnv(std::vector<std::unique_ptr<Env>> envs, int threads)
             "shape", envs_[0]->observation_spec().size(), env->observation_spec().size(),
             envs_[0]->action_spec().size(), env->action_spec().size());
   }
+  pool_ = std::make_unique<WorkerPool>(std::min(threads, size()));
 }
 
 std::vector<double> VectorEnv::Reset(std::optional<std::uint64_t> seed) {
   const int n = size();
   const size_t width = static_cast<size_t>(envs_[0]->observation_spec().size());
   std::vector<double> observations(n * width);
-  ParallelRanges(n, std::min(threads_, n), [&](std::int64_t begin, std::int64_t end) {
+  pool_->Run(n, [&](std::int64_t begin, std::int64_t end) {
     for (std::int64_t k = begin; k < end; ++k) {
       const std::vector<double> first = envs_[static_cast<size_t>(k)]->Reset(
           seed ? std::optional<std::uint64_t>(*seed + static_cast<std::uint64_t>(k))
@@ -58,7 +58,7 @@ VectorStep VectorEnv::Step(const std::vector<double>& actions) {
   out.cost_hazards.resize(n);
   out.cost_vases_contact.resize(n);
   out.cost_vases_velocity.resize(n);
-  ParallelRanges(n, std::min(threads_, n), [&](std::int64_t begin, std::int64_t end) {
+  pool_->Run(n, [&](std::int64_t begin, std::int64_t end) {
     for (std::int64_t k = begin; k < end; ++k) {
       Env& env = *envs_[static_cast<size_t>(k)];
       StepResult step = env.Step(std::vector<double>(actions.begin() + k * action_dim,

@@ -9,6 +9,7 @@
 #include <optional>
 #include <vector>
 
+#include "cmbrl/core/worker_pool.h"
 #include "cmbrl/env/env.h"
 
 namespace cmbrl {
@@ -23,7 +24,8 @@ struct VectorStep {
   std::vector<double> cost_hazards, cost_vases_contact, cost_vases_velocity;  // (N)
 };
 
-// Not thread-safe; it runs its environments on threads of its own inside Reset and Step.
+// Not thread-safe; it runs its environments on a pool of threads of its own (WorkerPool: they
+// spin for up to 2 ms after each call, so a loop that steps again soon finds them awake).
 class VectorEnv {
  public:
   // Throws cmbrl::Error for no environments, environments with different specs, or fewer than
@@ -43,7 +45,7 @@ class VectorEnv {
 
  private:
   std::vector<std::unique_ptr<Env>> envs_;
-  int threads_;
+  std::unique_ptr<WorkerPool> pool_;
 };
 
 }  // namespace cmbrl

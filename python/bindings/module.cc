@@ -264,23 +264,24 @@ class PyVectorEnv {
       py::gil_scoped_release release;
       step = vector_->Step(values);
     }
-    std::vector<bool> done(n);
-    for (py::ssize_t k = 0; k < n; ++k) done[k] = step.terminated[k] || step.truncated[k];
-    const auto flags = [n](std::vector<std::uint8_t>&& v) {
-      return py::array(Own<std::uint8_t>(std::move(v), {n})).attr("astype")("bool");
+    const auto flags = [n](const std::vector<std::uint8_t>& v) {
+      py::array_t<bool> out(n);
+      bool* data = out.mutable_data();
+      for (py::ssize_t k = 0; k < n; ++k) data[k] = v[k] != 0;
+      return out;
     };
+    std::vector<std::uint8_t> ended(n);
+    for (py::ssize_t k = 0; k < n; ++k) ended[k] = step.terminated[k] || step.truncated[k];
     py::dict info;
-    info["goal_met"] = flags(std::move(step.goal_met));
+    info["goal_met"] = flags(step.goal_met);
     info["cost_hazards"] = Own(std::move(step.cost_hazards));
     info["cost_vases_contact"] = Own(std::move(step.cost_vases_contact));
     info["cost_vases_velocity"] = Own(std::move(step.cost_vases_velocity));
     info["final_observation"] = Own<double>(std::move(step.final_observations), {n, Width()});
-    std::vector<std::uint8_t> ended(done.begin(), done.end());
-    info["_final_observation"] = flags(std::move(ended));
+    info["_final_observation"] = flags(ended);
     return py::make_tuple(Own<double>(std::move(step.observations), {n, Width()}),
                           Own(std::move(step.rewards)), Own(std::move(step.costs)),
-                          flags(std::move(step.terminated)), flags(std::move(step.truncated)),
-                          info);
+                          flags(step.terminated), flags(step.truncated), info);
   }
 
   int size() const { return vector_->size(); }
@@ -401,7 +402,9 @@ class PyAgent {
       py::gil_scoped_release release;
       out = classifier.PredictRows(rows.data(), static_cast<int>(s.shape(0)));
     }
-    return py::array(Own<std::uint8_t>(std::move(out), {s.shape(0)})).attr("astype")("bool");
+    py::array_t<bool> verdict(s.shape(0));
+    for (py::ssize_t k = 0; k < s.shape(0); ++k) verdict.mutable_data()[k] = out[k] != 0;
+    return std::move(verdict);
   }
 
   std::string ConfigYaml() const { return TrainConfigToYaml(run_.config()); }
