@@ -22,8 +22,8 @@ from .spaces import Box
 
 Error = _cmbrl.Error
 
-__all__ = ["Error", "Box", "Env", "VectorEnv", "Agent", "make", "make_vec", "tasks", "train",
-           "load_run"]
+__all__ = ["Error", "Box", "Env", "VectorEnv", "Agent", "Ensemble", "CostClassifier", "make",
+           "make_vec", "tasks", "train", "load_run"]
 
 
 def tasks():
@@ -230,3 +230,47 @@ class Agent:
 def load_run(run_dir, seed=0):
     """The agent of a trained run directory (its last checkpoint); seed seeds the planner."""
     return Agent(run_dir, seed=seed)
+
+
+class Ensemble:
+    """The paper's dynamics model on numpy arrays: ensemble_size MLPs (ReLU, hidden_sizes) that
+    each predict the absolute next state, trained by MSE with the paper's settings (facts B3).
+    fit() adds the transitions to a ring of 500,000 and trains on all of it, warm-started after
+    the first fit, as training does; predict() gives every member's next state."""
+
+    def __init__(self, state_dim, action_dim, ensemble_size=4, hidden_sizes=(1024, 1024, 1024),
+                 max_epochs=70, seed=0):
+        self._model = _cmbrl.Ensemble(int(state_dim), int(action_dim), int(ensemble_size),
+                                      [int(h) for h in hidden_sizes], int(max_epochs), int(seed))
+
+    def fit(self, states, actions, next_states):
+        """(N, S), (N, A), (N, S) -> a dict: epochs, train and validation MSE, seconds."""
+        return self._model.fit(states, actions, next_states)
+
+    def predict(self, states, actions):
+        """(N, S), (N, A) -> (E, N, S)."""
+        return self._model.predict(states, actions)
+
+    @property
+    def transitions(self):
+        return self._model.transitions
+
+
+class CostClassifier:
+    """The paper's constraint classifier on numpy arrays: gradient-boosted trees (XGBoost, set
+    up as the original's LightGBM) that learn from 0/1 labels where states violate a
+    constraint. fit() trains from scratch on every given state; predict() gives (N) bool."""
+
+    def __init__(self, state_dim, rounds=400, threshold=0.5, seed=0):
+        self._model = _cmbrl.CostClassifier(int(state_dim), int(rounds), float(threshold),
+                                            int(seed))
+
+    def fit(self, states, unsafe):
+        """states (N, S), unsafe (N) of 0/1 or bool -> a dict: trees, accuracies, seconds."""
+        unsafe = np.asarray(unsafe)
+        if unsafe.dtype == bool:
+            unsafe = unsafe.astype(np.float64)
+        return self._model.fit(states, unsafe)
+
+    def predict(self, states):
+        return self._model.predict(states)

@@ -1,0 +1,37 @@
+"""The learned models on numpy arrays, without a run."""
+import numpy as np
+import pytest
+
+import cmbrl
+
+
+def test_the_ensemble_learns_a_linear_system():
+    rng = np.random.default_rng(0)
+    states = rng.uniform(-1, 1, size=(3000, 4))
+    actions = rng.uniform(-1, 1, size=(3000, 2))
+    next_states = states + 0.2 * np.concatenate([actions, -actions], axis=1)
+    model = cmbrl.Ensemble(4, 2, ensemble_size=3, hidden_sizes=[64, 64], max_epochs=40, seed=1)
+    report = model.fit(states, actions, next_states)
+    assert model.transitions == 3000 and report["epochs"] > 0
+    test_s, test_a = rng.uniform(-0.8, 0.8, size=(200, 4)), rng.uniform(-0.8, 0.8, size=(200, 2))
+    predicted = model.predict(test_s, test_a)
+    assert predicted.shape == (3, 200, 4)
+    truth = test_s + 0.2 * np.concatenate([test_a, -test_a], axis=1)
+    assert np.mean((predicted - truth) ** 2) < 0.05 * np.var(truth)
+    with pytest.raises(cmbrl.Error, match="actions"):
+        model.predict(test_s, test_a[:, :1])
+
+
+def test_the_classifier_learns_a_hazard():
+    rng = np.random.default_rng(2)
+    states = rng.uniform(-1, 1, size=(4000, 3))
+    unsafe = np.hypot(states[:, 0], states[:, 1]) < 0.4
+    classifier = cmbrl.CostClassifier(3, rounds=100, seed=0)
+    report = classifier.fit(states, unsafe)
+    assert report["trained"] and report["unsafe_used"] == unsafe.sum()
+    test = rng.uniform(-1, 1, size=(1000, 3))
+    verdict = classifier.predict(test)
+    assert verdict.dtype == bool and verdict.shape == (1000,)
+    assert np.mean(verdict == (np.hypot(test[:, 0], test[:, 1]) < 0.4)) > 0.95
+    with pytest.raises(cmbrl.Error, match="unsafe"):
+        classifier.fit(states, np.full(4000, 2.0))
