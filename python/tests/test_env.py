@@ -106,3 +106,28 @@ def test_bad_use_raises_python_exceptions():
         env.reset()
     assert issubclass(cmbrl.Error, ValueError)
     assert set(cmbrl.tasks()) >= {"PointGoal1", "PointGoal2", "CarGoal1", "CarGoal2"}
+
+
+def test_spaces_are_gymnasiums_boxes_when_gymnasium_is_importable(monkeypatch):
+    import importlib
+    import sys
+    import types
+
+    class FakeBox:
+        def __init__(self, low, high, dtype):
+            self.low, self.high, self.dtype = low, high, dtype
+
+    gymnasium = types.ModuleType("gymnasium")
+    spaces = types.ModuleType("gymnasium.spaces")
+    spaces.Box = FakeBox
+    gymnasium.spaces = spaces
+    monkeypatch.setitem(sys.modules, "gymnasium", gymnasium)
+    monkeypatch.setitem(sys.modules, "gymnasium.spaces", spaces)
+    import cmbrl.spaces
+    try:
+        box = importlib.reload(cmbrl.spaces).Box(low=[-1, -1], high=[1, 1])
+        assert isinstance(box, FakeBox) and box.dtype == np.float64
+    finally:
+        monkeypatch.undo()
+        importlib.reload(cmbrl.spaces)
+    assert not isinstance(cmbrl.spaces.Box(low=[0], high=[1]), FakeBox)
