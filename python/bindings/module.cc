@@ -510,6 +510,9 @@ class PyAgent {
     MpcAgent& agent = run_.mpc_agent();
     py::dict d;
     d["milliseconds"] = agent.last_plan().milliseconds;
+    d["iterations"] = agent.last_plan().iterations;
+    d["feasible_fraction"] = agent.last_plan().feasible_fraction;
+    d["infeasible_elite_fraction"] = agent.last_plan().infeasible_elite_fraction;
     const torch::Tensor sequence = agent.last_result().sequence.to(torch::kCPU, torch::kDouble).contiguous();
     d["actions"] = Own<double>(
         std::vector<double>(sequence.data_ptr<double>(), sequence.data_ptr<double>() + sequence.numel()),

@@ -209,7 +209,9 @@ class Agent:
         return self._agent.act(observation)
 
     def last_plan(self):
-        """MPC only: the executed plan's action sequence (H, A) and its planning time."""
+        """MPC only: the executed plan's action sequence (H, A), its planning time, iterations,
+        the feasible fraction of the last population and the share of infeasible elites (RCE's
+        fallback when fewer than its minimum of elites are feasible)."""
         return self._agent.last_plan()
 
     def predictions(self, env, samples=8):
