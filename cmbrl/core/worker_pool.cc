@@ -7,7 +7,8 @@ namespace cmbrl {
 WorkerPool::WorkerPool(int threads, std::chrono::microseconds spin) : spin_(spin) {
   Require(threads >= 1, "a pool of {} threads: expected at least 1", threads);
   failures_.resize(static_cast<size_t>(threads));
-  for (int worker = 1; worker < threads; ++worker) workers_.emplace_back([this, worker] { Loop(worker); });
+  for (int worker = 1; worker < threads; ++worker)
+    workers_.emplace_back([this, worker] { Loop(worker); });
 }
 
 WorkerPool::~WorkerPool() {

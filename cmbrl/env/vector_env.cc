@@ -7,15 +7,15 @@
 
 namespace cmbrl {
 
-VectorEnv::VectorEnv(std::vector<std::unique_ptr<Env>> envs, int threads)
-    : envs_(std::move(envs)) {
+VectorEnv::VectorEnv(std::vector<std::unique_ptr<Env>> envs, int threads) : envs_(std::move(envs)) {
   Require(!envs_.empty(), "a vector of 0 environments: expected at least one");
   Require(threads >= 1, "threads is {}: expected at least 1", threads);
   for (const std::unique_ptr<Env>& env : envs_) {
     Require(env->observation_spec().size() == envs_[0]->observation_spec().size() &&
                 env->action_spec().size() == envs_[0]->action_spec().size(),
             "environments with {} and {} observations, {} and {} actions: a vector needs one "
-            "shape", envs_[0]->observation_spec().size(), env->observation_spec().size(),
+            "shape",
+            envs_[0]->observation_spec().size(), env->observation_spec().size(),
             envs_[0]->action_spec().size(), env->action_spec().size());
   }
   pool_ = std::make_unique<WorkerPool>(std::min(threads, size()));
@@ -41,8 +41,8 @@ VectorStep VectorEnv::Step(const std::vector<double>& actions) {
   const size_t width = static_cast<size_t>(envs_[0]->observation_spec().size());
   const size_t action_dim = static_cast<size_t>(envs_[0]->action_spec().size());
   Require(actions.size() == n * action_dim,
-          "actions of {} values for {} environments of {} actions: expected {}", actions.size(),
-          n, action_dim, n * action_dim);
+          "actions of {} values for {} environments of {} actions: expected {}", actions.size(), n,
+          action_dim, n * action_dim);
   for (size_t i = 0; i < actions.size(); ++i) {
     Require(std::isfinite(actions[i]), "action {} of environment {} is {}: expected a finite value",
             i % action_dim, i / action_dim, actions[i]);

@@ -16,8 +16,8 @@ namespace cmbrl {
 
 // One batched step, row k for environment k.
 struct VectorStep {
-  std::vector<double> observations;        // (N x O): after an episode's end, its next first one
-  std::vector<double> rewards, costs;      // (N)
+  std::vector<double> observations;    // (N x O): after an episode's end, its next first one
+  std::vector<double> rewards, costs;  // (N)
   std::vector<std::uint8_t> terminated, truncated;  // (N) 0/1
   std::vector<double> final_observations;  // (N x O): the ended episodes' last observations
   std::vector<std::uint8_t> goal_met;      // (N) 0/1

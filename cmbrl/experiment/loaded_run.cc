@@ -32,13 +32,14 @@ LoadedRun::LoadedRun(const std::string& run_dir, std::uint64_t seed) {
   config_ = LoadTrainConfig(run.config_file().string());
   if (config_.algorithm == "mpc") {
     mpc_ = std::make_unique<Mpc>();
-    mpc_->parts = AssembleMpc(config_, MpcPartSeeds{seed, seed, DeriveSeed(seed, kPlannerSeedStream)});
+    mpc_->parts =
+        AssembleMpc(config_, MpcPartSeeds{seed, seed, DeriveSeed(seed, kPlannerSeedStream)});
     LoadMpcModels(run.checkpoint_dir(), mpc_->parts);
   } else {
     model_free_ = std::make_unique<ModelFree>(config_);
     model_free_->learner.Load(run.checkpoint_dir());
-    model_free_->policy = std::make_unique<GaussianMeanPolicy>(
-        model_free_->learner.policy(), model_free_->env->action_spec());
+    model_free_->policy = std::make_unique<GaussianMeanPolicy>(model_free_->learner.policy(),
+                                                               model_free_->env->action_spec());
   }
 }
 

@@ -26,9 +26,11 @@ TEST(WorkerPoolTest, EveryIndexRunsOnceCallAfterCall) {
 
 TEST(WorkerPoolTest, APartsExceptionReachesTheCallerAndThePoolGoesOn) {
   WorkerPool pool(2);
-  EXPECT_THROW(pool.Run(10, [](std::int64_t begin, std::int64_t) {
-    if (begin > 0) throw std::runtime_error("second part");
-  }), std::runtime_error);
+  EXPECT_THROW(pool.Run(10,
+                        [](std::int64_t begin, std::int64_t) {
+                          if (begin > 0) throw std::runtime_error("second part");
+                        }),
+               std::runtime_error);
   int total = 0;
   pool.Run(4, [&](std::int64_t begin, std::int64_t end) {
     if (begin == 0) total += static_cast<int>(end - begin);

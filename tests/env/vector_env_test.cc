@@ -31,7 +31,8 @@ TEST(VectorEnvTest, RowsAreTheEnvironmentsOwnStepsWithAutomaticResets) {
   int resets = 0;
   for (int t = 0; t < alone[0]->max_episode_steps() + 3; ++t) {
     std::vector<double> actions;
-    for (int k = 0; k < n; ++k) actions.insert(actions.end(), {0.5 - 0.3 * k, std::fmod(0.1 * t, 1.0)});
+    for (int k = 0; k < n; ++k)
+      actions.insert(actions.end(), {0.5 - 0.3 * k, std::fmod(0.1 * t, 1.0)});
     const VectorStep step = vector.Step(actions);
     for (int k = 0; k < n; ++k) {
       StepResult expected = alone[k]->Step({actions[2 * k], actions[2 * k + 1]});

@@ -1,0 +1,31 @@
+// The parts of the Python module (`cmbrl._cmbrl`, module.cc), one per concept, and what they
+// share.
+#pragma once
+
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+
+#include <vector>
+
+namespace cmbrl {
+class EnsembleDynamics;
+class XgbCostModel;
+}  // namespace cmbrl
+
+namespace cmbrl::python {
+
+namespace py = pybind11;
+
+void BindEnvs(py::module_& m);    // envs.cc: Env, VectorEnv, env_names, bench_env
+void BindModels(py::module_& m);  // models.cc: Ensemble, CostClassifier
+void BindRuns(py::module_& m);    // runs.cc: Agent, train
+
+// Every member's next state for n rows of states (N, S) and actions (N, A): (E, N, S).
+py::array_t<double> PredictNextStates(const EnsembleDynamics& dynamics,
+                                      const std::vector<double>& states,
+                                      const std::vector<double>& actions, py::ssize_t n);
+
+// The classifier's verdict on states (N, S): (N) bool.
+py::array PredictViolations(const XgbCostModel& classifier, const py::handle& states);
+
+}  // namespace cmbrl::python

@@ -1,0 +1,301 @@
+// The environments in Python: one (Env, with the episode's path for pictures) and vectors of
+// them (VectorEnv), plus `cmbrl bench env` in this process.
+#include <pybind11/pybind11.h>
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "bench/env_throughput.h"
+#include "cmbrl/core/check.h"
+#include "cmbrl/env/registry.h"
+#include "cmbrl/env/scene.h"
+#include "cmbrl/env/vector_env.h"
+#include "cmbrl/viz/scene_picture.h"
+#include "python/bindings/arrays.h"
+#include "python/bindings/bindings.h"
+
+namespace cmbrl::python {
+namespace {
+
+py::dict SceneDict(const SceneState& scene) {
+  py::dict d;
+  d["robot_name"] = scene.robot_name;
+  d["robot_radius"] = scene.robot_radius;
+  d["robot_position"] = Own({scene.robot.position.x, scene.robot.position.y});
+  d["robot_yaw"] = scene.robot.yaw;
+  d["goal"] = Own({scene.goal.x, scene.goal.y});
+  d["goal_radius"] = scene.goal_radius;
+  std::vector<double> hazards, vases;
+  for (const Vec2& h : scene.hazards) hazards.insert(hazards.end(), {h.x, h.y});
+  for (const Pose2& v : scene.vases) vases.insert(vases.end(), {v.position.x, v.position.y, v.yaw});
+  d["hazards"] =
+      Own<double>(std::move(hazards), {static_cast<py::ssize_t>(scene.hazards.size()), 2});
+  d["hazard_radius"] = scene.hazard_radius;
+  d["vases"] = Own<double>(std::move(vases), {static_cast<py::ssize_t>(scene.vases.size()), 3});
+  d["vase_half_size"] = scene.vase_half_size;
+  const Extents& p = scene.placement;
+  d["placement"] = py::make_tuple(p.x_min, p.y_min, p.x_max, p.y_max);
+  return d;
+}
+
+py::array_t<std::uint8_t> RgbArray(RgbImage&& image) {
+  return Own<std::uint8_t>(std::move(image.pixels),
+                           {image.geometry.height_px, image.geometry.width_px, 3});
+}
+
+// One environment, with the episode's path kept for render(). Not thread-safe (Python calls
+// it with the GIL held, which it releases only around the environment's own work).
+class PyEnv {
+ public:
+  PyEnv(const std::string& task, const std::string& variant, const std::string& spawn)
+      : env_(MakeEnv(task, ParseVariant(variant), ParseSpawn(spawn))), task_(task) {}
+
+  py::tuple Reset(std::optional<std::uint64_t> seed) {
+    Open();
+    std::vector<double> observation;
+    {
+      py::gil_scoped_release release;
+      observation = env_->Reset(seed);
+    }
+    StartPath();
+    return py::make_tuple(Own(std::move(observation)), py::dict());
+  }
+
+  py::tuple Step(const py::handle& action) {
+    Open();
+    Require(started_, "step() before reset(): reset the environment first");
+    const std::vector<double> values =
+        RealValues(action, {static_cast<py::ssize_t>(env_->action_spec().size())}, "the action");
+    StepResult step;
+    {
+      py::gil_scoped_release release;
+      step = env_->Step(values);
+    }
+    if (const SceneSource* source = env_->scene_source()) {
+      const SceneState scene = source->Scene();
+      if (step.info.goal_met) reached_goals_.push_back(last_goal_);
+      last_goal_ = scene.goal;
+      path_.push_back(scene.robot.position);
+      path_violations_.push_back(step.cost > 0);
+    }
+    py::dict info;
+    info["goal_met"] = step.info.goal_met;
+    info["cost_hazards"] = step.info.cost_hazards;
+    info["cost_vases_contact"] = step.info.cost_vases_contact;
+    info["cost_vases_velocity"] = step.info.cost_vases_velocity;
+    info["env_steps"] = step.info.env_steps;
+    info["physics_error"] = step.info.physics_error;
+    return py::make_tuple(Own(std::move(step.observation)), step.reward, step.cost, step.terminated,
+                          step.truncated, info);
+  }
+
+  py::dict GroundTruth() const {
+    Open();
+    const SceneSource* source = env_->scene_source();
+    Require(source != nullptr, "{} has no ground truth to show", task_);
+    return SceneDict(source->Scene());
+  }
+
+  py::array_t<std::uint8_t> Render(int size_px) const {
+    Open();
+    const SceneSource* source = env_->scene_source();
+    Require(source != nullptr, "{} has no scene to render", task_);
+    ScenePicture picture{source->Scene(), path_, path_violations_, reached_goals_, task_, {}};
+    ScenePictureOptions options;
+    options.size_px = size_px;
+    RgbImage image;
+    {
+      py::gil_scoped_release release;
+      image = DrawScenePictureRgb(picture, options);
+    }
+    return RgbArray(std::move(image));
+  }
+
+  // Writes the picture of render() as PNG, with a caption and the planner's predicted paths
+  // (dicts of points (K, 2), feasible, chosen, as Agent.predictions gives them).
+  void SavePicture(const std::string& path, int size_px, const std::string& caption,
+                   const py::list& predictions) const {
+    Open();
+    const SceneSource* source = env_->scene_source();
+    Require(source != nullptr, "{} has no scene to draw", task_);
+    ScenePicture picture{source->Scene(),
+                         path_,
+                         path_violations_,
+                         reached_goals_,
+                         caption.empty() ? task_ : caption,
+                         {}};
+    for (const py::handle& item : predictions) {
+      const py::dict d = py::reinterpret_borrow<py::dict>(item);
+      const Doubles points = Doubles::ensure(d["points"]);
+      Require(static_cast<bool>(points) && points.ndim() == 2 && points.shape(1) == 2,
+              "a prediction's points: expected a (K, 2) array");
+      PredictedPath predicted;
+      for (py::ssize_t i = 0; i < points.shape(0); ++i) {
+        predicted.points.push_back({points.at(i, 0), points.at(i, 1)});
+      }
+      predicted.feasible = d["feasible"].cast<bool>();
+      predicted.chosen = d["chosen"].cast<bool>();
+      picture.predictions.push_back(std::move(predicted));
+    }
+    ScenePictureOptions options;
+    options.size_px = size_px;
+    py::gil_scoped_release release;
+    WriteScenePng(picture, path, options);
+  }
+
+  py::dict ObservationSpec() const { return BoxDict(env_->observation_spec()); }
+  py::dict ActionSpec() const { return BoxDict(env_->action_spec()); }
+  int max_episode_steps() const { return env_->max_episode_steps(); }
+  double agent_step_seconds() const { return env_->agent_step_seconds(); }
+  void Close() { closed_ = true; }
+  bool closed() const { return closed_; }
+  Env& env() { return *env_; }
+
+ private:
+  void Open() const { Require(!closed_, "the {} environment is closed", task_); }
+  void StartPath() {
+    started_ = true;
+    path_.clear();
+    path_violations_.clear();
+    reached_goals_.clear();
+    if (const SceneSource* source = env_->scene_source()) {
+      const SceneState scene = source->Scene();
+      path_.push_back(scene.robot.position);
+      path_violations_.push_back(false);
+      last_goal_ = scene.goal;
+    }
+  }
+
+  std::unique_ptr<Env> env_;
+  std::string task_;
+  bool closed_ = false;
+  bool started_ = false;
+  std::vector<Vec2> path_;
+  std::vector<bool> path_violations_;
+  std::vector<Vec2> reached_goals_;
+  Vec2 last_goal_;
+};
+
+// A VectorEnv of one task. Not thread-safe.
+class PyVectorEnv {
+ public:
+  PyVectorEnv(const std::string& task, int num_envs, const std::string& variant,
+              const std::string& spawn, int threads)
+      : task_(task) {
+    Require(num_envs >= 1, "num_envs is {}: expected at least 1", num_envs);
+    std::vector<std::unique_ptr<Env>> envs;
+    for (int k = 0; k < num_envs; ++k) {
+      envs.push_back(MakeEnv(task, ParseVariant(variant), ParseSpawn(spawn)));
+    }
+    vector_ = std::make_unique<VectorEnv>(std::move(envs), threads);
+  }
+
+  py::tuple Reset(std::optional<std::uint64_t> seed) {
+    Open();
+    std::vector<double> observations;
+    {
+      py::gil_scoped_release release;
+      observations = vector_->Reset(seed);
+    }
+    started_ = true;
+    return py::make_tuple(Own<double>(std::move(observations), {vector_->size(), Width()}),
+                          py::dict());
+  }
+
+  py::tuple Step(const py::handle& actions) {
+    Open();
+    Require(started_, "step() before reset(): reset the environments first");
+    const py::ssize_t n = vector_->size();
+    const std::vector<double> values =
+        RealValues(actions, {n, static_cast<py::ssize_t>(vector_->env(0).action_spec().size())},
+                   "the actions");
+    VectorStep step;
+    {
+      py::gil_scoped_release release;
+      step = vector_->Step(values);
+    }
+    std::vector<std::uint8_t> ended(n);
+    for (py::ssize_t k = 0; k < n; ++k) ended[k] = step.terminated[k] || step.truncated[k];
+    py::dict info;
+    info["goal_met"] = Flags(step.goal_met);
+    info["cost_hazards"] = Own(std::move(step.cost_hazards));
+    info["cost_vases_contact"] = Own(std::move(step.cost_vases_contact));
+    info["cost_vases_velocity"] = Own(std::move(step.cost_vases_velocity));
+    info["final_observation"] = Own<double>(std::move(step.final_observations), {n, Width()});
+    info["_final_observation"] = Flags(ended);
+    return py::make_tuple(Own<double>(std::move(step.observations), {n, Width()}),
+                          Own(std::move(step.rewards)), Own(std::move(step.costs)),
+                          Flags(step.terminated), Flags(step.truncated), info);
+  }
+
+  int size() const { return vector_->size(); }
+  py::dict ObservationSpec() const { return BoxDict(vector_->env(0).observation_spec()); }
+  py::dict ActionSpec() const { return BoxDict(vector_->env(0).action_spec()); }
+  void Close() { closed_ = true; }
+  bool closed() const { return closed_; }
+
+ private:
+  py::ssize_t Width() const { return vector_->env(0).observation_spec().size(); }
+  void Open() const { Require(!closed_, "the vector of {} environments is closed", task_); }
+
+  std::unique_ptr<VectorEnv> vector_;
+  std::string task_;
+  bool closed_ = false;
+  bool started_ = false;
+};
+
+// `cmbrl bench env` for one task and variant, in this process: its JSON line.
+std::string BenchEnv(const std::string& task, const std::string& variant, int steps, int runs,
+                     std::uint64_t seed) {
+  bench::EnvBenchOptions options;
+  options.tasks = {task};
+  options.variants = {variant};
+  options.steps = steps;
+  options.runs = runs;
+  options.seed = seed;
+  std::string line;
+  py::gil_scoped_release release;
+  bench::RunEnvBench(options, [&](const nlohmann::ordered_json& figure) { line = figure.dump(); });
+  return line;
+}
+
+}  // namespace
+
+void BindEnvs(py::module_& m) {
+  m.def("env_names", &EnvNames, "the registered tasks");
+  py::class_<PyEnv>(m, "Env")
+      .def(py::init<const std::string&, const std::string&, const std::string&>(), py::arg("task"),
+           py::arg("variant"), py::arg("spawn"))
+      .def("reset", &PyEnv::Reset, py::arg("seed") = py::none())
+      .def("step", &PyEnv::Step, py::arg("action"))
+      .def("ground_truth", &PyEnv::GroundTruth)
+      .def("render", &PyEnv::Render, py::arg("size_px"))
+      .def("save_picture", &PyEnv::SavePicture, py::arg("path"), py::arg("size_px"),
+           py::arg("caption"), py::arg("predictions"))
+      .def("observation_spec", &PyEnv::ObservationSpec)
+      .def("action_spec", &PyEnv::ActionSpec)
+      .def_property_readonly("max_episode_steps", &PyEnv::max_episode_steps)
+      .def_property_readonly("agent_step_seconds", &PyEnv::agent_step_seconds)
+      .def_property_readonly("closed", &PyEnv::closed)
+      .def("close", &PyEnv::Close);
+
+  py::class_<PyVectorEnv>(m, "VectorEnv")
+      .def(py::init<const std::string&, int, const std::string&, const std::string&, int>(),
+           py::arg("task"), py::arg("num_envs"), py::arg("variant"), py::arg("spawn"),
+           py::arg("threads"))
+      .def("reset", &PyVectorEnv::Reset, py::arg("seed") = py::none())
+      .def("step", &PyVectorEnv::Step, py::arg("actions"))
+      .def("observation_spec", &PyVectorEnv::ObservationSpec)
+      .def("action_spec", &PyVectorEnv::ActionSpec)
+      .def_property_readonly("num_envs", &PyVectorEnv::size)
+      .def_property_readonly("closed", &PyVectorEnv::closed)
+      .def("close", &PyVectorEnv::Close);
+
+  m.def("bench_env", &BenchEnv, py::arg("task"), py::arg("variant"), py::arg("steps"),
+        py::arg("runs"), py::arg("seed"));
+}
+
+}  // namespace cmbrl::python

@@ -1,0 +1,186 @@
+// The learned models in Python, without a run: the dynamics ensemble (Ensemble) and the
+// constraint classifier (CostClassifier) on numpy arrays; also the predictions a trained run's
+// agent gives from its own models.
+#include <pybind11/pybind11.h>
+#include <torch/torch.h>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "cmbrl/core/check.h"
+#include "cmbrl/models/ensemble.h"
+#include "cmbrl/models/transition_buffer.h"
+#include "cmbrl/models/xgboost_cost_model.h"
+#include "python/bindings/arrays.h"
+#include "python/bindings/bindings.h"
+
+namespace cmbrl::python {
+
+py::array_t<double> PredictNextStates(const EnsembleDynamics& dynamics,
+                                      const std::vector<double>& states,
+                                      const std::vector<double>& actions, py::ssize_t n) {
+  const std::int64_t members = dynamics.ensemble_size();
+  std::vector<double> out;
+  {
+    py::gil_scoped_release release;
+    const torch::NoGradGuard no_grad;
+    const auto rows = [&](const std::vector<double>& v, std::int64_t width) {
+      return torch::tensor(v, torch::kDouble)
+          .to(torch::kFloat)
+          .view({1, n, width})
+          .expand({members, n, width})
+          .contiguous();
+    };
+    const torch::Tensor next =
+        dynamics.Predict(rows(states, dynamics.state_dim()), rows(actions, dynamics.action_dim()))
+            .to(torch::kCPU, torch::kDouble)
+            .contiguous();
+    out.assign(next.data_ptr<double>(), next.data_ptr<double>() + next.numel());
+  }
+  return Own<double>(std::move(out), {members, n, dynamics.state_dim()});
+}
+
+py::array PredictViolations(const XgbCostModel& classifier, const py::handle& states) {
+  const py::ssize_t n = RowsOf(states, "states");
+  const std::vector<double> sv = Matrix(states, n, classifier.state_dim(), "states");
+  const std::vector<float> rows(sv.begin(), sv.end());
+  std::vector<std::uint8_t> out;
+  {
+    py::gil_scoped_release release;
+    out = classifier.PredictRows(rows.data(), static_cast<int>(n));
+  }
+  return Flags(out);
+}
+
+namespace {
+
+// A dynamics ensemble of its own, fitted on the caller's transitions (a ring of 500k, as in
+// training: each fit adds the new ones and trains on all, warm-started after the first). Not
+// thread-safe.
+class PyEnsemble {
+ public:
+  PyEnsemble(int state_dim, int action_dim, int ensemble_size, const std::vector<int>& hidden,
+             int max_epochs, std::uint64_t seed)
+      : buffer_(state_dim, action_dim),
+        dynamics_(state_dim, action_dim, Options(ensemble_size, hidden, max_epochs), seed) {}
+
+  py::dict Fit(const py::handle& states, const py::handle& actions, const py::handle& next_states) {
+    const py::ssize_t n = RowsOf(states, "states");
+    const int s = dynamics_.state_dim(), a = dynamics_.action_dim();
+    const std::vector<double> sv = Matrix(states, n, s, "states");
+    const std::vector<double> av = Matrix(actions, n, a, "actions");
+    const std::vector<double> nv = Matrix(next_states, n, s, "next_states");
+    EnsembleFitReport report;
+    {
+      py::gil_scoped_release release;
+      for (py::ssize_t i = 0; i < n; ++i) {
+        buffer_.Add({sv.begin() + i * s, sv.begin() + (i + 1) * s},
+                    {av.begin() + i * a, av.begin() + (i + 1) * a},
+                    {nv.begin() + i * s, nv.begin() + (i + 1) * s});
+      }
+      report = dynamics_.Fit(buffer_);
+    }
+    py::dict d;
+    d["epochs"] = report.epochs;
+    d["train_size"] = report.train_size;
+    d["validation_size"] = report.validation_size;
+    d["train_mse"] = report.train_mse;
+    d["validation_mse"] = report.validation_mse;
+    d["stopped_early"] = report.stopped_early;
+    d["seconds"] = report.seconds;
+    return d;
+  }
+
+  // states (N, S), actions (N, A) -> every member's next state (E, N, S).
+  py::array_t<double> Predict(const py::handle& states, const py::handle& actions) const {
+    const py::ssize_t n = RowsOf(states, "states");
+    return PredictNextStates(dynamics_, Matrix(states, n, dynamics_.state_dim(), "states"),
+                             Matrix(actions, n, dynamics_.action_dim(), "actions"), n);
+  }
+
+  int transitions() const { return buffer_.size(); }
+
+ private:
+  static EnsembleOptions Options(int ensemble_size, const std::vector<int>& hidden,
+                                 int max_epochs) {
+    EnsembleOptions o;
+    o.ensemble_size = ensemble_size;
+    o.hidden_sizes = hidden;
+    o.max_epochs = max_epochs;
+    return o;
+  }
+
+  TransitionBuffer buffer_;
+  EnsembleDynamics dynamics_;
+};
+
+// A constraint classifier of its own, fitted from scratch on the caller's labelled states. Not
+// thread-safe.
+class PyCostClassifier {
+ public:
+  PyCostClassifier(int state_dim, int rounds, double threshold, std::uint64_t seed)
+      : classifier_(state_dim, Options(rounds, threshold), seed) {}
+
+  py::dict Fit(const py::handle& states, const py::handle& unsafe) {
+    const int s = classifier_.state_dim();
+    const py::ssize_t n = RowsOf(states, "states");
+    const std::vector<double> sv = Matrix(states, n, s, "states");
+    const std::vector<double> labels = RealValues(unsafe, {n}, "unsafe");
+    std::vector<float> safe_rows, unsafe_rows;
+    for (py::ssize_t i = 0; i < n; ++i) {
+      Require(labels[i] == 0 || labels[i] == 1, "unsafe[{}] is {}: expected 0 or 1", i, labels[i]);
+      std::vector<float>& to = labels[i] != 0 ? unsafe_rows : safe_rows;
+      to.insert(to.end(), sv.begin() + i * s, sv.begin() + (i + 1) * s);
+    }
+    CostFitReport report;
+    {
+      py::gil_scoped_release release;
+      report = classifier_.FitArrays(safe_rows.data(), static_cast<int>(safe_rows.size() / s),
+                                     unsafe_rows.data(), static_cast<int>(unsafe_rows.size() / s));
+    }
+    py::dict d;
+    d["trained"] = report.trained;
+    d["safe_used"] = report.safe_used;
+    d["unsafe_used"] = report.unsafe_used;
+    d["safe_accuracy"] = report.safe_accuracy;
+    d["unsafe_accuracy"] = report.unsafe_accuracy;
+    d["trees"] = report.trees;
+    d["seconds"] = report.seconds;
+    return d;
+  }
+
+  py::array Predict(const py::handle& states) const {
+    return PredictViolations(classifier_, states);
+  }
+
+ private:
+  static XgbCostModelOptions Options(int rounds, double threshold) {
+    XgbCostModelOptions o;
+    o.rounds = rounds;
+    o.threshold = threshold;
+    return o;
+  }
+
+  XgbCostModel classifier_;
+};
+
+}  // namespace
+
+void BindModels(py::module_& m) {
+  py::class_<PyEnsemble>(m, "Ensemble")
+      .def(py::init<int, int, int, const std::vector<int>&, int, std::uint64_t>(),
+           py::arg("state_dim"), py::arg("action_dim"), py::arg("ensemble_size"),
+           py::arg("hidden_sizes"), py::arg("max_epochs"), py::arg("seed"))
+      .def("fit", &PyEnsemble::Fit, py::arg("states"), py::arg("actions"), py::arg("next_states"))
+      .def("predict", &PyEnsemble::Predict, py::arg("states"), py::arg("actions"))
+      .def_property_readonly("transitions", &PyEnsemble::transitions);
+
+  py::class_<PyCostClassifier>(m, "CostClassifier")
+      .def(py::init<int, int, double, std::uint64_t>(), py::arg("state_dim"), py::arg("rounds"),
+           py::arg("threshold"), py::arg("seed"))
+      .def("fit", &PyCostClassifier::Fit, py::arg("states"), py::arg("unsafe"))
+      .def("predict", &PyCostClassifier::Predict, py::arg("states"));
+}
+
+}  // namespace cmbrl::python

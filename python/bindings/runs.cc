@@ -1,0 +1,187 @@
+// Training and trained runs in Python: train (or resume) a run as `cmbrl train` does, and a
+// run's agent (LoadedRun) acting on numpy observations, with its last plan and its models.
+#include <pybind11/functional.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+#include <torch/torch.h>
+
+#include <cmath>
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "cmbrl/agent/mpc_agent.h"
+#include "cmbrl/core/check.h"
+#include "cmbrl/experiment/config.h"
+#include "cmbrl/experiment/evaluation.h"
+#include "cmbrl/experiment/loaded_run.h"
+#include "cmbrl/experiment/trainer.h"
+#include "python/bindings/arrays.h"
+#include "python/bindings/bindings.h"
+
+namespace cmbrl::python {
+namespace {
+
+// A trained run's agent (LoadedRun). Not thread-safe.
+class PyAgent {
+ public:
+  PyAgent(const std::string& run_dir, std::uint64_t seed) : run_(run_dir, seed) {}
+
+  void BeginEpisode() { run_.policy().BeginEpisode(); }
+
+  py::array_t<double> Act(const py::handle& observation) {
+    const std::vector<double> values =
+        RealValues(observation, {static_cast<py::ssize_t>(run_.env().observation_spec().size())},
+                   "the observation");
+    for (const double v : values)
+      Require(std::isfinite(v), "the observation holds {}: expected finite values", v);
+    std::vector<double> action;
+    {
+      py::gil_scoped_release release;
+      action = run_.policy().Act(values);
+    }
+    return Own(std::move(action));
+  }
+
+  // The last plan in world coordinates: a list of dicts (points (H+1, 2), feasible, chosen).
+  py::list Predictions(const py::dict& scene_of_plan, int samples) {
+    SceneState scene;
+    const auto xy = [](const py::handle& a) {
+      const Doubles v = Doubles::ensure(a);
+      Require(static_cast<bool>(v) && v.size() == 2, "expected a position of 2 numbers");
+      return Vec2{v.data()[0], v.data()[1]};
+    };
+    scene.goal = xy(scene_of_plan["goal"]);
+    scene.robot.position = xy(scene_of_plan["robot_position"]);
+    std::vector<PredictedPath> paths;
+    {
+      py::gil_scoped_release release;
+      paths = PlannerPredictions(run_.mpc_agent(), run_.env().observation_spec(), scene, samples);
+    }
+    py::list out;
+    for (const PredictedPath& path : paths) {
+      std::vector<double> points;
+      for (const Vec2& p : path.points) points.insert(points.end(), {p.x, p.y});
+      py::dict d;
+      d["points"] =
+          Own<double>(std::move(points), {static_cast<py::ssize_t>(path.points.size()), 2});
+      d["feasible"] = path.feasible;
+      d["chosen"] = path.chosen;
+      out.append(d);
+    }
+    return out;
+  }
+
+  py::dict LastPlan() {
+    MpcAgent& agent = run_.mpc_agent();
+    py::dict d;
+    d["milliseconds"] = agent.last_plan().milliseconds;
+    d["iterations"] = agent.last_plan().iterations;
+    d["feasible_fraction"] = agent.last_plan().feasible_fraction;
+    d["infeasible_elite_fraction"] = agent.last_plan().infeasible_elite_fraction;
+    const torch::Tensor sequence =
+        agent.last_result().sequence.to(torch::kCPU, torch::kDouble).contiguous();
+    d["actions"] = Own<double>(std::vector<double>(sequence.data_ptr<double>(),
+                                                   sequence.data_ptr<double>() + sequence.numel()),
+                               {sequence.size(0), sequence.size(1)});
+    return d;
+  }
+
+  // Next states of every member: states (N, S), actions (N, A) -> (E, N, S).
+  py::array_t<double> PredictNext(const py::handle& states, const py::handle& actions) {
+    const EnsembleDynamics& dynamics = run_.dynamics();
+    const py::ssize_t n = RowsOf(states, "states");
+    return PredictNextStates(dynamics, Matrix(states, n, dynamics.state_dim(), "states"),
+                             Matrix(actions, n, dynamics.action_dim(), "actions"), n);
+  }
+
+  // The classifier's 0/1 violation prediction for states (N, S) -> (N) bool.
+  py::array PredictViolation(const py::handle& states) {
+    return PredictViolations(run_.classifier(), states);
+  }
+
+  std::string ConfigYaml() const { return TrainConfigToYaml(run_.config()); }
+  bool is_mpc() const { return run_.is_mpc(); }
+  py::dict ObservationSpec() { return BoxDict(run_.env().observation_spec()); }
+  py::dict ActionSpec() { return BoxDict(run_.env().action_spec()); }
+
+ private:
+  LoadedRun run_;
+};
+
+// Trains (or resumes) a run; `progress` sees each unit's summary, with the GIL held.
+py::dict Train(const std::optional<std::string>& config_path,
+               const std::optional<std::string>& config_text, const std::optional<std::string>& out,
+               const std::optional<std::string>& resume, std::optional<std::int64_t> steps,
+               std::optional<std::uint64_t> seed, const std::optional<std::string>& device,
+               const std::function<void(py::dict)>& progress) {
+  std::unique_ptr<Trainer> trainer;
+  std::string run_dir;
+  if (resume) {
+    Require(!config_path && !config_text && !out && !seed && !device,
+            "resume continues a run with its own config: give no config, out, seed or device "
+            "with it (steps gives it a new budget)");
+    run_dir = *resume;
+    py::gil_scoped_release release;
+    trainer = Trainer::Resume(run_dir, steps);
+  } else {
+    Require((config_path.has_value() != config_text.has_value()) && out.has_value(),
+            "a new run needs a config (a YAML file or a dict) and out (the run directory)");
+    const std::string source = config_path ? *config_path : "the config dict";
+    TrainConfig config =
+        config_path ? LoadTrainConfig(*config_path) : ParseTrainConfig(*config_text, source);
+    if (steps) config.training.total_steps = *steps;
+    if (seed) config.seed = *seed;
+    if (device) SetTrainDevice(config, *device);
+    ValidateTrainConfig(config, source);
+    run_dir = *out;
+    py::gil_scoped_release release;
+    trainer = Trainer::Start(config, run_dir);
+  }
+  {
+    py::gil_scoped_release release;
+    trainer->Run([&](const ProgressSummary& unit) {
+      py::gil_scoped_acquire acquire;
+      if (PyErr_CheckSignals() != 0) throw py::error_already_set();  // Ctrl-C
+      if (!progress) return;
+      py::dict d;
+      d["epoch"] = unit.epoch;
+      d["steps"] = unit.steps;
+      d["budget"] = unit.budget;
+      d["episode_return"] = unit.episode_return;
+      d["episode_cost"] = unit.episode_cost;
+      d["seconds"] = unit.seconds;
+      progress(d);  // a Python exception here stops training; the run resumes later
+    });
+  }
+  py::dict summary;
+  summary["run"] = run_dir;
+  summary["steps"] = trainer->steps_done();
+  summary["budget"] = trainer->learner().budget();
+  return summary;
+}
+
+}  // namespace
+
+void BindRuns(py::module_& m) {
+  py::class_<PyAgent>(m, "Agent")
+      .def(py::init<const std::string&, std::uint64_t>(), py::arg("run_dir"), py::arg("seed"))
+      .def("begin_episode", &PyAgent::BeginEpisode)
+      .def("act", &PyAgent::Act, py::arg("observation"))
+      .def("predictions", &PyAgent::Predictions, py::arg("scene"), py::arg("samples"))
+      .def("last_plan", &PyAgent::LastPlan)
+      .def("predict_next", &PyAgent::PredictNext, py::arg("states"), py::arg("actions"))
+      .def("predict_violation", &PyAgent::PredictViolation, py::arg("states"))
+      .def("config_yaml", &PyAgent::ConfigYaml)
+      .def("observation_spec", &PyAgent::ObservationSpec)
+      .def("action_spec", &PyAgent::ActionSpec)
+      .def_property_readonly("is_mpc", &PyAgent::is_mpc);
+
+  m.def("train", &Train, py::arg("config_path"), py::arg("config_text"), py::arg("out"),
+        py::arg("resume"), py::arg("steps"), py::arg("seed"), py::arg("device"),
+        py::arg("progress"));
+}
+
+}  // namespace cmbrl::python
