@@ -13,7 +13,7 @@ import os
 import sys
 
 ORDER = ["grid", "faithful", "bonus", "labels", "population", "classifier", "min-child-weight",
-         "dynamics", "combined", "spawn"]
+         "dynamics", "combined", "threshold", "spawn"]
 
 
 def main():
