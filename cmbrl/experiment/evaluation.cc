@@ -4,21 +4,13 @@
 
 #include <chrono>
 #include <cmath>
-#include <filesystem>
 
 #include "cmbrl/agent/mpc_agent.h"
 #include "cmbrl/core/check.h"
-#include "cmbrl/core/rng.h"
 #include "cmbrl/experiment/config.h"
 #include "cmbrl/experiment/loaded_run.h"
-#include "cmbrl/experiment/mpc_learner.h"
-#include "cmbrl/experiment/mpc_parts.h"
-#include "cmbrl/experiment/policy_opt_learner.h"
-#include "cmbrl/env/registry.h"
-#include "cmbrl/run/run_directory.h"
 
 namespace cmbrl {
-namespace fs = std::filesystem;
 namespace {
 
 // Predicted robot positions in the world: the predicted magnetometer gives the heading theta

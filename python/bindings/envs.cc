@@ -10,6 +10,7 @@
 
 #include "bench/env_throughput.h"
 #include "cmbrl/core/check.h"
+#include "cmbrl/core/parallel.h"
 #include "cmbrl/env/registry.h"
 #include "cmbrl/env/scene.h"
 #include "cmbrl/env/vector_env.h"
@@ -190,7 +191,8 @@ class PyVectorEnv {
     for (int k = 0; k < num_envs; ++k) {
       envs.push_back(MakeEnv(task, ParseVariant(variant), ParseSpawn(spawn)));
     }
-    vector_ = std::make_unique<VectorEnv>(std::move(envs), threads);
+    // 0: one thread per core this process may use (VectorEnv keeps at most one per env).
+    vector_ = std::make_unique<VectorEnv>(std::move(envs), threads == 0 ? CoreCount() : threads);
   }
 
   py::tuple Reset(std::optional<std::uint64_t> seed) {

@@ -35,7 +35,24 @@ def _box(spec, dtype=np.float64):
     return Box(low=spec["low"], high=spec["high"], dtype=dtype)
 
 
-class Env:
+class _Closable:
+    """What Env and VectorEnv share: the C++ object in self._env, close() and `with`."""
+
+    def close(self):
+        self._env.close()
+
+    @property
+    def closed(self):
+        return self._env.closed
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+
+
+class Env(_Closable):
     """One Goal environment with Safety-Gymnasium's API (reset, step with a separate cost,
     observation_space, action_space, render to an RGB array, close).
 
@@ -83,28 +100,15 @@ class Env:
         predicted paths (Agent.predictions)."""
         self._env.save_picture(os.fspath(path), self.render_size, caption, list(predictions or []))
 
-    def close(self):
-        self._env.close()
-
-    @property
-    def closed(self):
-        return self._env.closed
-
     @property
     def unwrapped(self):
         return self
-
-    def __enter__(self):
-        return self
-
-    def __exit__(self, *exc):
-        self.close()
 
     def __repr__(self):
         return f"cmbrl.Env({self.task!r}, variant={self.variant!r})"
 
 
-class VectorEnv:
+class VectorEnv(_Closable):
     """num_envs environments stepped together in C++ threads, in Gymnasium's vector API:
     batched (num_envs, ...) arrays in and out, and automatic resets in the same step (an
     environment whose episode ended returns its next episode's first observation; the last one
@@ -113,8 +117,9 @@ class VectorEnv:
     metadata = {"autoreset_mode": "same-step"}
 
     def __init__(self, task, num_envs, variant="paper", spawn="standing", threads=None):
-        threads = int(threads) if threads is not None else max(1, min(int(num_envs), os.cpu_count() or 1))
-        self._env = _cmbrl.VectorEnv(task, int(num_envs), variant, spawn, threads)
+        # 0: one thread per core this process may use (its affinity mask), at most one per env.
+        self._env = _cmbrl.VectorEnv(task, int(num_envs), variant, spawn,
+                                     0 if threads is None else int(threads))
         self.task, self.variant, self.num_envs = task, variant, int(num_envs)
         obs_spec, act_spec = self._env.observation_spec(), self._env.action_spec()
         self.single_observation_space = _box(obs_spec)
@@ -135,19 +140,6 @@ class VectorEnv:
     def step(self, actions):
         return self._env.step(actions)
 
-    def close(self):
-        self._env.close()
-
-    @property
-    def closed(self):
-        return self._env.closed
-
-    def __enter__(self):
-        return self
-
-    def __exit__(self, *exc):
-        self.close()
-
 
 def make(task, variant="paper", spawn="standing", render_mode=None, render_size=400):
     """An environment: task is one of tasks(); variant 'paper' (the paper's modified suite),
@@ -158,8 +150,8 @@ def make(task, variant="paper", spawn="standing", render_mode=None, render_size=
 
 
 def make_vec(task, num_envs, variant="paper", spawn="standing", threads=None):
-    """A VectorEnv of num_envs environments on `threads` threads (default: one per core, at
-    most one per environment)."""
+    """A VectorEnv of num_envs environments on `threads` threads (default: one per core this
+    process may use, at most one per environment)."""
     return VectorEnv(task, num_envs, variant=variant, spawn=spawn, threads=threads)
 
 
