@@ -35,6 +35,11 @@ void RunEval(const EvalArgs& args) {
                                    {"steps", r.steps},
                                    {"goals_met", r.goals_met},
                                    {"ms_per_plan", episode.mean_ms_per_plan}};
+    if (episode.mean_feasible_fraction) {
+      line["feasible_fraction"] = *episode.mean_feasible_fraction;
+      line["fallback_steps"] = *episode.fallback_step_fraction;
+    }
+    if (!args.options.overrides.empty()) line["overrides"] = args.options.overrides;
     if (!args.render.empty()) {
       const std::string path =
           (std::filesystem::path(args.render) / fmt::format("episode-{}.png", k)).string();
@@ -69,6 +74,10 @@ void AddEvalCommand(CLI::App& parent) {
       ->check(SeedInteger())
       ->capture_default_str();
   command->add_option("--render", args->render, "folder for one PNG per episode");
+  command->add_option("--set", args->options.overrides,
+                      "SECTION.KEY=VALUE: use the trained models with another planner, objective "
+                      "or classifier threshold (planning.*, objective.*, classifier.threshold), "
+                      "e.g. --set planning.population=500 classifier.threshold=0.3");
   command
       ->add_option("--predictions-every", args->options.predictions_every,
                    "draw the planner's predicted trajectories every this many steps (0: none)")

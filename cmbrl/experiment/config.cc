@@ -485,4 +485,37 @@ std::string TrainConfigToYaml(const TrainConfig& c) {
   return writer.Finish();
 }
 
+TrainConfig ApplyConfigOverrides(const TrainConfig& config,
+                                 const std::vector<std::string>& overrides,
+                                 const std::string& source) {
+  YAML::Node document = YAML::Load(TrainConfigToYaml(config));
+  for (const std::string& item : overrides) {
+    const size_t equals = item.find('=');
+    const std::string key = item.substr(0, equals);
+    const size_t dot = key.find('.');
+    Require(equals != std::string::npos && !key.empty() && equals + 1 < item.size() &&
+                (dot == std::string::npos ||
+                 (dot > 0 && dot + 1 < key.size() && key.find('.', dot + 1) == std::string::npos)),
+            "{} '{}': expected section.key=value, e.g. planning.population=500", source, item);
+    const std::string section = dot == std::string::npos ? "" : key.substr(0, dot);
+    const std::string name = dot == std::string::npos ? key : key.substr(dot + 1);
+    const YAML::Node parent = section.empty() ? document : document[section];
+    Require(parent.IsMap() && parent[name], "{} '{}': unknown key '{}'", source, item, key);
+    YAML::Node value;
+    try {
+      value = YAML::Load(item.substr(equals + 1));
+    } catch (const YAML::Exception& error) {
+      Fail("{} '{}': the value is not valid YAML: {}", source, item, error.what());
+    }
+    if (section.empty()) {
+      document[name] = value;
+    } else {
+      document[section][name] = value;
+    }
+  }
+  YAML::Emitter out;
+  out << document;
+  return ParseTrainConfig(out.c_str(), source);
+}
+
 }  // namespace cmbrl

@@ -108,4 +108,12 @@ void SetTrainDevice(TrainConfig& config, const std::string& device);
 // Every key with its value, in the layout LoadTrainConfig reads.
 std::string TrainConfigToYaml(const TrainConfig& config);
 
+// `config` with each "section.key=value" (or "key=value" for a top-level key) of `overrides`
+// applied in order, the value read as YAML ("500", "0.3", "[256, 256]"), then validated as a
+// file would be. Throws cmbrl::Error naming `source` (where the overrides came from, e.g.
+// "--set") and the override for a malformed one, an unknown key or a bad value.
+TrainConfig ApplyConfigOverrides(const TrainConfig& config,
+                                 const std::vector<std::string>& overrides,
+                                 const std::string& source);
+
 }  // namespace cmbrl

@@ -65,7 +65,7 @@ std::vector<PredictedPath> PlannerPredictions(MpcAgent& agent, const BoxSpec& sp
 std::vector<EvaluatedEpisode> EvaluateRun(const std::string& run_dir,
                                           const EvaluationOptions& options) {
   Require(options.episodes >= 1, "episodes is {}: expected at least 1", options.episodes);
-  LoadedRun run(run_dir, options.seed);
+  LoadedRun run(run_dir, options.seed, options.overrides);
   Env& env = run.env();
   if (!run.is_mpc()) {
     // A model-free run: its policy's mean action, no predictions to draw.
@@ -89,8 +89,13 @@ std::vector<EvaluatedEpisode> EvaluateRun(const std::string& run_dir,
   for (int k = 0; k < options.episodes; ++k) {
     EvaluatedEpisode result;
     double milliseconds = 0.0;
+    double feasible = 0.0;
+    int fallback_steps = 0;
     const auto record_plan = [&](int step, const SceneState& scene) {
-      milliseconds += agent.last_plan().milliseconds;
+      const PlanStats& plan = agent.last_plan();
+      milliseconds += plan.milliseconds;
+      feasible += plan.feasible_fraction;
+      if (plan.infeasible_elite_fraction > 0.0) ++fallback_steps;
       if (options.predictions_every <= 0 || step % options.predictions_every != 0) return;
       const std::vector<PredictedPath> paths =
           PlannerPredictions(agent, env.observation_spec(), scene, options.predicted_samples);
@@ -100,6 +105,8 @@ std::vector<EvaluatedEpisode> EvaluateRun(const std::string& run_dir,
         k == 0 ? std::optional<std::uint64_t>(options.seed) : std::nullopt;
     result.record = RunEpisode(env, agent, reset_seed, record_plan);
     result.mean_ms_per_plan = milliseconds / result.record.steps;
+    result.mean_feasible_fraction = feasible / result.record.steps;
+    result.fallback_step_fraction = static_cast<double>(fallback_steps) / result.record.steps;
     episodes.push_back(std::move(result));
   }
   return episodes;

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -16,12 +17,20 @@ struct EvaluationOptions {
   std::uint64_t seed = 0;      // environment and planner
   int predictions_every = 25;  // record the planner's predictions every this many steps (0: never)
   int predicted_samples = 8;   // sample trajectories kept per recorded step (each x members)
+  // "section.key=value" changes of the planner, its objective or the classifier's threshold,
+  // for this evaluation only (LoadedRun::PlanningOverrideKeys).
+  std::vector<std::string> overrides;
 };
 
 struct EvaluatedEpisode {
   EpisodeRecord record;
   std::vector<PredictedPath> predictions;  // world coordinates, at the recorded steps
   double mean_ms_per_plan = 0.0;
+  // MPC runs only: the mean feasible fraction of the plans' last populations, and the share of
+  // steps whose executed plan came from infeasible elites (RCE's fallback: too few feasible
+  // samples).
+  std::optional<double> mean_feasible_fraction;
+  std::optional<double> fallback_step_fraction;
 };
 
 class MpcAgent;

@@ -1,5 +1,7 @@
 #include "cmbrl/experiment/loaded_run.h"
 
+#include <fmt/ranges.h>
+
 #include "cmbrl/core/check.h"
 #include "cmbrl/core/rng.h"
 #include "cmbrl/env/registry.h"
@@ -22,7 +24,31 @@ struct LoadedRun::ModelFree {
   std::unique_ptr<GaussianMeanPolicy> policy;
 };
 
-LoadedRun::LoadedRun(const std::string& run_dir, std::uint64_t seed) {
+namespace {
+
+// Whether `item` ("section.key=value") names a key that PlanningOverrideKeys allows.
+bool IsPlanningOverride(const std::string& item) {
+  const std::string key = item.substr(0, item.find('='));
+  for (const std::string& allowed : LoadedRun::PlanningOverrideKeys()) {
+    const bool whole_section = allowed.size() > 2 && allowed.compare(allowed.size() - 2, 2, ".*") == 0;
+    if (whole_section ? key.rfind(allowed.substr(0, allowed.size() - 1), 0) == 0 : key == allowed) {
+      return true;
+    }
+  }
+  return false;
+}
+
+}  // namespace
+
+const std::vector<std::string>& LoadedRun::PlanningOverrideKeys() {
+  static const std::vector<std::string> keys = {"planning.*", "objective.*",
+                                                "classifier.threshold",
+                                                "classifier.predict_threads"};
+  return keys;
+}
+
+LoadedRun::LoadedRun(const std::string& run_dir, std::uint64_t seed,
+                     const std::vector<std::string>& overrides) {
   const RunDirectory run(run_dir);
   Require(run.HoldsRun(), "'{}' holds no run (no {})", run_dir,
           run.config_file().filename().string());
@@ -30,6 +56,12 @@ LoadedRun::LoadedRun(const std::string& run_dir, std::uint64_t seed) {
   Require(VerifiedCheckpoint(run).has_value(), "'{}' holds no trained run yet (no checkpoint)",
           run_dir);
   config_ = LoadTrainConfig(run.config_file().string());
+  for (const std::string& item : overrides) {
+    Require(IsPlanningOverride(item),
+            "override '{}': only {} can change for a trained run (the others shape its models)",
+            item, fmt::join(PlanningOverrideKeys(), ", "));
+  }
+  if (!overrides.empty()) config_ = ApplyConfigOverrides(config_, overrides, "overrides");
   if (config_.algorithm == "mpc") {
     mpc_ = std::make_unique<Mpc>();
     mpc_->parts =

@@ -22,8 +22,16 @@ class XgbCostModel;
 class LoadedRun {
  public:
   // Loads run_dir's config and verified checkpoint; `seed` seeds the environment it builds and
-  // the MPC planner. Throws cmbrl::Error when run_dir holds no trained run.
-  LoadedRun(const std::string& run_dir, std::uint64_t seed);
+  // the MPC planner. `overrides` ("section.key=value", ApplyConfigOverrides) change how the
+  // trained models are used, never the models: only keys of PlanningOverrideKeys() are
+  // accepted. Throws cmbrl::Error when run_dir holds no trained run or for a bad override.
+  LoadedRun(const std::string& run_dir, std::uint64_t seed,
+            const std::vector<std::string>& overrides = {});
+
+  // What an override may name: "planning.*", "objective.*", "classifier.threshold" and
+  // "classifier.predict_threads" (the planner, its objective and how the classifier's
+  // probability becomes a verdict).
+  static const std::vector<std::string>& PlanningOverrideKeys();
   ~LoadedRun();
 
   const TrainConfig& config() const { return config_; }

@@ -27,7 +27,8 @@ namespace {
 // A trained run's agent (LoadedRun). Not thread-safe.
 class PyAgent {
  public:
-  PyAgent(const std::string& run_dir, std::uint64_t seed) : run_(run_dir, seed) {}
+  PyAgent(const std::string& run_dir, std::uint64_t seed, const std::vector<std::string>& overrides)
+      : run_(run_dir, seed, overrides) {}
 
   void BeginEpisode() { run_.policy().BeginEpisode(); }
 
@@ -167,7 +168,8 @@ py::dict Train(const std::optional<std::string>& config_path,
 
 void BindRuns(py::module_& m) {
   py::class_<PyAgent>(m, "Agent")
-      .def(py::init<const std::string&, std::uint64_t>(), py::arg("run_dir"), py::arg("seed"))
+      .def(py::init<const std::string&, std::uint64_t, const std::vector<std::string>&>(),
+           py::arg("run_dir"), py::arg("seed"), py::arg("overrides"))
       .def("begin_episode", &PyAgent::BeginEpisode)
       .def("act", &PyAgent::Act, py::arg("observation"))
       .def("predictions", &PyAgent::Predictions, py::arg("scene"), py::arg("samples"))

@@ -182,8 +182,8 @@ class Agent:
     """A trained run's agent (load_run): act(observation) gives its action. An MPC run also
     offers its planner's last plan and predictions and its learned models on numpy arrays."""
 
-    def __init__(self, run_dir, seed=0):
-        self._agent = _cmbrl.Agent(os.fspath(run_dir), int(seed))
+    def __init__(self, run_dir, seed=0, overrides=()):
+        self._agent = _cmbrl.Agent(os.fspath(run_dir), int(seed), list(overrides))
         self.run_dir = os.fspath(run_dir)
         self.observation_space = _box(self._agent.observation_spec())
         self.action_space = _box(self._agent.action_spec())
@@ -221,9 +221,26 @@ class Agent:
         return self._agent.predict_violation(states)
 
 
-def load_run(run_dir, seed=0):
-    """The agent of a trained run directory (its last checkpoint); seed seeds the planner."""
-    return Agent(run_dir, seed=seed)
+def load_run(run_dir, seed=0, overrides=None):
+    """The agent of a trained run directory (its last checkpoint); seed seeds the planner.
+
+    overrides: a dict {"section.key": value} or a list of "section.key=value" that changes how
+    the trained models are used, as `cmbrl eval --set` does: planning.*, objective.* and
+    classifier.threshold, e.g. {"classifier.threshold": 0.3}."""
+    if overrides is None:
+        overrides = []
+    elif isinstance(overrides, dict):
+        overrides = [f"{key}={_yaml_value(value)}" for key, value in overrides.items()]
+    return Agent(run_dir, seed=seed, overrides=[str(item) for item in overrides])
+
+
+def _yaml_value(value):
+    """A Python value as YAML flow text (bools lower-case, lists in brackets)."""
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, (list, tuple)):
+        return "[" + ", ".join(_yaml_value(v) for v in value) + "]"
+    return repr(value) if isinstance(value, float) else str(value)
 
 
 class Ensemble:

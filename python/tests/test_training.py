@@ -56,6 +56,20 @@ def test_train_resume_and_act(tmp_path, source_dir):
     with pytest.raises(cmbrl.Error, match="observation"):
         agent.act(np.zeros(3))
 
+    # Overrides change the planner, not the models: a threshold no probability reaches leaves
+    # every sample feasible; one every probability exceeds leaves none.
+    for threshold, feasible in ((0.999999, 1.0), (0.000001, 0.0)):
+        changed = cmbrl.load_run(tmp_path / "run", seed=1,
+                                 overrides={"classifier.threshold": threshold,
+                                            "planning.population": 12})
+        assert "population: 12" in changed.config()
+        changed.begin_episode()
+        changed.act(obs)
+        assert changed.last_plan()["feasible_fraction"] == feasible
+        assert np.array_equal(changed.predict_next(states, np.zeros((5, 2))), nxt)
+    with pytest.raises(cmbrl.Error, match="shape its models"):
+        cmbrl.load_run(tmp_path / "run", overrides=["ensemble.max_epochs=1"])
+
 
 def test_bad_training_input_is_named(tmp_path):
     bad = dict(TINY, planner="sideways")

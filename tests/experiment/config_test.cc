@@ -117,6 +117,33 @@ TEST(ConfigTest, BadConfigurationsNameTheKeyAndTheValue) {
             "config file '/nonexistent/x.yaml' cannot be opened: expected a YAML file");
 }
 
+TEST(ConfigTest, OverridesChangeTheirKeysAndAreValidatedAsAFileIs) {
+  const TrainConfig base = ParseTrainConfig("planner: cem", "c.yaml");
+  const TrainConfig changed = ApplyConfigOverrides(
+      base, {"planning.population=300", "classifier.threshold=0.3", "planner=rce",
+             "ensemble.hidden_sizes=[16, 16]"},
+      "--set");
+  EXPECT_EQ(changed.planning.cross_entropy.population, 300);
+  EXPECT_DOUBLE_EQ(changed.classifier.threshold, 0.3);
+  EXPECT_EQ(changed.planner, "rce");
+  EXPECT_EQ(changed.ensemble.hidden_sizes, (std::vector<int>{16, 16}));
+  // Everything else is the base's.
+  EXPECT_EQ(changed.planning.cross_entropy.elites, base.planning.cross_entropy.elites);
+  EXPECT_EQ(TrainConfigToYaml(ApplyConfigOverrides(base, {}, "--set")), TrainConfigToYaml(base));
+
+  EXPECT_EQ(ErrorMessage([&] { ApplyConfigOverrides(base, {"planning.populaton=3"}, "--set"); }),
+            "--set 'planning.populaton=3': unknown key 'planning.populaton'");
+  EXPECT_EQ(ErrorMessage([&] { ApplyConfigOverrides(base, {"planning.population"}, "--set"); }),
+            "--set 'planning.population': expected section.key=value, e.g. "
+            "planning.population=500");
+  EXPECT_EQ(ErrorMessage([&] { ApplyConfigOverrides(base, {"a.b.c=1"}, "--set"); }),
+            "--set 'a.b.c=1': expected section.key=value, e.g. planning.population=500");
+  EXPECT_EQ(ErrorMessage([&] { ApplyConfigOverrides(base, {"planning.elites=900"}, "--set"); }),
+            "config '--set': planning.elites is 900: expected between 1 and population (500)");
+  EXPECT_EQ(ErrorMessage([&] { ApplyConfigOverrides(base, {"planning.population=x"}, "--set"); }),
+            "config '--set': key 'planning.population' is 'x': expected an integer");
+}
+
 // Every number a config can give has a bound, checked before the run takes any memory.
 TEST(ConfigTest, SizesOutOfTheirBoundsAreNamedBeforeAnythingIsAllocated) {
   EXPECT_EQ(ErrorMessage([] { ParseTrainConfig("planning: {population: 1e12}", "c.yaml"); }),
