@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The CPU grid (configs/cpu, results/cpu-grid) in the order that answers issue 12 soonest: the
-# level-2 RCE cells with 5 seeds, the Car baselines, then the rest with 3 seeds. Started again
-# with the same arguments it skips finished runs and resumes the others.
+# level-2 RCE cells with 5 seeds and the Car baselines, seed by seed, then the rest with 3 seeds.
+# Started again with the same arguments it skips finished runs and resumes the others.
 #
 # The ablation variant 'combined' is the CPU preset at 2000 steps: its finished runs (in
 # ABLATION_DIR/<Task>-rce/combined/runs, scripts/ablation-queue.sh's layout) are copied in and
@@ -33,8 +33,13 @@ fi
 sweep() {
   "$cmbrl" sweep --config-dir configs/cpu --out "$out" --jobs "${JOBS:-1}" "$@"
 }
-sweep --tasks PointGoal2 CarGoal2 --planners rce --seeds 0 1 2 3 4
-sweep --tasks CarGoal1 --planners cem random --seeds 0 1 2
+sweep --tasks PointGoal2 --planners rce --seeds 0 1 2 3 4
+# The Car's two gaps side by side, a seed of each at a time: level-2 RCE and the baselines.
+for seed in 0 1 2; do
+  sweep --tasks CarGoal2 --planners rce --seeds "$seed"
+  sweep --tasks CarGoal1 --planners cem random --seeds "$seed"
+done
+sweep --tasks CarGoal2 --planners rce --seeds 3 4
 sweep --tasks PointGoal1 CarGoal1 --planners rce --seeds 0 1 2
 sweep --tasks PointGoal2 CarGoal2 --planners cem random --seeds 0 1 2
 sweep --tasks PointGoal1 --planners cem random --seeds 0 1 2
