@@ -7,9 +7,13 @@
 
 namespace cmbrl {
 
-VectorEnv::VectorEnv(std::vector<std::unique_ptr<Env>> envs, int threads) : envs_(std::move(envs)) {
+VectorEnv::VectorEnv(std::vector<std::unique_ptr<Env>> envs, int threads,
+                     std::chrono::microseconds spin)
+    : envs_(std::move(envs)) {
   Require(!envs_.empty(), "a vector of 0 environments: expected at least one");
   Require(threads >= 1, "threads is {}: expected at least 1", threads);
+  Require(spin.count() >= 0 && spin.count() <= 1'000'000,
+          "spin is {} microseconds: expected 0 to 1000000", spin.count());
   for (const std::unique_ptr<Env>& env : envs_) {
     Require(env->observation_spec().size() == envs_[0]->observation_spec().size() &&
                 env->action_spec().size() == envs_[0]->action_spec().size(),
@@ -18,7 +22,7 @@ VectorEnv::VectorEnv(std::vector<std::unique_ptr<Env>> envs, int threads) : envs
             envs_[0]->observation_spec().size(), env->observation_spec().size(),
             envs_[0]->action_spec().size(), env->action_spec().size());
   }
-  pool_ = std::make_unique<WorkerPool>(std::min(threads, size()));
+  pool_ = std::make_unique<WorkerPool>(std::min(threads, size()), spin);
 }
 
 std::vector<double> VectorEnv::Reset(std::optional<std::uint64_t> seed) {

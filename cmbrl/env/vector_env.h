@@ -4,6 +4,7 @@
 // of its next episode, and its last observation aside).
 #pragma once
 
+#include <chrono>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -25,12 +26,16 @@ struct VectorStep {
 };
 
 // Not thread-safe; it runs its environments on a pool of threads of its own (WorkerPool: they
-// spin for up to 2 ms after each call, so a loop that steps again soon finds them awake).
+// spin for up to `spin` after each call, 2 ms by default, so a loop that steps again soon finds
+// them awake; 0 lets them sleep at once, for loops that step rarely).
 class VectorEnv {
  public:
-  // Throws cmbrl::Error for no environments, environments with different specs, or fewer than
-  // one thread.
-  VectorEnv(std::vector<std::unique_ptr<Env>> envs, int threads);
+  // Throws cmbrl::Error for no environments, environments with different specs, fewer than one
+  // thread, or a spin outside 0 to 1 s.
+  VectorEnv(std::vector<std::unique_ptr<Env>> envs, int threads,
+            std::chrono::microseconds spin = kDefaultSpin);
+
+  static constexpr std::chrono::microseconds kDefaultSpin{2000};
 
   int size() const { return static_cast<int>(envs_.size()); }
   const Env& env(int k) const { return *envs_[static_cast<size_t>(k)]; }

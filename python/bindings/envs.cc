@@ -184,7 +184,7 @@ class PyEnv {
 class PyVectorEnv {
  public:
   PyVectorEnv(const std::string& task, int num_envs, const std::string& variant,
-              const std::string& spawn, int threads)
+              const std::string& spawn, int threads, std::int64_t spin_us)
       : task_(task) {
     Require(num_envs >= 1, "num_envs is {}: expected at least 1", num_envs);
     std::vector<std::unique_ptr<Env>> envs;
@@ -192,7 +192,8 @@ class PyVectorEnv {
       envs.push_back(MakeEnv(task, ParseVariant(variant), ParseSpawn(spawn)));
     }
     // 0: one thread per core this process may use (VectorEnv keeps at most one per env).
-    vector_ = std::make_unique<VectorEnv>(std::move(envs), threads == 0 ? CoreCount() : threads);
+    vector_ = std::make_unique<VectorEnv>(std::move(envs), threads == 0 ? CoreCount() : threads,
+                                          std::chrono::microseconds(spin_us));
   }
 
   py::tuple Reset(std::optional<std::uint64_t> seed) {
@@ -285,9 +286,10 @@ void BindEnvs(py::module_& m) {
       .def("close", &PyEnv::Close);
 
   py::class_<PyVectorEnv>(m, "VectorEnv")
-      .def(py::init<const std::string&, int, const std::string&, const std::string&, int>(),
+      .def(py::init<const std::string&, int, const std::string&, const std::string&, int,
+                    std::int64_t>(),
            py::arg("task"), py::arg("num_envs"), py::arg("variant"), py::arg("spawn"),
-           py::arg("threads"))
+           py::arg("threads"), py::arg("spin_us"))
       .def("reset", &PyVectorEnv::Reset, py::arg("seed") = py::none())
       .def("step", &PyVectorEnv::Step, py::arg("actions"))
       .def("observation_spec", &PyVectorEnv::ObservationSpec)

@@ -116,10 +116,11 @@ class VectorEnv(_Closable):
 
     metadata = {"autoreset_mode": "same-step"}
 
-    def __init__(self, task, num_envs, variant="paper", spawn="standing", threads=None):
+    def __init__(self, task, num_envs, variant="paper", spawn="standing", threads=None,
+                 spin_us=2000):
         # 0: one thread per core this process may use (its affinity mask), at most one per env.
         self._env = _cmbrl.VectorEnv(task, int(num_envs), variant, spawn,
-                                     0 if threads is None else int(threads))
+                                     0 if threads is None else int(threads), int(spin_us))
         self.task, self.variant, self.num_envs = task, variant, int(num_envs)
         obs_spec, act_spec = self._env.observation_spec(), self._env.action_spec()
         self.single_observation_space = _box(obs_spec)
@@ -149,10 +150,13 @@ def make(task, variant="paper", spawn="standing", render_mode=None, render_size=
                render_size=render_size)
 
 
-def make_vec(task, num_envs, variant="paper", spawn="standing", threads=None):
+def make_vec(task, num_envs, variant="paper", spawn="standing", threads=None, spin_us=2000):
     """A VectorEnv of num_envs environments on `threads` threads (default: one per core this
-    process may use, at most one per environment)."""
-    return VectorEnv(task, num_envs, variant=variant, spawn=spawn, threads=threads)
+    process may use, at most one per environment). Between steps the threads spin for up to
+    spin_us microseconds before they sleep: the default suits a loop that steps at once again;
+    0 spares the cores of a loop that does much else between steps."""
+    return VectorEnv(task, num_envs, variant=variant, spawn=spawn, threads=threads,
+                     spin_us=spin_us)
 
 
 def train(config=None, out=None, steps=None, seed=None, device=None, resume=None, progress=None):

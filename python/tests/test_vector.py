@@ -5,9 +5,10 @@ import pytest
 import cmbrl
 
 
-def test_a_vector_steps_as_its_environments_do_one_by_one_with_auto_reset():
+@pytest.mark.parametrize("spin_us", [2000, 0])
+def test_a_vector_steps_as_its_environments_do_one_by_one_with_auto_reset(spin_us):
     n = 3
-    envs = cmbrl.make_vec("PointGoal1", num_envs=n, threads=2)
+    envs = cmbrl.make_vec("PointGoal1", num_envs=n, threads=2, spin_us=spin_us)
     singles = [cmbrl.make("PointGoal1") for _ in range(n)]
     obs, _ = envs.reset(seed=10)
     assert obs.shape == (n, envs.single_observation_space.shape[0])
@@ -50,3 +51,5 @@ def test_bad_actions_for_a_vector_are_named():
         envs.step(np.zeros((2, 2)))
     with pytest.raises(cmbrl.Error, match="num_envs"):
         cmbrl.make_vec("CarGoal1", num_envs=0)
+    with pytest.raises(cmbrl.Error, match="spin is -1 microseconds"):
+        cmbrl.make_vec("CarGoal1", num_envs=2, spin_us=-1)

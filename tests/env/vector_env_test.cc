@@ -64,6 +64,7 @@ TEST(VectorEnvTest, BadActionsAreNamedBeforeAnyEnvironmentSteps) {
     EXPECT_NE(std::string(e.what()).find("environment 1"), std::string::npos) << e.what();
   }
   EXPECT_THROW(VectorEnv({}, 1), Error);
+  EXPECT_THROW(VectorEnv(Envs("CarGoal1", 1), 1, std::chrono::microseconds(-1)), Error);
 }
 
 }  // namespace
