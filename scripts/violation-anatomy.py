@@ -1,0 +1,105 @@
+#!/usr/bin/python3
+"""Where an MPC run's violations come from: each violating step of a trained run's agent, sorted
+by what its models knew.
+
+For every step whose agent step had a cost, with the run's final models (cmbrl.load_run):
+  - hole: the classifier calls the true next state safe, so no plan could have avoided it;
+  - unforeseen: the classifier knows that state is unsafe, but every ensemble member predicted a
+    safe next state for the executed action (a dynamics error);
+  - foreseen, fallback: a member predicted the violation and RCE had too few feasible samples
+    (its plan came from the least-violating, infeasible elites);
+  - foreseen, feasible: a member predicted the violation although the plan had enough feasible
+    samples (the executed mean of the elites differs from each elite).
+Also: how long violations last once they start (consecutive violating steps) and the robot's
+speed at violating steps and at the others.
+
+Usage (Debian's python3, with python3-numpy):
+       PYTHONPATH=build/python scripts/violation-anatomy.py RUN_DIR [--episodes 8] [--seed 5]
+       [--set planning.population=500 ...]
+"""
+import argparse
+import collections
+import statistics
+import sys
+
+import numpy as np
+
+import cmbrl
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("run")
+    parser.add_argument("--episodes", type=int, default=8)
+    parser.add_argument("--seed", type=int, default=5)
+    parser.add_argument("--set", nargs="*", default=[], help="overrides, as cmbrl eval --set")
+    args = parser.parse_args()
+
+    agent = cmbrl.load_run(args.run, seed=args.seed, overrides=args.set)
+    if not agent.is_mpc:
+        sys.exit(f"{args.run} is not an MPC run")
+    config = agent.config()
+    task = next(line.split(":", 1)[1].strip() for line in config.splitlines()
+                if line.startswith("task:"))
+    env = cmbrl.make(task)
+
+    kinds = collections.Counter()
+    steps = violations = 0
+    dwell = []          # lengths of runs of consecutive violating steps
+    speeds_in, speeds_out = [], []
+    episode_costs = []
+    for k in range(args.episodes):
+        obs, _ = env.reset(seed=args.seed + k)
+        agent.begin_episode()
+        run_length = 0
+        cost_sum = 0
+        done = False
+        while not done:
+            action = agent.act(obs)
+            plan = agent.last_plan()
+            predicted = agent.predict_next(obs[None, :], action[None, :])[:, 0, :]
+            foreseen = bool(agent.predict_violation(predicted).any())
+            speed = float(np.hypot(obs[0], obs[1]))  # velocimeter x, y (facts B1)
+            nxt, _, cost, terminated, truncated, _ = env.step(action)
+            steps += 1
+            done = terminated or truncated
+            if cost > 0:
+                violations += 1
+                cost_sum += 1
+                run_length += 1
+                speeds_in.append(speed)
+                known = bool(agent.predict_violation(nxt[None, :])[0])
+                if not known:
+                    kinds["hole"] += 1
+                elif not foreseen:
+                    kinds["unforeseen"] += 1
+                elif plan["infeasible_elite_fraction"] > 0:
+                    kinds["foreseen, fallback"] += 1
+                else:
+                    kinds["foreseen, feasible"] += 1
+            else:
+                speeds_out.append(speed)
+                if run_length:
+                    dwell.append(run_length)
+                run_length = 0
+            obs = nxt
+        if run_length:
+            dwell.append(run_length)
+        episode_costs.append(cost_sum)
+
+    print(f"{args.run}: {args.episodes} episodes, {steps} steps, {violations} violating "
+          f"(per episode: {episode_costs})" + (f", overrides {args.set}" if args.set else ""))
+    print("| kind | steps | share |\n|---|---|---|")
+    for kind in ("hole", "unforeseen", "foreseen, fallback", "foreseen, feasible"):
+        share = kinds[kind] / violations if violations else 0.0
+        print(f"| {kind} | {kinds[kind]} | {share:.2f} |")
+    if dwell:
+        print(f"runs of consecutive violations: {len(dwell)}, median length "
+              f"{statistics.median(dwell)}, longest {max(dwell)}, share of violating steps in "
+              f"runs of 5 or more {sum(d for d in dwell if d >= 5) / violations:.2f}")
+        print(f"robot speed (m/s): median {statistics.median(speeds_in):.3f} at violating steps, "
+              f"{statistics.median(speeds_out):.3f} at the others")
+
+
+if __name__ == "__main__":
+    main()
