@@ -101,6 +101,13 @@ struct TableCell {
 // range, "above" the highest; "" without the original's logs.
 std::string VersusOriginal(const TableCell& cell);
 
+// Whether a cell reproduces the original (issue 12's test): its mean within the original's seed
+// range widened by 30% (0.7 x the lowest seed to 1.3 x the highest). For the paper's own method
+// fewer violations are better, so only the upper end counts. "yes", "no: above N" or
+// "no: below N"; "" without the original's logs.
+std::string WithinWidenedRange(const TableCell& cell);
+
+
 // One cell per task and planner present, tasks and planners in the sweep's order. Runs without
 // a finished episode are left out. `reference` (ReadReferenceRuns) fills the original's columns.
 std::vector<TableCell> ViolationTable(const std::vector<RunRecord>& runs, std::int64_t window,

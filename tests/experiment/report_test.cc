@@ -121,7 +121,7 @@ TEST_F(ReportTest, TableOneHasTheExpectedNumbers) {
   EXPECT_THAT(markdown, HasSubstr("| CarGoal2 | 8.0 ± 0.0 (1) [96] | 2.0 ± 0.0 (1) [578] |"));
   const std::string csv = TableCsv(cells, 300);
   EXPECT_THAT(csv, HasSubstr("PointGoal1,cem,300,2,16.5,2.1213203435596424,15 18,184,300,2,"
-                             "1.4142135623730951,,,,,0 0,0,\n"));
+                             "1.4142135623730951,,,,,0 0,0,,\n"));
   // Returns of the episodes begun in the window: rce 0,1,2 and 1,2,3; cem 0,1,2 and 2,3,4.
   EXPECT_EQ(cells[0].final_returns, (std::vector<double>{1, 2}));
   EXPECT_DOUBLE_EQ(cells[1].return_mean, 2.0);
@@ -260,8 +260,8 @@ TEST_F(ReportTest, CellsCompareWithTheOriginalsSeedsOverTheSameWindow) {
   EXPECT_TRUE(cells[1].original_per_seed.empty());  // no log for PointGoal1 CEM
   const std::string markdown = TableMarkdown(cells, 300);
   EXPECT_THAT(markdown, HasSubstr("| PointGoal1 | MPC-RCE | 2.0 (3, 1) | 2.5 (1, 4) | inside | "
-                                  "1.50 | 4.75 | 0, 0 | 0, 0 | 0.000 |"));
-  EXPECT_THAT(TableCsv(cells, 300), HasSubstr(",1 4,2.5,inside,4.75,0 0,0,0 0\n"));
+                                  "yes | 1.50 | 4.75 | 0, 0 | 0, 0 | 0.000 |"));
+  EXPECT_THAT(TableCsv(cells, 300), HasSubstr(",1 4,2.5,inside,4.75,0 0,0,0 0,yes\n"));
   EXPECT_THAT(OutcomeDifferences(cells, 300),
               ::testing::Contains("PointGoal1 MPC-RCE: 2.0 in the first 300 steps, the original "
                                   "2.5 (1, 4); ours is inside its seeds' range."));
@@ -277,6 +277,27 @@ TEST_F(ReportTest, CellsCompareWithTheOriginalsSeedsOverTheSameWindow) {
   EXPECT_TRUE(long_window[0].original_per_seed.empty());
   EXPECT_THAT(OutcomeDifferences(long_window, 400),
               ::testing::Not(::testing::Contains(HasSubstr("PointGoal1 MPC-RCE: 11.0"))));
+}
+
+// The test: within 0.7 x the original's lowest seed to 1.3 x its highest; for RCE, the
+// paper's method, fewer is never a miss.
+TEST(ReportTableTest, ACellReproducesWithinTheOriginalsRangeWidenedByThirtyPercent) {
+  TableCell cell;
+  cell.task = "PointGoal2";
+  cell.original_per_seed = {113, 78, 108};  // the original's PointGoal2 RCE over 3000 steps
+  cell.planner = "rce";
+  cell.mean = 146.8;
+  EXPECT_EQ(WithinWidenedRange(cell), "yes");
+  cell.mean = 147.0;
+  EXPECT_EQ(WithinWidenedRange(cell), "no: above 146.9");
+  cell.mean = 3.0;
+  EXPECT_EQ(WithinWidenedRange(cell), "yes");  // fewer than the original: RCE's goal
+  cell.planner = "cem";
+  EXPECT_EQ(WithinWidenedRange(cell), "no: below 54.6");
+  cell.mean = 54.6;
+  EXPECT_EQ(WithinWidenedRange(cell), "yes");
+  cell.original_per_seed.clear();
+  EXPECT_EQ(WithinWidenedRange(cell), "");
 }
 
 TEST(ReportEpisodesTest, HeavyEpisodesAndFeasibleFractionCountOnlyTheWindow) {
