@@ -16,6 +16,7 @@ speed at violating steps and at the others.
 Usage (Debian's python3, with python3-numpy):
        PYTHONPATH=build/python scripts/violation-anatomy.py RUN_DIR [--episodes 8] [--seed 5]
        [--set planning.population=500 ...]
+Episode k is episode k of `cmbrl eval --run RUN_DIR --seed 5` with the same --set.
 """
 import argparse
 import collections
@@ -47,12 +48,15 @@ def main():
     steps = violations = 0
     dwell = []          # lengths of runs of consecutive violating steps
     speeds_in, speeds_out = [], []
-    episode_costs = []
+    episode_costs, episode_returns = [], []
     for k in range(args.episodes):
-        obs, _ = env.reset(seed=args.seed + k)
+        # As `cmbrl eval --seed S`: the first reset seeded, the others continuing its generator,
+        # so episode k here is eval's episode k (the same planner seed too).
+        obs, _ = env.reset(seed=args.seed) if k == 0 else env.reset()
         agent.begin_episode()
         run_length = 0
         cost_sum = 0
+        episode_return = 0.0
         done = False
         while not done:
             action = agent.act(obs)
@@ -60,7 +64,8 @@ def main():
             predicted = agent.predict_next(obs[None, :], action[None, :])[:, 0, :]
             foreseen = bool(agent.predict_violation(predicted).any())
             speed = float(np.hypot(obs[0], obs[1]))  # velocimeter x, y (facts B1)
-            nxt, _, cost, terminated, truncated, _ = env.step(action)
+            nxt, reward, cost, terminated, truncated, _ = env.step(action)
+            episode_return += reward
             steps += 1
             done = terminated or truncated
             if cost > 0:
@@ -86,9 +91,11 @@ def main():
         if run_length:
             dwell.append(run_length)
         episode_costs.append(cost_sum)
+        episode_returns.append(round(episode_return, 3))
 
     print(f"{args.run}: {args.episodes} episodes, {steps} steps, {violations} violating "
-          f"(per episode: {episode_costs})" + (f", overrides {args.set}" if args.set else ""))
+          f"(per episode: {episode_costs}; returns {episode_returns})"
+          + (f", overrides {args.set}" if args.set else ""))
     print("| kind | steps | share |\n|---|---|---|")
     for kind in ("hole", "unforeseen", "foreseen, fallback", "foreseen, feasible"):
         share = kinds[kind] / violations if violations else 0.0
