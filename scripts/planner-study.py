@@ -97,7 +97,8 @@ def main():
         f.write("|---|---|---|---|---|---|---|---|---|---|\n")
         for name, overrides, s in rows:
             per_run = ", ".join(f"{v:g}" for v in s["per_run"].values())
-            f.write(f"| {name} | {' '.join(overrides) or '(the run own)'} | {per_run} | "
+            named = " ".join(overrides) or "(the run's own)"
+            f.write(f"| {name} | {named} | {per_run} | "
                     f"{s['per_100_steps']:.2f} | {s['heavy']} | {s['return']:.2f} | "
                     f"{s['goals']:.2f} | {s['feasible']:.3f} | {s['fallback']:.3f} | "
                     f"{s['ms']:.0f} |\n")
