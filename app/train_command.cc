@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "app/arguments.h"
 #include "app/commands.h"
@@ -25,6 +26,7 @@ struct TrainArgs {
   std::string resume;
   std::optional<std::int64_t> steps;
   std::optional<std::uint64_t> seed;
+  std::vector<std::string> overrides;  // --set
   std::optional<std::string> device;
 };
 
@@ -38,15 +40,17 @@ void RunTrain(const TrainArgs& args) {
   std::unique_ptr<Trainer> trainer;
   std::string run_dir;
   if (!args.resume.empty()) {
-    Require(args.config.empty() && args.out.empty() && !args.seed && !args.device,
-            "--resume continues a run with its own config: give no --config, --out, --seed or "
-            "--device with it (--steps gives it a new budget)");
+    Require(args.config.empty() && args.out.empty() && !args.seed && !args.device &&
+                args.overrides.empty(),
+            "--resume continues a run with its own config: give no --config, --out, --seed, "
+            "--device or --set with it (--steps gives it a new budget)");
     run_dir = args.resume;
     trainer = Trainer::Resume(run_dir, args.steps);
   } else {
     Require(!args.config.empty() && !args.out.empty(),
             "a new run needs --config FILE and --out RUN_DIR (or --resume RUN_DIR)");
     TrainConfig config = LoadTrainConfig(args.config);
+    if (!args.overrides.empty()) config = ApplyConfigOverrides(config, args.overrides, "--set");
     if (args.steps) config.training.total_steps = *args.steps;
     if (args.seed) config.seed = *args.seed;
     if (args.device) SetTrainDevice(config, *args.device);
@@ -102,6 +106,9 @@ void AddTrainCommand(CLI::App& parent) {
       ->check(IntegerIn(1, kMaxSteps));
   command->add_option("--seed", args->seed, "run seed")->check(SeedInteger());
   command->add_option("--device", args->device, "cpu, cuda or cuda:N");
+  command->add_option("--set", args->overrides,
+                      "SECTION.KEY=VALUE: change the config's keys for this run (written to its "
+                      "config.yaml), e.g. --set planning.population=500 classifier.rounds=100");
   command->callback([args] { RunTrain(*args); });
 }
 
