@@ -76,7 +76,7 @@ void AddEvalCommand(CLI::App& parent) {
   command->add_option("--render", args->render, "folder for one PNG per episode");
   command->add_option("--set", args->options.overrides,
                       "SECTION.KEY=VALUE: use the trained models with another planner, objective "
-                      "or classifier threshold (planning.*, objective.*, classifier.threshold), "
+                      "or classifier threshold (planning.*, objective.*, classifier.threshold, planner), "
                       "e.g. --set planning.population=500 classifier.threshold=0.3");
   command
       ->add_option("--predictions-every", args->options.predictions_every,

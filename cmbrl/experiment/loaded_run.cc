@@ -43,7 +43,7 @@ bool IsPlanningOverride(const std::string& item) {
 const std::vector<std::string>& LoadedRun::PlanningOverrideKeys() {
   static const std::vector<std::string> keys = {"planning.*", "objective.*",
                                                 "classifier.threshold",
-                                                "classifier.predict_threads"};
+                                                "classifier.predict_threads", "planner"};
   return keys;
 }
 

@@ -28,9 +28,9 @@ class LoadedRun {
   LoadedRun(const std::string& run_dir, std::uint64_t seed,
             const std::vector<std::string>& overrides = {});
 
-  // What an override may name: "planning.*", "objective.*", "classifier.threshold" and
-  // "classifier.predict_threads" (the planner, its objective and how the classifier's
-  // probability becomes a verdict).
+  // What an override may name: "planning.*", "objective.*", "classifier.threshold",
+  // "classifier.predict_threads" and "planner" (the planner, its settings and objective, and how
+  // the classifier's probability becomes a verdict; an MPC run's models serve every planner).
   static const std::vector<std::string>& PlanningOverrideKeys();
   ~LoadedRun();
 

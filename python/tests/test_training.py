@@ -69,6 +69,11 @@ def test_train_resume_and_act(tmp_path, source_dir):
         assert np.array_equal(changed.predict_next(states, np.zeros((5, 2))), nxt)
     with pytest.raises(cmbrl.Error, match="shape its models"):
         cmbrl.load_run(tmp_path / "run", overrides=["ensemble.max_epochs=1"])
+    # Another planner on the same models.
+    cem = cmbrl.load_run(tmp_path / "run", seed=1, overrides={"planner": "cem"})
+    assert "planner: cem" in cem.config()
+    cem.begin_episode()
+    assert cem.act(obs).shape == (2,)
 
 
 def test_bad_training_input_is_named(tmp_path):
