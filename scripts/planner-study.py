@@ -2,8 +2,10 @@
 """Frozen-model planner study: the same trained runs' models, planned with other settings.
 
 Each setting is a list of `cmbrl eval --set` overrides (planning.*, objective.*,
-classifier.threshold). Every run is evaluated under every setting with the same environment seed,
-so the settings meet the same layouts and differ only in how the models are used. This separates
+classifier.threshold, planner). Every run is evaluated under every setting with the same
+environment and planner seed: the first episode's layout is the same for all settings; later
+layouts come from the same generator but differ once settings reach different numbers of goals
+(each goal met draws a new one). This separates
 the planner's share of the violations from the training loop's (which states the models saw),
 at a fraction of a training ablation's cost.
 
