@@ -74,6 +74,9 @@ void AddEvalCommand(CLI::App& parent) {
       ->check(SeedInteger())
       ->capture_default_str();
   command->add_option("--render", args->render, "folder for one PNG per episode");
+  command->add_flag("--reseed", args->options.reseed_each_episode,
+                    "reset episode k with seed + k (the same layouts whatever the agent does), "
+                    "not only the first episode");
   command->add_option("--set", args->options.overrides,
                       "SECTION.KEY=VALUE: use the trained models with another planner, objective "
                       "or classifier threshold (planning.*, objective.*, classifier.threshold, planner), "

@@ -5,7 +5,8 @@ Each setting is a list of `cmbrl eval --set` overrides (planning.*, objective.*,
 classifier.threshold, planner). Every run is evaluated under every setting with the same
 environment and planner seed: the first episode's layout is the same for all settings; later
 layouts come from the same generator but differ once settings reach different numbers of goals
-(each goal met draws a new one). This separates
+(each goal met draws a new one). With --reseed (`cmbrl eval --reseed`) episode k is reset with
+seed + k, so every setting meets the same layouts. This separates
 the planner's share of the violations from the training loop's (which states the models saw),
 at a fraction of a training ablation's cost.
 
@@ -45,6 +46,8 @@ def evaluate(args, run, name, overrides):
     os.makedirs(os.path.dirname(path), exist_ok=True)
     command = [args.cmbrl, "eval", "--run", run, "--episodes", str(args.episodes),
                "--seed", str(args.seed), "--predictions-every", "0"]
+    if args.reseed:
+        command.append("--reseed")
     if overrides:
         command += ["--set", *overrides]
     result = subprocess.run(command, capture_output=True, text=True)
@@ -81,6 +84,9 @@ def main():
     parser.add_argument("--episodes", type=int, default=10)
     parser.add_argument("--seed", type=int, default=11)
     parser.add_argument("--out", required=True)
+    parser.add_argument("--reseed", action="store_true",
+                        help="episode k reset with seed + k: every setting meets the same layouts "
+                             "(use one choice per output folder)")
     args = parser.parse_args()
 
     rows = []

@@ -16,7 +16,8 @@ speed at violating steps and at the others.
 Usage (Debian's python3, with python3-numpy):
        PYTHONPATH=build/python scripts/violation-anatomy.py RUN_DIR [--episodes 8] [--seed 5]
        [--set planning.population=500 ...]
-Episode k is episode k of `cmbrl eval --run RUN_DIR --seed 5` with the same --set.
+Episode k is episode k of `cmbrl eval --run RUN_DIR --seed 5` with the same --set (and
+--reseed).
 """
 import argparse
 import collections
@@ -34,6 +35,8 @@ def main():
     parser.add_argument("--episodes", type=int, default=8)
     parser.add_argument("--seed", type=int, default=5)
     parser.add_argument("--set", nargs="*", default=[], help="overrides, as cmbrl eval --set")
+    parser.add_argument("--reseed", action="store_true",
+                        help="episode k reset with seed + k, as cmbrl eval --reseed")
     args = parser.parse_args()
 
     agent = cmbrl.load_run(args.run, seed=args.seed, overrides=args.set)
@@ -52,7 +55,10 @@ def main():
     for k in range(args.episodes):
         # As `cmbrl eval --seed S`: the first reset seeded, the others continuing its generator,
         # so episode k here is eval's episode k (the same planner seed too).
-        obs, _ = env.reset(seed=args.seed) if k == 0 else env.reset()
+        if args.reseed:
+            obs, _ = env.reset(seed=args.seed + k)
+        else:
+            obs, _ = env.reset(seed=args.seed) if k == 0 else env.reset()
         agent.begin_episode()
         run_length = 0
         cost_sum = 0

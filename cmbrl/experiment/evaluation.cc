@@ -13,6 +13,11 @@
 namespace cmbrl {
 namespace {
 
+std::optional<std::uint64_t> EpisodeResetSeed(const EvaluationOptions& options, int episode) {
+  if (options.reseed_each_episode) return options.seed + static_cast<std::uint64_t>(episode);
+  return episode == 0 ? std::optional<std::uint64_t>(options.seed) : std::nullopt;
+}
+
 // Predicted robot positions in the world: the predicted magnetometer gives the heading theta
 // ((-0.5 sin theta, -0.5 cos theta) in the body frame), the predicted ego-frame goal the offset,
 // and the goal itself does not move: p = goal - R(theta) goal_ego.
@@ -74,7 +79,7 @@ std::vector<EvaluatedEpisode> EvaluateRun(const std::string& run_dir,
       EvaluatedEpisode result;
       const auto start = std::chrono::steady_clock::now();
       result.record = RunEpisode(
-          env, run.policy(), k == 0 ? std::optional<std::uint64_t>(options.seed) : std::nullopt);
+          env, run.policy(), EpisodeResetSeed(options, k));
       result.mean_ms_per_plan =
           std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
               .count() /
@@ -101,9 +106,7 @@ std::vector<EvaluatedEpisode> EvaluateRun(const std::string& run_dir,
           PlannerPredictions(agent, env.observation_spec(), scene, options.predicted_samples);
       result.predictions.insert(result.predictions.end(), paths.begin(), paths.end());
     };
-    const std::optional<std::uint64_t> reset_seed =
-        k == 0 ? std::optional<std::uint64_t>(options.seed) : std::nullopt;
-    result.record = RunEpisode(env, agent, reset_seed, record_plan);
+    result.record = RunEpisode(env, agent, EpisodeResetSeed(options, k), record_plan);
     result.mean_ms_per_plan = milliseconds / result.record.steps;
     result.mean_feasible_fraction = feasible / result.record.steps;
     result.fallback_step_fraction = static_cast<double>(fallback_steps) / result.record.steps;

@@ -15,6 +15,10 @@ namespace cmbrl {
 struct EvaluationOptions {
   int episodes = 1;
   std::uint64_t seed = 0;      // environment and planner
+  // false: only the first episode's reset is seeded, later ones continue its generator. true:
+  // episode k is reset with seed + k, so its layout is the same whatever happened before (two
+  // planners meet the same layouts).
+  bool reseed_each_episode = false;
   int predictions_every = 25;  // record the planner's predictions every this many steps (0: never)
   int predicted_samples = 8;   // sample trajectories kept per recorded step (each x members)
   // "section.key=value" changes of the planner, its objective or the classifier's threshold,
