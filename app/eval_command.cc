@@ -43,16 +43,16 @@ void RunEval(const EvalArgs& args) {
     if (!args.render.empty()) {
       const std::string path =
           (std::filesystem::path(args.render) / fmt::format("episode-{}.png", k)).string();
-      ScenePicture picture{r.final_scene,
-                           r.path,
-                           r.path_violations,
-                           r.reached_goals,
-                           fmt::format("episode {}: return {:.2f}, cost {}, goals {}{}", k,
-                                       r.episode_return, r.episode_cost, r.goals_met,
-                                       episode.predictions.empty()
-                                           ? ""
-                                           : " | plans: green feasible, red not, black chosen"),
-                           episode.predictions};
+      ScenePicture picture{
+          r.final_scene,
+          r.path,
+          r.path_violations,
+          r.reached_goals,
+          fmt::format(
+              "episode {}: return {:.2f}, cost {}, goals {}{}", k, r.episode_return, r.episode_cost,
+              r.goals_met,
+              episode.predictions.empty() ? "" : " | plans: green feasible, red not, black chosen"),
+          episode.predictions};
       WriteScenePng(picture, path);
       line["picture"] = path;
     }
@@ -77,10 +77,11 @@ void AddEvalCommand(CLI::App& parent) {
   command->add_flag("--reseed", args->options.reseed_each_episode,
                     "reset episode k with seed + k (the same layouts whatever the agent does), "
                     "not only the first episode");
-  command->add_option("--set", args->options.overrides,
-                      "SECTION.KEY=VALUE: use the trained models with another planner, objective "
-                      "or classifier threshold (planning.*, objective.*, classifier.threshold, planner), "
-                      "e.g. --set planning.population=500 classifier.threshold=0.3");
+  command->add_option(
+      "--set", args->options.overrides,
+      "SECTION.KEY=VALUE: use the trained models with another planner, objective "
+      "or classifier threshold (planning.*, objective.*, classifier.threshold, planner), "
+      "e.g. --set planning.population=500 classifier.threshold=0.3");
   command
       ->add_option("--predictions-every", args->options.predictions_every,
                    "draw the planner's predicted trajectories every this many steps (0: none)")

@@ -100,9 +100,10 @@ void AddTrainCommand(CLI::App& parent) {
   command->add_option("--out", args->out, "run directory to create");
   command->add_option("--resume", args->resume, "run directory to continue")
       ->check(CLI::ExistingDirectory);
-  command->add_option("--steps", args->steps,
-                      "budget of agent steps (training.total_steps); with --resume, continues the "
-                      "run (finished or not) to this budget as if it had been started with it")
+  command
+      ->add_option("--steps", args->steps,
+                   "budget of agent steps (training.total_steps); with --resume, continues the "
+                   "run (finished or not) to this budget as if it had been started with it")
       ->check(IntegerIn(1, kMaxSteps));
   command->add_option("--seed", args->seed, "run seed")->check(SeedInteger());
   command->add_option("--device", args->device, "cpu, cuda or cuda:N");

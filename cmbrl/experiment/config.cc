@@ -230,8 +230,8 @@ class ConfigReader {
     try {
       value = parse(name);
     } catch (const Error& error) {
-      const std::string where = section.empty() ? fmt::format("key '{}'", key)
-                                                : fmt::format("{}.{}", section, key);
+      const std::string where =
+          section.empty() ? fmt::format("key '{}'", key) : fmt::format("{}.{}", section, key);
       Fail("config '{}': {}: {}", source_, where, error.what());
     }
   }
@@ -305,8 +305,8 @@ void AtKey(const std::string& source, const std::string& key, Check&& check) {
 }  // namespace
 
 const std::vector<std::string>& AlgorithmNames() {
-  static const std::vector<std::string> names = {"mpc",  "trpo", "trpo-lagrangian",
-                                                 "cpo",  "ppo",  "ppo-lagrangian"};
+  static const std::vector<std::string> names = {"mpc", "trpo", "trpo-lagrangian",
+                                                 "cpo", "ppo",  "ppo-lagrangian"};
   return names;
 }
 
@@ -427,8 +427,7 @@ std::string RunMemory::Describe() const {
   const auto part = [](const char* name, double bytes) {
     return fmt::format("{} {:.2f} GiB", name, bytes / kGiB);
   };
-  return fmt::format("{}, {}, {}, {}, {}",
-                     part("training.transition_capacity", transitions),
+  return fmt::format("{}, {}, {}, {}, {}", part("training.transition_capacity", transitions),
                      part("training.safe_capacity and unsafe_capacity", labeled_states),
                      part("ensemble", ensemble),
                      part("planning (population x members x horizon)", planning),
@@ -441,8 +440,7 @@ RunMemory EstimateRunMemory(const TrainConfig& c, int state_dim, int action_dim)
   const TrainingLoopOptions& t = c.training;
   RunMemory m;
   m.transitions = static_cast<double>(t.transition_capacity) * (2 * s + a) * kFloat;
-  m.labeled_states =
-      (static_cast<double>(t.safe_capacity) + t.unsafe_capacity) * s * kFloat;
+  m.labeled_states = (static_cast<double>(t.safe_capacity) + t.unsafe_capacity) * s * kFloat;
   // Weights, gradients and Adam's two moments of every member, and one batch's activations.
   double parameters = 0.0, widest = s;
   double in = s + a;
@@ -453,20 +451,20 @@ RunMemory EstimateRunMemory(const TrainConfig& c, int state_dim, int action_dim)
   }
   parameters += (in + 1) * s;
   const double members = c.ensemble.ensemble_size;
-  m.ensemble = members * (4 * parameters * kFloat +
-                          static_cast<double>(c.ensemble.batch_size) * widest * kFloat *
-                              (c.ensemble.hidden_sizes.size() + 1));
+  m.ensemble =
+      members * (4 * parameters * kFloat + static_cast<double>(c.ensemble.batch_size) * widest *
+                                               kFloat * (c.ensemble.hidden_sizes.size() + 1));
   // The planner keeps every step's predicted states of the population (E, N, H, S) and the
   // widest layer's activations; random shooting scores its samples the same way.
-  const double samples = std::max<double>(c.planning.cross_entropy.population,
-                                          c.planning.random.samples);
+  const double samples =
+      std::max<double>(c.planning.cross_entropy.population, c.planning.random.samples);
   const double horizon = c.planning.problem.horizon;
   m.planning = members * samples * (horizon * (s + a) + 2 * widest) * kFloat;
   // The classifier's training matrix: every unsafe state and up to safe_per_unsafe times as
   // many safe ones, in XGBoost's copy too.
-  m.classifier_fit = 2.0 * std::min<double>(t.safe_capacity + t.unsafe_capacity,
-                                            (c.classifier.safe_per_unsafe + 1.0) *
-                                                t.unsafe_capacity) *
+  m.classifier_fit = 2.0 *
+                     std::min<double>(t.safe_capacity + t.unsafe_capacity,
+                                      (c.classifier.safe_per_unsafe + 1.0) * t.unsafe_capacity) *
                      s * kFloat;
   return m;
 }

@@ -78,8 +78,7 @@ std::vector<EvaluatedEpisode> EvaluateRun(const std::string& run_dir,
     for (int k = 0; k < options.episodes; ++k) {
       EvaluatedEpisode result;
       const auto start = std::chrono::steady_clock::now();
-      result.record = RunEpisode(
-          env, run.policy(), EpisodeResetSeed(options, k));
+      result.record = RunEpisode(env, run.policy(), EpisodeResetSeed(options, k));
       result.mean_ms_per_plan =
           std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
               .count() /

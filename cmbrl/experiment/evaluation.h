@@ -14,7 +14,7 @@ namespace cmbrl {
 
 struct EvaluationOptions {
   int episodes = 1;
-  std::uint64_t seed = 0;      // environment and planner
+  std::uint64_t seed = 0;  // environment and planner
   // false: only the first episode's reset is seeded, later ones continue its generator. true:
   // episode k is reset with seed + k, so its layout is the same whatever happened before (two
   // planners meet the same layouts).

@@ -30,7 +30,8 @@ namespace {
 bool IsPlanningOverride(const std::string& item) {
   const std::string key = item.substr(0, item.find('='));
   for (const std::string& allowed : LoadedRun::PlanningOverrideKeys()) {
-    const bool whole_section = allowed.size() > 2 && allowed.compare(allowed.size() - 2, 2, ".*") == 0;
+    const bool whole_section =
+        allowed.size() > 2 && allowed.compare(allowed.size() - 2, 2, ".*") == 0;
     if (whole_section ? key.rfind(allowed.substr(0, allowed.size() - 1), 0) == 0 : key == allowed) {
       return true;
     }
@@ -41,8 +42,7 @@ bool IsPlanningOverride(const std::string& item) {
 }  // namespace
 
 const std::vector<std::string>& LoadedRun::PlanningOverrideKeys() {
-  static const std::vector<std::string> keys = {"planning.*", "objective.*",
-                                                "classifier.threshold",
+  static const std::vector<std::string> keys = {"planning.*", "objective.*", "classifier.threshold",
                                                 "classifier.predict_threads", "planner"};
   return keys;
 }

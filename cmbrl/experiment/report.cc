@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <thread>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -12,14 +11,15 @@
 #include <map>
 #include <set>
 #include <sstream>
+#include <thread>
 
 #include "cmbrl/core/check.h"
 #include "cmbrl/env/registry.h"
 #include "cmbrl/experiment/mpc_learner.h"
 #include "cmbrl/experiment/reference.h"
+#include "cmbrl/planning/planner_registry.h"
 #include "cmbrl/run/progress_table.h"
 #include "cmbrl/run/run_directory.h"
-#include "cmbrl/planning/planner_registry.h"
 
 namespace cmbrl {
 namespace fs = std::filesystem;
@@ -90,9 +90,9 @@ std::vector<EpisodePoint> ReadProgressEpisodes(const std::string& file) {
 
 std::vector<EpisodePoint> ReadEpisodeColumns(const std::string& file, bool has_steps) {
   const ProgressTable table = ProgressTable::Read(file);
-  const std::string expected = fmt::format(
-      "a progress log with {}, {}, {}{}", kEpRetColumn, kEpCostColumn, kTotalEnvInteractsColumn,
-      has_steps ? fmt::format(" and {}", kStepsColumn) : "");
+  const std::string expected =
+      fmt::format("a progress log with {}, {}, {}{}", kEpRetColumn, kEpCostColumn,
+                  kTotalEnvInteractsColumn, has_steps ? fmt::format(" and {}", kStepsColumn) : "");
   const size_t ret = table.Column(kEpRetColumn, expected);
   const size_t cost = table.Column(kEpCostColumn, expected);
   const size_t total = table.Column(kTotalEnvInteractsColumn, expected);
@@ -222,7 +222,8 @@ double FinalReturn(const RunRecord& run, std::int64_t window, int episodes) {
   }
   // Nothing ended in the window (a model-free epoch is longer than Table I's window): no return.
   if (returns.empty()) return std::numeric_limits<double>::quiet_NaN();
-  const size_t first = returns.size() > static_cast<size_t>(episodes) ? returns.size() - episodes : 0;
+  const size_t first =
+      returns.size() > static_cast<size_t>(episodes) ? returns.size() - episodes : 0;
   return Mean(std::vector<double>(returns.begin() + first, returns.end()));
 }
 
@@ -351,8 +352,9 @@ std::string TableMarkdown(const std::vector<TableCell>& cells, std::int64_t wind
       }
     }
   }
-  text += "\n\nReturn at the end of the same window: mean EpRet of each run's last 10 episodes "
-          "that ended in it, mean ± std over seeds.\n\n| task |";
+  text +=
+      "\n\nReturn at the end of the same window: mean EpRet of each run's last 10 episodes "
+      "that ended in it, mean ± std over seeds.\n\n| task |";
   for (const std::string& planner : planners) text += " " + MethodLabel(planner) + " |";
   text += "\n|---|";
   for (size_t i = 0; i < planners.size(); ++i) text += "---|";
@@ -365,10 +367,10 @@ std::string TableMarkdown(const std::vector<TableCell>& cells, std::int64_t wind
       const auto it = std::find_if(cells.begin(), cells.end(), [&](const TableCell& c) {
         return c.task == task && c.planner == planner;
       });
-      text += it == cells.end()                  ? " |"
-              : !std::isfinite(it->return_mean) ? " - |"
-                                                : fmt::format(" {:.2f} ± {:.2f} |", it->return_mean,
-                                                              it->return_std);
+      text += it == cells.end() ? " |"
+              : !std::isfinite(it->return_mean)
+                  ? " - |"
+                  : fmt::format(" {:.2f} ± {:.2f} |", it->return_mean, it->return_std);
     }
   }
   text += "\n";
@@ -389,10 +391,9 @@ std::string TableMarkdown(const std::vector<TableCell>& cells, std::int64_t wind
   for (const TableCell& cell : cells) {
     if (cell.original_per_seed.empty()) continue;
     text += fmt::format(
-        "| {} | {} | {:.1f} ({}) | {:.1f} ({}) | {} | {} | {} | {} | {} | {} | {} |\n",
-        cell.task, MethodLabel(cell.planner), cell.mean, Counts(cell.per_seed),
-        Mean(cell.original_per_seed), Counts(cell.original_per_seed), VersusOriginal(cell),
-        WithinWidenedRange(cell),
+        "| {} | {} | {:.1f} ({}) | {:.1f} ({}) | {} | {} | {} | {} | {} | {} | {} |\n", cell.task,
+        MethodLabel(cell.planner), cell.mean, Counts(cell.per_seed), Mean(cell.original_per_seed),
+        Counts(cell.original_per_seed), VersusOriginal(cell), WithinWidenedRange(cell),
         Figure(cell.return_mean, 2), Figure(Mean(cell.original_final_returns), 2),
         CountsOrDash(cell.heavy_episodes), CountsOrDash(cell.original_heavy_episodes),
         Figure(Mean(cell.feasible_fractions), 3));
@@ -408,8 +409,8 @@ std::string TableCsv(const std::vector<TableCell>& cells, std::int64_t window) {
   for (const TableCell& cell : cells) {
     const bool original = !cell.original_per_seed.empty();
     text += fmt::format(
-        "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n", cell.task, cell.planner, window,
-        cell.per_seed.size(), cell.mean, cell.std, fmt::join(cell.per_seed, " "),
+        "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n", cell.task, cell.planner,
+        window, cell.per_seed.size(), cell.mean, cell.std, fmt::join(cell.per_seed, " "),
         cell.paper ? fmt::format("{}", *cell.paper) : "", cell.fewest_steps, cell.return_mean,
         cell.return_std, fmt::join(cell.original_per_seed, " "),
         original ? fmt::format("{}", Mean(cell.original_per_seed)) : "", VersusOriginal(cell),
@@ -463,8 +464,7 @@ std::vector<LearningCurve> LearningCurves(const std::vector<RunRecord>& runs,
   return curves;
 }
 
-std::vector<std::string> SetupDifferences(const std::vector<RunRecord>& runs,
-                                          std::int64_t window) {
+std::vector<std::string> SetupDifferences(const std::vector<RunRecord>& runs, std::int64_t window) {
   std::vector<std::string> notes;
   const TrainConfig paper;  // every default is the paper's value
   std::set<std::string> seen;
@@ -489,9 +489,10 @@ std::vector<std::string> SetupDifferences(const std::vector<RunRecord>& runs,
                          c.policy_optimisation.steps_per_epoch, original.steps_per_epoch));
       }
       if (c.variant != Variant::kPaperLidar) {
-        note(fmt::format("Model-free tasks: the '{}' variant, not the paper's world observed "
-                         "through lidar ('paper-lidar') that its baselines ran.",
-                         VariantName(c.variant)));
+        note(
+            fmt::format("Model-free tasks: the '{}' variant, not the paper's world observed "
+                        "through lidar ('paper-lidar') that its baselines ran.",
+                        VariantName(c.variant)));
       }
       continue;
     }
@@ -499,10 +500,11 @@ std::vector<std::string> SetupDifferences(const std::vector<RunRecord>& runs,
     const int paper_members = car ? 5 : 4;
     if (c.ensemble.hidden_sizes != paper.ensemble.hidden_sizes ||
         c.ensemble.ensemble_size != paper_members) {
-      note(fmt::format("Dynamics of the {} tasks: {} members of {} hidden units, the paper {} of "
-                       "3 x 1024.",
-                       car ? "Car" : "Point", c.ensemble.ensemble_size,
-                       fmt::join(c.ensemble.hidden_sizes, " x "), paper_members));
+      note(
+          fmt::format("Dynamics of the {} tasks: {} members of {} hidden units, the paper {} of "
+                      "3 x 1024.",
+                      car ? "Car" : "Point", c.ensemble.ensemble_size,
+                      fmt::join(c.ensemble.hidden_sizes, " x "), paper_members));
     }
     if (c.ensemble.max_epochs != paper.ensemble.max_epochs) {
       note(fmt::format("Dynamics fits: at most {} epochs, the paper {}.", c.ensemble.max_epochs,
@@ -527,16 +529,18 @@ std::vector<std::string> SetupDifferences(const std::vector<RunRecord>& runs,
           paper.planning.problem.horizon, paper.planning.random.samples));
     }
     if (c.training.total_steps != paper.training.total_steps) {
-      note(fmt::format("Budget: {} agent steps per run, the paper 10,000; Table I here counts the "
-                       "first {}.",
-                       c.training.total_steps, window));
+      note(
+          fmt::format("Budget: {} agent steps per run, the paper 10,000; Table I here counts the "
+                      "first {}.",
+                      c.training.total_steps, window));
     }
     if (c.training.episodes_per_epoch != paper.training.episodes_per_epoch ||
         c.training.pretrain_episodes != paper.training.pretrain_episodes) {
-      note(fmt::format("Loop: {} pre-training episodes and {} episodes between refits, the "
-                       "paper {} and {}.",
-                       c.training.pretrain_episodes, c.training.episodes_per_epoch,
-                       paper.training.pretrain_episodes, paper.training.episodes_per_epoch));
+      note(
+          fmt::format("Loop: {} pre-training episodes and {} episodes between refits, the "
+                      "paper {} and {}.",
+                      c.training.pretrain_episodes, c.training.episodes_per_epoch,
+                      paper.training.pretrain_episodes, paper.training.episodes_per_epoch));
     }
     if (c.variant != Variant::kPaper) {
       note(fmt::format("Tasks: the '{}' variant, not the modified suite the paper ran.",
@@ -554,11 +558,13 @@ std::vector<std::string> SetupDifferences(const std::vector<RunRecord>& runs,
     note(fmt::format("Seeds: {} to {} per cell (Table I gives each cell's), the paper 3.", fewest,
                      most));
   }
-  note("Simulator: MuJoCo 2.2.2 through our own C++ re-creation of the tasks; the paper ran "
-       "mujoco_py 2.0.2.7 with MuJoCo 2.0, so contacts and solver details differ and no "
-       "trajectory is the paper's.");
-  note("Random numbers: our generators are not NumPy's or PyTorch's, so seed 0 here is not the "
-       "paper's seed 0.");
+  note(
+      "Simulator: MuJoCo 2.2.2 through our own C++ re-creation of the tasks; the paper ran "
+      "mujoco_py 2.0.2.7 with MuJoCo 2.0, so contacts and solver details differ and no "
+      "trajectory is the paper's.");
+  note(
+      "Random numbers: our generators are not NumPy's or PyTorch's, so seed 0 here is not the "
+      "paper's seed 0.");
   return notes;
 }
 
@@ -571,10 +577,11 @@ std::optional<std::string> OriginalComparison(const TableCell& cell, std::int64_
   if (!cell.original_per_seed.empty()) {
     const std::string verdict = VersusOriginal(cell);
     return fmt::format(
-        "{}: {:.1f} in the first {} steps, the original {:.1f} ({}); ours is {} its seeds' range{}.",
+        "{}: {:.1f} in the first {} steps, the original {:.1f} ({}); ours is {} its seeds' "
+        "range{}.",
         label, cell.mean, window, Mean(cell.original_per_seed), Counts(cell.original_per_seed),
         verdict,
-        verdict == "inside" ? ""
+        verdict == "inside"  ? ""
         : verdict == "above" ? ": more violations than the original"
                              : ": fewer violations than the original");
   }
@@ -614,12 +621,12 @@ void PapersMethodAgainstOthers(const std::string& task,
     }
   }
   if (!best_label.empty()) {
-    notes.push_back(fmt::format(
-        "{}: {}'s final return {:.2f} against {:.2f} for {}, the best of the others{}.", task,
-        name, method.return_mean, best_other, best_label,
-        method.return_mean >= 0.8 * best_other || best_other <= 0
-            ? ""
-            : " (less than 80% of it: not comparable reward)"));
+    notes.push_back(
+        fmt::format("{}: {}'s final return {:.2f} against {:.2f} for {}, the best of the others{}.",
+                    task, name, method.return_mean, best_other, best_label,
+                    method.return_mean >= 0.8 * best_other || best_other <= 0
+                        ? ""
+                        : " (less than 80% of it: not comparable reward)"));
   }
 }
 

@@ -44,7 +44,6 @@ int HeavyEpisodesWithin(const RunRecord& run, std::int64_t window);
 // Mean FeasibleFraction of the episodes that ended within the window (NaN when not logged).
 double FeasibleFractionWithin(const RunRecord& run, std::int64_t window);
 
-
 // The epochs of a model-free run's progress.csv as points (see RunRecord). Throws
 // cmbrl::Error naming a missing column or a value that is not a number.
 std::vector<EpisodePoint> ReadEpochLog(const std::string& path);
@@ -82,9 +81,9 @@ struct TableCell {
   std::string task, planner;
   std::vector<double> per_seed;  // violations, in seed order
   double mean = 0.0;
-  double std = 0.0;              // sample standard deviation (0 with one seed)
+  double std = 0.0;  // sample standard deviation (0 with one seed)
   std::optional<double> paper;
-  std::int64_t fewest_steps = 0;  // the shortest run's agent steps (below the window: partial)
+  std::int64_t fewest_steps = 0;      // the shortest run's agent steps (below the window: partial)
   std::vector<double> final_returns;  // FinalReturn per seed
   double return_mean = 0.0;
   double return_std = 0.0;
@@ -106,7 +105,6 @@ std::string VersusOriginal(const TableCell& cell);
 // fewer violations are better, so only the upper end counts. "yes", "no: above N" or
 // "no: below N"; "" without the original's logs.
 std::string WithinWidenedRange(const TableCell& cell);
-
 
 // One cell per task and planner present, tasks and planners in the sweep's order. Runs without
 // a finished episode are left out. `reference` (ReadReferenceRuns) fills the original's columns.

@@ -3,11 +3,10 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
-#include <functional>
-
 #include <cctype>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 
 #include "cmbrl/env/registry.h"
 #include "cmbrl/env/tasks/goal_spec.h"
@@ -98,9 +97,10 @@ TEST(ConfigTest, BadConfigurationsNameTheKeyAndTheValue) {
   EXPECT_EQ(ErrorMessage([] { ParseTrainConfig("ensemble: {precision: tf32}", "c.yaml"); }),
             "config 'c.yaml': ensemble.precision is tf32 but device is 'cpu': TF32 is a CUDA "
             "tensor-core format; use fp32 or bf16 on the CPU");
-  EXPECT_EQ(ErrorMessage([] { ParseTrainConfig("classifier: {safe_selection: oldest}", "c.yaml"); }),
-            "config 'c.yaml': classifier.safe_selection is 'oldest': expected 'storage_order' or "
-            "'newest'");
+  EXPECT_EQ(
+      ErrorMessage([] { ParseTrainConfig("classifier: {safe_selection: oldest}", "c.yaml"); }),
+      "config 'c.yaml': classifier.safe_selection is 'oldest': expected 'storage_order' or "
+      "'newest'");
   EXPECT_EQ(ErrorMessage([] { ParseTrainConfig("training: {label_every_step: 2}", "c.yaml"); }),
             "config 'c.yaml': key 'training.label_every_step' is '2': expected true or false");
   EXPECT_THAT(ErrorMessage([] { ParseTrainConfig("colour: blue", "c.yaml"); }),
@@ -119,10 +119,11 @@ TEST(ConfigTest, BadConfigurationsNameTheKeyAndTheValue) {
 
 TEST(ConfigTest, OverridesChangeTheirKeysAndAreValidatedAsAFileIs) {
   const TrainConfig base = ParseTrainConfig("planner: cem", "c.yaml");
-  const TrainConfig changed = ApplyConfigOverrides(
-      base, {"planning.population=300", "classifier.threshold=0.3", "planner=rce",
-             "ensemble.hidden_sizes=[16, 16]"},
-      "--set");
+  const TrainConfig changed =
+      ApplyConfigOverrides(base,
+                           {"planning.population=300", "classifier.threshold=0.3", "planner=rce",
+                            "ensemble.hidden_sizes=[16, 16]"},
+                           "--set");
   EXPECT_EQ(changed.planning.cross_entropy.population, 300);
   EXPECT_DOUBLE_EQ(changed.classifier.threshold, 0.3);
   EXPECT_EQ(changed.planner, "rce");
@@ -163,8 +164,7 @@ TEST(ConfigTest, SizesOutOfTheirBoundsAreNamedBeforeAnythingIsAllocated) {
       "config 'c': training.transition_capacity is 2000000000: expected 2 to 100000000");
   EXPECT_EQ(ErrorMessage([] { ParseTrainConfig("environment: {spawn: floating}", "c"); }),
             "config 'c': environment.spawn: spawn 'floating': expected standing or model-origin");
-  EXPECT_EQ(ParseTrainConfig("environment: {spawn: model-origin}", "c").spawn,
-            Spawn::kModelOrigin);
+  EXPECT_EQ(ParseTrainConfig("environment: {spawn: model-origin}", "c").spawn, Spawn::kModelOrigin);
   EXPECT_EQ(ErrorMessage([] { ParseTrainConfig("variant: foo", "c"); }),
             "config 'c': key 'variant': unknown variant 'foo': expected 'paper' (the paper's "
             "modified tasks), 'standard' (Safety-Gymnasium's stock tasks) or 'paper-lidar' (the "
@@ -258,28 +258,28 @@ TEST(ConfigTest, TheQuickstartGridHasEveryTaskAndPlannerAtQuickstartSize) {
 // (the grid's 200 x 5 with 10 elites: ablation 'population') and the window.
 TEST(ConfigTest, TheCpuPresetsKeepThePapersSettingsButTheNetworksWidthAndRcesPlanner) {
   const TrainConfig paper = ParseTrainConfig("task: PointGoal1", "paper");
-  ForEachPreset(CMBRL_SOURCE_DIR "/configs/cpu", [&](const std::string& task,
-                                                     const std::string& planner,
-                                                     const TrainConfig& config) {
-    EXPECT_EQ(config.variant, Variant::kPaper);
-    EXPECT_EQ(config.training.total_steps, 3000);
-    EXPECT_EQ(config.ensemble.hidden_sizes, std::vector<int>({256, 256, 256}));
-    EXPECT_EQ(config.ensemble.ensemble_size, task.rfind("Car", 0) == 0 ? 5 : 4);
-    // Everything else as the paper ran it.
-    TrainConfig expected = paper;
-    expected.task = config.task;
-    expected.planner = config.planner;
-    expected.training.total_steps = config.training.total_steps;
-    expected.ensemble.hidden_sizes = config.ensemble.hidden_sizes;
-    expected.ensemble.ensemble_size = config.ensemble.ensemble_size;
-    expected.objective.goal_index = config.objective.goal_index;
-    if (planner == "rce") {
-      expected.planning.cross_entropy.population = 200;
-      expected.planning.cross_entropy.elites = 10;
-      expected.planning.cross_entropy.max_iterations = 5;
-    }
-    EXPECT_EQ(TrainConfigToYaml(config), TrainConfigToYaml(expected));
-  });
+  ForEachPreset(
+      CMBRL_SOURCE_DIR "/configs/cpu",
+      [&](const std::string& task, const std::string& planner, const TrainConfig& config) {
+        EXPECT_EQ(config.variant, Variant::kPaper);
+        EXPECT_EQ(config.training.total_steps, 3000);
+        EXPECT_EQ(config.ensemble.hidden_sizes, std::vector<int>({256, 256, 256}));
+        EXPECT_EQ(config.ensemble.ensemble_size, task.rfind("Car", 0) == 0 ? 5 : 4);
+        // Everything else as the paper ran it.
+        TrainConfig expected = paper;
+        expected.task = config.task;
+        expected.planner = config.planner;
+        expected.training.total_steps = config.training.total_steps;
+        expected.ensemble.hidden_sizes = config.ensemble.hidden_sizes;
+        expected.ensemble.ensemble_size = config.ensemble.ensemble_size;
+        expected.objective.goal_index = config.objective.goal_index;
+        if (planner == "rce") {
+          expected.planning.cross_entropy.population = 200;
+          expected.planning.cross_entropy.elites = 10;
+          expected.planning.cross_entropy.max_iterations = 5;
+        }
+        EXPECT_EQ(TrainConfigToYaml(config), TrainConfigToYaml(expected));
+      });
 }
 
 // The level-2 ablation 'combined' is the CPU preset at the 2000-step screening window, so that

@@ -3,15 +3,14 @@
 #include <cairo.h>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
-
 #include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
 
-#include "cmbrl/experiment/reference.h"
 #include "cmbrl/experiment/mpc_learner.h"
 #include "cmbrl/experiment/policy_opt_learner.h"
+#include "cmbrl/experiment/reference.h"
 #include "cmbrl/experiment/trainer.h"
 #include "cmbrl/run/run_directory.h"
 #include "cmbrl/viz/plot.h"
@@ -60,10 +59,10 @@ class ReportTest : public ::testing::Test {
  protected:
   void SetUp() override {
     // A folder of this test's own: ctest runs the tests of this file as parallel processes.
-    sweep_ = fs::path(::testing::TempDir()) /
-             fmt::format("report_fixture_{}_{}",
-                         ::testing::UnitTest::GetInstance()->current_test_info()->name(),
-                         ::getpid());
+    sweep_ =
+        fs::path(::testing::TempDir()) /
+        fmt::format("report_fixture_{}_{}",
+                    ::testing::UnitTest::GetInstance()->current_test_info()->name(), ::getpid());
     fs::remove_all(sweep_);
     // Episodes of 100 steps. With a window of 300 the episodes starting at 0, 100 and 200 count.
     WriteRun(sweep_, "PointGoal1", "rce", 0, 100, {1, 0, 2, 9}, 0);  // 3 in the window
@@ -86,8 +85,8 @@ class ReportTest : public ::testing::Test {
       out << "Epoch,Episode,EpRet,EpCost,TotalEnvInteracts,Time\n";
       for (const std::string& row : rows) out << row << "\n";
     };
-    write("PointGoal1-rce-s0.csv", {"0,0,5,0,100,1", "0,1,6,1,200,2", "0,2,7,0,300,3",
-                                    "0,3,8,4,400,4"});
+    write("PointGoal1-rce-s0.csv",
+          {"0,0,5,0,100,1", "0,1,6,1,200,2", "0,2,7,0,300,3", "0,3,8,4,400,4"});
     write("PointGoal1-rce-s10.csv", {"0,0,3,2,110,1", "0,1,4,2,190,2", "0,2,5,2,310,3"});
     write("CarGoal2-cem-s0.csv", {"0,0,1,7,150,1"});
     return dir;
@@ -238,7 +237,7 @@ TEST_F(ReportTest, PlotsAreValidPngAndSvgWithOnePanelPerTask) {
   EXPECT_THAT(text, ::testing::StartsWith("<?xml"));
   EXPECT_THAT(text, HasSubstr("<svg"));
   EXPECT_THAT(text, HasSubstr("width=\"1040pt\""));  // two panels of 520
-  EXPECT_THAT(text, HasSubstr("stroke-dasharray"));    // the original's curves
+  EXPECT_THAT(text, HasSubstr("stroke-dasharray"));  // the original's curves
   EXPECT_THAT(text, ::testing::EndsWith("</svg>\n"));
 }
 
