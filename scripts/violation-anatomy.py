@@ -48,6 +48,7 @@ def main():
     env = cmbrl.make(task)
 
     kinds = collections.Counter()
+    terms = collections.Counter()  # which cost terms made the violating steps (facts A3)
     steps = violations = 0
     dwell = []          # lengths of runs of consecutive violating steps
     speeds_in, speeds_out = [], []
@@ -70,7 +71,7 @@ def main():
             predicted = agent.predict_next(obs[None, :], action[None, :])[:, 0, :]
             foreseen = bool(agent.predict_violation(predicted).any())
             speed = float(np.hypot(obs[0], obs[1]))  # velocimeter x, y (facts B1)
-            nxt, reward, cost, terminated, truncated, _ = env.step(action)
+            nxt, reward, cost, terminated, truncated, info = env.step(action)
             episode_return += reward
             steps += 1
             done = terminated or truncated
@@ -79,6 +80,9 @@ def main():
                 cost_sum += 1
                 run_length += 1
                 speeds_in.append(speed)
+                for term in ("cost_hazards", "cost_vases_contact", "cost_vases_velocity"):
+                    if info.get(term, 0.0) > 0:
+                        terms[term] += 1
                 known = bool(agent.predict_violation(nxt[None, :])[0])
                 if not known:
                     kinds["hole"] += 1
@@ -106,6 +110,9 @@ def main():
     for kind in ("hole", "unforeseen", "foreseen, fallback", "foreseen, feasible"):
         share = kinds[kind] / violations if violations else 0.0
         print(f"| {kind} | {kinds[kind]} | {share:.2f} |")
+    print("cost terms at violating steps (a step may have several): "
+          + ", ".join(f"{term[5:]} {terms[term]}" for term in
+                      ("cost_hazards", "cost_vases_contact", "cost_vases_velocity")))
     if dwell:
         print(f"runs of consecutive violations: {len(dwell)}, median length "
               f"{statistics.median(dwell)}, longest {max(dwell)}, share of violating steps in "
