@@ -313,6 +313,7 @@ SceneState GoalEnv::Scene() const {
   const RobotFrame frame = Frame();
   scene.robot.position = {frame.position[0], frame.position[1]};
   scene.robot.yaw = std::atan2(frame.rotation[3], frame.rotation[0]);
+  scene.robot_upright = frame.rotation[8];
   scene.goal = layout_.goal;
   scene.hazards = layout_.hazards;
   for (int i = 0; i < spec_.num_vases; ++i) {

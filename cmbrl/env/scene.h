@@ -25,6 +25,9 @@ struct SceneState {
   std::string robot_name;     // "point", "car" (stock two-wheel) or "rover"
   double robot_radius = 0.0;  // radius of a disc that covers the robot's footprint (m)
   Pose2 robot;
+  // Cosine of the robot's tilt: the world z component of its body z axis. 1 upright, 0 on its
+  // side, -1 upside down. A planar robot (Point) is always 1.
+  double robot_upright = 1.0;
   Vec2 goal;
   std::vector<Vec2> hazards;
   std::vector<Pose2> vases;  // live positions: vases can be pushed

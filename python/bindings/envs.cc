@@ -27,6 +27,7 @@ py::dict SceneDict(const SceneState& scene) {
   d["robot_radius"] = scene.robot_radius;
   d["robot_position"] = Own({scene.robot.position.x, scene.robot.position.y});
   d["robot_yaw"] = scene.robot.yaw;
+  d["robot_upright"] = scene.robot_upright;
   d["goal"] = Own({scene.goal.x, scene.goal.y});
   d["goal_radius"] = scene.goal_radius;
   std::vector<double> hazards, vases;

@@ -68,6 +68,7 @@ def test_ground_truth_and_render():
     assert truth["hazards"].shape[1] == 2 and len(truth["hazards"]) > 0
     assert truth["vases"].shape[1] == 3
     assert math.isfinite(truth["robot_yaw"])
+    assert truth["robot_upright"] == 1.0  # the Point is planar: never tilted
     image = env.render()
     assert image.dtype == np.uint8 and image.ndim == 3 and image.shape[2] == 3
     assert image.shape[1] == 256

@@ -46,8 +46,11 @@ inline double RobotYawRate(const GoalEnv& env) {
 inline double RobotHeight(const GoalEnv& env) {
   return env.data().xpos[3 * mj_name2id(&env.model(), mjOBJ_BODY, "robot") + 2];
 }
+// Checks the scene's robot_upright against the body's rotation matrix on the way.
 inline double RobotUpZ(const GoalEnv& env) {
-  return env.data().xmat[9 * mj_name2id(&env.model(), mjOBJ_BODY, "robot") + 8];
+  const double up = env.Scene().robot_upright;
+  EXPECT_EQ(up, env.data().xmat[9 * mj_name2id(&env.model(), mjOBJ_BODY, "robot") + 8]);
+  return up;
 }
 
 // Runs a constant action for `seconds` of simulated time (whole agent steps).
