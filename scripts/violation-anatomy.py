@@ -83,6 +83,13 @@ def main():
                 for term in ("cost_hazards", "cost_vases_contact", "cost_vases_velocity"):
                     if info.get(term, 0.0) > 0:
                         terms[term] += 1
+                if info.get("cost_hazards", 0.0) > 0:
+                    # An agent step repeats its action over several environment steps (facts
+                    # B0); the cost counts each of them, the models see only the last state.
+                    truth = env.ground_truth()
+                    gap = np.hypot(*(truth["hazards"] - truth["robot_position"]).T).min()
+                    if gap > truth["hazard_radius"]:
+                        terms["hazard crossed between samples"] += 1
                 known = bool(agent.predict_violation(nxt[None, :])[0])
                 if not known:
                     kinds["hole"] += 1
@@ -112,7 +119,9 @@ def main():
         print(f"| {kind} | {kinds[kind]} | {share:.2f} |")
     print("cost terms at violating steps (a step may have several): "
           + ", ".join(f"{term[5:]} {terms[term]}" for term in
-                      ("cost_hazards", "cost_vases_contact", "cost_vases_velocity")))
+                      ("cost_hazards", "cost_vases_contact", "cost_vases_velocity"))
+          + f"; hazard steps that end outside every hazard (crossed within the agent step): "
+          f"{terms['hazard crossed between samples']}")
     if dwell:
         print(f"runs of consecutive violations: {len(dwell)}, median length "
               f"{statistics.median(dwell)}, longest {max(dwell)}, share of violating steps in "
