@@ -61,9 +61,10 @@ namespace {
 class PyEnsemble {
  public:
   PyEnsemble(int state_dim, int action_dim, int ensemble_size, const std::vector<int>& hidden,
-             int max_epochs, std::uint64_t seed)
+             int max_epochs, bool predict_delta, std::uint64_t seed)
       : buffer_(state_dim, action_dim),
-        dynamics_(state_dim, action_dim, Options(ensemble_size, hidden, max_epochs), seed) {}
+        dynamics_(state_dim, action_dim,
+                  Options(ensemble_size, hidden, max_epochs, predict_delta), seed) {}
 
   py::dict Fit(const py::handle& states, const py::handle& actions, const py::handle& next_states) {
     const py::ssize_t n = RowsOf(states, "states");
@@ -103,11 +104,12 @@ class PyEnsemble {
 
  private:
   static EnsembleOptions Options(int ensemble_size, const std::vector<int>& hidden,
-                                 int max_epochs) {
+                                 int max_epochs, bool predict_delta) {
     EnsembleOptions o;
     o.ensemble_size = ensemble_size;
     o.hidden_sizes = hidden;
     o.max_epochs = max_epochs;
+    o.predict_delta = predict_delta;
     return o;
   }
 
@@ -169,9 +171,10 @@ class PyCostClassifier {
 
 void BindModels(py::module_& m) {
   py::class_<PyEnsemble>(m, "Ensemble")
-      .def(py::init<int, int, int, const std::vector<int>&, int, std::uint64_t>(),
+      .def(py::init<int, int, int, const std::vector<int>&, int, bool, std::uint64_t>(),
            py::arg("state_dim"), py::arg("action_dim"), py::arg("ensemble_size"),
-           py::arg("hidden_sizes"), py::arg("max_epochs"), py::arg("seed"))
+           py::arg("hidden_sizes"), py::arg("max_epochs"), py::arg("predict_delta"),
+           py::arg("seed"))
       .def("fit", &PyEnsemble::Fit, py::arg("states"), py::arg("actions"), py::arg("next_states"))
       .def("predict", &PyEnsemble::Predict, py::arg("states"), py::arg("actions"))
       .def_property_readonly("transitions", &PyEnsemble::transitions);

@@ -249,14 +249,16 @@ def _yaml_value(value):
 
 class Ensemble:
     """The paper's dynamics model on numpy arrays: ensemble_size MLPs (ReLU, hidden_sizes) that
-    each predict the absolute next state, trained by MSE with the paper's settings (facts B3).
-    fit() adds the transitions to a ring of 500,000 and trains on all of it, warm-started after
-    the first fit, as training does; predict() gives every member's next state."""
+    each predict the absolute next state (or, with predict_delta, the change of state: not the
+    paper's way), trained by MSE with the paper's settings (facts B3). fit() adds the
+    transitions to a ring of 500,000 and trains on all of it, warm-started after the first fit,
+    as training does; predict() gives every member's next state."""
 
     def __init__(self, state_dim, action_dim, ensemble_size=4, hidden_sizes=(1024, 1024, 1024),
-                 max_epochs=70, seed=0):
+                 max_epochs=70, seed=0, predict_delta=False):
         self._model = _cmbrl.Ensemble(int(state_dim), int(action_dim), int(ensemble_size),
-                                      [int(h) for h in hidden_sizes], int(max_epochs), int(seed))
+                                      [int(h) for h in hidden_sizes], int(max_epochs),
+                                      bool(predict_delta), int(seed))
 
     def fit(self, states, actions, next_states):
         """(N, S), (N, A), (N, S) -> a dict: epochs, train and validation MSE, seconds."""

@@ -22,6 +22,24 @@ def test_the_ensemble_learns_a_linear_system():
         model.predict(test_s, test_a[:, :1])
 
 
+def test_predicting_the_change_helps_where_states_dwarf_their_change():
+    # States spread over +-20 with a change of at most 0.2 from the action: an absolute-state
+    # network must learn the identity map first, a change-predicting one only the change.
+    rng = np.random.default_rng(3)
+    states = rng.uniform(-20, 20, size=(3000, 4))
+    actions = rng.uniform(-1, 1, size=(3000, 2))
+    change = 0.2 * np.concatenate([actions, -actions], axis=1)
+    test_s, test_a = rng.uniform(-16, 16, size=(300, 4)), rng.uniform(-0.8, 0.8, size=(300, 2))
+    truth = test_s + 0.2 * np.concatenate([test_a, -test_a], axis=1)
+    errors = {}
+    for delta in (False, True):
+        model = cmbrl.Ensemble(4, 2, ensemble_size=2, hidden_sizes=[32, 32], max_epochs=20,
+                               seed=1, predict_delta=delta)
+        model.fit(states, actions, states + change)
+        errors[delta] = np.mean((model.predict(test_s, test_a) - truth) ** 2)
+    assert errors[True] < 0.2 * errors[False], errors
+
+
 def test_the_classifier_learns_a_hazard():
     rng = np.random.default_rng(2)
     states = rng.uniform(-1, 1, size=(4000, 3))
