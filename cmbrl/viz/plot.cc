@@ -8,6 +8,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <string>
 
 #include "cmbrl/core/check.h"
 
@@ -77,27 +78,68 @@ void Text(cairo_t* cr, const std::string& text, double x, double y, double size,
   cairo_restore(cr);
 }
 
+// Where the legend's entries go: left to right, wrapped onto another row where the next one
+// would not fit the picture's width.
+struct LegendPlace {
+  std::string label;
+  double x, y;  // start of the swatch; y is the row's middle
+};
+struct LegendLayout {
+  std::vector<LegendPlace> places;
+  double height = 0;
+};
+
+constexpr double kLegendFont = 14, kLegendRow = 24, kLegendMargin = 20;
+constexpr double kSwatch = 28, kSwatchGap = 6, kEntryGap = 24;
+
+void SelectFont(cairo_t* cr) {
+  cairo_select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
+}
+
+LegendLayout LayOutLegend(const std::map<std::string, Style>& styles, double width) {
+  cairo_surface_t* scratch = cairo_image_surface_create(CAIRO_FORMAT_ARGB32, 1, 1);
+  cairo_t* cr = cairo_create(scratch);
+  SelectFont(cr);
+  cairo_set_font_size(cr, kLegendFont);
+  LegendLayout layout;
+  double x = kLegendMargin;
+  int row = 0;
+  for (const auto& entry : styles) {
+    cairo_text_extents_t extents;
+    cairo_text_extents(cr, entry.first.c_str(), &extents);
+    const double entry_width = kSwatch + kSwatchGap + extents.x_advance;
+    if (x > kLegendMargin && x + entry_width > width - kLegendMargin / 2) {
+      ++row;
+      x = kLegendMargin;
+    }
+    layout.places.push_back({entry.first, x, kLegendRow * (row + 0.5) + 5});
+    x += entry_width + kEntryGap;
+  }
+  cairo_destroy(cr);
+  cairo_surface_destroy(scratch);
+  layout.height = kLegendRow * (row + 1) + 10;
+  return layout;
+}
+
 std::vector<PanelArea> Draw(cairo_t* cr, const std::vector<PlotPanel>& panels,
-                            const PlotOptions& o, double width, double height,
-                            const std::map<std::string, Style>& styles) {
+                            const PlotOptions& o, const std::map<std::string, Style>& styles,
+                            const LegendLayout& legend) {
   cairo_set_source_rgb(cr, 1, 1, 1);
   cairo_paint(cr);
-  cairo_select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
-  const double legend_height = 34;
-  // Legend across the top.
-  double legend_x = 20;
-  for (const auto& [label, style] : styles) {
+  SelectFont(cr);
+  for (const LegendPlace& place : legend.places) {
+    const Style& style = styles.at(place.label);
     cairo_set_source_rgb(cr, style.colour.r, style.colour.g, style.colour.b);
     cairo_set_line_width(cr, 3);
     SetDash(cr, style.dashed);
-    cairo_move_to(cr, legend_x, legend_height / 2);
-    cairo_line_to(cr, legend_x + 28, legend_height / 2);
+    cairo_move_to(cr, place.x, place.y);
+    cairo_line_to(cr, place.x + kSwatch, place.y);
     cairo_stroke(cr);
     SetDash(cr, false);
     cairo_set_source_rgb(cr, 0.1, 0.1, 0.1);
-    Text(cr, label, legend_x + 34, legend_height / 2, 14, 0, 0.5);
-    legend_x += 60 + 8.0 * label.size();
+    Text(cr, place.label, place.x + kSwatch + kSwatchGap, place.y, kLegendFont, 0, 0.5);
   }
+  const double legend_height = legend.height;
   std::vector<PanelArea> areas;
   for (size_t i = 0; i < panels.size(); ++i) {
     const PlotPanel& panel = panels[i];
@@ -182,8 +224,6 @@ std::vector<PanelArea> Draw(cairo_t* cr, const std::vector<PlotPanel>& panels,
     Text(cr, panel.x_label, area.x + area.width / 2, area.y + area.height + 26, 13, 0.5, 0);
     Text(cr, panel.y_label, left + 14, area.y + area.height / 2, 13, 0.5, 0.5, true);
   }
-  (void)width;
-  (void)height;
   return areas;
 }
 
@@ -215,7 +255,8 @@ std::vector<PanelArea> WritePlots(const std::vector<PlotPanel>& panels, const st
   const int columns = std::min<int>(options.columns, static_cast<int>(panels.size()));
   const int rows = static_cast<int>((panels.size() + columns - 1) / columns);
   const double width = columns * options.panel_width_px;
-  const double height = 34 + rows * options.panel_height_px;
+  const LegendLayout legend = LayOutLegend(styles, width);
+  const double height = legend.height + rows * options.panel_height_px;
   PlotOptions o = options;
   o.columns = columns;
   std::vector<PanelArea> areas;
@@ -223,7 +264,7 @@ std::vector<PanelArea> WritePlots(const std::vector<PlotPanel>& panels, const st
     cairo_surface_t* surface = cairo_image_surface_create(
         CAIRO_FORMAT_ARGB32, static_cast<int>(width), static_cast<int>(height));
     cairo_t* cr = cairo_create(surface);
-    areas = Draw(cr, panels, o, width, height, styles);
+    areas = Draw(cr, panels, o, styles, legend);
     cairo_destroy(cr);
     const cairo_status_t status = cairo_surface_write_to_png(surface, png_path.c_str());
     cairo_surface_destroy(surface);
@@ -233,7 +274,7 @@ std::vector<PanelArea> WritePlots(const std::vector<PlotPanel>& panels, const st
   if (!svg_path.empty()) {
     cairo_surface_t* surface = cairo_svg_surface_create(svg_path.c_str(), width, height);
     cairo_t* cr = cairo_create(surface);
-    areas = Draw(cr, panels, o, width, height, styles);
+    areas = Draw(cr, panels, o, styles, legend);
     cairo_destroy(cr);
     cairo_surface_finish(surface);
     const cairo_status_t status = cairo_surface_status(surface);

@@ -241,6 +241,39 @@ TEST_F(ReportTest, PlotsAreValidPngAndSvgWithOnePanelPerTask) {
   EXPECT_THAT(text, ::testing::EndsWith("</svg>\n"));
 }
 
+TEST_F(ReportTest, ALegendTooWideForOneRowWrapsInsideThePicture) {
+  // Three methods and the original's three beside them in one 520-pixel panel: one row cannot
+  // hold the six entries, so the legend takes more rows and pushes the panel down; nothing is
+  // drawn past the picture's right edge.
+  PlotPanel panel{"PointGoal1", "environment steps", "EpCost", {}};
+  for (const char* name : {"CPO", "TRPO-Lagrangian", "TRPO"}) {
+    for (const bool original : {false, true}) {
+      PlotSeries series;
+      series.label = std::string(name) + (original ? " (original)" : "");
+      series.x = {0, 1, 2};
+      series.y = {1, 2, 3};
+      series.dashed = original;
+      series.colour_of = name;
+      panel.series.push_back(series);
+    }
+  }
+  const std::string png = (sweep_ / "legend.png").string();
+  const std::vector<PanelArea> one_row = WritePlots({PlotPanel{"t", "x", "y", {panel.series[0]}}},
+                                                    png, "");
+  const std::vector<PanelArea> wrapped = WritePlots({panel}, png, "");
+  ASSERT_EQ(wrapped.size(), 1u);
+  EXPECT_GE(wrapped[0].y, one_row[0].y + 24);  // at least one more legend row
+  cairo_surface_t* surface = cairo_image_surface_create_from_png(png.c_str());
+  const int width = cairo_image_surface_get_width(surface);
+  cairo_surface_destroy(surface);
+  EXPECT_EQ(width, 520);
+  for (double y = 2; y < wrapped[0].y - 34; y += 1) {
+    for (int x = width - 6; x < width; ++x) {
+      EXPECT_EQ(Pixel(png, x, y) & 0xffffff, 0xffffffu) << "legend drawn at the edge, y " << y;
+    }
+  }
+}
+
 TEST_F(ReportTest, CellsCompareWithTheOriginalsSeedsOverTheSameWindow) {
   const std::vector<RunRecord> reference = ReadReferenceRuns(WriteReference().string());
   ASSERT_EQ(reference.size(), 3u);
