@@ -61,13 +61,12 @@ def main():
 
     env = cmbrl.make(args.task)
     rng = np.random.default_rng(0)
-    train = [np.empty((0,))] * 3
-    seed = 10_000
-    while len(train[0]) < args.transitions:
-        batch = collect(env, 20, seed, rng)
+    batches, collected, seed = [], 0, 10_000
+    while collected < args.transitions:
+        batches.append(collect(env, 20, seed, rng))
+        collected += len(batches[-1][0])
         seed += 20
-        train = [batch[i] if len(train[0]) == 0 else np.concatenate([train[i], batch[i]])
-                 for i in range(3)]
+    train = [np.concatenate([batch[i] for batch in batches]) for i in range(3)]
     test_s, test_a, test_n = collect(env, 30, 1, rng)
     scale = test_n.std(axis=0)
     scale[scale < 1e-3] = 1.0

@@ -28,6 +28,8 @@ import numpy as np
 
 import cmbrl
 
+COST_TERMS = ("cost_hazards", "cost_vases_contact", "cost_vases_velocity")  # facts A3
+
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
@@ -80,7 +82,7 @@ def main():
                 cost_sum += 1
                 run_length += 1
                 speeds_in.append(speed)
-                for term in ("cost_hazards", "cost_vases_contact", "cost_vases_velocity"):
+                for term in COST_TERMS:
                     if info.get(term, 0.0) > 0:
                         terms[term] += 1
                 if info.get("cost_hazards", 0.0) > 0:
@@ -118,8 +120,7 @@ def main():
         share = kinds[kind] / violations if violations else 0.0
         print(f"| {kind} | {kinds[kind]} | {share:.2f} |")
     print("cost terms at violating steps (a step may have several): "
-          + ", ".join(f"{term[5:]} {terms[term]}" for term in
-                      ("cost_hazards", "cost_vases_contact", "cost_vases_velocity"))
+          + ", ".join(f"{term[5:]} {terms[term]}" for term in COST_TERMS)
           + f"; hazard steps that end outside every hazard (crossed within the agent step): "
           f"{terms['hazard crossed between samples']}")
     if dwell:

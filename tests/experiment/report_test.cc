@@ -184,18 +184,29 @@ TEST_F(ReportTest, LearningCurvesAverageOverSeedsThatReachEachStep) {
   EXPECT_EQ(curves[1].std.back(), 0.0);
 }
 
-// Pixel (x, y) of a PNG as 0xAARRGGBB.
-std::uint32_t Pixel(const std::string& png, double x, double y) {
-  cairo_surface_t* surface = cairo_image_surface_create_from_png(png.c_str());
-  EXPECT_EQ(cairo_surface_status(surface), CAIRO_STATUS_SUCCESS);
-  cairo_surface_flush(surface);
-  const unsigned char* data = cairo_image_surface_get_data(surface);
-  const int stride = cairo_image_surface_get_stride(surface);
-  const std::uint32_t value = *reinterpret_cast<const std::uint32_t*>(
-      data + static_cast<int>(y) * stride + static_cast<int>(x) * 4);
-  cairo_surface_destroy(surface);
-  return value;
-}
+// A PNG read once, its pixels as 0xAARRGGBB.
+class PngImage {
+ public:
+  explicit PngImage(const std::string& png)
+      : surface_(cairo_image_surface_create_from_png(png.c_str())) {
+    EXPECT_EQ(cairo_surface_status(surface_), CAIRO_STATUS_SUCCESS);
+    cairo_surface_flush(surface_);
+  }
+  ~PngImage() { cairo_surface_destroy(surface_); }
+  PngImage(const PngImage&) = delete;
+  PngImage& operator=(const PngImage&) = delete;
+
+  int width() const { return cairo_image_surface_get_width(surface_); }
+  std::uint32_t Pixel(double x, double y) const {
+    const unsigned char* data = cairo_image_surface_get_data(surface_);
+    const int stride = cairo_image_surface_get_stride(surface_);
+    return *reinterpret_cast<const std::uint32_t*>(data + static_cast<int>(y) * stride +
+                                                   static_cast<int>(x) * 4);
+  }
+
+ private:
+  cairo_surface_t* surface_;
+};
 
 TEST_F(ReportTest, PlotsAreValidPngAndSvgWithOnePanelPerTask) {
   const std::vector<RunRecord> runs = ReadSweep(sweep_.string());
@@ -224,8 +235,9 @@ TEST_F(ReportTest, PlotsAreValidPngAndSvgWithOnePanelPerTask) {
   ASSERT_EQ(areas.size(), 2u);
   EXPECT_GT(areas[1].x, areas[0].x + areas[0].width);  // side by side
   // Each panel's frame is drawn (dark) and its inside is not (white where no line passes).
+  const PngImage image(png);
   for (const PanelArea& area : areas) {
-    const std::uint32_t frame = Pixel(png, area.x, area.y + area.height / 2);
+    const std::uint32_t frame = image.Pixel(area.x, area.y + area.height / 2);
     EXPECT_LT(frame & 0xff, 0x80u) << "frame of the panel at x " << area.x;
   }
   std::ifstream png_file(png, std::ios::binary);
@@ -263,13 +275,12 @@ TEST_F(ReportTest, ALegendTooWideForOneRowWrapsInsideThePicture) {
   const std::vector<PanelArea> wrapped = WritePlots({panel}, png, "");
   ASSERT_EQ(wrapped.size(), 1u);
   EXPECT_GE(wrapped[0].y, one_row[0].y + 24);  // at least one more legend row
-  cairo_surface_t* surface = cairo_image_surface_create_from_png(png.c_str());
-  const int width = cairo_image_surface_get_width(surface);
-  cairo_surface_destroy(surface);
+  const PngImage image(png);
+  const int width = image.width();
   EXPECT_EQ(width, 520);
   for (double y = 2; y < wrapped[0].y - 34; y += 1) {
     for (int x = width - 6; x < width; ++x) {
-      EXPECT_EQ(Pixel(png, x, y) & 0xffffff, 0xffffffu) << "legend drawn at the edge, y " << y;
+      EXPECT_EQ(image.Pixel(x, y) & 0xffffff, 0xffffffu) << "legend drawn at the edge, y " << y;
     }
   }
 }
