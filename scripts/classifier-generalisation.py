@@ -8,6 +8,12 @@ random-policy states of a task (1000 episodes of up to 50 steps, as pre-training
 every unsafe state and 3 n_unsafe + 1 safe ones, as a fit takes them) and scored on fresh states
 of other episodes. Needs Debian's python3-sklearn (not a dependency of cmbrl).
 
+Also prints the ceiling of any classifier of the end state: a label is the cost of the whole agent
+step (facts B0: 2 or 3 environment steps), but the classifier sees only where the step ended, so
+an unsafe step that ended outside every hazard cannot be told apart. The row "state geometry"
+calls a state unsafe when a hazard in it lies within the hazard radius (0.2 m, facts A3) of the
+robot: the hazards' positions are part of the state (facts B1), so it needs no training.
+
     PYTHONPATH=build/python python3 scripts/classifier-generalisation.py [TASK] [SEED]
 """
 import sys
@@ -37,6 +43,22 @@ def collect(seed, episodes, steps):
 X, y = collect(SEED, 1000, 50)
 Xt, yt = collect(SEED + 1000, 300, 100)
 print(TASK, "seed", SEED, "train", len(y), "unsafe", y.sum(), "| test", len(yt), "unsafe", yt.sum())
+
+HAZARD_RADIUS = 0.2  # facts A3: hazards_size
+
+
+def in_hazard(states):
+    """Whether a hazard of the state lies within the hazard radius of the robot (facts B1)."""
+    names = cmbrl.make(TASK).observation_names
+    xs = [i for i, n in enumerate(names) if n.startswith("hazard") and n.endswith("_x")]
+    distances = np.hypot(states[:, xs], states[:, [i + 1 for i in xs]])
+    return (distances <= HAZARD_RADIUS).any(axis=1)
+
+
+geometric = in_hazard(Xt)
+print(f"state geometry: fresh recall {geometric[yt].mean():.3f}, false alarms "
+      f"{geometric[~yt].mean():.3f} (unsafe steps that ended outside every hazard: "
+      f"{(~geometric[yt]).mean():.3f})")
 # The original's fit: every unsafe state and 3 n_unsafe + 1 safe ones (the newest here).
 safe_idx = np.flatnonzero(~y)[-(3 * y.sum() + 1):]
 idx = np.concatenate([np.flatnonzero(y), safe_idx])
