@@ -18,7 +18,7 @@ scripts/agent-step-displacement.py (results/ablation-level2/README.md).
 
 Usage (Debian's python3 with python3-numpy and python3-pil, not dependencies of cmbrl):
   scripts/gif-robot-speed.py cg1_random.gif [--reset 0.8]
-Prints the calibration and the displacement quantiles.
+Prints the calibration, the redraw regularity and motion_stats.summary of the track.
 """
 import argparse
 
@@ -126,6 +126,7 @@ def main():
     print("frames between redraws (count by gap): " +
           ", ".join(f"{g}: {n}" for g, n in enumerate(gaps) if n))
     print(motion_stats.summary([positions], reset=args.reset))
+
 
 if __name__ == "__main__":
     main()

@@ -22,13 +22,15 @@ def summary(tracks, reset=np.inf, turning_move=0.15):
         delta = np.diff(track, axis=0)
         step = np.linalg.norm(delta, axis=1)
         moves += list(step[step < reset])
-        # Direction reversals: consecutive moves of 5 cm or more at more than 120 degrees.
         for i in range(1, len(delta)):
-            if 0.05 <= min(step[i - 1], step[i]) and max(step[i - 1], step[i]) < reset:
+            shorter, longer = sorted((step[i - 1], step[i]))
+            if longer >= reset:
+                continue
+            # Direction reversals: consecutive moves of 5 cm or more at more than 120 degrees.
+            if shorter >= 0.05:
                 cosine = delta[i - 1] @ delta[i] / (step[i - 1] * step[i])
                 turns_back.append(cosine < -0.5)
-        for i in range(1, len(track) - 1):
-            if turning_move <= min(step[i - 1], step[i]) and max(step[i - 1], step[i]) < reset:
+            if shorter >= turning_move:
                 radii.append(circumradius(track[i - 1], track[i], track[i + 1]))
     q = np.percentile(moves, [25, 50, 75, 90, 95, 99])
     r = np.percentile(radii, [5, 10, 25, 50])
