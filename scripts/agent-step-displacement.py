@@ -28,9 +28,7 @@ def main():
 
     overrides = [f"planner={args.planner}"] if args.planner else []
     agent = cmbrl.load_run(args.run, seed=args.seed, overrides=overrides)
-    task = next(line.split(":", 1)[1].strip() for line in agent.config().splitlines()
-                if line.startswith("task:"))
-    env = cmbrl.make(task)
+    env = agent.make_env()
     tracks = []
     for k in range(args.episodes):
         obs, _ = env.reset(seed=args.seed + k)
@@ -42,7 +40,7 @@ def main():
             done = terminated or truncated
             track.append(env.ground_truth()["robot_position"][:2])
         tracks.append(np.array(track))
-    print(f"{args.run} ({task}, planner {args.planner or 'of the run'}): "
+    print(f"{args.run} ({agent.task}, planner {args.planner or 'of the run'}): "
           + motion_stats.summary(tracks))
 
 

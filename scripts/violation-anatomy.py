@@ -44,10 +44,7 @@ def main():
     agent = cmbrl.load_run(args.run, seed=args.seed, overrides=args.set)
     if not agent.is_mpc:
         sys.exit(f"{args.run} is not an MPC run")
-    config = agent.config()
-    task = next(line.split(":", 1)[1].strip() for line in config.splitlines()
-                if line.startswith("task:"))
-    env = cmbrl.make(task)
+    env = agent.make_env()
 
     kinds = collections.Counter()
     terms = collections.Counter()  # which cost terms made the violating steps (facts A3)

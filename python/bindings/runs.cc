@@ -104,6 +104,14 @@ class PyAgent {
   }
 
   std::string ConfigYaml() const { return TrainConfigToYaml(run_.config()); }
+  // The environment the run was trained in: task, variant and spawn, as cmbrl.Env takes them.
+  py::dict Environment() const {
+    py::dict d;
+    d["task"] = run_.config().task;
+    d["variant"] = VariantName(run_.config().variant);
+    d["spawn"] = SpawnName(run_.config().spawn);
+    return d;
+  }
   bool is_mpc() const { return run_.is_mpc(); }
   py::dict ObservationSpec() { return BoxDict(run_.env().observation_spec()); }
   py::dict ActionSpec() { return BoxDict(run_.env().action_spec()); }
@@ -177,6 +185,7 @@ void BindRuns(py::module_& m) {
       .def("predict_next", &PyAgent::PredictNext, py::arg("states"), py::arg("actions"))
       .def("predict_violation", &PyAgent::PredictViolation, py::arg("states"))
       .def("config_yaml", &PyAgent::ConfigYaml)
+      .def("environment", &PyAgent::Environment)
       .def("observation_spec", &PyAgent::ObservationSpec)
       .def("action_spec", &PyAgent::ActionSpec)
       .def_property_readonly("is_mpc", &PyAgent::is_mpc);

@@ -192,6 +192,15 @@ class Agent:
         self.observation_space = _box(self._agent.observation_spec())
         self.action_space = _box(self._agent.action_spec())
         self.is_mpc = self._agent.is_mpc
+        environment = self._agent.environment()
+        self.task = environment["task"]
+        self.variant = environment["variant"]
+        self.spawn = environment["spawn"]
+
+    def make_env(self, render_mode=None, render_size=400):
+        """A new environment of the run's task, variant and spawn (what it was trained in)."""
+        return Env(self.task, self.variant, self.spawn, render_mode=render_mode,
+                   render_size=render_size)
 
     def config(self):
         """The run's resolved config, as YAML text."""

@@ -38,7 +38,8 @@ def test_train_resume_and_act(tmp_path, source_dir):
 
     agent = cmbrl.load_run(tmp_path / "run", seed=1)
     assert agent.is_mpc and "planner: rce" in agent.config()
-    env = cmbrl.make("PointGoal1")
+    assert (agent.task, agent.variant, agent.spawn) == ("PointGoal1", "paper", "standing")
+    env = agent.make_env()
     obs, _ = env.reset(seed=2)
     agent.begin_episode()
     action = agent.act(obs)
@@ -107,7 +108,8 @@ def test_a_model_free_run_acts_with_its_policy_mean(tmp_path):
     cmbrl.train(config=config, out=tmp_path / "mf")
     agent = cmbrl.load_run(tmp_path / "mf")
     assert not agent.is_mpc
-    env = cmbrl.make("PointGoal1", variant="paper-lidar")
+    env = agent.make_env()
+    assert (env.task, env.variant) == ("PointGoal1", "paper-lidar")
     obs, _ = env.reset(seed=0)
     assert agent.act(obs).shape == (2,)
     with pytest.raises(cmbrl.Error, match="not an MPC run"):
