@@ -92,8 +92,10 @@ void RunReport(const ReportArgs& args) {
   const std::string reference_dir = args.reference.value_or(DefaultReferenceDir());
   if (args.reference || fs::is_directory(fs::path(reference_dir) / "mbrl")) {
     reference = ReadReferenceRuns(reference_dir);
-    reference_note = fmt::format("The original's logs: {} runs from '{}'.", reference.size(),
-                                 reference_dir);
+    // Relative to where the report was made, so that a committed report names no machine's path.
+    reference_note =
+        fmt::format("The original's logs: {} runs from '{}'.", reference.size(),
+                    fs::path(reference_dir).lexically_proximate(fs::current_path()).string());
   } else {
     reference_note = fmt::format(
         "The original's logs were not found at '{}' (give --reference DIR): no comparison with "

@@ -45,6 +45,16 @@ std::string CountsOrDash(const std::vector<int>& counts) {
   return counts.empty() ? "-" : fmt::format("{}", fmt::join(counts, ", "));
 }
 
+// The first epochs' violations and mean returns, each as "mean (per seed)", or "-" for none.
+struct FirstEpochTexts {
+  std::string violations, returns;
+};
+FirstEpochTexts DescribeFirstEpochs(const std::vector<FirstEpoch>& epochs);
+
+// TableMarkdown's sections after Table I and the returns (defined beside it).
+std::string OriginalComparisonMarkdown(const std::vector<TableCell>& cells, std::int64_t window);
+std::string FirstEpochMarkdown(const std::vector<TableCell>& cells);
+
 double Mean(const std::vector<double>& values) {
   double sum = 0.0;
   for (double v : values) sum += v;
@@ -75,6 +85,19 @@ std::vector<std::string> InOrder(const std::vector<RunRecord>& runs, Get get,
   std::stable_sort(order.begin(), order.end(),
                    [&](const std::string& a, const std::string& b) { return rank(a) < rank(b); });
   return order;
+}
+
+FirstEpochTexts DescribeFirstEpochs(const std::vector<FirstEpoch>& epochs) {
+  if (epochs.empty()) return {"-", "-"};
+  std::vector<double> violations, returns;
+  std::vector<std::string> return_texts;
+  for (const FirstEpoch& epoch : epochs) {
+    violations.push_back(epoch.violations);
+    returns.push_back(epoch.mean_return);
+    return_texts.push_back(fmt::format("{:.1f}", epoch.mean_return));
+  }
+  return {fmt::format("{:.1f} ({})", Mean(violations), Counts(violations)),
+          fmt::format("{:.1f} ({})", Mean(returns), fmt::join(return_texts, ", "))};
 }
 
 bool IsPapersMethod(const std::string& planner) {
@@ -227,6 +250,21 @@ double FinalReturn(const RunRecord& run, std::int64_t window, int episodes) {
   return Mean(std::vector<double>(returns.begin() + first, returns.end()));
 }
 
+std::optional<FirstEpoch> FirstEpochOf(const RunRecord& run) {
+  const int episodes = run.config.training.episodes_per_epoch;
+  if (run.epoch_log || episodes <= 0 || run.episodes.size() < static_cast<size_t>(episodes)) {
+    return std::nullopt;
+  }
+  FirstEpoch first;
+  first.episodes = episodes;
+  for (int i = 0; i < episodes; ++i) {
+    first.violations += run.episodes[static_cast<size_t>(i)].episode_cost;
+    first.mean_return += run.episodes[static_cast<size_t>(i)].episode_return;
+  }
+  first.mean_return /= episodes;
+  return first;
+}
+
 std::optional<double> PaperViolations(const std::string& task, const std::string& planner) {
   static const std::map<std::string, std::map<std::string, double>> kTableI = {
       {"PointGoal1", {{"rce", 16}, {"cem", 184}, {"random", 169}}},
@@ -291,6 +329,7 @@ std::vector<TableCell> ViolationTable(const std::vector<RunRecord>& runs, std::i
         if (!run->epoch_log) cell.heavy_episodes.push_back(HeavyEpisodesWithin(*run, window));
         cell.feasible_fractions.push_back(FeasibleFractionWithin(*run, window));
         cell.fewest_steps = std::min(cell.fewest_steps, run->episodes.back().end_step);
+        if (const auto first = FirstEpochOf(*run)) cell.first_epochs.push_back(*first);
       }
       cell.mean = Mean(cell.per_seed);
       cell.std = SampleStd(cell.per_seed);
@@ -309,6 +348,9 @@ std::vector<TableCell> ViolationTable(const std::vector<RunRecord>& runs, std::i
             cell.original_heavy_episodes.push_back(HeavyEpisodesWithin(*run, window));
           }
         }
+      }
+      for (const RunRecord* run : original) {
+        if (const auto first = FirstEpochOf(*run)) cell.original_first_epochs.push_back(*first);
       }
       cells.push_back(cell);
     }
@@ -374,11 +416,20 @@ std::string TableMarkdown(const std::vector<TableCell>& cells, std::int64_t wind
     }
   }
   text += "\n";
+  text += OriginalComparisonMarkdown(cells, window);
+  text += FirstEpochMarkdown(cells);
+  return text;
+}
+
+namespace {
+
+// The table of each cell against the original's seeds over the same window ("" without them).
+std::string OriginalComparisonMarkdown(const std::vector<TableCell>& cells, std::int64_t window) {
   if (std::none_of(cells.begin(), cells.end(),
                    [](const TableCell& c) { return !c.original_per_seed.empty(); })) {
-    return text;
+    return "";
   }
-  text += fmt::format(
+  std::string text = fmt::format(
       "\nAgainst the original's own logs over the same {} steps (its seeds 0, 10 and 100; "
       "data/reference/): where our mean lies against its seeds' range; whether it reproduces "
       "the original, that is lies within that range widened by 30% (0.7 x its lowest seed to "
@@ -401,22 +452,65 @@ std::string TableMarkdown(const std::vector<TableCell>& cells, std::int64_t wind
   return text;
 }
 
+// The first epochs, ours against the original's ("" where no cell has both).
+std::string FirstEpochMarkdown(const std::vector<TableCell>& cells) {
+  const bool any_first_epoch = std::any_of(cells.begin(), cells.end(), [](const TableCell& c) {
+    return !c.first_epochs.empty() && !c.original_first_epochs.empty();
+  });
+  if (!any_first_epoch) return "";
+  std::string text =
+      "\nThe first epoch, the one comparison on equal data: each run's first episodes before "
+      "its first refit (10 in the paper's loop), planned with models fitted on the random "
+      "pre-training data only, as the original's first 10 were. Their violations (sum) and "
+      "return (mean of the episodes), mean over seeds (per seed).\n\n"
+      "| task | method | episodes, ours | violations, ours | the original's | return, ours | "
+      "the original's |\n|---|---|---|---|---|---|---|\n";
+  for (const TableCell& cell : cells) {
+    if (cell.first_epochs.empty() || cell.original_first_epochs.empty()) continue;
+    std::vector<int> counts;
+    for (const FirstEpoch& epoch : cell.first_epochs) {
+      if (std::find(counts.begin(), counts.end(), epoch.episodes) == counts.end()) {
+        counts.push_back(epoch.episodes);
+      }
+    }
+    const FirstEpochTexts ours = DescribeFirstEpochs(cell.first_epochs);
+    const FirstEpochTexts original = DescribeFirstEpochs(cell.original_first_epochs);
+    text += fmt::format("| {} | {} | {} | {} | {} | {} | {} |\n", cell.task,
+                        MethodLabel(cell.planner), fmt::join(counts, ", "), ours.violations,
+                        original.violations, ours.returns, original.returns);
+  }
+  return text;
+}
+
+}  // namespace
+
 std::string TableCsv(const std::vector<TableCell>& cells, std::int64_t window) {
   std::string text =
       "task,planner,window,seeds,mean,std,per_seed,paper,fewest_steps,return_mean,return_std,"
       "original_per_seed,original_mean,versus_original,original_return_mean,heavy_per_seed,"
-      "feasible_fraction,original_heavy_per_seed,reproduces\n";
+      "feasible_fraction,original_heavy_per_seed,reproduces,first_epoch_violations_per_seed,"
+      "first_epoch_return_per_seed,original_first_epoch_violations_per_seed,"
+      "original_first_epoch_return_per_seed\n";
+  const auto first_epoch_columns = [](const std::vector<FirstEpoch>& epochs) {
+    std::vector<std::string> violations, returns;
+    for (const FirstEpoch& epoch : epochs) {
+      violations.push_back(fmt::format("{}", epoch.violations));
+      returns.push_back(fmt::format("{}", epoch.mean_return));
+    }
+    return fmt::format("{},{}", fmt::join(violations, " "), fmt::join(returns, " "));
+  };
   for (const TableCell& cell : cells) {
     const bool original = !cell.original_per_seed.empty();
     text += fmt::format(
-        "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n", cell.task, cell.planner,
+        "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n", cell.task, cell.planner,
         window, cell.per_seed.size(), cell.mean, cell.std, fmt::join(cell.per_seed, " "),
         cell.paper ? fmt::format("{}", *cell.paper) : "", cell.fewest_steps, cell.return_mean,
         cell.return_std, fmt::join(cell.original_per_seed, " "),
         original ? fmt::format("{}", Mean(cell.original_per_seed)) : "", VersusOriginal(cell),
         original ? fmt::format("{}", Mean(cell.original_final_returns)) : "",
         fmt::join(cell.heavy_episodes, " "), ProgressNumber(Mean(cell.feasible_fractions)),
-        fmt::join(cell.original_heavy_episodes, " "), WithinWidenedRange(cell));
+        fmt::join(cell.original_heavy_episodes, " "), WithinWidenedRange(cell),
+        first_epoch_columns(cell.first_epochs), first_epoch_columns(cell.original_first_epochs));
   }
   return text;
 }
@@ -514,19 +608,26 @@ std::vector<std::string> SetupDifferences(const std::vector<RunRecord>& runs, st
       note(fmt::format("Classifier: {} trees, the paper {}.", c.classifier.rounds,
                        paper.classifier.rounds));
     }
+    // Only the settings the run's planner uses, named with it: the CPU presets plan RCE smaller
+    // than the paper and CEM as the paper did.
     const auto& p = c.planning;
-    if (p.cross_entropy.population != paper.planning.cross_entropy.population ||
-        p.cross_entropy.elites != paper.planning.cross_entropy.elites ||
-        p.cross_entropy.max_iterations != paper.planning.cross_entropy.max_iterations ||
-        p.random.samples != paper.planning.random.samples ||
-        p.problem.horizon != paper.planning.problem.horizon) {
+    const auto& q = paper.planning;
+    if (c.planner == "random") {
+      if (p.random.samples != q.random.samples || p.problem.horizon != q.problem.horizon) {
+        note(fmt::format("Planning of {}: {} samples, horizon {}; the paper {}, {}.",
+                         MethodLabel(c.planner), p.random.samples, p.problem.horizon,
+                         q.random.samples, q.problem.horizon));
+      }
+    } else if (p.cross_entropy.population != q.cross_entropy.population ||
+               p.cross_entropy.elites != q.cross_entropy.elites ||
+               p.cross_entropy.max_iterations != q.cross_entropy.max_iterations ||
+               p.problem.horizon != q.problem.horizon) {
       note(fmt::format(
-          "Planning: population {}, {} elites, {} iterations, horizon {}, {} random-shooting "
-          "samples; the paper {}, {}, {}, {}, {}.",
-          p.cross_entropy.population, p.cross_entropy.elites, p.cross_entropy.max_iterations,
-          p.problem.horizon, p.random.samples, paper.planning.cross_entropy.population,
-          paper.planning.cross_entropy.elites, paper.planning.cross_entropy.max_iterations,
-          paper.planning.problem.horizon, paper.planning.random.samples));
+          "Planning of {}: population {}, {} elites, {} iterations, horizon {}; the paper {}, {}, "
+          "{}, {}.",
+          MethodLabel(c.planner), p.cross_entropy.population, p.cross_entropy.elites,
+          p.cross_entropy.max_iterations, p.problem.horizon, q.cross_entropy.population,
+          q.cross_entropy.elites, q.cross_entropy.max_iterations, q.problem.horizon));
     }
     if (c.training.total_steps != paper.training.total_steps) {
       note(

@@ -67,6 +67,19 @@ std::vector<RunRecord> ReadSweep(const std::string& sweep_dir);
 // epoch) the cumulative cost is interpolated linearly within the epoch the window ends in.
 double ViolationsWithin(const RunRecord& run, std::int64_t window);
 
+// A run's first epoch: its first `training.episodes_per_epoch` MPC episodes (the paper's 10),
+// planned before any refit, with models fitted on the random pre-training data only. The
+// original's runs did the same, so it is the one comparison of the two on equal data.
+struct FirstEpoch {
+  int episodes = 0;         // training.episodes_per_epoch
+  double violations = 0.0;  // the sum of their EpCost
+  double mean_return = 0.0;
+};
+
+// The first epoch of an MPC run, or nothing for a model-free run (epochs of 30,000 steps) or a
+// run that has not finished its first epoch.
+std::optional<FirstEpoch> FirstEpochOf(const RunRecord& run);
+
 // The paper's Table I counts violations during the first 10,000 agent steps.
 inline constexpr std::int64_t kPaperWindow = 10000;
 
@@ -94,6 +107,9 @@ struct TableCell {
   std::vector<int> heavy_episodes;           // HeavyEpisodesWithin per seed
   std::vector<double> feasible_fractions;    // FeasibleFractionWithin per seed
   std::vector<int> original_heavy_episodes;  // the original's, per seed
+  // FirstEpochOf per seed, ours and the original's (empty where a run has none).
+  std::vector<FirstEpoch> first_epochs;
+  std::vector<FirstEpoch> original_first_epochs;
 };
 
 // Where a cell's mean lies against the original's seeds: "below" the lowest, "inside" their

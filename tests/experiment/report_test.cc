@@ -5,8 +5,10 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 
 #include "cmbrl/experiment/mpc_learner.h"
 #include "cmbrl/experiment/policy_opt_learner.h"
@@ -120,7 +122,7 @@ TEST_F(ReportTest, TableOneHasTheExpectedNumbers) {
   EXPECT_THAT(markdown, HasSubstr("| CarGoal2 | 8.0 ± 0.0 (1) [96] | 2.0 ± 0.0 (1) [578] |"));
   const std::string csv = TableCsv(cells, 300);
   EXPECT_THAT(csv, HasSubstr("PointGoal1,cem,300,2,16.5,2.1213203435596424,15 18,184,300,2,"
-                             "1.4142135623730951,,,,,0 0,0,,\n"));
+                             "1.4142135623730951,,,,,0 0,0,,,,,,\n"));
   // Returns of the episodes begun in the window: rce 0,1,2 and 1,2,3; cem 0,1,2 and 2,3,4.
   EXPECT_EQ(cells[0].final_returns, (std::vector<double>{1, 2}));
   EXPECT_DOUBLE_EQ(cells[1].return_mean, 2.0);
@@ -304,7 +306,8 @@ TEST_F(ReportTest, CellsCompareWithTheOriginalsSeedsOverTheSameWindow) {
   const std::string markdown = TableMarkdown(cells, 300);
   EXPECT_THAT(markdown, HasSubstr("| PointGoal1 | MPC-RCE | 2.0 (3, 1) | 2.5 (1, 4) | inside | "
                                   "yes | 1.50 | 4.75 | 0, 0 | 0, 0 | 0.000 |"));
-  EXPECT_THAT(TableCsv(cells, 300), HasSubstr(",1 4,2.5,inside,4.75,0 0,0,0 0,yes\n"));
+  // No run here has finished a first epoch of 10 episodes: its four columns are empty.
+  EXPECT_THAT(TableCsv(cells, 300), HasSubstr(",1 4,2.5,inside,4.75,0 0,0,0 0,yes,,,,\n"));
   EXPECT_THAT(OutcomeDifferences(cells, 300),
               ::testing::Contains("PointGoal1 MPC-RCE: 2.0 in the first 300 steps, the original "
                                   "2.5 (1, 4); ours is inside its seeds' range."));
@@ -448,6 +451,87 @@ TEST_F(ReportTest, ShippedReferenceLogsGiveTheOriginalsCounts) {
   ASSERT_EQ(trpo.size(), 1u);
   EXPECT_NEAR(trpo[0], 2383.0 / 3, 1e-9);
   EXPECT_EQ(counts("PointGoal1", "trpo", 30000), (std::vector<double>{2383}));
+  // The first epoch (10 episodes) of the original's CarGoal1 random runs: 8, 2 and 4 violations
+  // with mean returns of 28.1, 27.9 and 29.8 (results/ablation-level2/README.md).
+  std::vector<double> violations, returns;
+  for (const RunRecord* run : ReferenceRunsOf(reference, "CarGoal1", "random")) {
+    const std::optional<FirstEpoch> first = FirstEpochOf(*run);
+    ASSERT_TRUE(first.has_value());
+    EXPECT_EQ(first->episodes, 10);
+    violations.push_back(first->violations);
+    returns.push_back(std::round(first->mean_return * 10) / 10);
+  }
+  EXPECT_EQ(violations, (std::vector<double>{8, 2, 4}));
+  EXPECT_EQ(returns, (std::vector<double>{28.1, 27.9, 29.8}));
+}
+
+// The planning note names the planner whose settings differ, and only the settings it uses.
+TEST(ReportTableTest, ThePlanningNoteNamesThePlannerThatDiffers) {
+  const auto run = [](const std::string& planner) {
+    RunRecord record;
+    record.config.task = "PointGoal2";
+    record.config.planner = planner;
+    record.episodes.push_back(EpisodePoint{});
+    return record;
+  };
+  std::vector<RunRecord> runs = {run("rce"), run("cem"), run("random")};
+  runs[0].config.planning.cross_entropy.population = 200;
+  runs[0].config.planning.cross_entropy.elites = 10;
+  runs[0].config.planning.cross_entropy.max_iterations = 5;
+  const std::vector<std::string> notes = SetupDifferences(runs, 3000);
+  EXPECT_THAT(notes, ::testing::Contains("Planning of MPC-RCE: population 200, 10 elites, 5 "
+                                         "iterations, horizon 8; the paper 500, 12, 8, 8."));
+  // CEM and random shooting planned as the paper did: nothing said of them.
+  EXPECT_THAT(notes, Not(::testing::Contains(HasSubstr("MPC-CEM"))));
+  EXPECT_THAT(notes, Not(::testing::Contains(HasSubstr("MPC-random"))));
+  runs[2].config.planning.random.samples = 1000;
+  EXPECT_THAT(SetupDifferences(runs, 3000),
+              ::testing::Contains("Planning of MPC-random: 1000 samples, horizon 8; the paper "
+                                  "5000, 8."));
+}
+
+// The first epoch: the episodes before a run's first refit, ours against the original's.
+TEST(ReportTableTest, TheFirstEpochComparesOursWithTheOriginalsOnEqualData) {
+  const auto run = [](std::uint64_t seed, const std::vector<double>& costs, int per_epoch) {
+    RunRecord record;
+    record.config.task = "CarGoal1";
+    record.config.planner = "random";
+    record.config.seed = seed;
+    record.config.training.episodes_per_epoch = per_epoch;
+    for (size_t i = 0; i < costs.size(); ++i) {
+      EpisodePoint point;
+      point.steps = 75;
+      point.end_step = 75 * static_cast<std::int64_t>(i + 1);
+      point.episode_cost = costs[i];
+      point.episode_return = 10.0 + static_cast<double>(i);
+      record.episodes.push_back(point);
+    }
+    return record;
+  };
+  const std::vector<RunRecord> ours = {run(0, {3, 4, 5}, 2), run(1, {1, 0, 9}, 2)};
+  // The original's seed 10 has not finished its first epoch of 3 episodes: left out.
+  const std::vector<RunRecord> original = {run(0, {0, 1, 2}, 3), run(10, {2}, 3)};
+  const std::optional<FirstEpoch> first = FirstEpochOf(ours[0]);
+  ASSERT_TRUE(first.has_value());
+  EXPECT_EQ(first->episodes, 2);
+  EXPECT_EQ(first->violations, 7.0);
+  EXPECT_EQ(first->mean_return, 10.5);
+  EXPECT_FALSE(FirstEpochOf(original[1]).has_value());
+  RunRecord model_free = ours[0];
+  model_free.epoch_log = true;
+  EXPECT_FALSE(FirstEpochOf(model_free).has_value());
+
+  const std::vector<TableCell> cells = ViolationTable(ours, 150, original);
+  ASSERT_EQ(cells.size(), 1u);
+  ASSERT_EQ(cells[0].first_epochs.size(), 2u);
+  ASSERT_EQ(cells[0].original_first_epochs.size(), 1u);
+  EXPECT_EQ(cells[0].original_first_epochs[0].violations, 3.0);
+  EXPECT_THAT(TableMarkdown(cells, 150),
+              HasSubstr("| CarGoal1 | MPC-random | 2 | 4.0 (7, 1) | 3.0 (3) | 10.5 (10.5, 10.5) "
+                        "| 11.0 (11.0) |"));
+  EXPECT_THAT(TableCsv(cells, 150), HasSubstr(",7 1,10.5 10.5,3,11\n"));
+  // Without the original's first epochs there is no such table.
+  EXPECT_THAT(TableMarkdown(ViolationTable(ours, 150), 150), Not(HasSubstr("The first epoch")));
 }
 
 TEST_F(ReportTest, BadProgressIsNamed) {
