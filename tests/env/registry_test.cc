@@ -4,6 +4,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <mujoco/mujoco.h>
+
 #include <cmath>
 
 #include "cmbrl/agent/policy.h"
@@ -65,6 +67,32 @@ TEST(RegistryTest, ModelOriginSpawnThrowsTheRoverUp) {
   EXPECT_DOUBLE_EQ(peak_height("PointGoal1", Spawn::kModelOrigin),
                    peak_height("PointGoal1", Spawn::kStanding));
   EXPECT_EQ(ParseSpawn(SpawnName(Spawn::kModelOrigin)), Spawn::kModelOrigin);
+}
+
+// The rover's small parts as the original's car.xml shapes them: the steering ghost is a disc
+// lying on its side (its inertia about the steering hinge is a cylinder's transverse one) and
+// the front wheels' posts are 0.08 m long.
+TEST(RegistryTest, TheRoversSteeringPartsAreShapedAsTheOriginals) {
+  std::unique_ptr<Env> env = MakeEnv("CarGoal1", Variant::kPaper);
+  const mjModel& model = dynamic_cast<const GoalEnv&>(*env).model();
+  const int ghost = mj_name2id(&model, mjOBJ_BODY, "ghost-steer");
+  ASSERT_GE(ghost, 0);
+  // Inertia about the body's z axis: R diag(I) R^T, R from the principal frame's quaternion.
+  mjtNum rotation[9];
+  mju_quat2Mat(rotation, model.body_iquat + 4 * ghost);
+  double about_z = 0.0;
+  for (int k = 0; k < 3; ++k) {
+    about_z += rotation[6 + k] * rotation[6 + k] * model.body_inertia[3 * ghost + k];
+  }
+  const double mass = 0.002, radius = 0.05, length = 0.01;
+  EXPECT_NEAR(about_z, mass * (3 * radius * radius + length * length) / 12, 1e-12);
+  int posts = 0;
+  for (int g = 0; g < model.ngeom; ++g) {
+    if (model.geom_type[g] != mjGEOM_CAPSULE) continue;
+    EXPECT_NEAR(2 * model.geom_size[3 * g + 1], 0.08, 1e-12);  // the cylinder part's length
+    ++posts;
+  }
+  EXPECT_EQ(posts, 2);
 }
 
 TEST(RegistryTest, UnknownTaskIsNamed) {

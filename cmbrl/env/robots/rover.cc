@@ -11,7 +11,7 @@ std::string FrontWheel(const char* side, double y) {
       <body name="front-{0}-wheel" pos="0.2 {1} -0.15">
         <joint name="front-{0}-steer" type="hinge" axis="0 0 1" limited="true"
                range="-0.698132 0.698132" damping="0.01"/>
-        <geom type="capsule" size="0.005" fromto="0 0 0 0 0 0.1" density="40" contype="2"
+        <geom type="capsule" size="0.005" fromto="0 0 0 0 0 0.08" density="40" contype="2"
               conaffinity="2"/>
         <geom type="cylinder" size="0.01" fromto="0 -0.015 0 0 0.015 0" mass="0.125"/>
         <body name="front-{0}-wheel-a" pos="0 -0.0125 0">
@@ -63,8 +63,8 @@ RobotDescription RoverRobot() {
       <body name="ghost-steer" pos="0 0 0.15">
         <joint name="ghost-steer" type="hinge" axis="0 0 1" limited="true"
                range="-0.523599 0.523599" damping="0"/>
-        <geom type="cylinder" size="0.05 0.005" mass="0.002" contype="2" conaffinity="2"
-              rgba="1 1 1 0.3"/>
+        <geom type="cylinder" size="0.05 0.005" zaxis="0 1 0" mass="0.002" contype="2"
+              conaffinity="2" rgba="1 1 1 0.3"/>
       </body>)" + RearWheel("left", 0.1) +
                     RearWheel("right", -0.1) + FrontWheel("left", 0.1) + FrontWheel("right", -0.1) +
                     R"(
