@@ -45,16 +45,6 @@ std::string CountsOrDash(const std::vector<int>& counts) {
   return counts.empty() ? "-" : fmt::format("{}", fmt::join(counts, ", "));
 }
 
-// The first epochs' violations and mean returns, each as "mean (per seed)", or "-" for none.
-struct FirstEpochTexts {
-  std::string violations, returns;
-};
-FirstEpochTexts DescribeFirstEpochs(const std::vector<FirstEpoch>& epochs);
-
-// TableMarkdown's sections after Table I and the returns (defined beside it).
-std::string OriginalComparisonMarkdown(const std::vector<TableCell>& cells, std::int64_t window);
-std::string FirstEpochMarkdown(const std::vector<TableCell>& cells);
-
 double Mean(const std::vector<double>& values) {
   double sum = 0.0;
   for (double v : values) sum += v;
@@ -87,6 +77,10 @@ std::vector<std::string> InOrder(const std::vector<RunRecord>& runs, Get get,
   return order;
 }
 
+// The first epochs' violations and mean returns, each as "mean (per seed)", or "-" for none.
+struct FirstEpochTexts {
+  std::string violations, returns;
+};
 FirstEpochTexts DescribeFirstEpochs(const std::vector<FirstEpoch>& epochs) {
   if (epochs.empty()) return {"-", "-"};
   std::vector<double> violations, returns;
@@ -358,6 +352,71 @@ std::vector<TableCell> ViolationTable(const std::vector<RunRecord>& runs, std::i
   return cells;
 }
 
+namespace {
+
+// TableMarkdown's sections after Table I and the returns.
+
+// Each cell against the original's seeds over the same window ("" without them).
+std::string OriginalComparisonMarkdown(const std::vector<TableCell>& cells, std::int64_t window) {
+  if (std::none_of(cells.begin(), cells.end(),
+                   [](const TableCell& c) { return !c.original_per_seed.empty(); })) {
+    return "";
+  }
+  std::string text = fmt::format(
+      "\nAgainst the original's own logs over the same {} steps (its seeds 0, 10 and 100; "
+      "data/reference/): where our mean lies against its seeds' range; whether it reproduces "
+      "the original, that is lies within that range widened by 30% (0.7 x its lowest seed to "
+      "1.3 x its highest; for MPC-RCE, the paper's method, only the upper end counts); and the "
+      "return of the last 10 episodes.\n\n"
+      "| task | method | ours (per seed) | original (per seed) | ours vs its range | "
+      "reproduces | return, ours | return, original | episodes with >= 20, ours | the "
+      "original's | feasible fraction, ours |\n|---|---|---|---|---|---|---|---|---|---|---|\n",
+      window);
+  for (const TableCell& cell : cells) {
+    if (cell.original_per_seed.empty()) continue;
+    text += fmt::format(
+        "| {} | {} | {:.1f} ({}) | {:.1f} ({}) | {} | {} | {} | {} | {} | {} | {} |\n", cell.task,
+        MethodLabel(cell.planner), cell.mean, Counts(cell.per_seed), Mean(cell.original_per_seed),
+        Counts(cell.original_per_seed), VersusOriginal(cell), WithinWidenedRange(cell),
+        Figure(cell.return_mean, 2), Figure(Mean(cell.original_final_returns), 2),
+        CountsOrDash(cell.heavy_episodes), CountsOrDash(cell.original_heavy_episodes),
+        Figure(Mean(cell.feasible_fractions), 3));
+  }
+  return text;
+}
+
+// The first epochs, ours against the original's ("" where no cell has both).
+std::string FirstEpochMarkdown(const std::vector<TableCell>& cells) {
+  const bool any_first_epoch = std::any_of(cells.begin(), cells.end(), [](const TableCell& c) {
+    return !c.first_epochs.empty() && !c.original_first_epochs.empty();
+  });
+  if (!any_first_epoch) return "";
+  std::string text =
+      "\nThe first epoch, the one comparison on equal data: each run's first episodes before "
+      "its first refit (10 in the paper's loop), planned with models fitted on the random "
+      "pre-training data only, as the original's first 10 were. Their violations (sum) and "
+      "return (mean of the episodes), mean over seeds (per seed).\n\n"
+      "| task | method | episodes, ours | violations, ours | the original's | return, ours | "
+      "the original's |\n|---|---|---|---|---|---|---|\n";
+  for (const TableCell& cell : cells) {
+    if (cell.first_epochs.empty() || cell.original_first_epochs.empty()) continue;
+    std::vector<int> counts;
+    for (const FirstEpoch& epoch : cell.first_epochs) {
+      if (std::find(counts.begin(), counts.end(), epoch.episodes) == counts.end()) {
+        counts.push_back(epoch.episodes);
+      }
+    }
+    const FirstEpochTexts ours = DescribeFirstEpochs(cell.first_epochs);
+    const FirstEpochTexts original = DescribeFirstEpochs(cell.original_first_epochs);
+    text += fmt::format("| {} | {} | {} | {} | {} | {} | {} |\n", cell.task,
+                        MethodLabel(cell.planner), fmt::join(counts, ", "), ours.violations,
+                        original.violations, ours.returns, original.returns);
+  }
+  return text;
+}
+
+}  // namespace
+
 std::string TableMarkdown(const std::vector<TableCell>& cells, std::int64_t window) {
   std::vector<std::string> planners;
   for (const TableCell& cell : cells) {
@@ -420,69 +479,6 @@ std::string TableMarkdown(const std::vector<TableCell>& cells, std::int64_t wind
   text += FirstEpochMarkdown(cells);
   return text;
 }
-
-namespace {
-
-// The table of each cell against the original's seeds over the same window ("" without them).
-std::string OriginalComparisonMarkdown(const std::vector<TableCell>& cells, std::int64_t window) {
-  if (std::none_of(cells.begin(), cells.end(),
-                   [](const TableCell& c) { return !c.original_per_seed.empty(); })) {
-    return "";
-  }
-  std::string text = fmt::format(
-      "\nAgainst the original's own logs over the same {} steps (its seeds 0, 10 and 100; "
-      "data/reference/): where our mean lies against its seeds' range; whether it reproduces "
-      "the original, that is lies within that range widened by 30% (0.7 x its lowest seed to "
-      "1.3 x its highest; for MPC-RCE, the paper's method, only the upper end counts); and the "
-      "return of the last 10 episodes.\n\n"
-      "| task | method | ours (per seed) | original (per seed) | ours vs its range | "
-      "reproduces | return, ours | return, original | episodes with >= 20, ours | the "
-      "original's | feasible fraction, ours |\n|---|---|---|---|---|---|---|---|---|---|---|\n",
-      window);
-  for (const TableCell& cell : cells) {
-    if (cell.original_per_seed.empty()) continue;
-    text += fmt::format(
-        "| {} | {} | {:.1f} ({}) | {:.1f} ({}) | {} | {} | {} | {} | {} | {} | {} |\n", cell.task,
-        MethodLabel(cell.planner), cell.mean, Counts(cell.per_seed), Mean(cell.original_per_seed),
-        Counts(cell.original_per_seed), VersusOriginal(cell), WithinWidenedRange(cell),
-        Figure(cell.return_mean, 2), Figure(Mean(cell.original_final_returns), 2),
-        CountsOrDash(cell.heavy_episodes), CountsOrDash(cell.original_heavy_episodes),
-        Figure(Mean(cell.feasible_fractions), 3));
-  }
-  return text;
-}
-
-// The first epochs, ours against the original's ("" where no cell has both).
-std::string FirstEpochMarkdown(const std::vector<TableCell>& cells) {
-  const bool any_first_epoch = std::any_of(cells.begin(), cells.end(), [](const TableCell& c) {
-    return !c.first_epochs.empty() && !c.original_first_epochs.empty();
-  });
-  if (!any_first_epoch) return "";
-  std::string text =
-      "\nThe first epoch, the one comparison on equal data: each run's first episodes before "
-      "its first refit (10 in the paper's loop), planned with models fitted on the random "
-      "pre-training data only, as the original's first 10 were. Their violations (sum) and "
-      "return (mean of the episodes), mean over seeds (per seed).\n\n"
-      "| task | method | episodes, ours | violations, ours | the original's | return, ours | "
-      "the original's |\n|---|---|---|---|---|---|---|\n";
-  for (const TableCell& cell : cells) {
-    if (cell.first_epochs.empty() || cell.original_first_epochs.empty()) continue;
-    std::vector<int> counts;
-    for (const FirstEpoch& epoch : cell.first_epochs) {
-      if (std::find(counts.begin(), counts.end(), epoch.episodes) == counts.end()) {
-        counts.push_back(epoch.episodes);
-      }
-    }
-    const FirstEpochTexts ours = DescribeFirstEpochs(cell.first_epochs);
-    const FirstEpochTexts original = DescribeFirstEpochs(cell.original_first_epochs);
-    text += fmt::format("| {} | {} | {} | {} | {} | {} | {} |\n", cell.task,
-                        MethodLabel(cell.planner), fmt::join(counts, ", "), ours.violations,
-                        original.violations, ours.returns, original.returns);
-  }
-  return text;
-}
-
-}  // namespace
 
 std::string TableCsv(const std::vector<TableCell>& cells, std::int64_t window) {
   std::string text =
