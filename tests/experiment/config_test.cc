@@ -255,7 +255,8 @@ TEST(ConfigTest, TheQuickstartGridHasEveryTaskAndPlannerAtQuickstartSize) {
 }
 
 // The CPU presets: the paper's settings but for the dynamics networks' width, RCE's planner
-// (the grid's 200 x 5 with 10 elites: ablation 'population') and the window.
+// (the grid's 200 x 5 with 10 elites: ablation 'population'), the window, and for the Car
+// networks that predict the change of state (ablation 'delta').
 TEST(ConfigTest, TheCpuPresetsKeepThePapersSettingsButTheNetworksWidthAndRcesPlanner) {
   const TrainConfig paper = ParseTrainConfig("task: PointGoal1", "paper");
   ForEachPreset(
@@ -264,7 +265,9 @@ TEST(ConfigTest, TheCpuPresetsKeepThePapersSettingsButTheNetworksWidthAndRcesPla
         EXPECT_EQ(config.variant, Variant::kPaper);
         EXPECT_EQ(config.training.total_steps, 3000);
         EXPECT_EQ(config.ensemble.hidden_sizes, std::vector<int>({256, 256, 256}));
-        EXPECT_EQ(config.ensemble.ensemble_size, task.rfind("Car", 0) == 0 ? 5 : 4);
+        const bool car = task.rfind("Car", 0) == 0;
+        EXPECT_EQ(config.ensemble.ensemble_size, car ? 5 : 4);
+        EXPECT_EQ(config.ensemble.predict_delta, car);
         // Everything else as the paper ran it.
         TrainConfig expected = paper;
         expected.task = config.task;
@@ -272,6 +275,7 @@ TEST(ConfigTest, TheCpuPresetsKeepThePapersSettingsButTheNetworksWidthAndRcesPla
         expected.training.total_steps = config.training.total_steps;
         expected.ensemble.hidden_sizes = config.ensemble.hidden_sizes;
         expected.ensemble.ensemble_size = config.ensemble.ensemble_size;
+        expected.ensemble.predict_delta = config.ensemble.predict_delta;
         expected.objective.goal_index = config.objective.goal_index;
         if (planner == "rce") {
           expected.planning.cross_entropy.population = 200;
@@ -283,7 +287,8 @@ TEST(ConfigTest, TheCpuPresetsKeepThePapersSettingsButTheNetworksWidthAndRcesPla
 }
 
 // The level-2 ablation 'combined' is the CPU preset at the 2000-step screening window, so that
-// its runs continue to the CPU grid's 3000 steps (scripts/cpu-grid-queue.sh).
+// its runs continue to the CPU grid's 3000 steps (scripts/cpu-grid-queue.sh). Its Car configs
+// record runs made before the Car presets predicted the change of state; they differ in that.
 TEST(ConfigTest, TheCombinedAblationIsTheCpuPresetAtTwoThousandSteps) {
   int checked = 0;
   for (const std::string name : {"pointgoal2-rce", "cargoal2-rce", "cargoal1-cem"}) {
@@ -293,6 +298,8 @@ TEST(ConfigTest, TheCombinedAblationIsTheCpuPresetAtTwoThousandSteps) {
     const TrainConfig preset = LoadTrainConfig(CMBRL_SOURCE_DIR "/configs/cpu/" + name + ".yaml");
     EXPECT_EQ(combined.training.total_steps, 2000);
     combined.training.total_steps = preset.training.total_steps;
+    EXPECT_EQ(combined.ensemble.predict_delta, false);
+    combined.ensemble.predict_delta = preset.ensemble.predict_delta;
     EXPECT_EQ(TrainConfigToYaml(combined), TrainConfigToYaml(preset));
     ++checked;
   }
