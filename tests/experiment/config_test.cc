@@ -306,6 +306,25 @@ TEST(ConfigTest, TheCombinedAblationIsTheCpuPresetAtTwoThousandSteps) {
   EXPECT_EQ(checked, 3);
 }
 
+// The ablation 'delta' became the Car presets: each of its configs is the Car preset at the
+// 2000-step screening window, so its runs continue into the CPU grid's cells.
+TEST(ConfigTest, TheDeltaAblationIsTheCarPresetAtTwoThousandSteps) {
+  int checked = 0;
+  for (const auto& entry :
+       std::filesystem::directory_iterator(CMBRL_SOURCE_DIR "/configs/ablation-level2/delta")) {
+    const std::string name = entry.path().stem().string();
+    SCOPED_TRACE(name);
+    TrainConfig delta = LoadTrainConfig(entry.path().string());
+    const TrainConfig preset = LoadTrainConfig(CMBRL_SOURCE_DIR "/configs/cpu/" + name + ".yaml");
+    EXPECT_TRUE(delta.ensemble.predict_delta);
+    EXPECT_EQ(delta.training.total_steps, 2000);
+    delta.training.total_steps = preset.training.total_steps;
+    EXPECT_EQ(TrainConfigToYaml(delta), TrainConfigToYaml(preset));
+    ++checked;
+  }
+  EXPECT_EQ(checked, 4);
+}
+
 TEST(ConfigTest, ObservationSizesMatchTheEnvironments) {
   for (const std::string& task : EnvNames()) {
     for (const Variant variant : {Variant::kPaper, Variant::kStandard}) {
