@@ -47,6 +47,7 @@ std::vector<PlotPanel> CurvePanels(const std::vector<RunRecord>& runs,
     panel.title = task;
     panel.x_label = x_label;
     panel.y_label = metric == CurveMetric::kReturn ? "EpRet" : "EpCost";
+    if (metric == CurveMetric::kCost) panel.y_floor = 0.0;  // violations are counts
     for (const LearningCurve& curve :
          LearningCurves(runs, task, metric, args.grid_step, args.smoothing)) {
       PlotSeries ours;

@@ -154,7 +154,7 @@ std::vector<PanelArea> Draw(cairo_t* cr, const std::vector<PlotPanel>& panels,
         const double band = s.band.empty() ? 0.0 : s.band[k];
         x_low = std::min(x_low, s.x[k]);
         x_high = std::max(x_high, s.x[k]);
-        y_low = std::min(y_low, s.y[k] - band);
+        y_low = std::min(y_low, std::max(s.y[k] - band, panel.y_floor));
         y_high = std::max(y_high, s.y[k] + band);
       }
     }
@@ -196,7 +196,9 @@ std::vector<PanelArea> Draw(cairo_t* cr, const std::vector<PlotPanel>& panels,
       if (!s.band.empty() && s.x.size() > 1) {
         cairo_move_to(cr, px(s.x[0]), py(s.y[0] + s.band[0]));
         for (size_t k = 1; k < s.x.size(); ++k) cairo_line_to(cr, px(s.x[k]), py(s.y[k] + s.band[k]));
-        for (size_t k = s.x.size(); k-- > 0;) cairo_line_to(cr, px(s.x[k]), py(s.y[k] - s.band[k]));
+        for (size_t k = s.x.size(); k-- > 0;) {
+          cairo_line_to(cr, px(s.x[k]), py(std::max(s.y[k] - s.band[k], panel.y_floor)));
+        }
         cairo_close_path(cr);
         cairo_set_source_rgba(cr, c.r, c.g, c.b, 0.2);
         cairo_fill(cr);

@@ -1,6 +1,7 @@
 // Line plots in panels (PNG and SVG, drawn with Cairo): the learning curves of a sweep report.
 #pragma once
 
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -18,6 +19,9 @@ struct PlotPanel {
   std::string title;
   std::string x_label, y_label;
   std::vector<PlotSeries> series;
+  // The least value the plotted quantity can take (0 for counts): bands stop there, so that a
+  // standard deviation wider than the mean does not draw negative counts.
+  double y_floor = -std::numeric_limits<double>::infinity();
 };
 
 struct PlotOptions {

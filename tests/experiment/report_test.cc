@@ -255,6 +255,37 @@ TEST_F(ReportTest, PlotsAreValidPngAndSvgWithOnePanelPerTask) {
   EXPECT_THAT(text, ::testing::EndsWith("</svg>\n"));
 }
 
+TEST_F(ReportTest, ABandStopsAtThePanelsFloor) {
+  // A mean of 1 violation with a standard deviation of 3: the band would reach -2, a count no run
+  // can have. With the panel's floor at 0 the band stops there and the axis with it, so the mean
+  // line sits lower in the panel: at (1 + 0.2) / 4.4 of its height (the axis pads by 5% of the
+  // range each way), against (1 + 2.3) / 6.6 without the floor.
+  PlotPanel panel{"CarGoal1", "agent steps", "EpCost", {}};
+  PlotSeries series;
+  series.label = "MPC-random";
+  series.x = {0, 1000, 2000, 3000};
+  series.y = {1, 1, 1, 1};
+  series.band = {3, 3, 3, 3};
+  panel.series.push_back(series);
+  const std::string png = (sweep_ / "floor.png").string();
+  // Height of the mean line above the plotting area's bottom, as a fraction of the area: the row
+  // of the column in the middle whose red channel is darkest (the band and the grid are light).
+  const auto line_height = [&](const PlotPanel& p) {
+    const PanelArea area = WritePlots({p}, png, "").at(0);
+    const PngImage image(png);
+    double darkest_row = -1;
+    std::uint32_t darkest = 256;
+    for (double y = area.y + 1; y < area.y + area.height - 1; y += 1) {
+      const std::uint32_t red = (image.Pixel(area.x + area.width / 2, y) >> 16) & 0xff;
+      if (red < darkest) darkest = red, darkest_row = y;
+    }
+    return (area.y + area.height - darkest_row) / area.height;
+  };
+  EXPECT_NEAR(line_height(panel), 3.3 / 6.6, 0.02);
+  panel.y_floor = 0;
+  EXPECT_NEAR(line_height(panel), 1.2 / 4.4, 0.02);
+}
+
 TEST_F(ReportTest, ALegendTooWideForOneRowWrapsInsideThePicture) {
   // Three methods and the original's three beside them in one 520-pixel panel: one row cannot
   // hold the six entries, so the legend takes more rows and pushes the panel down; nothing is
