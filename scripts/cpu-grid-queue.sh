@@ -3,13 +3,13 @@
 # level-2 RCE cells with 5 seeds, then the rest with 3 seeds.
 # Started again with the same arguments it skips finished runs and resumes the others.
 #
-# The ablation variant 'combined' is the CPU preset at 2000 steps: its finished runs (in
-# ABLATION_DIR/<Task>-rce/combined/runs, scripts/ablation-queue.sh's layout) are copied in and
-# continued to 3000 steps instead of being trained again (`cmbrl train --resume --steps`, which
-# gives the rows of a run started with 3000).
+# The ablation variant 'combined' on PointGoal2 RCE is the CPU preset at 2000 steps: its
+# finished runs (in ABLATION_DIR/PointGoal2-rce/combined/runs, scripts/ablation-queue.sh's
+# layout) are copied in and continued to 3000 steps instead of being trained again (`cmbrl train
+# --resume --steps`, which gives the rows of a run started with 3000). Its Car cells are not:
+# they predict the absolute state, as the Car presets no longer do (ConfigTest,
+# TheCombinedAblationIsTheCpuPresetAtTwoThousandSteps).
 # Usage: [JOBS=1] scripts/cpu-grid-queue.sh CMBRL_BINARY OUT_DIR [ABLATION_DIR]
-# Since the Car presets changed, give no ABLATION_DIR: its CarGoal2 runs of 'combined' predict the
-# absolute state, as the Car presets no longer do.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 cmbrl=$1
@@ -18,7 +18,7 @@ ablation=${3:-}
 
 if [ -n "$ablation" ]; then
   mkdir -p "$out/runs"
-  for run in "$ablation"/*-rce/combined/runs/*/; do
+  for run in "$ablation"/PointGoal2-rce/combined/runs/*/; do
     [ -f "$run/config.yaml" ] || continue
     name=$(basename "$run")
     [ -e "$out/runs/$name" ] && continue
