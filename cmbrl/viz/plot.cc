@@ -147,15 +147,21 @@ std::vector<PanelArea> Draw(cairo_t* cr, const std::vector<PlotPanel>& panels,
     const double top = legend_height + (i / o.columns) * o.panel_height_px;
     const PanelArea area{left + 64, top + 34, o.panel_width_px - 84.0, o.panel_height_px - 84.0};
     areas.push_back(area);
+    // The band's edges at point k (the line itself without a band); the lower stops at the floor.
+    const auto band_low = [&](const PlotSeries& s, size_t k) {
+      return std::max(s.y[k] - (s.band.empty() ? 0.0 : s.band[k]), panel.y_floor);
+    };
+    const auto band_high = [](const PlotSeries& s, size_t k) {
+      return s.y[k] + (s.band.empty() ? 0.0 : s.band[k]);
+    };
     double x_low = std::numeric_limits<double>::infinity(), x_high = -x_low;
     double y_low = x_low, y_high = -x_low;
     for (const PlotSeries& s : panel.series) {
       for (size_t k = 0; k < s.x.size(); ++k) {
-        const double band = s.band.empty() ? 0.0 : s.band[k];
         x_low = std::min(x_low, s.x[k]);
         x_high = std::max(x_high, s.x[k]);
-        y_low = std::min(y_low, std::max(s.y[k] - band, panel.y_floor));
-        y_high = std::max(y_high, s.y[k] + band);
+        y_low = std::min(y_low, band_low(s, k));
+        y_high = std::max(y_high, band_high(s, k));
       }
     }
     if (!std::isfinite(x_low)) x_low = 0, x_high = 1, y_low = 0, y_high = 1;
@@ -194,11 +200,9 @@ std::vector<PanelArea> Draw(cairo_t* cr, const std::vector<PlotPanel>& panels,
     for (const PlotSeries& s : panel.series) {
       const Rgb c = styles.at(s.label).colour;
       if (!s.band.empty() && s.x.size() > 1) {
-        cairo_move_to(cr, px(s.x[0]), py(s.y[0] + s.band[0]));
-        for (size_t k = 1; k < s.x.size(); ++k) cairo_line_to(cr, px(s.x[k]), py(s.y[k] + s.band[k]));
-        for (size_t k = s.x.size(); k-- > 0;) {
-          cairo_line_to(cr, px(s.x[k]), py(std::max(s.y[k] - s.band[k], panel.y_floor)));
-        }
+        cairo_move_to(cr, px(s.x[0]), py(band_high(s, 0)));
+        for (size_t k = 1; k < s.x.size(); ++k) cairo_line_to(cr, px(s.x[k]), py(band_high(s, k)));
+        for (size_t k = s.x.size(); k-- > 0;) cairo_line_to(cr, px(s.x[k]), py(band_low(s, k)));
         cairo_close_path(cr);
         cairo_set_source_rgba(cr, c.r, c.g, c.b, 0.2);
         cairo_fill(cr);
