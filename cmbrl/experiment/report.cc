@@ -136,36 +136,137 @@ std::vector<EpisodePoint> ReadEpisodeColumns(const std::string& file, bool has_s
   return episodes;
 }
 
-std::vector<RunRecord> ReadSweep(const std::string& sweep_dir) {
-  const fs::path runs_dir = fs::path(sweep_dir) / "runs";
-  Require(fs::is_directory(runs_dir), "'{}' holds no runs/ folder: expected a cmbrl sweep",
-          sweep_dir);
+namespace {
+
+// The folders under `parent` that hold a run (config.yaml), in name order.
+std::vector<fs::path> RunFolders(const fs::path& parent) {
   std::vector<fs::path> dirs;
-  for (const fs::directory_entry& entry : fs::directory_iterator(runs_dir)) {
+  if (!fs::is_directory(parent)) return dirs;
+  for (const fs::directory_entry& entry : fs::directory_iterator(parent)) {
     if (entry.is_directory() && RunDirectory(entry.path()).HoldsRun()) dirs.push_back(entry.path());
   }
   std::sort(dirs.begin(), dirs.end());
-  std::vector<RunRecord> runs;
-  for (const fs::path& dir : dirs) {
-    const RunDirectory run_dir(dir);
-    // A run whose progress.csv disagrees with its checkpoint's manifest is refused, naming the
-    // file; rows written after the last checkpoint (a run in progress, or stopped) are kept.
-    // A run in progress may swap its checkpoint while this reads it: a second look settles it.
-    try {
-      VerifiedCheckpoint(run_dir, /*files=*/false);
-    } catch (const Error&) {
-      std::this_thread::sleep_for(std::chrono::milliseconds(500));
-      VerifiedCheckpoint(run_dir, /*files=*/false);
+  return dirs;
+}
+
+RunRecord ReadRunRecord(const fs::path& dir) {
+  const RunDirectory run_dir(dir);
+  RunRecord run;
+  run.name = dir.filename().string();
+  run.source = dir;
+  run.config = LoadTrainConfig(run_dir.config_file().string());
+  run.epoch_log = run.config.algorithm != "mpc";
+  run.episodes = run.epoch_log ? ReadEpochLog(run_dir.progress_file().string())
+                               : ReadProgressEpisodes(run_dir.progress_file().string());
+  return run;
+}
+
+// Whether `log`'s points are the first points of `run` (a report's copy of a run that went on).
+bool IsPrefixOf(const RunRecord& log, const RunRecord& run) {
+  if (log.epoch_log != run.epoch_log || log.episodes.size() > run.episodes.size()) return false;
+  for (size_t i = 0; i < log.episodes.size(); ++i) {
+    const EpisodePoint& a = log.episodes[i];
+    const EpisodePoint& b = run.episodes[i];
+    if (a.end_step != b.end_step || a.episode_cost != b.episode_cost ||
+        a.episode_return != b.episode_return) {
+      return false;
     }
-    RunRecord run;
-    run.name = dir.filename().string();
-    run.config = LoadTrainConfig(run_dir.config_file().string());
-    run.epoch_log = run.config.algorithm != "mpc";
-    run.episodes = run.epoch_log ? ReadEpochLog(run_dir.progress_file().string())
-                                 : ReadProgressEpisodes(run_dir.progress_file().string());
-    runs.push_back(std::move(run));
   }
+  return true;
+}
+
+constexpr const char* kLogsFolder = "logs";
+
+}  // namespace
+
+std::vector<RunRecord> ReadSweeps(const std::vector<std::string>& sweep_dirs) {
+  std::map<std::string, std::pair<RunRecord, bool>> found;  // name -> (run, read from a log)
+  const auto add = [&](RunRecord run, bool is_log) {
+    const auto it = found.find(run.name);
+    if (it == found.end()) {
+      const std::string name = run.name;
+      found.emplace(name, std::make_pair(std::move(run), is_log));
+      return;
+    }
+    RunRecord& kept = it->second.first;
+    const bool kept_is_log = it->second.second;
+    if (kept_is_log != is_log) {
+      const RunRecord& log = kept_is_log ? kept : run;
+      const RunRecord& live = kept_is_log ? run : kept;
+      if (IsPrefixOf(log, live)) {
+        if (kept_is_log) it->second = std::make_pair(std::move(run), false);
+        return;
+      }
+    }
+    throw Error(fmt::format(
+        "run '{}' is in both '{}' and '{}' and neither is a report's log of the other: expected "
+        "each run once (leave one folder out)",
+        run.name, kept.source.string(), run.source.string()));
+  };
+  for (const std::string& sweep_dir : sweep_dirs) {
+    const fs::path runs_dir = fs::path(sweep_dir) / "runs";
+    const fs::path logs_dir = fs::path(sweep_dir) / kLogsFolder;
+    Require(fs::is_directory(runs_dir) || fs::is_directory(logs_dir),
+            "'{}' holds neither runs/ nor logs/: expected a cmbrl sweep or report folder",
+            sweep_dir);
+    for (const fs::path& dir : RunFolders(runs_dir)) {
+      // A run whose progress.csv disagrees with its checkpoint's manifest is refused, naming the
+      // file; rows written after the last checkpoint (a run in progress, or stopped) are kept.
+      // A run in progress may swap its checkpoint while this reads it: a second look settles it.
+      const RunDirectory run_dir(dir);
+      try {
+        VerifiedCheckpoint(run_dir, /*files=*/false);
+      } catch (const Error&) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(500));
+        VerifiedCheckpoint(run_dir, /*files=*/false);
+      }
+      add(ReadRunRecord(dir), /*is_log=*/false);
+    }
+    // A report's logs have no checkpoint to check them against: they are what was reported.
+    for (const fs::path& dir : RunFolders(logs_dir)) add(ReadRunRecord(dir), /*is_log=*/true);
+  }
+  std::vector<RunRecord> runs;
+  for (auto& [name, entry] : found) runs.push_back(std::move(entry.first));
   return runs;
+}
+
+std::vector<RunRecord> ReadSweep(const std::string& sweep_dir) { return ReadSweeps({sweep_dir}); }
+
+void KeepRunLogs(const std::vector<RunRecord>& runs, const std::string& out) {
+  const fs::path logs = fs::path(out) / kLogsFolder;
+  const fs::path staging = fs::path(out) / (std::string(kLogsFolder) + ".new");
+  const std::set<std::string> log_files = {RunDirectory("").config_file().filename().string(),
+                                           RunDirectory("").progress_file().filename().string()};
+  // Only what an earlier report wrote is replaced; anything else there is not ours to delete.
+  for (const fs::path& folder : {logs, staging}) {
+    if (!fs::exists(folder)) continue;
+    for (const fs::directory_entry& run : fs::directory_iterator(folder)) {
+      Require(run.is_directory(), "'{}' holds '{}': expected only run logs kept by cmbrl report",
+              folder.string(), run.path().string());
+      for (const fs::directory_entry& file : fs::directory_iterator(run.path())) {
+        Require(log_files.count(file.path().filename().string()) == 1,
+                "'{}' holds '{}': expected only run logs (config.yaml and progress.csv) kept by "
+                "cmbrl report",
+                folder.string(), file.path().string());
+      }
+    }
+  }
+  fs::remove_all(staging);
+  for (const RunRecord& run : runs) {
+    const RunDirectory from(run.source);
+    const RunDirectory to(staging / run.name);
+    std::error_code error;
+    fs::create_directories(to.root(), error);
+    for (const auto& [source, target] :
+         {std::make_pair(from.config_file(), to.config_file()),
+          std::make_pair(from.progress_file(), to.progress_file())}) {
+      if (!error) fs::copy_file(source, target, error);
+      Require(!error, "could not copy '{}' to '{}': {}", source.string(), target.string(),
+              error.message());
+    }
+  }
+  fs::remove_all(logs);
+  fs::rename(staging, logs);
 }
 
 double ViolationsWithin(const RunRecord& run, std::int64_t window) {

@@ -60,4 +60,25 @@ for whole in "$work"/whole/runs/*/progress.csv; do
 done
 "$cmbrl" "${sweep[@]}" --out "$work/cut" | grep -q '"already_finished":4' ||
   { echo "FAILED: a third start did not skip the 4 finished runs"; exit 1; }
+# The report keeps the runs' logs, and makes the same table again from them alone, or from them
+# beside the sweep; --complete leaves out runs short of the window and says so.
+"$cmbrl" report "$work/whole" --out "$work/report" --window 300 > /dev/null
+"$cmbrl" report "$work/report" --out "$work/again" --window 300 > /dev/null
+"$cmbrl" report "$work/report" "$work/whole" --out "$work/both" --window 300 > /dev/null
+for copy in again both; do
+  cmp -s "$work/report/table-1.csv" "$work/$copy/table-1.csv" ||
+    { echo "FAILED: the report made from its logs ($copy) differs"; exit 1; }
+done
+# A report's log of a run's first episode only.
+short="$work/short/logs/pointgoal1-rce-short"
+mkdir -p "$short" && cp "$work/whole/runs/pointgoal1-rce-s0/config.yaml" "$short/"
+head -n 2 "$work/whole/runs/pointgoal1-rce-s0/progress.csv" > "$short/progress.csv"
+refused=$("$cmbrl" report "$work/short" --out "$work/short-report" --window 300 --complete 2>&1 ||
+  true)
+grep -q 'no run has reached the window of 300 steps' <<< "$refused" ||
+  { echo "FAILED: --complete kept a run short of the window: $refused"; exit 1; }
+"$cmbrl" report "$work/short" "$work/whole" --out "$work/short-report" --window 300 \
+  --complete > /dev/null
+grep -q 'left out, short of the window: pointgoal1-rce-short (100 steps)' \
+  "$work/short-report/report.md" || { echo "FAILED: the report names no run left out"; exit 1; }
 echo "sweep killed and restarted: $runs runs with identical rows"

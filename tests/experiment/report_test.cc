@@ -303,8 +303,8 @@ TEST_F(ReportTest, ALegendTooWideForOneRowWrapsInsideThePicture) {
     }
   }
   const std::string png = (sweep_ / "legend.png").string();
-  const std::vector<PanelArea> one_row = WritePlots({PlotPanel{"t", "x", "y", {panel.series[0]}}},
-                                                    png, "");
+  const std::vector<PanelArea> one_row =
+      WritePlots({PlotPanel{"t", "x", "y", {panel.series[0]}}}, png, "");
   const std::vector<PanelArea> wrapped = WritePlots({panel}, png, "");
   ASSERT_EQ(wrapped.size(), 1u);
   EXPECT_GE(wrapped[0].y, one_row[0].y + 24);  // at least one more legend row
@@ -563,6 +563,49 @@ TEST(ReportTableTest, TheFirstEpochComparesOursWithTheOriginalsOnEqualData) {
   EXPECT_THAT(TableCsv(cells, 150), HasSubstr(",7 1,10.5 10.5,3,11\n"));
   // Without the original's first epochs there is no such table.
   EXPECT_THAT(TableMarkdown(ViolationTable(ours, 150), 150), Not(HasSubstr("The first epoch")));
+}
+
+TEST_F(ReportTest, AReportsLogsMakeItAgainWithoutTheRuns) {
+  const fs::path out = sweep_ / "report";
+  const std::vector<RunRecord> runs = ReadSweep(sweep_.string());
+  KeepRunLogs(runs, out.string());
+  // The logs alone (no checkpoints) give the same runs and the same table.
+  const std::vector<RunRecord> again = ReadSweep(out.string());
+  ASSERT_EQ(again.size(), runs.size());
+  for (size_t i = 0; i < runs.size(); ++i) {
+    EXPECT_EQ(again[i].name, runs[i].name);
+    EXPECT_EQ(again[i].source, out / "logs" / runs[i].name);
+    EXPECT_EQ(again[i].episodes.size(), runs[i].episodes.size());
+  }
+  EXPECT_EQ(TableCsv(ViolationTable(again, 300), 300), TableCsv(ViolationTable(runs, 300), 300));
+
+  // A report's logs beside the sweep they came from: each run once, read from the sweep.
+  const std::vector<RunRecord> both = ReadSweeps({out.string(), sweep_.string()});
+  ASSERT_EQ(both.size(), runs.size());
+  for (const RunRecord& run : both) EXPECT_EQ(run.source.parent_path(), sweep_ / "runs");
+
+  // A log that is not the first rows of the run of its name is another run: refused by name.
+  const fs::path log = out / "logs" / "PointGoal1-cem-s0" / "progress.csv";
+  std::ofstream(log, std::ios::app) << "9,9,1,1,500,0,0,0,0,0,0,0,100,0\n";
+  EXPECT_THAT(testing::ErrorMessage([&] {
+                ReadSweeps({sweep_.string(), out.string()});
+              }),
+              HasSubstr("run 'PointGoal1-cem-s0' is in both"));
+
+  // A later report replaces the logs whole: only its own runs are left.
+  KeepRunLogs({runs.front()}, out.string());
+  ASSERT_EQ(ReadSweep(out.string()).size(), 1u);
+  EXPECT_FALSE(fs::exists(out / "logs.new"));
+
+  // Anything but logs under logs/ is not the report's to replace.
+  std::ofstream(out / "logs" / runs.front().name / "notes.txt") << "mine";
+  EXPECT_THAT(testing::ErrorMessage([&] { KeepRunLogs(runs, out.string()); }),
+              HasSubstr("notes.txt': expected only run logs"));
+  EXPECT_TRUE(fs::exists(out / "logs" / runs.front().name / "notes.txt"));
+
+  // A folder with neither runs/ nor logs/ is named.
+  EXPECT_THAT(testing::ErrorMessage([&] { ReadSweep((sweep_ / "none").string()); }),
+              HasSubstr("holds neither runs/ nor logs/"));
 }
 
 TEST_F(ReportTest, BadProgressIsNamed) {
