@@ -325,6 +325,16 @@ TEST(ConfigTest, TheDeltaAblationIsTheCarPresetAtTwoThousandSteps) {
   EXPECT_EQ(checked, 4);
 }
 
+TEST(ConfigTest, ThePointGoal1DeltaAblationIsThePresetPredictingTheChange) {
+  TrainConfig delta =
+      LoadTrainConfig(CMBRL_SOURCE_DIR "/configs/ablation-pointgoal1/delta/pointgoal1-cem.yaml");
+  const TrainConfig preset = LoadTrainConfig(CMBRL_SOURCE_DIR "/configs/cpu/pointgoal1-cem.yaml");
+  EXPECT_TRUE(delta.ensemble.predict_delta);
+  EXPECT_FALSE(preset.ensemble.predict_delta);
+  delta.ensemble.predict_delta = false;
+  EXPECT_EQ(TrainConfigToYaml(delta), TrainConfigToYaml(preset));
+}
+
 TEST(ConfigTest, ObservationSizesMatchTheEnvironments) {
   for (const std::string& task : EnvNames()) {
     for (const Variant variant : {Variant::kPaper, Variant::kStandard}) {
