@@ -335,6 +335,17 @@ TEST(ConfigTest, ThePointGoal1DeltaAblationIsThePresetPredictingTheChange) {
   EXPECT_EQ(TrainConfigToYaml(delta), TrainConfigToYaml(preset));
 }
 
+TEST(ConfigTest, TheCarGoal2ThresholdAblationIsThePresetAtTwoThousandSteps) {
+  TrainConfig ablation =
+      LoadTrainConfig(CMBRL_SOURCE_DIR "/configs/ablation-level2/threshold/cargoal2-rce.yaml");
+  const TrainConfig preset = LoadTrainConfig(CMBRL_SOURCE_DIR "/configs/cpu/cargoal2-rce.yaml");
+  EXPECT_EQ(ablation.training.total_steps, 2000);
+  EXPECT_DOUBLE_EQ(ablation.classifier.threshold, 0.3);
+  ablation.training.total_steps = preset.training.total_steps;
+  ablation.classifier.threshold = preset.classifier.threshold;
+  EXPECT_EQ(TrainConfigToYaml(ablation), TrainConfigToYaml(preset));
+}
+
 TEST(ConfigTest, ObservationSizesMatchTheEnvironments) {
   for (const std::string& task : EnvNames()) {
     for (const Variant variant : {Variant::kPaper, Variant::kStandard}) {
