@@ -175,7 +175,7 @@ bool IsPrefixOf(const RunRecord& log, const RunRecord& run) {
   return true;
 }
 
-constexpr const char* kLogsFolder = "logs";
+constexpr const char* kLogsFolder = "run-logs";
 
 }  // namespace
 
@@ -207,7 +207,7 @@ std::vector<RunRecord> ReadSweeps(const std::vector<std::string>& sweep_dirs) {
     const fs::path runs_dir = fs::path(sweep_dir) / "runs";
     const fs::path logs_dir = fs::path(sweep_dir) / kLogsFolder;
     Require(fs::is_directory(runs_dir) || fs::is_directory(logs_dir),
-            "'{}' holds neither runs/ nor logs/: expected a cmbrl sweep or report folder",
+            "'{}' holds neither runs/ nor run-logs/: expected a cmbrl sweep or report folder",
             sweep_dir);
     for (const fs::path& dir : RunFolders(runs_dir)) {
       // A run whose progress.csv disagrees with its checkpoint's manifest is refused, naming the

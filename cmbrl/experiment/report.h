@@ -33,7 +33,7 @@ struct RunRecord {
   std::vector<EpisodePoint> episodes;
   bool epoch_log = false;  // the points are epochs (model-free)
   // The folder its config.yaml and progress.csv were read from: a sweep's runs/<name>, or a
-  // report's logs/<name> (KeepRunLogs).
+  // report's run-logs/<name> (KeepRunLogs).
   std::filesystem::path source;
 };
 
@@ -62,22 +62,23 @@ std::vector<EpisodePoint> ReadProgressEpisodes(const std::string& path);
 std::vector<EpisodePoint> ReadEpisodeColumns(const std::string& path, bool has_steps);
 
 // Every run under sweep_dir/runs (a folder with config.yaml, its progress checked against its
-// checkpoint) and every run log a report kept under sweep_dir/logs (KeepRunLogs), in name order:
-// a report's folder can be reported again. A run both logged and in runs/ is read from runs/
-// when its log is a prefix of the run's progress (the run went on after the report). Throws
-// cmbrl::Error naming a progress.csv that lacks a column or holds a value that is not a number,
-// a folder that holds neither, or a run found twice otherwise.
+// checkpoint) and every run log a report kept under sweep_dir/run-logs (KeepRunLogs), in name
+// order: a report's folder can be reported again. A run both logged and in runs/ is read from
+// runs/ when its log is a prefix of the run's progress (the run went on after the report).
+// Throws cmbrl::Error naming a progress.csv that lacks a column or holds a value that is not a
+// number, a folder that holds neither, or a run found twice otherwise.
 std::vector<RunRecord> ReadSweep(const std::string& sweep_dir);
 
 // ReadSweep over several folders, in name order. Throws cmbrl::Error naming a run found in two
 // of them (except a log and the run it is a prefix of, as in ReadSweep).
 std::vector<RunRecord> ReadSweeps(const std::vector<std::string>& sweep_dirs);
 
-// Writes each run's config.yaml and progress.csv, as they are now, to out/logs/<name>/, so that the
-// report's folder holds what it was made from and can be made again without the runs (their
-// checkpoints are not kept). Replaces a previous report's logs/ whole (written beside it, then
-// swapped in), after reading every source. Throws cmbrl::Error when out/logs holds anything but
-// such logs, or a file cannot be written.
+// Writes each run's config.yaml and progress.csv, as they are now, to out/run-logs/<name>/, so
+// that the report's folder holds what it was made from and can be made again without the runs
+// (their checkpoints are not kept). run-logs/, not logs/: a sweep's logs/ holds its runs'
+// output. Replaces a previous report's run-logs/ whole (written beside it, then swapped in),
+// after reading every source. Throws cmbrl::Error when out/run-logs holds anything but such
+// logs, or a file cannot be written.
 void KeepRunLogs(const std::vector<RunRecord>& runs, const std::string& out);
 
 // Violations during the first `window` agent steps of a run: the EpCost of every episode that

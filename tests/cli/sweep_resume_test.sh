@@ -70,7 +70,7 @@ for copy in again both; do
     { echo "FAILED: the report made from its logs ($copy) differs"; exit 1; }
 done
 # A report's log of a run's first episode only.
-short="$work/short/logs/pointgoal1-rce-short"
+short="$work/short/run-logs/pointgoal1-rce-short"
 mkdir -p "$short" && cp "$work/whole/runs/pointgoal1-rce-s0/config.yaml" "$short/"
 head -n 2 "$work/whole/runs/pointgoal1-rce-s0/progress.csv" > "$short/progress.csv"
 refused=$("$cmbrl" report "$work/short" --out "$work/short-report" --window 300 --complete 2>&1 ||

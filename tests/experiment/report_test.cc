@@ -574,7 +574,7 @@ TEST_F(ReportTest, AReportsLogsMakeItAgainWithoutTheRuns) {
   ASSERT_EQ(again.size(), runs.size());
   for (size_t i = 0; i < runs.size(); ++i) {
     EXPECT_EQ(again[i].name, runs[i].name);
-    EXPECT_EQ(again[i].source, out / "logs" / runs[i].name);
+    EXPECT_EQ(again[i].source, out / "run-logs" / runs[i].name);
     EXPECT_EQ(again[i].episodes.size(), runs[i].episodes.size());
   }
   EXPECT_EQ(TableCsv(ViolationTable(again, 300), 300), TableCsv(ViolationTable(runs, 300), 300));
@@ -585,7 +585,7 @@ TEST_F(ReportTest, AReportsLogsMakeItAgainWithoutTheRuns) {
   for (const RunRecord& run : both) EXPECT_EQ(run.source.parent_path(), sweep_ / "runs");
 
   // A log that is not the first rows of the run of its name is another run: refused by name.
-  const fs::path log = out / "logs" / "PointGoal1-cem-s0" / "progress.csv";
+  const fs::path log = out / "run-logs" / "PointGoal1-cem-s0" / "progress.csv";
   std::ofstream(log, std::ios::app) << "9,9,1,1,500,0,0,0,0,0,0,0,100,0\n";
   EXPECT_THAT(testing::ErrorMessage([&] {
                 ReadSweeps({sweep_.string(), out.string()});
@@ -595,17 +595,17 @@ TEST_F(ReportTest, AReportsLogsMakeItAgainWithoutTheRuns) {
   // A later report replaces the logs whole: only its own runs are left.
   KeepRunLogs({runs.front()}, out.string());
   ASSERT_EQ(ReadSweep(out.string()).size(), 1u);
-  EXPECT_FALSE(fs::exists(out / "logs.new"));
+  EXPECT_FALSE(fs::exists(out / "run-logs.new"));
 
-  // Anything but logs under logs/ is not the report's to replace.
-  std::ofstream(out / "logs" / runs.front().name / "notes.txt") << "mine";
+  // Anything but logs under run-logs/ is not the report's to replace.
+  std::ofstream(out / "run-logs" / runs.front().name / "notes.txt") << "mine";
   EXPECT_THAT(testing::ErrorMessage([&] { KeepRunLogs(runs, out.string()); }),
               HasSubstr("notes.txt': expected only run logs"));
-  EXPECT_TRUE(fs::exists(out / "logs" / runs.front().name / "notes.txt"));
+  EXPECT_TRUE(fs::exists(out / "run-logs" / runs.front().name / "notes.txt"));
 
-  // A folder with neither runs/ nor logs/ is named.
+  // A folder with neither runs/ nor run-logs/ is named.
   EXPECT_THAT(testing::ErrorMessage([&] { ReadSweep((sweep_ / "none").string()); }),
-              HasSubstr("holds neither runs/ nor logs/"));
+              HasSubstr("holds neither runs/ nor run-logs/"));
 }
 
 TEST_F(ReportTest, BadProgressIsNamed) {
