@@ -269,6 +269,24 @@ void KeepRunLogs(const std::vector<RunRecord>& runs, const std::string& out) {
   fs::rename(staging, logs);
 }
 
+std::int64_t StepsReached(const RunRecord& run) {
+  return run.episodes.empty() ? 0 : run.episodes.back().end_step;
+}
+
+std::vector<std::string> LeaveOutRunsShortOf(std::vector<RunRecord>& runs, std::int64_t window) {
+  std::vector<std::string> left_out;
+  std::vector<RunRecord> kept;
+  for (RunRecord& run : runs) {
+    if (StepsReached(run) < window) {
+      left_out.push_back(fmt::format("{} ({} steps)", run.name, StepsReached(run)));
+    } else {
+      kept.push_back(std::move(run));
+    }
+  }
+  runs = std::move(kept);
+  return left_out;
+}
+
 double ViolationsWithin(const RunRecord& run, std::int64_t window) {
   if (!run.epoch_log) {
     double violations = 0.0;
@@ -423,7 +441,7 @@ std::vector<TableCell> ViolationTable(const std::vector<RunRecord>& runs, std::i
         // An epoch's mean cost is not an episode's: no count of heavy episodes for epoch logs.
         if (!run->epoch_log) cell.heavy_episodes.push_back(HeavyEpisodesWithin(*run, window));
         cell.feasible_fractions.push_back(FeasibleFractionWithin(*run, window));
-        cell.fewest_steps = std::min(cell.fewest_steps, run->episodes.back().end_step);
+        cell.fewest_steps = std::min(cell.fewest_steps, StepsReached(*run));
         if (const auto first = FirstEpochOf(*run)) cell.first_epochs.push_back(*first);
       }
       cell.mean = Mean(cell.per_seed);
@@ -433,7 +451,7 @@ std::vector<TableCell> ViolationTable(const std::vector<RunRecord>& runs, std::i
       cell.paper = PaperViolations(task, planner);
       const std::vector<const RunRecord*> original = ReferenceRunsOf(reference, task, planner);
       const bool covered = std::all_of(original.begin(), original.end(), [&](const RunRecord* r) {
-        return !r->episodes.empty() && r->episodes.back().end_step >= window;
+        return StepsReached(*r) >= window;
       });
       if (covered) {
         for (const RunRecord* run : original) {

@@ -81,6 +81,14 @@ std::vector<RunRecord> ReadSweeps(const std::vector<std::string>& sweep_dirs);
 // logs, or a file cannot be written.
 void KeepRunLogs(const std::vector<RunRecord>& runs, const std::string& out);
 
+// The agent (or environment) steps a run's progress has reached: its last point's end, 0 before
+// its first.
+std::int64_t StepsReached(const RunRecord& run);
+
+// Removes the runs that have not reached `window` steps (StepsReached) from `runs`, and returns
+// them as "name (N steps)", in order.
+std::vector<std::string> LeaveOutRunsShortOf(std::vector<RunRecord>& runs, std::int64_t window);
+
 // Violations during the first `window` agent steps of a run: the EpCost of every episode that
 // ended within the window (TotalEnvInteracts <= window), the rule by which the original's logs
 // give Table I and its counts over 3000 steps. For an epoch log (model-free, 30,000 steps an

@@ -608,6 +608,17 @@ TEST_F(ReportTest, AReportsLogsMakeItAgainWithoutTheRuns) {
               HasSubstr("holds neither runs/ nor run-logs/"));
 }
 
+TEST_F(ReportTest, RunsShortOfTheWindowAreLeftOutByName) {
+  std::vector<RunRecord> runs = ReadSweep(sweep_.string());
+  // The CarGoal2 runs reached 450 steps but for cem seed 1 (0), PointGoal1 cem seed 1 300, the
+  // others 400.
+  const std::vector<std::string> left_out = LeaveOutRunsShortOf(runs, 400);
+  EXPECT_THAT(left_out,
+              ::testing::ElementsAre("CarGoal2-cem-s1 (0 steps)", "PointGoal1-cem-s1 (300 steps)"));
+  ASSERT_EQ(runs.size(), 5u);
+  for (const RunRecord& run : runs) EXPECT_GE(StepsReached(run), 400);
+}
+
 TEST_F(ReportTest, BadProgressIsNamed) {
   const fs::path progress = sweep_ / "runs" / "PointGoal1-rce-s0" / "progress.csv";
   std::ofstream(progress) << ProgressCsvHeader() << "\n1,1,oops,0,100,0,0,0,0,0,0,0,100,0\n";
