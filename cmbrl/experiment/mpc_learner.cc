@@ -49,6 +49,9 @@ const std::vector<ProgressColumn<ProgressRow>>& MpcProgressColumns() {
       {"MsPerPlan", [](const R& r) { return Fixed3(r.ms_per_plan); }},
       {kStepsColumn, [](const R& r) { return std::to_string(r.steps); }},
       {"GoalsMet", [](const R& r) { return std::to_string(r.goals_met); }},
+      // Added after the columns above: a run begun without them keeps its columns on resume.
+      {kHazardStepsColumn, [](const R& r) { return std::to_string(r.hazard_steps); }},
+      {kVaseStepsColumn, [](const R& r) { return std::to_string(r.vase_steps); }},
   };
   return columns;
 }
@@ -171,6 +174,8 @@ ProgressRow MpcLearner::Episode(const std::function<double()>& elapsed_seconds) 
     row.episode_return += step.reward;
     row.episode_cost += step.cost;
     row.goals_met += step.info.goal_met;
+    row.hazard_steps += step.info.cost_hazards > 0.0;
+    row.vase_steps += step.info.cost_vases_contact > 0.0 || step.info.cost_vases_velocity > 0.0;
     observation = std::move(step.observation);
     if (end) break;
   }

@@ -37,6 +37,10 @@ struct ProgressRow {
   double ms_per_plan = 0.0;        // mean over the episode's plans
   int steps = 0;
   int goals_met = 0;
+  // Agent steps of the episode that violated a constraint by entering a hazard, and by touching
+  // or moving a constrained vase. A step can do both, so their sum can exceed EpCost.
+  int hazard_steps = 0;
+  int vase_steps = 0;
 };
 
 // Names of the columns that reports read (and the original's logs share).
@@ -45,6 +49,8 @@ inline constexpr const char* kEpCostColumn = "EpCost";
 inline constexpr const char* kTotalEnvInteractsColumn = "TotalEnvInteracts";
 inline constexpr const char* kStepsColumn = "Steps";
 inline constexpr const char* kFeasibleFractionColumn = "FeasibleFraction";
+inline constexpr const char* kHazardStepsColumn = "HazardSteps";
+inline constexpr const char* kVaseStepsColumn = "VaseSteps";
 
 // The columns of an MPC run's progress.csv, the one definition of their names and formats.
 const std::vector<ProgressColumn<ProgressRow>>& MpcProgressColumns();

@@ -116,6 +116,10 @@ std::vector<EpisodePoint> ReadEpisodeColumns(const std::string& file, bool has_s
   const size_t steps = has_steps ? table.Column(kStepsColumn, expected) : 0;
   const bool has_feasible = table.HasColumn(kFeasibleFractionColumn);
   const size_t feasible = has_feasible ? table.Column(kFeasibleFractionColumn, expected) : 0;
+  const bool has_causes =
+      table.HasColumn(kHazardStepsColumn) && table.HasColumn(kVaseStepsColumn);
+  const size_t hazards = has_causes ? table.Column(kHazardStepsColumn, expected) : 0;
+  const size_t vases = has_causes ? table.Column(kVaseStepsColumn, expected) : 0;
   std::vector<EpisodePoint> episodes;
   for (size_t row = 0; row < table.rows(); ++row) {
     EpisodePoint point;
@@ -123,6 +127,10 @@ std::vector<EpisodePoint> ReadEpisodeColumns(const std::string& file, bool has_s
     point.episode_cost = table.Number(row, cost);
     point.end_step = static_cast<std::int64_t>(table.Number(row, total));
     if (has_feasible) point.feasible_fraction = table.Number(row, feasible);
+    if (has_causes) {
+      point.hazard_steps = table.Number(row, hazards);
+      point.vase_steps = table.Number(row, vases);
+    }
     point.cumulative_violations =
         (episodes.empty() ? 0.0 : episodes.back().cumulative_violations) + point.episode_cost;
     const std::int64_t previous = episodes.empty() ? 0 : episodes.back().end_step;
@@ -351,6 +359,20 @@ double FeasibleFractionWithin(const RunRecord& run, std::int64_t window) {
   return fractions.empty() ? std::numeric_limits<double>::quiet_NaN() : Mean(fractions);
 }
 
+std::optional<ViolationCauses> ViolationCausesWithin(const RunRecord& run, std::int64_t window) {
+  if (run.epoch_log) return std::nullopt;
+  ViolationCauses causes;
+  for (const EpisodePoint& episode : run.episodes) {
+    if (episode.end_step > window) continue;
+    if (!std::isfinite(episode.hazard_steps) || !std::isfinite(episode.vase_steps)) {
+      return std::nullopt;
+    }
+    causes.hazard_steps += static_cast<int>(episode.hazard_steps);
+    causes.vase_steps += static_cast<int>(episode.vase_steps);
+  }
+  return causes;
+}
+
 double FinalReturn(const RunRecord& run, std::int64_t window, int episodes) {
   std::vector<double> returns;
   for (const EpisodePoint& episode : run.episodes) {
@@ -443,7 +465,11 @@ std::vector<TableCell> ViolationTable(const std::vector<RunRecord>& runs, std::i
         cell.feasible_fractions.push_back(FeasibleFractionWithin(*run, window));
         cell.fewest_steps = std::min(cell.fewest_steps, StepsReached(*run));
         if (const auto first = FirstEpochOf(*run)) cell.first_epochs.push_back(*first);
+        if (const auto causes = ViolationCausesWithin(*run, window)) {
+          cell.causes.push_back(*causes);
+        }
       }
+      if (cell.causes.size() != members.size()) cell.causes.clear();
       cell.mean = Mean(cell.per_seed);
       cell.std = SampleStd(cell.per_seed);
       cell.return_mean = Mean(cell.final_returns);
@@ -534,6 +560,29 @@ std::string FirstEpochMarkdown(const std::vector<TableCell>& cells) {
   return text;
 }
 
+// Where the violations happened, for the cells whose runs logged it ("" where none did).
+std::string ViolationCausesMarkdown(const std::vector<TableCell>& cells) {
+  if (std::all_of(cells.begin(), cells.end(), [](const TableCell& c) { return c.causes.empty(); })) {
+    return "";
+  }
+  std::string text =
+      "\nWhere the violations happened (runs that log it: HazardSteps and VaseSteps): violating "
+      "steps inside a hazard and at a vase (touched, or moving faster than allowed after a "
+      "push), per seed. A step can be both.\n\n"
+      "| task | method | violating steps | in hazards | at vases |\n|---|---|---|---|---|\n";
+  for (const TableCell& cell : cells) {
+    if (cell.causes.empty()) continue;
+    std::vector<int> hazards, vases;
+    for (const ViolationCauses& causes : cell.causes) {
+      hazards.push_back(causes.hazard_steps);
+      vases.push_back(causes.vase_steps);
+    }
+    text += fmt::format("| {} | {} | {} | {} | {} |\n", cell.task, MethodLabel(cell.planner),
+                        Counts(cell.per_seed), CountsOrDash(hazards), CountsOrDash(vases));
+  }
+  return text;
+}
+
 }  // namespace
 
 std::string TableMarkdown(const std::vector<TableCell>& cells, std::int64_t window) {
@@ -596,6 +645,7 @@ std::string TableMarkdown(const std::vector<TableCell>& cells, std::int64_t wind
   text += "\n";
   text += OriginalComparisonMarkdown(cells, window);
   text += FirstEpochMarkdown(cells);
+  text += ViolationCausesMarkdown(cells);
   return text;
 }
 
@@ -605,7 +655,7 @@ std::string TableCsv(const std::vector<TableCell>& cells, std::int64_t window) {
       "original_per_seed,original_mean,versus_original,original_return_mean,heavy_per_seed,"
       "feasible_fraction,original_heavy_per_seed,reproduces,first_epoch_violations_per_seed,"
       "first_epoch_return_per_seed,original_first_epoch_violations_per_seed,"
-      "original_first_epoch_return_per_seed\n";
+      "original_first_epoch_return_per_seed,hazard_steps_per_seed,vase_steps_per_seed\n";
   const auto first_epoch_columns = [](const std::vector<FirstEpoch>& epochs) {
     std::vector<std::string> violations, returns;
     for (const FirstEpoch& epoch : epochs) {
@@ -614,10 +664,19 @@ std::string TableCsv(const std::vector<TableCell>& cells, std::int64_t window) {
     }
     return fmt::format("{},{}", fmt::join(violations, " "), fmt::join(returns, " "));
   };
+  const auto cause_columns = [](const std::vector<ViolationCauses>& causes) {
+    std::vector<int> hazards, vases;
+    for (const ViolationCauses& c : causes) {
+      hazards.push_back(c.hazard_steps);
+      vases.push_back(c.vase_steps);
+    }
+    return fmt::format("{},{}", fmt::join(hazards, " "), fmt::join(vases, " "));
+  };
   for (const TableCell& cell : cells) {
     const bool original = !cell.original_per_seed.empty();
     text += fmt::format(
-        "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n", cell.task, cell.planner,
+        "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n", cell.task,
+        cell.planner,
         window, cell.per_seed.size(), cell.mean, cell.std, fmt::join(cell.per_seed, " "),
         cell.paper ? fmt::format("{}", *cell.paper) : "", cell.fewest_steps, cell.return_mean,
         cell.return_std, fmt::join(cell.original_per_seed, " "),
@@ -625,7 +684,8 @@ std::string TableCsv(const std::vector<TableCell>& cells, std::int64_t window) {
         original ? fmt::format("{}", Mean(cell.original_final_returns)) : "",
         fmt::join(cell.heavy_episodes, " "), ProgressNumber(Mean(cell.feasible_fractions)),
         fmt::join(cell.original_heavy_episodes, " "), WithinWidenedRange(cell),
-        first_epoch_columns(cell.first_epochs), first_epoch_columns(cell.original_first_epochs));
+        first_epoch_columns(cell.first_epochs), first_epoch_columns(cell.original_first_epochs),
+        cause_columns(cell.causes));
   }
   return text;
 }

@@ -20,6 +20,9 @@ struct EpisodePoint {
   double episode_return = 0.0;
   double episode_cost = 0.0;
   double feasible_fraction = std::numeric_limits<double>::quiet_NaN();  // NaN: not logged
+  // Its violating steps in hazards and at vases (HazardSteps, VaseSteps; NaN: not logged).
+  double hazard_steps = std::numeric_limits<double>::quiet_NaN();
+  double vase_steps = std::numeric_limits<double>::quiet_NaN();
   // The run's violations from its start through this point (the running sum of EpCost for an
   // MPC run, CumulativeCost for a model-free one).
   double cumulative_violations = 0.0;
@@ -47,6 +50,17 @@ int HeavyEpisodesWithin(const RunRecord& run, std::int64_t window);
 
 // Mean FeasibleFraction of the episodes that ended within the window (NaN when not logged).
 double FeasibleFractionWithin(const RunRecord& run, std::int64_t window);
+
+// Where a run's violations happened: its violating steps in hazards and at vases (a step can
+// be both).
+struct ViolationCauses {
+  int hazard_steps = 0;
+  int vase_steps = 0;
+};
+
+// The sums over the episodes that ended within the window; nullopt when one of them did not log
+// them (a run of an older version, the original's logs, a model-free run).
+std::optional<ViolationCauses> ViolationCausesWithin(const RunRecord& run, std::int64_t window);
 
 // The epochs of a model-free run's progress.csv as points (see RunRecord). Throws
 // cmbrl::Error naming a missing column or a value that is not a number.
@@ -135,6 +149,8 @@ struct TableCell {
   std::vector<int> heavy_episodes;           // HeavyEpisodesWithin per seed
   std::vector<double> feasible_fractions;    // FeasibleFractionWithin per seed
   std::vector<int> original_heavy_episodes;  // the original's, per seed
+  // ViolationCausesWithin per seed; empty unless every seed has them.
+  std::vector<ViolationCauses> causes;
   // FirstEpochOf per seed, ours and the original's (empty where a run has none).
   std::vector<FirstEpoch> first_epochs;
   std::vector<FirstEpoch> original_first_epochs;

@@ -3,11 +3,14 @@
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <optional>
+#include <string>
 
 #include "cmbrl/core/check.h"
 #include "cmbrl/core/run_lock.h"
 #include "cmbrl/experiment/mpc_learner.h"
 #include "cmbrl/experiment/policy_opt_learner.h"
+#include "cmbrl/run/progress_table.h"
 #include "cmbrl/run/run_directory.h"
 
 namespace cmbrl {
@@ -24,6 +27,9 @@ struct Trainer::State {
   std::unique_ptr<RunLock> lock;  // held for the trainer's lifetime
   std::unique_ptr<Learner> learner;
   std::int64_t rows = 0;
+  // The columns of progress.csv's rows: all the learner's, or the first ones when the run was
+  // begun by a version that wrote fewer (ProgressColumnsKept).
+  std::optional<size_t> columns_kept;
   double elapsed_before = 0.0;  // seconds of earlier sessions of this run
   std::chrono::steady_clock::time_point session_start = std::chrono::steady_clock::now();
 
@@ -36,7 +42,7 @@ struct Trainer::State {
 
   void AppendRow(const std::string& line) {
     std::ofstream out(run.progress_file(), std::ios::app);
-    out << line << "\n";
+    out << (columns_kept ? FirstProgressFields(line, *columns_kept) : line) << "\n";
     out.close();
     Require(!out.fail(), "could not append to '{}'", run.progress_file().string());
     ++rows;
@@ -84,6 +90,13 @@ std::unique_ptr<Trainer> Trainer::Resume(const std::string& run_dir,
     run.ReplaceConfig(TrainConfigToYaml(state->config));
   }
   TruncateProgress(run, state->rows);
+  std::string header;
+  std::ifstream progress(run.progress_file());
+  std::getline(progress, header);
+  const std::string columns = state->learner->ProgressHeader();
+  if (header != columns) {
+    state->columns_kept = ProgressColumnsKept(run.progress_file(), header, columns);
+  }
   return std::unique_ptr<Trainer>(new Trainer(std::move(state)));
 }
 

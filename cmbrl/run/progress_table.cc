@@ -23,6 +23,30 @@ std::vector<std::string> SplitCsv(const std::string& line) {
 
 }  // namespace
 
+size_t ProgressColumnsKept(const std::filesystem::path& file, const std::string& file_header,
+                           const std::string& learner_header) {
+  const std::vector<std::string> kept = SplitCsv(file_header);
+  const std::vector<std::string> wanted = SplitCsv(learner_header);
+  Require(!kept.empty() && kept.size() <= wanted.size() &&
+              std::equal(kept.begin(), kept.end(), wanted.begin()),
+          "'{}' has the columns '{}': expected '{}' or its first columns (a log of another "
+          "kind of run, or of a newer version of cmbrl)",
+          file.string(), file_header, learner_header);
+  return kept.size();
+}
+
+std::string FirstProgressFields(const std::string& line, size_t count) {
+  if (count == 0) return "";
+  size_t from = 0;
+  for (size_t field = 0; field < count; ++field) {
+    const size_t comma = line.find(',', from);
+    if (comma == std::string::npos) return line;  // the line has no more than `count` fields
+    if (field + 1 == count) return line.substr(0, comma);
+    from = comma + 1;
+  }
+  return line;
+}
+
 std::string ProgressNumber(double value) {
   return std::isfinite(value) ? fmt::format("{}", value) : "nan";
 }

@@ -34,6 +34,17 @@ std::string ProgressLine(const std::vector<ProgressColumn<Row>>& columns, const 
   return line;
 }
 
+// How many of a learner's columns (`learner_header`) the progress file `file` keeps, given its
+// header line: all of them when the headers are equal; fewer when the file was begun by an older
+// version whose columns were the first ones of today's (columns are only ever added at the
+// end), so that a resumed run keeps the columns it began with. Throws cmbrl::Error naming the
+// file and both headers otherwise.
+size_t ProgressColumnsKept(const std::filesystem::path& file, const std::string& file_header,
+                           const std::string& learner_header);
+
+// The first `count` comma-separated fields of a progress line.
+std::string FirstProgressFields(const std::string& line, size_t count);
+
 // A number as progress files write it: shortest round-trip form, "nan" for NaN or infinity.
 std::string ProgressNumber(double value);
 

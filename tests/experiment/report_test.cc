@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -122,7 +123,7 @@ TEST_F(ReportTest, TableOneHasTheExpectedNumbers) {
   EXPECT_THAT(markdown, HasSubstr("| CarGoal2 | 8.0 ± 0.0 (1) [96] | 2.0 ± 0.0 (1) [578] |"));
   const std::string csv = TableCsv(cells, 300);
   EXPECT_THAT(csv, HasSubstr("PointGoal1,cem,300,2,16.5,2.1213203435596424,15 18,184,300,2,"
-                             "1.4142135623730951,,,,,0 0,0,,,,,,\n"));
+                             "1.4142135623730951,,,,,0 0,0,,,,,,,0 0,0 0\n"));
   // Returns of the episodes begun in the window: rce 0,1,2 and 1,2,3; cem 0,1,2 and 2,3,4.
   EXPECT_EQ(cells[0].final_returns, (std::vector<double>{1, 2}));
   EXPECT_DOUBLE_EQ(cells[1].return_mean, 2.0);
@@ -338,7 +339,8 @@ TEST_F(ReportTest, CellsCompareWithTheOriginalsSeedsOverTheSameWindow) {
   EXPECT_THAT(markdown, HasSubstr("| PointGoal1 | MPC-RCE | 2.0 (3, 1) | 2.5 (1, 4) | inside | "
                                   "yes | 1.50 | 4.75 | 0, 0 | 0, 0 | 0.000 |"));
   // No run here has finished a first epoch of 10 episodes: its four columns are empty.
-  EXPECT_THAT(TableCsv(cells, 300), HasSubstr(",1 4,2.5,inside,4.75,0 0,0,0 0,yes,,,,\n"));
+  EXPECT_THAT(TableCsv(cells, 300),
+              HasSubstr(",1 4,2.5,inside,4.75,0 0,0,0 0,yes,,,,,0 0,0 0\n"));
   EXPECT_THAT(OutcomeDifferences(cells, 300),
               ::testing::Contains("PointGoal1 MPC-RCE: 2.0 in the first 300 steps, the original "
                                   "2.5 (1, 4); ours is inside its seeds' range."));
@@ -560,9 +562,63 @@ TEST(ReportTableTest, TheFirstEpochComparesOursWithTheOriginalsOnEqualData) {
   EXPECT_THAT(TableMarkdown(cells, 150),
               HasSubstr("| CarGoal1 | MPC-random | 2 | 4.0 (7, 1) | 3.0 (3) | 10.5 (10.5, 10.5) "
                         "| 11.0 (11.0) |"));
-  EXPECT_THAT(TableCsv(cells, 150), HasSubstr(",7 1,10.5 10.5,3,11\n"));
+  EXPECT_THAT(TableCsv(cells, 150), HasSubstr(",7 1,10.5 10.5,3,11,,\n"));
   // Without the original's first epochs there is no such table.
   EXPECT_THAT(TableMarkdown(ViolationTable(ours, 150), 150), Not(HasSubstr("The first epoch")));
+}
+
+// HazardSteps and VaseSteps: summed over the window per seed, shown for a cell only when every
+// seed logged them (runs of older versions and the original's logs did not).
+TEST(ReportTableTest, WhereTheViolationsHappenedIsSummedOverTheWindow) {
+  const auto run = [](const std::string& planner, std::uint64_t seed,
+                      const std::vector<std::array<double, 3>>& episodes) {
+    RunRecord record;
+    record.config.task = "CarGoal2";
+    record.config.planner = planner;
+    record.config.seed = seed;
+    for (size_t i = 0; i < episodes.size(); ++i) {
+      EpisodePoint point;
+      point.steps = 100;
+      point.end_step = 100 * static_cast<std::int64_t>(i + 1);
+      point.episode_cost = episodes[i][0];
+      point.hazard_steps = episodes[i][1];
+      point.vase_steps = episodes[i][2];
+      record.episodes.push_back(point);
+    }
+    return record;
+  };
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  std::vector<RunRecord> runs = {
+      run("rce", 0, {{3, 2, 1}, {5, 1, 5}, {9, 9, 0}}),  // 300 steps: 8 hazard, 6 vase in 200
+      run("rce", 1, {{2, 0, 2}, {0, 0, 0}}),
+      run("cem", 0, {{4, 4, 0}, {1, 1, 0}}),
+      run("cem", 1, {{6, nan, nan}, {1, nan, nan}}),  // an older version's log
+  };
+  const std::optional<ViolationCauses> causes = ViolationCausesWithin(runs[0], 200);
+  ASSERT_TRUE(causes.has_value());
+  EXPECT_EQ(causes->hazard_steps, 3);
+  EXPECT_EQ(causes->vase_steps, 6);
+  EXPECT_FALSE(ViolationCausesWithin(runs[3], 200).has_value());
+  RunRecord epochs = runs[0];
+  epochs.epoch_log = true;
+  EXPECT_FALSE(ViolationCausesWithin(epochs, 200).has_value());
+
+  const std::vector<TableCell> cells = ViolationTable(runs, 200);
+  ASSERT_EQ(cells.size(), 2u);
+  ASSERT_EQ(cells[0].planner, "rce");
+  ASSERT_EQ(cells[0].causes.size(), 2u);
+  EXPECT_TRUE(cells[1].causes.empty());  // one seed did not log them
+  const std::string markdown = TableMarkdown(cells, 200);
+  EXPECT_THAT(markdown, HasSubstr("Where the violations happened"));
+  EXPECT_THAT(markdown, HasSubstr("| CarGoal2 | MPC-RCE | 8, 2 | 3, 0 | 6, 2 |"));
+  EXPECT_THAT(markdown, Not(HasSubstr("| CarGoal2 | MPC-CEM | 5, 7 |")));
+  const std::string csv = TableCsv(cells, 200);
+  EXPECT_THAT(csv, HasSubstr("hazard_steps_per_seed,vase_steps_per_seed\n"));
+  EXPECT_THAT(csv, HasSubstr(",3 0,6 2\n"));
+  // Without any cell that logged them there is no such section.
+  runs.erase(runs.begin(), runs.begin() + 2);
+  EXPECT_THAT(TableMarkdown(ViolationTable(runs, 200), 200),
+              Not(HasSubstr("Where the violations happened")));
 }
 
 TEST_F(ReportTest, AReportsLogsMakeItAgainWithoutTheRuns) {
@@ -586,7 +642,7 @@ TEST_F(ReportTest, AReportsLogsMakeItAgainWithoutTheRuns) {
 
   // A log that is not the first rows of the run of its name is another run: refused by name.
   const fs::path log = out / "run-logs" / "PointGoal1-cem-s0" / "progress.csv";
-  std::ofstream(log, std::ios::app) << "9,9,1,1,500,0,0,0,0,0,0,0,100,0\n";
+  std::ofstream(log, std::ios::app) << "9,9,1,1,500,0,0,0,0,0,0,0,100,0,0,0\n";
   EXPECT_THAT(testing::ErrorMessage([&] {
                 ReadSweeps({sweep_.string(), out.string()});
               }),
@@ -621,7 +677,8 @@ TEST_F(ReportTest, RunsShortOfTheWindowAreLeftOutByName) {
 
 TEST_F(ReportTest, BadProgressIsNamed) {
   const fs::path progress = sweep_ / "runs" / "PointGoal1-rce-s0" / "progress.csv";
-  std::ofstream(progress) << ProgressCsvHeader() << "\n1,1,oops,0,100,0,0,0,0,0,0,0,100,0\n";
+  std::ofstream(progress) << ProgressCsvHeader()
+                          << "\n1,1,oops,0,100,0,0,0,0,0,0,0,100,0,0,0\n";
   EXPECT_THAT(testing::ErrorMessage([&] { ReadProgressEpisodes(progress.string()); }),
               HasSubstr("progress.csv line 2: EpRet is 'oops': expected a number"));
   // In a sweep, the run's checkpoint no longer covers what progress.csv holds: refused by name.

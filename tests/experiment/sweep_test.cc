@@ -95,7 +95,7 @@ TEST(SweepTest, ARestartWithOtherSettingsIsRefused) {
   fs::create_directories(runs[0].run_dir);
   std::ofstream(fs::path(runs[0].run_dir) / "config.yaml") << "training: {total_steps: 3000}\n";
   std::ofstream(fs::path(runs[0].run_dir) / "progress.csv")
-      << ProgressCsvHeader() << "\n1,1,0,0,3001,0,0,0,0,0,0,0,100,0\n";
+      << ProgressCsvHeader() << "\n1,1,0,0,3001,0,0,0,0,0,0,0,100,0,0,0\n";
   EXPECT_EQ(StatusOf(runs[0]), RunStatus::kFinished);  // by its own budget
   EXPECT_EQ(StatusOf(runs[0], 5000), RunStatus::kStarted);
   EXPECT_EQ(TrainArguments(runs[0], grid),

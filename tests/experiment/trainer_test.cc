@@ -14,6 +14,7 @@
 #include "cmbrl/experiment/mpc_learner.h"
 #include "cmbrl/models/labeled_state_buffer.h"
 #include "cmbrl/models/transition_buffer.h"
+#include "cmbrl/run/run_directory.h"
 #include "tests/error_message.h"
 
 namespace cmbrl {
@@ -83,7 +84,8 @@ TEST(TrainerTest, AShortRunWritesEveryFile) {
   EXPECT_EQ(rows.size(), seen.size() + 1);
   EXPECT_EQ(rows[0],
             "Epoch,Episode,EpRet,EpCost,TotalEnvInteracts,PretrainInteracts,DynamicsValMSE,"
-            "ClassifierSafeAcc,ClassifierUnsafeAcc,FeasibleFraction,Steps,GoalsMet");
+            "ClassifierSafeAcc,ClassifierUnsafeAcc,FeasibleFraction,Steps,GoalsMet,HazardSteps,"
+            "VaseSteps");
   EXPECT_GE(seen.back().total_env_interacts, 400);
   EXPECT_EQ(seen[0].epoch, 1);
   EXPECT_EQ(seen[2].epoch, 2);  // two episodes per epoch
@@ -91,6 +93,13 @@ TEST(TrainerTest, AShortRunWritesEveryFile) {
   EXPECT_EQ(seen[0].pretrain_interacts, seen.back().pretrain_interacts);
   EXPECT_TRUE(std::isfinite(seen[0].dynamics_validation_mse));
   EXPECT_GT(seen[0].ms_per_plan, 0.0);
+  // Every violating step is in a hazard or at a vase (no physics errors here), and each count is
+  // at most the episode's violations.
+  for (const ProgressRow& row : seen) {
+    EXPECT_LE(row.hazard_steps, row.episode_cost);
+    EXPECT_LE(row.vase_steps, row.episode_cost);
+    EXPECT_GE(row.hazard_steps + row.vase_steps, row.episode_cost);
+  }
   // The resolved config reads back as the same config.
   EXPECT_EQ(TrainConfigToYaml(LoadTrainConfig((fs::path(dir) / "config.yaml").string())),
             TrainConfigToYaml(TinyConfig("rce")));
@@ -143,6 +152,63 @@ TEST(TrainerTest, ResumingAfterACrashGivesTheSameRows) {
   EXPECT_EQ(RowsWithoutTimes(crashed).size(), 4u);  // header + 3 rows, the third uncovered
   Trainer::Resume(crashed)->Run();
   EXPECT_EQ(RowsWithoutTimes(crashed), RowsWithoutTimes(whole));
+}
+
+// A run begun by a version that wrote fewer columns (here without the last two) keeps its
+// columns when a newer one resumes it, and its rows are the uninterrupted run's, cut to them.
+TEST(TrainerTest, ARunBegunWithFewerColumnsKeepsThemOnResume) {
+  const std::string whole = TempRunDir("columns_whole"), old = TempRunDir("columns_old");
+  Trainer::Start(TinyConfig("cem"), whole)->Run();
+  struct Crash {};
+  try {
+    int units = 0;
+    Trainer::Start(TinyConfig("cem"), old)->Run([&](const ProgressSummary&) {
+      if (++units == 3) throw Crash{};
+    });
+  } catch (const Crash&) {
+  }
+  const auto cut = [](const std::string& line, int fields) {
+    size_t end = 0;
+    for (int i = 0; i < fields; ++i) end = line.find(',', end + (i > 0));
+    return line.substr(0, end);
+  };
+  const fs::path progress = fs::path(old) / "progress.csv";
+  std::vector<std::string> lines;
+  {
+    std::ifstream in(progress);
+    for (std::string line; std::getline(in, line);) lines.push_back(cut(line, 14));
+  }
+  // Rewrite the log as the older version would have, and its checkpoint's record of it.
+  std::string covered;
+  {
+    std::ofstream out(progress, std::ios::trunc);
+    for (size_t i = 0; i < lines.size(); ++i) {
+      out << lines[i] << "\n";
+      if (i < 3) covered += lines[i] + "\n";  // the header and the two checkpointed rows
+    }
+  }
+  const fs::path prefix = fs::path(old) / "covered.csv";
+  std::ofstream(prefix) << covered;
+  const fs::path manifest_path = fs::path(old) / "checkpoint" / "manifest.json";
+  nlohmann::json manifest = nlohmann::json::parse(std::ifstream(manifest_path));
+  manifest["progress_crc32"] = FileCrc(prefix);
+  std::ofstream(manifest_path) << manifest.dump(2);
+  fs::remove(prefix);
+
+  Trainer::Resume(old)->Run();
+  std::vector<std::string> expected = RowsWithoutTimes(whole);
+  for (std::string& row : expected) row = cut(row, 12);  // 14 less Time and MsPerPlan
+  EXPECT_EQ(RowsWithoutTimes(old), expected);
+
+  // A log of some other kind is refused by name.
+  const std::string other = TempRunDir("columns_other");
+  {
+    std::unique_ptr<Trainer> trainer = Trainer::Start(TinyConfig("cem"), other);
+  }
+  std::ofstream(fs::path(other) / "progress.csv", std::ios::trunc) << "Epoch,Episode,Reward\n";
+  EXPECT_THAT(ErrorMessage([&] { Trainer::Resume(other); }),
+              ::testing::AllOf(::testing::HasSubstr("has the columns 'Epoch,Episode,Reward'"),
+                               ::testing::HasSubstr("or its first columns")));
 }
 
 TEST(TrainerTest, ResumingBeforeTheFirstCheckpointStartsOver) {
