@@ -255,8 +255,9 @@ TEST(ConfigTest, TheQuickstartGridHasEveryTaskAndPlannerAtQuickstartSize) {
 }
 
 // The CPU presets: the paper's settings but for the dynamics networks' width, RCE's planner
-// (the grid's 200 x 5 with 10 elites: ablation 'population'), the window, and for the Car
-// networks that predict the change of state (ablation 'delta').
+// (the grid's 200 x 5 with 10 elites: ablation 'population'), the window, for the Car
+// networks that predict the change of state (ablation 'delta'), and for CarGoal2 RCE's
+// classifier threshold of 0.3 (ablation 'threshold').
 TEST(ConfigTest, TheCpuPresetsKeepThePapersSettingsButTheNetworksWidthAndRcesPlanner) {
   const TrainConfig paper = ParseTrainConfig("task: PointGoal1", "paper");
   ForEachPreset(
@@ -277,6 +278,7 @@ TEST(ConfigTest, TheCpuPresetsKeepThePapersSettingsButTheNetworksWidthAndRcesPla
         expected.ensemble.ensemble_size = config.ensemble.ensemble_size;
         expected.ensemble.predict_delta = config.ensemble.predict_delta;
         expected.objective.goal_index = config.objective.goal_index;
+        if (task == "CarGoal2" && planner == "rce") expected.classifier.threshold = 0.3;
         if (planner == "rce") {
           expected.planning.cross_entropy.population = 200;
           expected.planning.cross_entropy.elites = 10;
@@ -288,7 +290,8 @@ TEST(ConfigTest, TheCpuPresetsKeepThePapersSettingsButTheNetworksWidthAndRcesPla
 
 // The level-2 ablation 'combined' is the CPU preset at the 2000-step screening window, so that
 // its runs continue to the CPU grid's 3000 steps (scripts/cpu-grid-queue.sh). Its Car configs
-// record runs made before the Car presets predicted the change of state; they differ in that.
+// record runs made before the Car presets predicted the change of state, and CarGoal2's before
+// its preset's classifier threshold of 0.3; they differ in that.
 TEST(ConfigTest, TheCombinedAblationIsTheCpuPresetAtTwoThousandSteps) {
   int checked = 0;
   for (const std::string name : {"pointgoal2-rce", "cargoal2-rce", "cargoal1-cem"}) {
@@ -300,6 +303,8 @@ TEST(ConfigTest, TheCombinedAblationIsTheCpuPresetAtTwoThousandSteps) {
     combined.training.total_steps = preset.training.total_steps;
     EXPECT_EQ(combined.ensemble.predict_delta, false);
     combined.ensemble.predict_delta = preset.ensemble.predict_delta;
+    EXPECT_DOUBLE_EQ(combined.classifier.threshold, 0.5);
+    combined.classifier.threshold = preset.classifier.threshold;
     EXPECT_EQ(TrainConfigToYaml(combined), TrainConfigToYaml(preset));
     ++checked;
   }
@@ -307,7 +312,8 @@ TEST(ConfigTest, TheCombinedAblationIsTheCpuPresetAtTwoThousandSteps) {
 }
 
 // The ablation 'delta' became the Car presets: each of its configs is the Car preset at the
-// 2000-step screening window, so its runs continue into the CPU grid's cells.
+// 2000-step screening window, so its runs continue into the CPU grid's cells (CarGoal2 RCE's
+// until its preset took the classifier threshold of 0.3).
 TEST(ConfigTest, TheDeltaAblationIsTheCarPresetAtTwoThousandSteps) {
   int checked = 0;
   for (const auto& entry :
@@ -319,6 +325,8 @@ TEST(ConfigTest, TheDeltaAblationIsTheCarPresetAtTwoThousandSteps) {
     EXPECT_TRUE(delta.ensemble.predict_delta);
     EXPECT_EQ(delta.training.total_steps, 2000);
     delta.training.total_steps = preset.training.total_steps;
+    EXPECT_DOUBLE_EQ(delta.classifier.threshold, 0.5);
+    delta.classifier.threshold = preset.classifier.threshold;
     EXPECT_EQ(TrainConfigToYaml(delta), TrainConfigToYaml(preset));
     ++checked;
   }
@@ -335,14 +343,16 @@ TEST(ConfigTest, ThePointGoal1DeltaAblationIsThePresetPredictingTheChange) {
   EXPECT_EQ(TrainConfigToYaml(delta), TrainConfigToYaml(preset));
 }
 
+// The ablation 'threshold' became the CarGoal2 RCE preset: the preset at 2000 steps, so its
+// runs (continued to 3000 with --steps) are the CPU grid's cell.
 TEST(ConfigTest, TheCarGoal2ThresholdAblationIsThePresetAtTwoThousandSteps) {
   TrainConfig ablation =
       LoadTrainConfig(CMBRL_SOURCE_DIR "/configs/ablation-level2/threshold/cargoal2-rce.yaml");
   const TrainConfig preset = LoadTrainConfig(CMBRL_SOURCE_DIR "/configs/cpu/cargoal2-rce.yaml");
   EXPECT_EQ(ablation.training.total_steps, 2000);
   EXPECT_DOUBLE_EQ(ablation.classifier.threshold, 0.3);
+  EXPECT_DOUBLE_EQ(preset.classifier.threshold, 0.3);
   ablation.training.total_steps = preset.training.total_steps;
-  ablation.classifier.threshold = preset.classifier.threshold;
   EXPECT_EQ(TrainConfigToYaml(ablation), TrainConfigToYaml(preset));
 }
 
