@@ -343,6 +343,16 @@ TEST(ConfigTest, ThePointGoal1DeltaAblationIsThePresetPredictingTheChange) {
   EXPECT_EQ(TrainConfigToYaml(delta), TrainConfigToYaml(preset));
 }
 
+TEST(ConfigTest, ThePointGoal1ThresholdAblationIsThePresetWithALowerThreshold) {
+  TrainConfig ablation = LoadTrainConfig(CMBRL_SOURCE_DIR
+                                         "/configs/ablation-pointgoal1/threshold/pointgoal1-cem.yaml");
+  const TrainConfig preset = LoadTrainConfig(CMBRL_SOURCE_DIR "/configs/cpu/pointgoal1-cem.yaml");
+  EXPECT_DOUBLE_EQ(ablation.classifier.threshold, 0.3);
+  EXPECT_DOUBLE_EQ(preset.classifier.threshold, 0.5);
+  ablation.classifier.threshold = preset.classifier.threshold;
+  EXPECT_EQ(TrainConfigToYaml(ablation), TrainConfigToYaml(preset));
+}
+
 // The ablation 'threshold' became the CarGoal2 RCE preset: the preset at 2000 steps, so its
 // runs (continued to 3000 with --steps) are the CPU grid's cell.
 TEST(ConfigTest, TheCarGoal2ThresholdAblationIsThePresetAtTwoThousandSteps) {
