@@ -135,7 +135,7 @@ void RunReport(const ReportArgs& args) {
     ReportArgs chosen = args;
     std::int64_t longest = 1;
     for (const RunRecord& run : family) {
-      if (!run.episodes.empty()) longest = std::max(longest, run.episodes.back().end_step);
+      longest = std::max(longest, StepsReached(run));
     }
     if (chosen.grid_step == 0) chosen.grid_step = std::max<std::int64_t>(1, longest / 50);
     if (chosen.smoothing == 0) chosen.smoothing = std::max(4 * chosen.grid_step, longest / 10);

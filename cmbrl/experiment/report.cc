@@ -706,7 +706,7 @@ std::vector<LearningCurve> LearningCurves(const std::vector<RunRecord>& runs,
         continue;
       }
       members.push_back(&run);
-      longest = std::max(longest, std::min(run.episodes.back().end_step, up_to));
+      longest = std::max(longest, std::min(StepsReached(run), up_to));
     }
     if (members.empty()) continue;
     LearningCurve curve;
@@ -714,7 +714,7 @@ std::vector<LearningCurve> LearningCurves(const std::vector<RunRecord>& runs,
     for (std::int64_t x = grid_step; x <= longest; x += grid_step) {
       std::vector<double> values;
       for (const RunRecord* run : members) {
-        if (run->episodes.back().end_step < x) continue;  // this seed has not reached x
+        if (StepsReached(*run) < x) continue;  // this seed has not reached x
         std::vector<double> window;
         for (const EpisodePoint& e : run->episodes) {
           if (e.end_step > x - smoothing && e.end_step <= x) {
