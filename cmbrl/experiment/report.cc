@@ -466,10 +466,14 @@ std::vector<TableCell> ViolationTable(const std::vector<RunRecord>& runs, std::i
         cell.fewest_steps = std::min(cell.fewest_steps, StepsReached(*run));
         if (const auto first = FirstEpochOf(*run)) cell.first_epochs.push_back(*first);
         if (const auto causes = ViolationCausesWithin(*run, window)) {
-          cell.causes.push_back(*causes);
+          cell.hazard_steps.push_back(causes->hazard_steps);
+          cell.vase_steps.push_back(causes->vase_steps);
         }
       }
-      if (cell.causes.size() != members.size()) cell.causes.clear();
+      if (cell.hazard_steps.size() != members.size()) {
+        cell.hazard_steps.clear();
+        cell.vase_steps.clear();
+      }
       cell.mean = Mean(cell.per_seed);
       cell.std = SampleStd(cell.per_seed);
       cell.return_mean = Mean(cell.final_returns);
@@ -562,7 +566,8 @@ std::string FirstEpochMarkdown(const std::vector<TableCell>& cells) {
 
 // Where the violations happened, for the cells whose runs logged it ("" where none did).
 std::string ViolationCausesMarkdown(const std::vector<TableCell>& cells) {
-  if (std::all_of(cells.begin(), cells.end(), [](const TableCell& c) { return c.causes.empty(); })) {
+  if (std::all_of(cells.begin(), cells.end(),
+                  [](const TableCell& c) { return c.hazard_steps.empty(); })) {
     return "";
   }
   std::string text =
@@ -571,14 +576,10 @@ std::string ViolationCausesMarkdown(const std::vector<TableCell>& cells) {
       "push), per seed. A step can be both.\n\n"
       "| task | method | violating steps | in hazards | at vases |\n|---|---|---|---|---|\n";
   for (const TableCell& cell : cells) {
-    if (cell.causes.empty()) continue;
-    std::vector<int> hazards, vases;
-    for (const ViolationCauses& causes : cell.causes) {
-      hazards.push_back(causes.hazard_steps);
-      vases.push_back(causes.vase_steps);
-    }
+    if (cell.hazard_steps.empty()) continue;
     text += fmt::format("| {} | {} | {} | {} | {} |\n", cell.task, MethodLabel(cell.planner),
-                        Counts(cell.per_seed), CountsOrDash(hazards), CountsOrDash(vases));
+                        Counts(cell.per_seed), CountsOrDash(cell.hazard_steps),
+                        CountsOrDash(cell.vase_steps));
   }
   return text;
 }
@@ -664,20 +665,11 @@ std::string TableCsv(const std::vector<TableCell>& cells, std::int64_t window) {
     }
     return fmt::format("{},{}", fmt::join(violations, " "), fmt::join(returns, " "));
   };
-  const auto cause_columns = [](const std::vector<ViolationCauses>& causes) {
-    std::vector<int> hazards, vases;
-    for (const ViolationCauses& c : causes) {
-      hazards.push_back(c.hazard_steps);
-      vases.push_back(c.vase_steps);
-    }
-    return fmt::format("{},{}", fmt::join(hazards, " "), fmt::join(vases, " "));
-  };
   for (const TableCell& cell : cells) {
     const bool original = !cell.original_per_seed.empty();
     text += fmt::format(
-        "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n", cell.task,
-        cell.planner,
-        window, cell.per_seed.size(), cell.mean, cell.std, fmt::join(cell.per_seed, " "),
+        "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n", cell.task,
+        cell.planner, window, cell.per_seed.size(), cell.mean, cell.std, fmt::join(cell.per_seed, " "),
         cell.paper ? fmt::format("{}", *cell.paper) : "", cell.fewest_steps, cell.return_mean,
         cell.return_std, fmt::join(cell.original_per_seed, " "),
         original ? fmt::format("{}", Mean(cell.original_per_seed)) : "", VersusOriginal(cell),
@@ -685,7 +677,7 @@ std::string TableCsv(const std::vector<TableCell>& cells, std::int64_t window) {
         fmt::join(cell.heavy_episodes, " "), ProgressNumber(Mean(cell.feasible_fractions)),
         fmt::join(cell.original_heavy_episodes, " "), WithinWidenedRange(cell),
         first_epoch_columns(cell.first_epochs), first_epoch_columns(cell.original_first_epochs),
-        cause_columns(cell.causes));
+        fmt::join(cell.hazard_steps, " "), fmt::join(cell.vase_steps, " "));
   }
   return text;
 }

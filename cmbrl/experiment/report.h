@@ -149,8 +149,9 @@ struct TableCell {
   std::vector<int> heavy_episodes;           // HeavyEpisodesWithin per seed
   std::vector<double> feasible_fractions;    // FeasibleFractionWithin per seed
   std::vector<int> original_heavy_episodes;  // the original's, per seed
-  // ViolationCausesWithin per seed; empty unless every seed has them.
-  std::vector<ViolationCauses> causes;
+  // ViolationCausesWithin per seed, hazards and vases; empty unless every seed has them.
+  std::vector<int> hazard_steps;
+  std::vector<int> vase_steps;
   // FirstEpochOf per seed, ours and the original's (empty where a run has none).
   std::vector<FirstEpoch> first_epochs;
   std::vector<FirstEpoch> original_first_epochs;

@@ -606,8 +606,10 @@ TEST(ReportTableTest, WhereTheViolationsHappenedIsSummedOverTheWindow) {
   const std::vector<TableCell> cells = ViolationTable(runs, 200);
   ASSERT_EQ(cells.size(), 2u);
   ASSERT_EQ(cells[0].planner, "rce");
-  ASSERT_EQ(cells[0].causes.size(), 2u);
-  EXPECT_TRUE(cells[1].causes.empty());  // one seed did not log them
+  EXPECT_EQ(cells[0].hazard_steps, (std::vector<int>{3, 0}));
+  EXPECT_EQ(cells[0].vase_steps, (std::vector<int>{6, 2}));
+  EXPECT_TRUE(cells[1].hazard_steps.empty());  // one seed did not log them
+  EXPECT_TRUE(cells[1].vase_steps.empty());
   const std::string markdown = TableMarkdown(cells, 200);
   EXPECT_THAT(markdown, HasSubstr("Where the violations happened"));
   EXPECT_THAT(markdown, HasSubstr("| CarGoal2 | MPC-RCE | 8, 2 | 3, 0 | 6, 2 |"));

@@ -14,6 +14,7 @@
 #include "cmbrl/experiment/mpc_learner.h"
 #include "cmbrl/models/labeled_state_buffer.h"
 #include "cmbrl/models/transition_buffer.h"
+#include "cmbrl/run/progress_table.h"
 #include "cmbrl/run/run_directory.h"
 #include "tests/error_message.h"
 
@@ -61,6 +62,20 @@ std::vector<std::string> RowsWithoutTimes(const std::string& run_dir) {
     rows.push_back(fmt::format("{}", fmt::join(cells, ",")));
   }
   return rows;
+}
+
+// Starts a run and crashes it (an exception out of Run) right after its `rows`-th progress row
+// is written, before that row's checkpoint.
+void CrashAfterRows(const TrainConfig& config, const std::string& dir, int rows) {
+  struct Crash {};
+  try {
+    int units = 0;
+    Trainer::Start(config, dir)->Run([&](const ProgressSummary&) {
+      if (++units == rows) throw Crash{};
+    });
+    FAIL() << "expected the simulated crash";
+  } catch (const Crash&) {
+  }
 }
 
 TEST(TrainerTest, AShortRunWritesEveryFile) {
@@ -140,15 +155,7 @@ TEST(TrainerTest, ResumingAfterACrashGivesTheSameRows) {
   const std::string whole = TempRunDir("whole"), crashed = TempRunDir("crashed");
   Trainer::Start(TinyConfig("rce"), whole)->Run();
   // Stop after the third row is written but before its checkpoint: the worst moment.
-  struct Crash {};
-  try {
-    int units = 0;
-    Trainer::Start(TinyConfig("rce"), crashed)->Run([&](const ProgressSummary&) {
-      if (++units == 3) throw Crash{};
-    });
-    FAIL() << "expected the simulated crash";
-  } catch (const Crash&) {
-  }
+  CrashAfterRows(TinyConfig("rce"), crashed, 3);
   EXPECT_EQ(RowsWithoutTimes(crashed).size(), 4u);  // header + 3 rows, the third uncovered
   Trainer::Resume(crashed)->Run();
   EXPECT_EQ(RowsWithoutTimes(crashed), RowsWithoutTimes(whole));
@@ -159,24 +166,12 @@ TEST(TrainerTest, ResumingAfterACrashGivesTheSameRows) {
 TEST(TrainerTest, ARunBegunWithFewerColumnsKeepsThemOnResume) {
   const std::string whole = TempRunDir("columns_whole"), old = TempRunDir("columns_old");
   Trainer::Start(TinyConfig("cem"), whole)->Run();
-  struct Crash {};
-  try {
-    int units = 0;
-    Trainer::Start(TinyConfig("cem"), old)->Run([&](const ProgressSummary&) {
-      if (++units == 3) throw Crash{};
-    });
-  } catch (const Crash&) {
-  }
-  const auto cut = [](const std::string& line, int fields) {
-    size_t end = 0;
-    for (int i = 0; i < fields; ++i) end = line.find(',', end + (i > 0));
-    return line.substr(0, end);
-  };
+  CrashAfterRows(TinyConfig("cem"), old, 3);
   const fs::path progress = fs::path(old) / "progress.csv";
   std::vector<std::string> lines;
   {
     std::ifstream in(progress);
-    for (std::string line; std::getline(in, line);) lines.push_back(cut(line, 14));
+    for (std::string line; std::getline(in, line);) lines.push_back(FirstProgressFields(line, 14));
   }
   // Rewrite the log as the older version would have, and its checkpoint's record of it.
   std::string covered;
@@ -197,7 +192,7 @@ TEST(TrainerTest, ARunBegunWithFewerColumnsKeepsThemOnResume) {
 
   Trainer::Resume(old)->Run();
   std::vector<std::string> expected = RowsWithoutTimes(whole);
-  for (std::string& row : expected) row = cut(row, 12);  // 14 less Time and MsPerPlan
+  for (std::string& row : expected) row = FirstProgressFields(row, 12);  // 14 less Time and MsPerPlan
   EXPECT_EQ(RowsWithoutTimes(old), expected);
 
   // A log of some other kind is refused by name.
