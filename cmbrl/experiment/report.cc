@@ -434,6 +434,32 @@ std::string WithinWidenedRange(const TableCell& cell) {
   return "yes";
 }
 
+namespace {
+
+// The original's columns of a cell (its task and planner set) from its logs over the window;
+// left empty where a log of the cell stops before the window's end.
+void FillOriginalSide(const std::vector<RunRecord>& reference, std::int64_t window,
+                      TableCell& cell) {
+  const std::vector<const RunRecord*> original =
+      ReferenceRunsOf(reference, cell.task, cell.planner);
+  const bool covered = std::all_of(original.begin(), original.end(),
+                                   [&](const RunRecord* r) { return StepsReached(*r) >= window; });
+  if (covered) {
+    for (const RunRecord* run : original) {
+      cell.original_per_seed.push_back(ViolationsWithin(*run, window));
+      cell.original_final_returns.push_back(FinalReturn(*run, window));
+      if (!run->epoch_log) {
+        cell.original_heavy_episodes.push_back(HeavyEpisodesWithin(*run, window));
+      }
+    }
+  }
+  for (const RunRecord* run : original) {
+    if (const auto first = FirstEpochOf(*run)) cell.original_first_epochs.push_back(*first);
+  }
+}
+
+}  // namespace
+
 std::vector<TableCell> ViolationTable(const std::vector<RunRecord>& runs, std::int64_t window,
                                       const std::vector<RunRecord>& reference) {
   const auto task_of = [](const RunRecord& r) { return r.config.task; };
@@ -479,22 +505,7 @@ std::vector<TableCell> ViolationTable(const std::vector<RunRecord>& runs, std::i
       cell.return_mean = Mean(cell.final_returns);
       cell.return_std = SampleStd(cell.final_returns);
       cell.paper = PaperViolations(task, planner);
-      const std::vector<const RunRecord*> original = ReferenceRunsOf(reference, task, planner);
-      const bool covered = std::all_of(original.begin(), original.end(), [&](const RunRecord* r) {
-        return StepsReached(*r) >= window;
-      });
-      if (covered) {
-        for (const RunRecord* run : original) {
-          cell.original_per_seed.push_back(ViolationsWithin(*run, window));
-          cell.original_final_returns.push_back(FinalReturn(*run, window));
-          if (!run->epoch_log) {
-            cell.original_heavy_episodes.push_back(HeavyEpisodesWithin(*run, window));
-          }
-        }
-      }
-      for (const RunRecord* run : original) {
-        if (const auto first = FirstEpochOf(*run)) cell.original_first_epochs.push_back(*first);
-      }
+      FillOriginalSide(reference, window, cell);
       cells.push_back(cell);
     }
   }
@@ -616,11 +627,24 @@ std::string TableMarkdown(const std::vector<TableCell>& cells, std::int64_t wind
           text += " |";
           continue;
         }
-        text += fmt::format(" {:.1f} ± {:.1f} ({}){}", it->mean, it->std, it->per_seed.size(),
-                            it->fewest_steps < window ? "*" : "");
+        text += fmt::format(" {:.1f} ± {:.1f} ({}){}{}", it->mean, it->std, it->per_seed.size(),
+                            it->fewest_steps < window ? "*" : "", it->source.empty() ? "" : "†");
         text += it->paper ? fmt::format(" [{:.0f}] |", *it->paper) : " |";
       }
     }
+  }
+  std::vector<std::string> sources;
+  for (const TableCell& cell : cells) {
+    if (!cell.source.empty() &&
+        std::find(sources.begin(), sources.end(), cell.source) == sources.end()) {
+      sources.push_back(cell.source);
+    }
+  }
+  if (!sources.empty()) {
+    text += fmt::format(
+        "\n\n† read from an earlier report's table ('{}'): its runs' logs are not kept, so the "
+        "cell has no curve and no first epoch here.",
+        fmt::join(sources, "', '"));
   }
   text +=
       "\n\nReturn at the end of the same window: mean EpRet of each run's last 10 episodes "
@@ -656,7 +680,7 @@ std::string TableCsv(const std::vector<TableCell>& cells, std::int64_t window) {
       "original_per_seed,original_mean,versus_original,original_return_mean,heavy_per_seed,"
       "feasible_fraction,original_heavy_per_seed,reproduces,first_epoch_violations_per_seed,"
       "first_epoch_return_per_seed,original_first_epoch_violations_per_seed,"
-      "original_first_epoch_return_per_seed,hazard_steps_per_seed,vase_steps_per_seed\n";
+      "original_first_epoch_return_per_seed,hazard_steps_per_seed,vase_steps_per_seed,source\n";
   const auto first_epoch_columns = [](const std::vector<FirstEpoch>& epochs) {
     std::vector<std::string> violations, returns;
     for (const FirstEpoch& epoch : epochs) {
@@ -668,18 +692,98 @@ std::string TableCsv(const std::vector<TableCell>& cells, std::int64_t window) {
   for (const TableCell& cell : cells) {
     const bool original = !cell.original_per_seed.empty();
     text += fmt::format(
-        "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n", cell.task,
-        cell.planner, window, cell.per_seed.size(), cell.mean, cell.std, fmt::join(cell.per_seed, " "),
-        cell.paper ? fmt::format("{}", *cell.paper) : "", cell.fewest_steps, cell.return_mean,
-        cell.return_std, fmt::join(cell.original_per_seed, " "),
+        "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n", cell.task,
+        cell.planner, window, cell.per_seed.size(), cell.mean, cell.std,
+        fmt::join(cell.per_seed, " "), cell.paper ? fmt::format("{}", *cell.paper) : "",
+        cell.fewest_steps, cell.return_mean, cell.return_std,
+        fmt::join(cell.original_per_seed, " "),
         original ? fmt::format("{}", Mean(cell.original_per_seed)) : "", VersusOriginal(cell),
         original ? fmt::format("{}", Mean(cell.original_final_returns)) : "",
         fmt::join(cell.heavy_episodes, " "), ProgressNumber(Mean(cell.feasible_fractions)),
         fmt::join(cell.original_heavy_episodes, " "), WithinWidenedRange(cell),
         first_epoch_columns(cell.first_epochs), first_epoch_columns(cell.original_first_epochs),
-        fmt::join(cell.hazard_steps, " "), fmt::join(cell.vase_steps, " "));
+        fmt::join(cell.hazard_steps, " "), fmt::join(cell.vase_steps, " "), cell.source);
   }
   return text;
+}
+
+std::vector<TableCell> ReadEarlierTable(const std::string& path, std::int64_t window,
+                                        const std::vector<RunRecord>& reference) {
+  Require(path.find(',') == std::string::npos,
+          "earlier table '{}': expected a path without commas (table-1.csv names it in a column)",
+          path);
+  const ProgressTable table = ProgressTable::Read(path);
+  const std::string expected = "a table-1.csv written by cmbrl report";
+  const size_t task = table.Column("task", expected);
+  const size_t planner = table.Column("planner", expected);
+  const size_t table_window = table.Column("window", expected);
+  const size_t per_seed = table.Column("per_seed", expected);
+  const size_t fewest_steps = table.Column("fewest_steps", expected);
+  const size_t return_mean = table.Column("return_mean", expected);
+  const size_t return_std = table.Column("return_std", expected);
+  const size_t heavy = table.Column("heavy_per_seed", expected);
+  const size_t feasible = table.Column("feasible_fraction", expected);
+  // Columns added later: an older table has no violation causes and no source.
+  const bool has_causes =
+      table.HasColumn("hazard_steps_per_seed") && table.HasColumn("vase_steps_per_seed");
+  const bool has_source = table.HasColumn("source");
+  const auto counts = [&](size_t row, size_t column) {
+    std::vector<int> values;
+    for (const double v : table.Numbers(row, column)) values.push_back(static_cast<int>(v));
+    return values;
+  };
+  std::vector<TableCell> cells;
+  for (size_t row = 0; row < table.rows(); ++row) {
+    Require(table.Number(row, table_window) == static_cast<double>(window),
+            "{} line {}: window {}: expected the report's window, {} agent steps (an earlier "
+            "cell must count the same steps)",
+            path, table.line(row), table.Text(row, table_window), window);
+    TableCell cell;
+    cell.task = table.Text(row, task);
+    cell.planner = table.Text(row, planner);
+    cell.per_seed = table.Numbers(row, per_seed);
+    Require(!cell.per_seed.empty(), "{} line {}: per_seed is empty: expected a count per seed",
+            path, table.line(row));
+    cell.mean = Mean(cell.per_seed);
+    cell.std = SampleStd(cell.per_seed);
+    cell.paper = PaperViolations(cell.task, cell.planner);
+    cell.fewest_steps = static_cast<std::int64_t>(table.Number(row, fewest_steps));
+    cell.return_mean = table.Number(row, return_mean);
+    cell.return_std = table.Number(row, return_std);
+    cell.heavy_episodes = counts(row, heavy);
+    cell.feasible_fractions = {table.Number(row, feasible)};
+    if (has_causes) {
+      cell.hazard_steps = counts(row, table.Column("hazard_steps_per_seed", expected));
+      cell.vase_steps = counts(row, table.Column("vase_steps_per_seed", expected));
+    }
+    const std::string source = has_source ? table.Text(row, table.Column("source", expected)) : "";
+    cell.source = source.empty() ? path : source;
+    FillOriginalSide(reference, window, cell);
+    cells.push_back(cell);
+  }
+  return cells;
+}
+
+std::vector<TableCell> WithEarlierCells(std::vector<TableCell> cells,
+                                        const std::vector<TableCell>& earlier) {
+  const auto has = [&](const TableCell& cell) {
+    return std::any_of(cells.begin(), cells.end(), [&](const TableCell& c) {
+      return c.task == cell.task && c.planner == cell.planner;
+    });
+  };
+  for (const TableCell& cell : earlier) {
+    if (!has(cell)) cells.push_back(cell);
+  }
+  const auto rank = [](const std::vector<std::string>& known, const std::string& value) {
+    return std::find(known.begin(), known.end(), value) - known.begin();
+  };
+  const std::vector<std::string> tasks = EnvNames();
+  const std::vector<std::string> methods = MethodNames();
+  std::stable_sort(cells.begin(), cells.end(), [&](const TableCell& a, const TableCell& b) {
+    return std::make_pair(rank(tasks, a.task), rank(methods, a.planner)) <
+           std::make_pair(rank(tasks, b.task), rank(methods, b.planner));
+  });
+  return cells;
 }
 
 std::vector<LearningCurve> LearningCurves(const std::vector<RunRecord>& runs,

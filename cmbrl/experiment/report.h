@@ -155,6 +155,8 @@ struct TableCell {
   // FirstEpochOf per seed, ours and the original's (empty where a run has none).
   std::vector<FirstEpoch> first_epochs;
   std::vector<FirstEpoch> original_first_epochs;
+  // "" for a cell made from runs; else the table-1.csv it was read from (ReadEarlierTable).
+  std::string source;
 };
 
 // Where a cell's mean lies against the original's seeds: "below" the lowest, "inside" their
@@ -171,6 +173,21 @@ std::string WithinWidenedRange(const TableCell& cell);
 // a finished episode are left out. `reference` (ReadReferenceRuns) fills the original's columns.
 std::vector<TableCell> ViolationTable(const std::vector<RunRecord>& runs, std::int64_t window,
                                       const std::vector<RunRecord>& reference = {});
+
+// The cells of an earlier report's table-1.csv (TableCsv's columns), for cells whose runs' logs
+// are gone: our side as the file gives it (violations, heavy episodes and violation causes per
+// seed; the returns' mean and std; the feasible fraction's mean; no first epochs, whose episode
+// counts the file lacks) and the original's side made again from `reference`. A cell keeps the
+// source its file names, else gets `path`. Throws cmbrl::Error naming the file, the line and the
+// column for a malformed file, and the window for a table of another window.
+std::vector<TableCell> ReadEarlierTable(const std::string& path, std::int64_t window,
+                                        const std::vector<RunRecord>& reference = {});
+
+// `cells` (made from runs) with the `earlier` cells of tasks and planners they lack (the first
+// earlier cell of a pair counts), in the table's order: tasks, then planners, in the
+// registries' order. A cell made from runs replaces an earlier one whole: seeds are not mixed.
+std::vector<TableCell> WithEarlierCells(std::vector<TableCell> cells,
+                                        const std::vector<TableCell>& earlier);
 
 std::string TableMarkdown(const std::vector<TableCell>& cells, std::int64_t window);
 std::string TableCsv(const std::vector<TableCell>& cells, std::int64_t window);

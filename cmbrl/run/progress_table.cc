@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <optional>
 #include <sstream>
 
 #include "cmbrl/core/check.h"
@@ -81,16 +82,41 @@ size_t ProgressTable::Column(const std::string& name, const std::string& expecte
   return static_cast<size_t>(it - header_.begin());
 }
 
-double ProgressTable::Number(size_t row, size_t column) const {
-  const std::string& text = rows_.at(row).at(column);
+namespace {
+
+// `text` as a number, whole; nothing where it is not one.
+std::optional<double> ParseNumber(const std::string& text) {
   try {
     size_t used = 0;
     const double value = std::stod(text, &used);
     if (used == text.size()) return value;
   } catch (const std::exception&) {
   }
+  return std::nullopt;
+}
+
+}  // namespace
+
+double ProgressTable::Number(size_t row, size_t column) const {
+  const std::string& text = rows_.at(row).at(column);
+  if (const auto value = ParseNumber(text)) return *value;
   Fail("{} line {}: {} is '{}': expected a number", path_.string(), line_numbers_.at(row),
        header_.at(column), text);
+}
+
+std::vector<double> ProgressTable::Numbers(size_t row, size_t column) const {
+  std::vector<double> values;
+  std::istringstream words(rows_.at(row).at(column));
+  std::string word;
+  while (words >> word) {
+    const auto value = ParseNumber(word);
+    if (!value) {
+      Fail("{} line {}: {} is '{}': expected numbers separated by spaces", path_.string(),
+           line_numbers_.at(row), header_.at(column), rows_.at(row).at(column));
+    }
+    values.push_back(*value);
+  }
+  return values;
 }
 
 }  // namespace cmbrl

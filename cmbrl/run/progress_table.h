@@ -69,6 +69,13 @@ class ProgressTable {
   // A value as a number; throws cmbrl::Error naming the file, the line, the column and the text.
   double Number(size_t row, size_t column) const;
 
+  // A value as written.
+  const std::string& Text(size_t row, size_t column) const { return rows_.at(row).at(column); }
+
+  // A value that lists numbers separated by spaces (a report's per-seed columns; "" lists
+  // none); throws cmbrl::Error naming the file, the line, the column and the text.
+  std::vector<double> Numbers(size_t row, size_t column) const;
+
  private:
   std::filesystem::path path_;
   std::vector<std::string> header_;

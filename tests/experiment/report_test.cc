@@ -123,7 +123,7 @@ TEST_F(ReportTest, TableOneHasTheExpectedNumbers) {
   EXPECT_THAT(markdown, HasSubstr("| CarGoal2 | 8.0 ± 0.0 (1) [96] | 2.0 ± 0.0 (1) [578] |"));
   const std::string csv = TableCsv(cells, 300);
   EXPECT_THAT(csv, HasSubstr("PointGoal1,cem,300,2,16.5,2.1213203435596424,15 18,184,300,2,"
-                             "1.4142135623730951,,,,,0 0,0,,,,,,,0 0,0 0\n"));
+                             "1.4142135623730951,,,,,0 0,0,,,,,,,0 0,0 0,\n"));
   // Returns of the episodes begun in the window: rce 0,1,2 and 1,2,3; cem 0,1,2 and 2,3,4.
   EXPECT_EQ(cells[0].final_returns, (std::vector<double>{1, 2}));
   EXPECT_DOUBLE_EQ(cells[1].return_mean, 2.0);
@@ -339,8 +339,7 @@ TEST_F(ReportTest, CellsCompareWithTheOriginalsSeedsOverTheSameWindow) {
   EXPECT_THAT(markdown, HasSubstr("| PointGoal1 | MPC-RCE | 2.0 (3, 1) | 2.5 (1, 4) | inside | "
                                   "yes | 1.50 | 4.75 | 0, 0 | 0, 0 | 0.000 |"));
   // No run here has finished a first epoch of 10 episodes: its four columns are empty.
-  EXPECT_THAT(TableCsv(cells, 300),
-              HasSubstr(",1 4,2.5,inside,4.75,0 0,0,0 0,yes,,,,,0 0,0 0\n"));
+  EXPECT_THAT(TableCsv(cells, 300), HasSubstr(",1 4,2.5,inside,4.75,0 0,0,0 0,yes,,,,,0 0,0 0,\n"));
   EXPECT_THAT(OutcomeDifferences(cells, 300),
               ::testing::Contains("PointGoal1 MPC-RCE: 2.0 in the first 300 steps, the original "
                                   "2.5 (1, 4); ours is inside its seeds' range."));
@@ -562,7 +561,7 @@ TEST(ReportTableTest, TheFirstEpochComparesOursWithTheOriginalsOnEqualData) {
   EXPECT_THAT(TableMarkdown(cells, 150),
               HasSubstr("| CarGoal1 | MPC-random | 2 | 4.0 (7, 1) | 3.0 (3) | 10.5 (10.5, 10.5) "
                         "| 11.0 (11.0) |"));
-  EXPECT_THAT(TableCsv(cells, 150), HasSubstr(",7 1,10.5 10.5,3,11,,\n"));
+  EXPECT_THAT(TableCsv(cells, 150), HasSubstr(",7 1,10.5 10.5,3,11,,,\n"));
   // Without the original's first epochs there is no such table.
   EXPECT_THAT(TableMarkdown(ViolationTable(ours, 150), 150), Not(HasSubstr("The first epoch")));
 }
@@ -615,8 +614,8 @@ TEST(ReportTableTest, WhereTheViolationsHappenedIsSummedOverTheWindow) {
   EXPECT_THAT(markdown, HasSubstr("| CarGoal2 | MPC-RCE | 8, 2 | 3, 0 | 6, 2 |"));
   EXPECT_THAT(markdown, Not(HasSubstr("| CarGoal2 | MPC-CEM | 5, 7 |")));
   const std::string csv = TableCsv(cells, 200);
-  EXPECT_THAT(csv, HasSubstr("hazard_steps_per_seed,vase_steps_per_seed\n"));
-  EXPECT_THAT(csv, HasSubstr(",3 0,6 2\n"));
+  EXPECT_THAT(csv, HasSubstr("hazard_steps_per_seed,vase_steps_per_seed,source\n"));
+  EXPECT_THAT(csv, HasSubstr(",3 0,6 2,\n"));
   // Without any cell that logged them there is no such section.
   runs.erase(runs.begin(), runs.begin() + 2);
   EXPECT_THAT(TableMarkdown(ViolationTable(runs, 200), 200),
@@ -664,6 +663,80 @@ TEST_F(ReportTest, AReportsLogsMakeItAgainWithoutTheRuns) {
   // A folder with neither runs/ nor run-logs/ is named.
   EXPECT_THAT(testing::ErrorMessage([&] { ReadSweep((sweep_ / "none").string()); }),
               HasSubstr("holds neither runs/ nor run-logs/"));
+}
+
+TEST_F(ReportTest, AnEarlierTablesCellsJoinWhereTheRunsGiveNone) {
+  const std::vector<RunRecord> reference = ReadReferenceRuns(WriteReference().string());
+  const std::vector<RunRecord> runs = ReadSweep(sweep_.string());
+  const std::vector<TableCell> all = ViolationTable(runs, 300, reference);
+  const fs::path earlier_path = sweep_ / "earlier" / "table-1.csv";
+  fs::create_directories(earlier_path.parent_path());
+  std::ofstream(earlier_path) << TableCsv(all, 300);
+
+  // Read back: our side as written, the original's made again from its logs.
+  const std::vector<TableCell> earlier = ReadEarlierTable(earlier_path.string(), 300, reference);
+  ASSERT_EQ(earlier.size(), all.size());
+  for (size_t i = 0; i < all.size(); ++i) {
+    EXPECT_EQ(earlier[i].task, all[i].task);
+    EXPECT_EQ(earlier[i].planner, all[i].planner);
+    EXPECT_EQ(earlier[i].per_seed, all[i].per_seed);
+    EXPECT_DOUBLE_EQ(earlier[i].std, all[i].std);
+    EXPECT_EQ(earlier[i].paper, all[i].paper);
+    EXPECT_EQ(earlier[i].fewest_steps, all[i].fewest_steps);
+    EXPECT_DOUBLE_EQ(earlier[i].return_mean, all[i].return_mean);
+    EXPECT_DOUBLE_EQ(earlier[i].return_std, all[i].return_std);
+    EXPECT_EQ(earlier[i].heavy_episodes, all[i].heavy_episodes);
+    EXPECT_EQ(earlier[i].original_per_seed, all[i].original_per_seed);
+    EXPECT_EQ(earlier[i].source, earlier_path.string());
+    EXPECT_TRUE(all[i].source.empty());
+  }
+  EXPECT_EQ(earlier[0].original_per_seed, (std::vector<double>{1, 4}));
+
+  // Runs of PointGoal1 only: their cells replace the earlier ones, CarGoal2's join after them.
+  std::vector<RunRecord> point;
+  for (const RunRecord& run : runs) {
+    if (run.config.task == "PointGoal1") point.push_back(run);
+  }
+  const auto rce_seed_0 = std::find_if(point.begin(), point.end(), [](const RunRecord& run) {
+    return run.config.planner == "rce" && run.config.seed == 0;
+  });
+  ASSERT_NE(rce_seed_0, point.end());
+  const std::vector<RunRecord> one_seed = {*rce_seed_0};  // PointGoal1 RCE seed 0 alone
+  const std::vector<TableCell> merged =
+      WithEarlierCells(ViolationTable(one_seed, 300, reference), earlier);
+  ASSERT_EQ(merged.size(), 4u);
+  EXPECT_EQ(merged[0].planner, "rce");
+  EXPECT_EQ(merged[0].per_seed, (std::vector<double>{3}));  // the runs' cell whole, not mixed
+  EXPECT_TRUE(merged[0].source.empty());
+  EXPECT_EQ(merged[1].planner, "cem");  // the paper's planner order, the earlier cell
+  EXPECT_EQ(merged[1].source, earlier_path.string());
+  EXPECT_EQ(merged[2].task, "CarGoal2");
+  EXPECT_EQ(merged[3].task, "CarGoal2");
+  const std::string markdown = TableMarkdown(merged, 300);
+  EXPECT_THAT(markdown, HasSubstr("| PointGoal1 | 3.0 ± 0.0 (1) [16] | 16.5 ± 2.1 (2)† [184] |"));
+  EXPECT_THAT(markdown,
+              HasSubstr("† read from an earlier report's table ('" + earlier_path.string() + "')"));
+  EXPECT_THAT(TableMarkdown(all, 300), Not(HasSubstr("†")));
+
+  // A table written with earlier cells keeps naming where they came from.
+  const fs::path again_path = sweep_ / "again.csv";
+  std::ofstream(again_path) << TableCsv(merged, 300);
+  const std::vector<TableCell> again = ReadEarlierTable(again_path.string(), 300, reference);
+  EXPECT_EQ(again[0].source, again_path.string());
+  EXPECT_EQ(again[1].source, earlier_path.string());
+
+  // A table of another window, a bad per-seed list, a file that is no table: named.
+  EXPECT_THAT(testing::ErrorMessage([&] { ReadEarlierTable(earlier_path.string(), 400); }),
+              HasSubstr("line 2: window 300: expected the report's window, 400 agent steps"));
+  const fs::path bad = sweep_ / "bad.csv";
+  std::string text = TableCsv(all, 300);
+  text.replace(text.find(",3 1,"), 5, ",3 x,");
+  std::ofstream(bad) << text;
+  EXPECT_THAT(testing::ErrorMessage([&] { ReadEarlierTable(bad.string(), 300); }),
+              HasSubstr("line 2: per_seed is '3 x': expected numbers separated by spaces"));
+  const fs::path progress = sweep_ / "runs" / "PointGoal1-rce-s0" / "progress.csv";
+  EXPECT_THAT(testing::ErrorMessage([&] { ReadEarlierTable(progress.string(), 300); }),
+              HasSubstr("a table-1.csv written by cmbrl report"));
 }
 
 TEST_F(ReportTest, RunsShortOfTheWindowAreLeftOutByName) {
