@@ -871,6 +871,12 @@ std::vector<std::string> SetupDifferences(const std::vector<RunRecord>& runs, st
                       car ? "Car" : "Point", c.ensemble.ensemble_size,
                       fmt::join(c.ensemble.hidden_sizes, " x "), paper_members));
     }
+    if (c.ensemble.predict_delta != paper.ensemble.predict_delta) {
+      note(fmt::format("Dynamics of the {} tasks: the networks predict the {}, the paper's the {}.",
+                       car ? "Car" : "Point",
+                       c.ensemble.predict_delta ? "change of state" : "absolute next state",
+                       paper.ensemble.predict_delta ? "change of state" : "absolute next state"));
+    }
     if (c.ensemble.max_epochs != paper.ensemble.max_epochs) {
       note(fmt::format("Dynamics fits: at most {} epochs, the paper {}.", c.ensemble.max_epochs,
                        paper.ensemble.max_epochs));
@@ -878,6 +884,12 @@ std::vector<std::string> SetupDifferences(const std::vector<RunRecord>& runs, st
     if (c.classifier.rounds != paper.classifier.rounds) {
       note(fmt::format("Classifier: {} trees, the paper {}.", c.classifier.rounds,
                        paper.classifier.rounds));
+    }
+    if (c.classifier.threshold != paper.classifier.threshold) {
+      note(fmt::format(
+          "Classifier threshold of {} {}: a state counts as a violation above a "
+          "probability of {}, the paper {}.",
+          c.task, MethodLabel(MethodOf(c)), c.classifier.threshold, paper.classifier.threshold));
     }
     // Only the settings the run's planner uses, named with it: the CPU presets plan RCE smaller
     // than the paper and CEM as the paper did.

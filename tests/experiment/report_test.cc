@@ -522,6 +522,37 @@ TEST(ReportTableTest, ThePlanningNoteNamesThePlannerThatDiffers) {
                                   "5000, 8."));
 }
 
+// The named departures of the CPU presets: change-predicting networks (per robot) and a lower
+// classifier threshold (per cell).
+TEST(ReportTableTest, TheSetupNotesNameTheDynamicsTargetAndTheClassifierThreshold) {
+  const auto run = [](const std::string& task, const std::string& planner) {
+    RunRecord record;
+    record.config.task = task;
+    record.config.planner = planner;
+    record.episodes.push_back(EpisodePoint{});
+    return record;
+  };
+  std::vector<RunRecord> runs = {run("CarGoal2", "rce"), run("CarGoal2", "cem"),
+                                 run("PointGoal1", "cem"), run("PointGoal1", "rce")};
+  const auto about = [](const std::string& text) { return ::testing::Contains(HasSubstr(text)); };
+  EXPECT_THAT(SetupDifferences(runs, 3000), Not(about("predict")));
+  EXPECT_THAT(SetupDifferences(runs, 3000), Not(about("threshold")));
+  runs[0].config.ensemble.predict_delta = true;
+  runs[1].config.ensemble.predict_delta = true;
+  runs[0].config.classifier.threshold = 0.3;
+  runs[2].config.classifier.threshold = 0.3;
+  const std::vector<std::string> notes = SetupDifferences(runs, 3000);
+  EXPECT_THAT(notes, ::testing::Contains("Dynamics of the Car tasks: the networks predict the "
+                                         "change of state, the paper's the absolute next state."));
+  EXPECT_THAT(notes, Not(about("Dynamics of the Point tasks")));
+  EXPECT_THAT(notes, ::testing::Contains("Classifier threshold of CarGoal2 MPC-RCE: a state counts "
+                                         "as a violation above a probability of 0.3, the paper "
+                                         "0.5."));
+  EXPECT_THAT(notes, about("Classifier threshold of PointGoal1 MPC-CEM"));
+  EXPECT_THAT(notes, Not(about("CarGoal2 MPC-CEM: a state")));
+  EXPECT_THAT(notes, Not(about("PointGoal1 MPC-RCE: a state")));
+}
+
 // The first epoch: the episodes before a run's first refit, ours against the original's.
 TEST(ReportTableTest, TheFirstEpochComparesOursWithTheOriginalsOnEqualData) {
   const auto run = [](std::uint64_t seed, const std::vector<double>& costs, int per_epoch) {
