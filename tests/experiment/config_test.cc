@@ -293,7 +293,7 @@ TEST(ConfigTest, TheCpuPresetsKeepThePapersSettingsButTheNetworksWidthAndRcesPla
 }
 
 // The level-2 ablation 'combined' is the CPU preset at the 2000-step screening window, so that
-// its runs continue to the CPU grid's 3000 steps (scripts/cpu-grid-queue.sh). Its Car configs
+// its runs continued to the CPU grid's 3000 steps (cmbrl train --resume --steps). Its Car configs
 // record runs made before the Car presets predicted the change of state, and CarGoal2's before
 // its preset's classifier threshold of 0.3; they differ in that.
 TEST(ConfigTest, TheCombinedAblationIsTheCpuPresetAtTwoThousandSteps) {
