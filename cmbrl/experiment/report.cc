@@ -726,7 +726,10 @@ std::vector<TableCell> ReadEarlierTable(const std::string& path, std::int64_t wi
   // Columns added later: an older table has no violation causes and no source.
   const bool has_causes =
       table.HasColumn("hazard_steps_per_seed") && table.HasColumn("vase_steps_per_seed");
+  const size_t hazards = has_causes ? table.Column("hazard_steps_per_seed", expected) : 0;
+  const size_t vases = has_causes ? table.Column("vase_steps_per_seed", expected) : 0;
   const bool has_source = table.HasColumn("source");
+  const size_t source_column = has_source ? table.Column("source", expected) : 0;
   const auto counts = [&](size_t row, size_t column) {
     std::vector<int> values;
     for (const double v : table.Numbers(row, column)) values.push_back(static_cast<int>(v));
@@ -753,10 +756,10 @@ std::vector<TableCell> ReadEarlierTable(const std::string& path, std::int64_t wi
     cell.heavy_episodes = counts(row, heavy);
     cell.feasible_fractions = {table.Number(row, feasible)};
     if (has_causes) {
-      cell.hazard_steps = counts(row, table.Column("hazard_steps_per_seed", expected));
-      cell.vase_steps = counts(row, table.Column("vase_steps_per_seed", expected));
+      cell.hazard_steps = counts(row, hazards);
+      cell.vase_steps = counts(row, vases);
     }
-    const std::string source = has_source ? table.Text(row, table.Column("source", expected)) : "";
+    const std::string source = has_source ? table.Text(row, source_column) : "";
     cell.source = source.empty() ? path : source;
     FillOriginalSide(reference, window, cell);
     cells.push_back(cell);
