@@ -1,8 +1,8 @@
 // cmbrl: constrained model-based reinforcement learning (Robust Cross-Entropy MPC).
-#include <CLI/CLI.hpp>
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <exception>
 #include <iostream>
@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "app/commands.h"
+#include "cmbrl/core/build_info.h"
 #include "cmbrl/core/process_setup.h"
 
 int main(int argc, char** argv) {
@@ -17,6 +18,8 @@ int main(int argc, char** argv) {
   CLI::App app{
       "cmbrl: constrained model-based reinforcement learning with the Robust "
       "Cross-Entropy method on Safety Gym Goal tasks"};
+  app.set_version_flag("--version",
+                       fmt::format("cmbrl {} ({})", cmbrl::CmbrlVersion(), cmbrl::CmbrlCommit()));
   app.require_subcommand(1);
   cmbrl::app::AddRolloutCommand(app);
   cmbrl::app::AddTrainCommand(app);

@@ -1,6 +1,7 @@
 // `cmbrl train`: a training run of the paper's Algorithm 2 into a run directory, or the
 // continuation of a stopped one.
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -46,6 +47,13 @@ void RunTrain(const TrainArgs& args) {
             "--device or --set with it (--steps gives it a new budget)");
     run_dir = args.resume;
     trainer = Trainer::Resume(run_dir, args.steps);
+    if (!trainer->setup_changes().empty()) {
+      std::cerr << fmt::format(
+          "cmbrl: warning: '{}' goes on at step {} on another setup than its last session ({}): "
+          "from here on its rows are not those an uninterrupted run would have written "
+          "(sessions.jsonl)\n",
+          run_dir, trainer->steps_done(), fmt::join(trainer->setup_changes(), ", "));
+    }
   } else {
     Require(!args.config.empty() && !args.out.empty(),
             "a new run needs --config FILE and --out RUN_DIR (or --resume RUN_DIR)");

@@ -39,6 +39,11 @@ BlasKernelInfo DetectBlasKernels() {
   if (auto* corename = reinterpret_cast<CoreName>(dlsym(RTLD_DEFAULT, "openblas_get_corename"))) {
     if (const char* name = corename()) info.core = name;
   }
+  using GetThreads = int (*)();
+  if (auto* threads =
+          reinterpret_cast<GetThreads>(dlsym(RTLD_DEFAULT, "openblas_get_num_threads"))) {
+    info.threads = threads();
+  }
   __builtin_cpu_init();
   const bool avx512 = __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512bw") &&
                       __builtin_cpu_supports("avx512vl") && __builtin_cpu_supports("avx512dq");

@@ -16,6 +16,7 @@ namespace cmbrl {
 struct BlasKernelInfo {
   std::string core;       // openblas_get_corename(), e.g. "Prescott", "Haswell", "SkylakeX"
   std::string best_core;  // "Cooperlake", "SkylakeX" or "Haswell" from the CPU's features
+  int threads = 0;        // openblas_get_num_threads() (0 when the process has no OpenBLAS)
   bool slow() const;      // OpenBLAS runs a core without the AVX2 kernels the CPU supports
 };
 

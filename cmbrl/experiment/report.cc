@@ -166,6 +166,7 @@ RunRecord ReadRunRecord(const fs::path& dir) {
   run.epoch_log = run.config.algorithm != "mpc";
   run.episodes = run.epoch_log ? ReadEpochLog(run_dir.progress_file().string())
                                : ReadProgressEpisodes(run_dir.progress_file().string());
+  run.sessions = ReadRunSessions(run_dir);
   return run;
 }
 
@@ -243,8 +244,10 @@ std::vector<RunRecord> ReadSweep(const std::string& sweep_dir) { return ReadSwee
 void KeepRunLogs(const std::vector<RunRecord>& runs, const std::string& out) {
   const fs::path logs = fs::path(out) / kLogsFolder;
   const fs::path staging = fs::path(out) / (std::string(kLogsFolder) + ".new");
-  const std::set<std::string> log_files = {RunDirectory("").config_file().filename().string(),
-                                           RunDirectory("").progress_file().filename().string()};
+  const RunDirectory layout("");
+  const std::set<std::string> log_files = {layout.config_file().filename().string(),
+                                           layout.progress_file().filename().string(),
+                                           layout.sessions_file().filename().string()};
   // Only what an earlier report wrote is replaced; anything else there is not ours to delete.
   for (const fs::path& folder : {logs, staging}) {
     if (!fs::exists(folder)) continue;
@@ -253,8 +256,8 @@ void KeepRunLogs(const std::vector<RunRecord>& runs, const std::string& out) {
               folder.string(), run.path().string());
       for (const fs::directory_entry& file : fs::directory_iterator(run.path())) {
         Require(log_files.count(file.path().filename().string()) == 1,
-                "'{}' holds '{}': expected only run logs (config.yaml and progress.csv) kept by "
-                "cmbrl report",
+                "'{}' holds '{}': expected only run logs (config.yaml, progress.csv and "
+                "sessions.jsonl) kept by cmbrl report",
                 folder.string(), file.path().string());
       }
     }
@@ -267,7 +270,9 @@ void KeepRunLogs(const std::vector<RunRecord>& runs, const std::string& out) {
     fs::create_directories(to.root(), error);
     for (const auto& [source, target] :
          {std::make_pair(from.config_file(), to.config_file()),
-          std::make_pair(from.progress_file(), to.progress_file())}) {
+          std::make_pair(from.progress_file(), to.progress_file()),
+          std::make_pair(from.sessions_file(), to.sessions_file())}) {
+      if (source == from.sessions_file() && !fs::exists(source)) continue;  // an older run
       if (!error) fs::copy_file(source, target, error);
       Require(!error, "could not copy '{}' to '{}': {}", source.string(), target.string(),
               error.message());
@@ -1018,6 +1023,48 @@ void PapersMethodAgainstOthers(const std::string& task,
 }
 
 }  // namespace
+
+std::vector<std::string> WhereRunsWereMade(const std::vector<RunRecord>& runs) {
+  std::vector<std::pair<NumericsSetup, std::vector<std::string>>> setups;  // in order of first use
+  std::vector<std::string> unrecorded, moved;
+  for (const RunRecord& run : runs) {
+    if (run.sessions.empty()) unrecorded.push_back(run.name);
+    for (size_t i = 0; i < run.sessions.size(); ++i) {
+      const RunSession& session = run.sessions[i];
+      auto setup = std::find_if(setups.begin(), setups.end(),
+                                [&](const auto& known) { return known.first == session.setup; });
+      if (setup == setups.end()) setup = setups.insert(setups.end(), {session.setup, {}});
+      std::vector<std::string>& names = setup->second;
+      if (std::find(names.begin(), names.end(), run.name) == names.end()) {
+        names.push_back(run.name);
+      }
+      if (i == 0) continue;
+      const std::vector<std::string> changes =
+          SetupChanges(run.sessions[i - 1].setup, session.setup);
+      if (!changes.empty()) {
+        moved.push_back(fmt::format("{} at step {} ({})", run.name, session.steps_done,
+                                    fmt::join(changes, ", ")));
+      }
+    }
+  }
+  const auto count = [](size_t n) { return fmt::format("{} run{}", n, n == 1 ? "" : "s"); };
+  std::vector<std::string> notes;
+  for (const auto& [setup, names] : setups) {
+    notes.push_back(fmt::format("{}: {} ({}).", DescribeSetup(setup), count(names.size()),
+                                fmt::join(names, ", ")));
+  }
+  if (!moved.empty()) {
+    notes.push_back(fmt::format(
+        "Resumed on another setup than their previous session's, so that their rows after that "
+        "step are not those of an uninterrupted run: {}.",
+        fmt::join(moved, "; ")));
+  }
+  if (!unrecorded.empty()) {
+    notes.push_back(fmt::format("Not recorded (begun before runs kept sessions.jsonl): {} ({}).",
+                                count(unrecorded.size()), fmt::join(unrecorded, ", ")));
+  }
+  return notes;
+}
 
 std::vector<std::string> OutcomeDifferences(const std::vector<TableCell>& cells,
                                             std::int64_t window) {

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "cmbrl/experiment/config.h"
+#include "cmbrl/experiment/run_sessions.h"
 
 namespace cmbrl {
 
@@ -38,6 +39,8 @@ struct RunRecord {
   // The folder its config.yaml and progress.csv were read from: a sweep's runs/<name>, or a
   // report's run-logs/<name> (KeepRunLogs).
   std::filesystem::path source;
+  // Where each of its sessions ran (empty: a run begun before runs kept sessions.jsonl).
+  std::vector<RunSession> sessions;
 };
 
 // An episode with at least this many violations is a "heavy" one: on level 2 a few such
@@ -87,7 +90,8 @@ std::vector<RunRecord> ReadSweep(const std::string& sweep_dir);
 // of them (except a log and the run it is a prefix of, as in ReadSweep).
 std::vector<RunRecord> ReadSweeps(const std::vector<std::string>& sweep_dirs);
 
-// Writes each run's config.yaml and progress.csv, as they are now, to out/run-logs/<name>/, so
+// Writes each run's config.yaml, progress.csv and sessions.jsonl (where it has one), as they are
+// now, to out/run-logs/<name>/, so
 // that the report's folder holds what it was made from and can be made again without the runs
 // (their checkpoints are not kept). run-logs/, not logs/: a sweep's logs/ holds its runs'
 // output. Replaces a previous report's run-logs/ whole (written beside it, then swapped in),
@@ -211,6 +215,11 @@ std::vector<LearningCurve> LearningCurves(const std::vector<RunRecord>& runs,
 // Where the sweep's settings differ from the paper's (network sizes, step counts, seeds,
 // planner and classifier sizes, simulator): one plain sentence each.
 std::vector<std::string> SetupDifferences(const std::vector<RunRecord>& runs, std::int64_t window);
+
+// Where the runs were made, for a report: each setup (run_sessions.h) with the runs that ran on
+// it, the runs resumed on another setup than their last session's (their rows after that step
+// are not an uninterrupted run's), and the runs without a record. One plain sentence each.
+std::vector<std::string> WhereRunsWereMade(const std::vector<RunRecord>& runs);
 
 // Where the outcome differs: per task whether RCE violated least, and each cell against the
 // original's seeds over the same window (or, for a cell without its logs, against Table I when

@@ -10,6 +10,7 @@
 #include "cmbrl/core/run_lock.h"
 #include "cmbrl/experiment/mpc_learner.h"
 #include "cmbrl/experiment/policy_opt_learner.h"
+#include "cmbrl/experiment/run_sessions.h"
 #include "cmbrl/run/progress_table.h"
 #include "cmbrl/run/run_directory.h"
 
@@ -31,6 +32,7 @@ struct Trainer::State {
   // begun by a version that wrote fewer (ProgressColumnsKept).
   std::optional<size_t> columns_kept;
   double elapsed_before = 0.0;  // seconds of earlier sessions of this run
+  std::vector<std::string> setup_changes;  // against the previous session (run_sessions.h)
   std::chrono::steady_clock::time_point session_start = std::chrono::steady_clock::now();
 
   State(TrainConfig c, RunDirectory r) : config(std::move(c)), run(std::move(r)) {}
@@ -57,6 +59,7 @@ std::unique_ptr<Trainer> Trainer::Start(const TrainConfig& config, const std::st
   state->learner = MakeLearner(config);
   RunDirectory::Create(run_dir, TrainConfigToYaml(config), state->learner->ProgressHeader(),
                        [&] { state->lock = std::make_unique<RunLock>(run_dir); });
+  RecordRunSession(state->run, 0, CurrentNumericsSetup(config.device));
   return std::unique_ptr<Trainer>(new Trainer(std::move(state)));
 }
 
@@ -97,12 +100,18 @@ std::unique_ptr<Trainer> Trainer::Resume(const std::string& run_dir,
   if (header != columns) {
     state->columns_kept = ProgressColumnsKept(run.progress_file(), header, columns);
   }
+  // A finished run asked to go on with nothing to do is no session.
+  if (!state->learner->Finished()) {
+    state->setup_changes = RecordRunSession(run, state->learner->steps_done(),
+                                            CurrentNumericsSetup(state->config.device));
+  }
   return std::unique_ptr<Trainer>(new Trainer(std::move(state)));
 }
 
 Trainer::Trainer(std::unique_ptr<State> state) : state_(std::move(state)) {}
 Trainer::~Trainer() = default;
 
+const std::vector<std::string>& Trainer::setup_changes() const { return state_->setup_changes; }
 const TrainConfig& Trainer::config() const { return state_->config; }
 const Learner& Trainer::learner() const { return *state_->learner; }
 std::int64_t Trainer::steps_done() const { return state_->learner->steps_done(); }

@@ -9,6 +9,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "cmbrl/experiment/config.h"
 #include "cmbrl/run/learner.h"
@@ -19,7 +20,8 @@ namespace cmbrl {
 std::unique_ptr<Learner> MakeLearner(const TrainConfig& config);
 
 // Files in the run directory: config.yaml (resolved), progress.csv, checkpoint/ (rewritten after
-// every unit of work, swapped in atomically, with a manifest of what it covers). Resume checks
+// every unit of work, swapped in atomically, with a manifest of what it covers), sessions.jsonl
+// (where each session ran, run_sessions.h). Resume checks
 // the checkpoint against its manifest and progress.csv, drops rows written after it and
 // continues; on the CPU the rows then equal an uninterrupted run's (Time aside). Not
 // thread-safe.
@@ -43,6 +45,11 @@ class Trainer {
   // Trains until the learner's budget is spent. `on_unit` sees each unit of work's summary after
   // its row is in progress.csv and before the checkpoint that covers it.
   void Run(const std::function<void(const ProgressSummary&)>& on_unit = {});
+
+  // How this session's setup differs from the run's previous session (run_sessions.h), one
+  // part per field: empty for a new run, an unchanged setup, or a run that kept no sessions.
+  // Rows from here on are not those of an uninterrupted run where it is not empty.
+  const std::vector<std::string>& setup_changes() const;
 
   const TrainConfig& config() const;
   const Learner& learner() const;

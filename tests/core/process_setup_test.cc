@@ -27,6 +27,7 @@ TEST(ProcessSetupTest, BestCoreFollowsTheCpusFeatures) {
     EXPECT_EQ(info.best_core, "");
   }
   EXPECT_EQ(info.core, "") << "this test program does not load OpenBLAS";
+  EXPECT_EQ(info.threads, 0) << "this test program does not load OpenBLAS";
 }
 
 }  // namespace

@@ -696,6 +696,46 @@ TEST_F(ReportTest, AReportsLogsMakeItAgainWithoutTheRuns) {
               HasSubstr("holds neither runs/ nor run-logs/"));
 }
 
+// Where each run was made travels with its logs, and the report says it: each setup with its
+// runs, a run resumed elsewhere, runs that kept no record.
+TEST_F(ReportTest, WhereTheRunsWereMadeIsKeptAndSaid) {
+  NumericsSetup here;
+  here.cmbrl = "0.1.0 (abc)";
+  here.cpu = "AMD EPYC";
+  here.blas_core = "Haswell";
+  here.blas_threads = 1;
+  here.torch_threads = 1;
+  NumericsSetup there = here;
+  there.cpu = "Intel Xeon";
+  const fs::path runs_dir = sweep_ / "runs";
+  RecordRunSession(RunDirectory(runs_dir / "PointGoal1-rce-s0"), 0, here);
+  RecordRunSession(RunDirectory(runs_dir / "PointGoal1-rce-s1"), 0, here);
+  RecordRunSession(RunDirectory(runs_dir / "PointGoal1-rce-s1"), 100, there);
+  RecordRunSession(RunDirectory(runs_dir / "PointGoal1-cem-s0"), 0, there);
+
+  const fs::path out = sweep_ / "report";
+  KeepRunLogs(ReadSweep(sweep_.string()), out.string());
+  EXPECT_TRUE(fs::exists(out / "run-logs" / "PointGoal1-rce-s1" / "sessions.jsonl"));
+  EXPECT_FALSE(fs::exists(out / "run-logs" / "PointGoal1-cem-s1" / "sessions.jsonl"));
+  const std::vector<RunRecord> runs = ReadSweep(out.string());
+  const auto run = std::find_if(runs.begin(), runs.end(),
+                                [](const RunRecord& r) { return r.name == "PointGoal1-rce-s1"; });
+  ASSERT_NE(run, runs.end());
+  ASSERT_EQ(run->sessions.size(), 2u);
+  EXPECT_EQ(run->sessions[1].setup, there);
+
+  const std::vector<std::string> notes = WhereRunsWereMade(runs);
+  ASSERT_EQ(notes.size(), 4u);
+  // Runs in name order: CarGoal2 (none recorded), then PointGoal1-cem-s0 (there) first.
+  EXPECT_THAT(notes[0], HasSubstr("CPU 'Intel Xeon'"));
+  EXPECT_THAT(notes[0], HasSubstr(": 2 runs (PointGoal1-cem-s0, PointGoal1-rce-s1)."));
+  EXPECT_THAT(notes[1], HasSubstr("CPU 'AMD EPYC'"));
+  EXPECT_THAT(notes[1], HasSubstr(": 2 runs (PointGoal1-rce-s0, PointGoal1-rce-s1)."));
+  EXPECT_THAT(notes[2],
+              HasSubstr("PointGoal1-rce-s1 at step 100 (cpu 'AMD EPYC' -> 'Intel Xeon')"));
+  EXPECT_THAT(notes[3], HasSubstr("Not recorded (begun before runs kept sessions.jsonl): 4 runs"));
+}
+
 TEST_F(ReportTest, AnEarlierTablesCellsJoinWhereTheRunsGiveNone) {
   const std::vector<RunRecord> reference = ReadReferenceRuns(WriteReference().string());
   const std::vector<RunRecord> runs = ReadSweep(sweep_.string());

@@ -2,16 +2,15 @@
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
-
 #include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <sstream>
 
-#include <nlohmann/json.hpp>
-
 #include "cmbrl/experiment/mpc_learner.h"
+#include "cmbrl/experiment/run_sessions.h"
 #include "cmbrl/models/labeled_state_buffer.h"
 #include "cmbrl/models/transition_buffer.h"
 #include "cmbrl/run/progress_table.h"
@@ -157,8 +156,42 @@ TEST(TrainerTest, ResumingAfterACrashGivesTheSameRows) {
   // Stop after the third row is written but before its checkpoint: the worst moment.
   CrashAfterRows(TinyConfig("rce"), crashed, 3);
   EXPECT_EQ(RowsWithoutTimes(crashed).size(), 4u);  // header + 3 rows, the third uncovered
-  Trainer::Resume(crashed)->Run();
+  const std::unique_ptr<Trainer> resumed = Trainer::Resume(crashed);
+  const std::int64_t resumed_at = resumed->steps_done();
+  resumed->Run();
   EXPECT_EQ(RowsWithoutTimes(crashed), RowsWithoutTimes(whole));
+  // Each session is on record, the resume at the checkpoint's step, on the same setup.
+  EXPECT_TRUE(resumed->setup_changes().empty());
+  EXPECT_EQ(ReadRunSessions(RunDirectory(whole)).size(), 1u);
+  const std::vector<RunSession> sessions = ReadRunSessions(RunDirectory(crashed));
+  ASSERT_EQ(sessions.size(), 2u);
+  EXPECT_EQ(sessions[0].steps_done, 0);
+  EXPECT_GT(resumed_at, 0);
+  EXPECT_EQ(sessions[1].steps_done, resumed_at);
+  EXPECT_EQ(sessions[1].setup, CurrentNumericsSetup("cpu"));
+}
+
+// A run resumed on another machine goes on, and says so: its rows from then on are not the
+// uninterrupted run's.
+TEST(TrainerTest, AResumeOnAnotherSetupIsNamed) {
+  const std::string dir = TempRunDir("elsewhere");
+  CrashAfterRows(TinyConfig("cem"), dir, 2);
+  const fs::path sessions = RunDirectory(dir).sessions_file();
+  std::ifstream in(sessions);
+  nlohmann::json first = nlohmann::json::parse(in);
+  in.close();
+  first["cpu"] = "Another CPU";
+  std::ofstream(sessions) << first.dump() << "\n";
+  {
+    const std::unique_ptr<Trainer> resumed = Trainer::Resume(dir);
+    EXPECT_THAT(resumed->setup_changes(),
+                ::testing::ElementsAre(
+                    fmt::format("cpu 'Another CPU' -> '{}'", CurrentNumericsSetup("cpu").cpu)));
+    resumed->Run();
+  }
+  // A finished run asked to go on records no session.
+  EXPECT_TRUE(Trainer::Resume(dir)->setup_changes().empty());
+  EXPECT_EQ(ReadRunSessions(RunDirectory(dir)).size(), 2u);
 }
 
 // A run begun by a version that wrote fewer columns (here without the last two) keeps its

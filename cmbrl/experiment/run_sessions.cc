@@ -1,0 +1,204 @@
+#include "cmbrl/experiment/run_sessions.h"
+
+#include <ATen/Parallel.h>
+#include <fmt/format.h>
+#include <mujoco/mujoco.h>
+#include <torch/version.h>
+#include <xgboost/c_api.h>
+
+#include <chrono>
+#include <ctime>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <utility>
+#include <vector>
+
+#include "cmbrl/core/build_info.h"
+#include "cmbrl/core/check.h"
+#include "cmbrl/core/process_setup.h"
+
+namespace cmbrl {
+namespace {
+
+namespace fs = std::filesystem;
+
+// A setup's fields as (key in sessions.jsonl, value as text), in one order: for comparing them.
+std::vector<std::pair<std::string, std::string>> FieldTexts(const NumericsSetup& setup) {
+  return {{"cmbrl", setup.cmbrl},
+          {"cpu", setup.cpu},
+          {"blas_core", setup.blas_core},
+          {"blas_threads", std::to_string(setup.blas_threads)},
+          {"torch_threads", std::to_string(setup.torch_threads)},
+          {"libtorch", setup.libtorch},
+          {"mujoco", setup.mujoco},
+          {"xgboost", setup.xgboost},
+          {"device", setup.device}};
+}
+
+std::string CpuModelName() {
+  std::ifstream cpuinfo("/proc/cpuinfo");
+  std::string line;
+  while (std::getline(cpuinfo, line)) {
+    if (line.rfind("model name", 0) != 0) continue;
+    const size_t colon = line.find(':');
+    if (colon == std::string::npos) continue;
+    const size_t start = line.find_first_not_of(" \t", colon + 1);
+    return start == std::string::npos ? std::string() : line.substr(start);
+  }
+  return "";
+}
+
+std::string UtcNow() {
+  const std::time_t now = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
+  std::tm utc{};
+  gmtime_r(&now, &utc);
+  char text[32];
+  std::strftime(text, sizeof(text), "%Y-%m-%dT%H:%M:%SZ", &utc);
+  return text;
+}
+
+nlohmann::ordered_json SessionJson(const RunSession& session) {
+  const NumericsSetup& setup = session.setup;
+  return {{"session", session.number},
+          {"began", session.began},
+          {"steps_done", session.steps_done},
+          {"cmbrl", setup.cmbrl},
+          {"cpu", setup.cpu},
+          {"blas_core", setup.blas_core},
+          {"blas_threads", setup.blas_threads},
+          {"torch_threads", setup.torch_threads},
+          {"libtorch", setup.libtorch},
+          {"mujoco", setup.mujoco},
+          {"xgboost", setup.xgboost},
+          {"device", setup.device}};
+}
+
+// A value of the line's object, named in the error when it is missing or of another type.
+template <typename T>
+T Field(const nlohmann::json& line, const char* key, const std::string& where) {
+  const auto it = line.find(key);
+  Require(it != line.end(), "{}: no '{}': expected a session with its setup", where, key);
+  try {
+    return it->get<T>();
+  } catch (const nlohmann::json::exception&) {
+    Fail("{}: '{}' is {}: expected {}", where, key, it->dump(),
+         std::is_same_v<T, std::string> ? "a string" : "a whole number");
+  }
+}
+
+RunSession ParseSession(const std::string& text, const std::string& where) {
+  nlohmann::json line;
+  try {
+    line = nlohmann::json::parse(text);
+  } catch (const nlohmann::json::exception& error) {
+    Fail("{}: not JSON ({}): expected one session per line", where, error.what());
+  }
+  Require(line.is_object(), "{}: {} is not an object: expected one session per line", where, text);
+  RunSession session;
+  session.number = Field<int>(line, "session", where);
+  session.began = Field<std::string>(line, "began", where);
+  session.steps_done = Field<std::int64_t>(line, "steps_done", where);
+  NumericsSetup& setup = session.setup;
+  setup.cmbrl = Field<std::string>(line, "cmbrl", where);
+  setup.cpu = Field<std::string>(line, "cpu", where);
+  setup.blas_core = Field<std::string>(line, "blas_core", where);
+  setup.blas_threads = Field<int>(line, "blas_threads", where);
+  setup.torch_threads = Field<int>(line, "torch_threads", where);
+  setup.libtorch = Field<std::string>(line, "libtorch", where);
+  setup.mujoco = Field<std::string>(line, "mujoco", where);
+  setup.xgboost = Field<std::string>(line, "xgboost", where);
+  setup.device = Field<std::string>(line, "device", where);
+  return session;
+}
+
+// The file's text up to and including its last newline: what a stop mid-write left whole.
+std::string WholeLines(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  Require(static_cast<bool>(in), "could not read '{}'", file.string());
+  std::stringstream text;
+  text << in.rdbuf();
+  const std::string all = text.str();
+  const size_t end = all.rfind('\n');
+  return end == std::string::npos ? std::string() : all.substr(0, end + 1);
+}
+
+}  // namespace
+
+bool NumericsSetup::operator==(const NumericsSetup& other) const {
+  return SetupChanges(*this, other).empty();
+}
+
+NumericsSetup CurrentNumericsSetup(const std::string& device) {
+  NumericsSetup setup;
+  setup.cmbrl = fmt::format("{} ({})", CmbrlVersion(), CmbrlCommit());
+  setup.cpu = CpuModelName();
+  const BlasKernelInfo blas = DetectBlasKernels();
+  setup.blas_core = blas.core;
+  setup.blas_threads = blas.threads;
+  setup.torch_threads = at::get_num_threads();
+  setup.libtorch = TORCH_VERSION;
+  setup.mujoco = mj_versionString();
+  int major = 0, minor = 0, patch = 0;
+  XGBoostVersion(&major, &minor, &patch);
+  setup.xgboost = fmt::format("{}.{}.{}", major, minor, patch);
+  setup.device = device;
+  return setup;
+}
+
+std::vector<std::string> SetupChanges(const NumericsSetup& before, const NumericsSetup& after) {
+  const auto old_fields = FieldTexts(before);
+  const auto new_fields = FieldTexts(after);
+  std::vector<std::string> changes;
+  for (size_t i = 0; i < old_fields.size(); ++i) {
+    if (old_fields[i].second == new_fields[i].second) continue;
+    changes.push_back(fmt::format("{} '{}' -> '{}'", old_fields[i].first, old_fields[i].second,
+                                  new_fields[i].second));
+  }
+  return changes;
+}
+
+std::string DescribeSetup(const NumericsSetup& setup) {
+  return fmt::format(
+      "cmbrl {}; CPU '{}', OpenBLAS kernels '{}' with {} thread(s), LibTorch {} with {} "
+      "thread(s); MuJoCo {}, XGBoost {}; device {}",
+      setup.cmbrl, setup.cpu, setup.blas_core, setup.blas_threads, setup.libtorch,
+      setup.torch_threads, setup.mujoco, setup.xgboost, setup.device);
+}
+
+std::vector<RunSession> ReadRunSessions(const RunDirectory& run) {
+  const fs::path file = run.sessions_file();
+  std::vector<RunSession> sessions;
+  if (!fs::exists(file)) return sessions;
+  std::istringstream lines(WholeLines(file));
+  std::string line;
+  for (int number = 1; std::getline(lines, line); ++number) {
+    sessions.push_back(ParseSession(line, fmt::format("'{}' line {}", file.string(), number)));
+  }
+  return sessions;
+}
+
+std::vector<std::string> RecordRunSession(const RunDirectory& run, std::int64_t steps_done,
+                                          const NumericsSetup& setup) {
+  const fs::path file = run.sessions_file();
+  const std::vector<RunSession> before = ReadRunSessions(run);
+  if (fs::exists(file)) {
+    std::error_code error;
+    fs::resize_file(file, WholeLines(file).size(), error);
+    Require(!error, "could not drop the unfinished last line of '{}': {}", file.string(),
+            error.message());
+  }
+  RunSession session;
+  session.number = before.empty() ? 1 : before.back().number + 1;
+  session.began = UtcNow();
+  session.steps_done = steps_done;
+  session.setup = setup;
+  std::ofstream out(file, std::ios::app);
+  out << SessionJson(session).dump() << "\n";
+  out.close();
+  Require(!out.fail(), "could not append to '{}'", file.string());
+  return before.empty() ? std::vector<std::string>() : SetupChanges(before.back().setup, setup);
+}
+
+}  // namespace cmbrl
