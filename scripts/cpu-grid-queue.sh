@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # The runs the CPU grid (configs/cpu, results/cpu-grid) still lacks, in the order that answers
-# issue 12 soonest: every cell to 3 seeds. The committed report holds the logs of the runs made
-# so far (results/cpu-grid/run-logs/), and the cells whose logs were lost with an earlier
-# machine stand in results/cpu-grid/first-25-runs/table-1.csv; a cell made from runs replaces
-# such a cell whole, so PointGoal2 CEM is made again with all three seeds.
+# issue 12 soonest. Every cell has 3 seeds (5 for the level-2 RCE cells); five cells stand in
+# results/cpu-grid/first-25-runs/table-1.csv because their runs' logs were lost with an earlier
+# machine, so they have no curves or first epochs in the report. This makes them again with
+# logs, the cell nearest its bound (PointGoal2 RCE) first. A cell made from runs replaces such a
+# cell whole, so give the report a cell's runs only once all its seeds are finished.
 # Started again with the same arguments it skips finished runs and resumes the others. Then:
 #   cmbrl report results/cpu-grid OUT_DIR --earlier-table \
 #       results/cpu-grid/first-25-runs/table-1.csv --out results/cpu-grid --window 3000 --complete
@@ -16,7 +17,7 @@ out=$2
 sweep() {
   "$cmbrl" sweep --config-dir configs/cpu --out "$out" --jobs "${JOBS:-1}" "$@"
 }
-# Seeds 0 and 1 so far (2026-11-25): both in the report's run-logs.
-sweep --tasks CarGoal2 --planners random --seeds 2
-# Seeds 0 and 1 so far, in the report's run-logs.
-sweep --tasks PointGoal2 --planners cem --seeds 2
+# 2026-11-25, third session: seeds 0 to 4 under way on the development machine (two queues).
+sweep --tasks PointGoal2 --planners rce --seeds 0 1 2 3 4
+sweep --tasks PointGoal1 --planners rce --seeds 0 1 2
+sweep --tasks CarGoal1 --planners rce cem random --seeds 0 1 2
