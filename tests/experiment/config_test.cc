@@ -256,8 +256,8 @@ TEST(ConfigTest, TheQuickstartGridHasEveryTaskAndPlannerAtQuickstartSize) {
 
 // The CPU presets: the paper's settings but for the dynamics networks' width, RCE's planner
 // (the grid's 200 x 5 with 10 elites: ablation 'population'), the window, for the Car
-// networks that predict the change of state (ablation 'delta'), and for CarGoal2 RCE's
-// classifier threshold of 0.3 (ablation 'threshold').
+// networks that predict the change of state (ablation 'delta'), and for the level-2 RCE
+// presets' and PointGoal1 CEM's classifier threshold of 0.3 (ablation 'threshold').
 TEST(ConfigTest, TheCpuPresetsKeepThePapersSettingsButTheNetworksWidthAndRcesPlanner) {
   const TrainConfig paper = ParseTrainConfig("task: PointGoal1", "paper");
   ForEachPreset(
@@ -280,6 +280,7 @@ TEST(ConfigTest, TheCpuPresetsKeepThePapersSettingsButTheNetworksWidthAndRcesPla
         expected.objective.goal_index = config.objective.goal_index;
         // Named departures of two presets (their configs say why).
         if ((task == "CarGoal2" && planner == "rce") ||
+            (task == "PointGoal2" && planner == "rce") ||
             (task == "PointGoal1" && planner == "cem")) {
           expected.classifier.threshold = 0.3;
         }
@@ -360,17 +361,20 @@ TEST(ConfigTest, ThePointGoal1ThresholdAblationIsThePreset) {
   EXPECT_EQ(TrainConfigToYaml(ablation), TrainConfigToYaml(preset));
 }
 
-// The ablation 'threshold' became the CarGoal2 RCE preset: the preset at 2000 steps, so its
-// runs (continued to 3000 with --steps) are the CPU grid's cell.
-TEST(ConfigTest, TheCarGoal2ThresholdAblationIsThePresetAtTwoThousandSteps) {
-  TrainConfig ablation =
-      LoadTrainConfig(CMBRL_SOURCE_DIR "/configs/ablation-level2/threshold/cargoal2-rce.yaml");
-  const TrainConfig preset = LoadTrainConfig(CMBRL_SOURCE_DIR "/configs/cpu/cargoal2-rce.yaml");
-  EXPECT_EQ(ablation.training.total_steps, 2000);
-  EXPECT_DOUBLE_EQ(ablation.classifier.threshold, 0.3);
-  EXPECT_DOUBLE_EQ(preset.classifier.threshold, 0.3);
-  ablation.training.total_steps = preset.training.total_steps;
-  EXPECT_EQ(TrainConfigToYaml(ablation), TrainConfigToYaml(preset));
+// The ablation 'threshold' became the level-2 RCE presets: the preset at 2000 steps, so its
+// runs (continued to, or run for, 3000 steps with --steps) are the CPU grid's cells.
+TEST(ConfigTest, TheLevel2ThresholdAblationIsThePresetAtTwoThousandSteps) {
+  for (const std::string name : {"cargoal2-rce", "pointgoal2-rce"}) {
+    SCOPED_TRACE(name);
+    TrainConfig ablation =
+        LoadTrainConfig(CMBRL_SOURCE_DIR "/configs/ablation-level2/threshold/" + name + ".yaml");
+    const TrainConfig preset = LoadTrainConfig(CMBRL_SOURCE_DIR "/configs/cpu/" + name + ".yaml");
+    EXPECT_EQ(ablation.training.total_steps, 2000);
+    EXPECT_DOUBLE_EQ(ablation.classifier.threshold, 0.3);
+    EXPECT_DOUBLE_EQ(preset.classifier.threshold, 0.3);
+    ablation.training.total_steps = preset.training.total_steps;
+    EXPECT_EQ(TrainConfigToYaml(ablation), TrainConfigToYaml(preset));
+  }
 }
 
 TEST(ConfigTest, ObservationSizesMatchTheEnvironments) {
