@@ -12,7 +12,6 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
-#include <utility>
 #include <vector>
 
 #include "cmbrl/core/build_info.h"
@@ -24,13 +23,13 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// A setup's fields as (key in sessions.jsonl, value as text), in one order: for comparing them.
-std::vector<std::pair<std::string, std::string>> FieldTexts(const NumericsSetup& setup) {
+// A setup's fields as sessions.jsonl writes them, in one order: also what SetupChanges compares.
+nlohmann::ordered_json SetupJson(const NumericsSetup& setup) {
   return {{"cmbrl", setup.cmbrl},
           {"cpu", setup.cpu},
           {"blas_core", setup.blas_core},
-          {"blas_threads", std::to_string(setup.blas_threads)},
-          {"torch_threads", std::to_string(setup.torch_threads)},
+          {"blas_threads", setup.blas_threads},
+          {"torch_threads", setup.torch_threads},
           {"libtorch", setup.libtorch},
           {"mujoco", setup.mujoco},
           {"xgboost", setup.xgboost},
@@ -60,19 +59,10 @@ std::string UtcNow() {
 }
 
 nlohmann::ordered_json SessionJson(const RunSession& session) {
-  const NumericsSetup& setup = session.setup;
-  return {{"session", session.number},
-          {"began", session.began},
-          {"steps_done", session.steps_done},
-          {"cmbrl", setup.cmbrl},
-          {"cpu", setup.cpu},
-          {"blas_core", setup.blas_core},
-          {"blas_threads", setup.blas_threads},
-          {"torch_threads", setup.torch_threads},
-          {"libtorch", setup.libtorch},
-          {"mujoco", setup.mujoco},
-          {"xgboost", setup.xgboost},
-          {"device", setup.device}};
+  nlohmann::ordered_json line = {
+      {"session", session.number}, {"began", session.began}, {"steps_done", session.steps_done}};
+  line.update(SetupJson(session.setup));
+  return line;
 }
 
 // A value of the line's object, named in the error when it is missing or of another type.
@@ -113,8 +103,10 @@ RunSession ParseSession(const std::string& text, const std::string& where) {
   return session;
 }
 
-// The file's text up to and including its last newline: what a stop mid-write left whole.
+// The file's text up to and including its last newline (what a stop mid-write left whole); ""
+// when there is no file.
 std::string WholeLines(const fs::path& file) {
+  if (!fs::exists(file)) return "";
   std::ifstream in(file, std::ios::binary);
   Require(static_cast<bool>(in), "could not read '{}'", file.string());
   std::stringstream text;
@@ -122,6 +114,21 @@ std::string WholeLines(const fs::path& file) {
   const std::string all = text.str();
   const size_t end = all.rfind('\n');
   return end == std::string::npos ? std::string() : all.substr(0, end + 1);
+}
+
+// The sessions of `whole_lines`, the whole lines of `file`.
+std::vector<RunSession> ParseSessions(const std::string& whole_lines, const fs::path& file) {
+  std::vector<RunSession> sessions;
+  std::istringstream lines(whole_lines);
+  std::string line;
+  for (int number = 1; std::getline(lines, line); ++number) {
+    sessions.push_back(ParseSession(line, fmt::format("'{}' line {}", file.string(), number)));
+  }
+  return sessions;
+}
+
+std::string ValueText(const nlohmann::ordered_json& value) {
+  return value.is_string() ? value.get<std::string>() : value.dump();
 }
 
 }  // namespace
@@ -148,13 +155,13 @@ NumericsSetup CurrentNumericsSetup(const std::string& device) {
 }
 
 std::vector<std::string> SetupChanges(const NumericsSetup& before, const NumericsSetup& after) {
-  const auto old_fields = FieldTexts(before);
-  const auto new_fields = FieldTexts(after);
+  const nlohmann::ordered_json then = SetupJson(before);
+  const nlohmann::ordered_json now = SetupJson(after);
   std::vector<std::string> changes;
-  for (size_t i = 0; i < old_fields.size(); ++i) {
-    if (old_fields[i].second == new_fields[i].second) continue;
-    changes.push_back(fmt::format("{} '{}' -> '{}'", old_fields[i].first, old_fields[i].second,
-                                  new_fields[i].second));
+  for (const auto& [key, value] : then.items()) {
+    if (value == now.at(key)) continue;
+    changes.push_back(
+        fmt::format("{} '{}' -> '{}'", key, ValueText(value), ValueText(now.at(key))));
   }
   return changes;
 }
@@ -169,23 +176,17 @@ std::string DescribeSetup(const NumericsSetup& setup) {
 
 std::vector<RunSession> ReadRunSessions(const RunDirectory& run) {
   const fs::path file = run.sessions_file();
-  std::vector<RunSession> sessions;
-  if (!fs::exists(file)) return sessions;
-  std::istringstream lines(WholeLines(file));
-  std::string line;
-  for (int number = 1; std::getline(lines, line); ++number) {
-    sessions.push_back(ParseSession(line, fmt::format("'{}' line {}", file.string(), number)));
-  }
-  return sessions;
+  return ParseSessions(WholeLines(file), file);
 }
 
 std::vector<std::string> RecordRunSession(const RunDirectory& run, std::int64_t steps_done,
                                           const NumericsSetup& setup) {
   const fs::path file = run.sessions_file();
-  const std::vector<RunSession> before = ReadRunSessions(run);
+  const std::string whole_lines = WholeLines(file);
+  const std::vector<RunSession> before = ParseSessions(whole_lines, file);
   if (fs::exists(file)) {
     std::error_code error;
-    fs::resize_file(file, WholeLines(file).size(), error);
+    fs::resize_file(file, whole_lines.size(), error);
     Require(!error, "could not drop the unfinished last line of '{}': {}", file.string(),
             error.message());
   }
