@@ -11,6 +11,7 @@
 #include "app/commands.h"
 #include "cmbrl/core/check.h"
 #include "cmbrl/env/registry.h"
+#include "cmbrl/experiment/experiment_file.h"
 #include "cmbrl/experiment/sweep_runner.h"
 #include "cmbrl/planning/planner_registry.h"
 
@@ -22,11 +23,29 @@ struct SweepArgs {
   SweepGrid grid;
   std::string out;
   int jobs = 1;
+  std::string experiment;  // experiments/<name>: its grid, into experiments/<name>/runs
 };
 
 std::string ProgramPath() { return fs::read_symlink("/proc/self/exe").string(); }
 
-void RunSweepCommand(const SweepArgs& args) {
+void RunSweepCommand(SweepArgs args, const CLI::App& command) {
+  if (!args.experiment.empty()) {
+    for (const char* option : {"--tasks", "--planners", "--seeds", "--config-dir", "--steps",
+                               "--out"}) {
+      Require(command.count(option) == 0,
+              "{} is declared by the experiment '{}' ({}): give no {} with an experiment", option,
+              args.experiment, kExperimentFile, option);
+    }
+    const Experiment experiment = LoadExperiment(args.experiment);
+    args.grid = ExperimentGrid(experiment);
+    args.out = experiment.runs_dir().string();
+    std::cout << nlohmann::ordered_json{{"experiment", experiment.name},
+                                        {"sha256", experiment.sha256},
+                                        {"runs", args.out}}
+                     .dump()
+              << std::endl;
+  }
+  Require(!args.out.empty(), "--out SWEEP_DIR is required (or give an experiment folder)");
   const SweepOutcome outcome =
       RunSweep(args.grid, args.out, args.jobs, ProgramPath(), [](const SweepEvent& event) {
         nlohmann::ordered_json line{{"run", event.run}, {"status", event.status}};
@@ -56,8 +75,14 @@ void AddSweepCommand(CLI::App& parent) {
   args->grid.seeds = {0, 1, 2};
   CLI::App* command = parent.add_subcommand(
       "sweep",
-      "Train a grid of tasks x planners x seeds, N runs at a time, skipping finished runs and "
-      "resuming interrupted ones; also writes SWEEP_DIR/slurm.sh for a cluster");
+      "Train a grid of tasks x planners x seeds (or an experiment's, from its experiment.yaml), "
+      "N runs at a time, skipping finished runs and resuming interrupted ones; also writes "
+      "SWEEP_DIR/slurm.sh for a cluster");
+  command
+      ->add_option("experiment", args->experiment,
+                   "experiment folder (experiments/<name>, holding experiment.yaml): runs its "
+                   "grid into experiments/<name>/runs, or resumes it")
+      ->check(CLI::ExistingDirectory);
   command->add_option("--tasks", args->grid.tasks, "tasks")->capture_default_str();
   command->add_option("--planners,--methods", args->grid.planners,
                       "planners (rce, cem, random) and/or model-free algorithms (trpo, "
@@ -73,11 +98,11 @@ void AddSweepCommand(CLI::App& parent) {
   command->add_option("--steps", args->grid.steps,
                       "agent steps of every run (default: each config's training.total_steps)")
       ->check(IntegerIn(1, kMaxSteps));
-  command->add_option("--out", args->out, "sweep directory")->required();
+  command->add_option("--out", args->out, "sweep directory (without an experiment)");
   command->add_option("--jobs", args->jobs, "runs at a time")
       ->check(IntegerIn(1, 1024))
       ->capture_default_str();
-  command->callback([args] { RunSweepCommand(*args); });
+  command->callback([args, command] { RunSweepCommand(*args, *command); });
 }
 
 }  // namespace cmbrl::app

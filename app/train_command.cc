@@ -22,7 +22,7 @@ namespace cmbrl::app {
 namespace {
 
 struct TrainArgs {
-  std::string config;
+  std::vector<std::string> config;  // composed in order (LoadTrainConfig)
   std::string out;
   std::string resume;
   std::optional<std::int64_t> steps;
@@ -58,11 +58,12 @@ void RunTrain(const TrainArgs& args) {
     Require(!args.config.empty() && !args.out.empty(),
             "a new run needs --config FILE and --out RUN_DIR (or --resume RUN_DIR)");
     TrainConfig config = LoadTrainConfig(args.config);
+    const std::string source = fmt::format("{}", fmt::join(args.config, "' + '"));
     if (!args.overrides.empty()) config = ApplyConfigOverrides(config, args.overrides, "--set");
     if (args.steps) config.training.total_steps = *args.steps;
     if (args.seed) config.seed = *args.seed;
     if (args.device) SetTrainDevice(config, *args.device);
-    ValidateTrainConfig(config, args.config);
+    ValidateTrainConfig(config, source);
     run_dir = args.out;
     trainer = Trainer::Start(config, run_dir);
   }
@@ -103,7 +104,10 @@ void AddTrainCommand(CLI::App& parent) {
   auto args = std::make_shared<TrainArgs>();
   CLI::App* command = parent.add_subcommand(
       "train", "Train an MPC agent (RCE, CEM or random) with learned models; resumable");
-  command->add_option("--config", args->config, "YAML config (see configs/)")
+  command
+      ->add_option("--config", args->config,
+                   "YAML config (see configs/); several are composed in order, later keys over "
+                   "earlier ones, e.g. --config configs/pointgoal2-rce.yaml configs/cpu.yaml")
       ->check(CLI::ExistingFile);
   command->add_option("--out", args->out, "run directory to create");
   command->add_option("--resume", args->resume, "run directory to continue")

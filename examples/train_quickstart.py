@@ -20,7 +20,10 @@ ROOT = pathlib.Path(__file__).resolve().parents[1]
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    parser.add_argument("--config", default=ROOT / "configs" / "quickstart.yaml")
+    parser.add_argument("--config", nargs="+",
+                        default=[ROOT / "configs" / "pointgoal1-rce.yaml",
+                                 ROOT / "configs" / "quickstart.yaml"],
+                        help="config files, composed in order (a preset, then a family)")
     parser.add_argument("--out", required=True, help="run directory")
     parser.add_argument("--steps", type=int, help="agent steps (default: the config's)")
     parser.add_argument("--seed", type=int, default=0)

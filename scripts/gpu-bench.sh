@@ -78,7 +78,7 @@ run() {
   cmake --build build-gpu --parallel "$(nproc)"
 
   local configs=("$@")
-  [ ${#configs[@]} -gt 0 ] || configs=(configs/quickstart.yaml configs/pointgoal1-rce.yaml)
+  [ ${#configs[@]} -gt 0 ] || configs=(configs/pointgoal1-rce.yaml)
   local results=build-gpu/bench.jsonl
   : >"$results"
   for config in "${configs[@]}"; do

@@ -17,8 +17,8 @@ packages=(
   libmujoco-dev libqhull-dev libgl-dev
   # Configuration, command line, formatting, JSON, pictures.
   libyaml-cpp-dev libcli11-dev libfmt-dev nlohmann-json3-dev libcairo2-dev
-  # Checksums of checkpoint files (CRC-32).
-  zlib1g-dev
+  # Checksums of checkpoint files (CRC-32) and hashes of experiment files (SHA-256).
+  zlib1g-dev libssl-dev
   # Learned models: LibTorch (CPU) on OpenBLAS, and XGBoost. XGBoost's CMake package file fails
   # unless the xgboost package (its command-line program) is installed too.
   libtorch-dev libopenblas-dev libxgboost-dev xgboost

@@ -11,7 +11,7 @@ run=runs/quickstart
 if [ -f "$run/config.yaml" ]; then
   ./build/bin/cmbrl train --resume "$run"
 else
-  ./build/bin/cmbrl train --config configs/quickstart.yaml --out "$run"
+  ./build/bin/cmbrl train --config configs/pointgoal1-rce.yaml configs/quickstart.yaml --out "$run"
 fi
 ./build/bin/cmbrl eval --run "$run" --episodes 1 --seed 100 --render "$run/eval"
 echo "progress: $run/progress.csv   picture: $run/eval/episode-0.png"

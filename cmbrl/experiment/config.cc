@@ -302,6 +302,20 @@ void AtKey(const std::string& source, const std::string& key, Check&& check) {
   }
 }
 
+// Merges `overlay` into `base`, key by key: a mapping merges into a mapping (a file or an
+// override names only the keys it changes), anything else replaces the value.
+void MergeInto(YAML::Node base, const YAML::Node& overlay) {
+  for (const auto& entry : overlay) {
+    const std::string key = entry.first.as<std::string>();
+    YAML::Node current = base[key];
+    if (entry.second.IsMap() && current.IsMap()) {
+      MergeInto(current, entry.second);
+    } else {
+      base[key] = YAML::Clone(entry.second);
+    }
+  }
+}
+
 }  // namespace
 
 const std::vector<std::string>& AlgorithmNames() {
@@ -355,11 +369,31 @@ TrainConfig ParseTrainConfig(const std::string& yaml, const std::string& source)
 }
 
 TrainConfig LoadTrainConfig(const std::string& path) {
-  std::ifstream in(path);
-  Require(static_cast<bool>(in), "config file '{}' cannot be opened: expected a YAML file", path);
-  std::stringstream text;
-  text << in.rdbuf();
-  return ParseTrainConfig(text.str(), path);
+  return LoadTrainConfig(std::vector<std::string>{path});
+}
+
+TrainConfig LoadTrainConfig(const std::vector<std::string>& paths) {
+  Require(!paths.empty(), "no config file given: expected at least one YAML file");
+  YAML::Node merged(YAML::NodeType::Map);
+  for (const std::string& path : paths) {
+    std::ifstream in(path);
+    Require(static_cast<bool>(in), "config file '{}' cannot be opened: expected a YAML file",
+            path);
+    std::stringstream text;
+    text << in.rdbuf();
+    YAML::Node document;
+    try {
+      document = YAML::Load(text.str());
+    } catch (const YAML::Exception& error) {
+      Fail("config '{}' is not valid YAML: {}", path, error.what());
+    }
+    Require(document.IsNull() || document.IsMap(),
+            "config '{}' must be a mapping of keys to values", path);
+    if (document.IsMap()) MergeInto(merged, document);
+  }
+  YAML::Emitter out;
+  out << merged;
+  return ParseTrainConfig(out.c_str(), fmt::format("{}", fmt::join(paths, "' + '")));
 }
 
 void ValidateTrainConfig(const TrainConfig& c, const std::string& source) {
@@ -505,11 +539,13 @@ TrainConfig ApplyConfigOverrides(const TrainConfig& config,
     } catch (const YAML::Exception& error) {
       Fail("{} '{}': the value is not valid YAML: {}", source, item, error.what());
     }
+    YAML::Node patch(YAML::NodeType::Map);
     if (section.empty()) {
-      document[name] = value;
+      patch[name] = value;
     } else {
-      document[section][name] = value;
+      patch[section][name] = value;
     }
+    MergeInto(document, patch);  // a mapping merges into its section, keeping its other keys
   }
   YAML::Emitter out;
   out << document;

@@ -94,6 +94,11 @@ std::uint64_t PhysicalMemoryBytes();
 // for a missing file, invalid YAML, an unknown key, a value of the wrong type or a bad setting.
 TrainConfig LoadTrainConfig(const std::string& path);
 
+// Several YAML files composed in order: each names only the keys it changes, later files over
+// earlier ones (a mapping merges into a mapping), e.g. a task's paper preset and then a preset
+// family (configs/cpu.yaml). Throws as LoadTrainConfig does, naming the files.
+TrainConfig LoadTrainConfig(const std::vector<std::string>& paths);
+
 // The same from YAML text; `source` names it in messages.
 TrainConfig ParseTrainConfig(const std::string& yaml, const std::string& source);
 

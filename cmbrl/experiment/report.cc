@@ -9,6 +9,7 @@
 #include <fstream>
 #include <limits>
 #include <map>
+#include <random>
 #include <set>
 #include <sstream>
 #include <thread>
@@ -676,6 +677,153 @@ std::string TableMarkdown(const std::vector<TableCell>& cells, std::int64_t wind
   text += OriginalComparisonMarkdown(cells, window);
   text += FirstEpochMarkdown(cells);
   text += ViolationCausesMarkdown(cells);
+  return text;
+}
+
+MeanInterval BootstrapMeanInterval(const std::vector<double>& values, double level,
+                                   int resamples) {
+  Require(level > 0.0 && level < 1.0 && resamples >= 1,
+          "a bootstrap interval needs a level in (0, 1) and at least one resample: got {} and {}",
+          level, resamples);
+  MeanInterval interval;
+  if (values.empty()) return interval;
+  // A fixed seed: the interval is a property of the values, and a report regenerates alike.
+  std::mt19937_64 generator(0x5eedb007);
+  std::vector<double> means(static_cast<size_t>(resamples));
+  for (double& mean : means) {
+    double sum = 0.0;
+    for (size_t i = 0; i < values.size(); ++i) sum += values[generator() % values.size()];
+    mean = sum / static_cast<double>(values.size());
+  }
+  std::sort(means.begin(), means.end());
+  const auto at = [&](double share) {
+    const double position = share * static_cast<double>(means.size() - 1);
+    return means[static_cast<size_t>(std::lround(position))];
+  };
+  interval.low = at((1.0 - level) / 2.0);
+  interval.high = at(1.0 - (1.0 - level) / 2.0);
+  return interval;
+}
+
+std::string AgainstRange(double mean, const std::vector<double>& original) {
+  if (original.empty() || !std::isfinite(mean)) return "";
+  const auto [low, high] = std::minmax_element(original.begin(), original.end());
+  return mean < *low ? "below" : mean > *high ? "above" : "inside";
+}
+
+namespace {
+
+// "12.3 [8.0, 17.1]": a mean and its bootstrap 90% interval.
+std::string MeanWithInterval(const std::vector<double>& values, int digits) {
+  if (values.empty()) return "-";
+  const MeanInterval interval = BootstrapMeanInterval(values);
+  return fmt::format("{} [{}, {}]", Figure(Mean(values), digits), Figure(interval.low, digits),
+                     Figure(interval.high, digits));
+}
+
+std::string PerSeed(const std::vector<double>& values, int digits) {
+  std::vector<std::string> texts;
+  for (const double v : values) texts.push_back(Figure(v, digits));
+  return texts.empty() ? "-" : fmt::format("{}", fmt::join(texts, ", "));
+}
+
+}  // namespace
+
+std::string ProtocolVerdictMarkdown(const std::vector<TableCell>& cells, std::int64_t window) {
+  std::vector<std::string> tasks, planners;
+  for (const TableCell& cell : cells) {
+    if (std::find(tasks.begin(), tasks.end(), cell.task) == tasks.end()) {
+      tasks.push_back(cell.task);
+    }
+    if (std::find(planners.begin(), planners.end(), cell.planner) == planners.end()) {
+      planners.push_back(cell.planner);
+    }
+  }
+  const auto find = [&](const std::string& task, const std::string& planner) -> const TableCell* {
+    const auto it = std::find_if(cells.begin(), cells.end(), [&](const TableCell& c) {
+      return c.task == task && c.planner == planner;
+    });
+    return it == cells.end() ? nullptr : &*it;
+  };
+  std::string text = fmt::format(
+      "Violations during the first {} agent steps: mean over seeds [bootstrap 90% interval of "
+      "the mean]. \"Least\": the paper's method violates least, its interval wholly below every "
+      "other method's (\"yes\"), or only its mean lowest (\"mean only\"). Against the "
+      "original: where our mean lies against the range of the original's three seeds over the "
+      "same window, for violations / for the return of the last 10 episodes.\n\n| task |",
+      window);
+  for (const std::string& planner : planners) text += " " + MethodLabel(planner) + " |";
+  text += " least? |";
+  for (const std::string& planner : planners) text += " " + MethodLabel(planner) + " vs original |";
+  text += "\n|---|";
+  for (size_t i = 0; i < 2 * planners.size() + 1; ++i) text += "---|";
+  text += "\n";
+  for (const std::string& task : tasks) {
+    text += "| " + task + " |";
+    std::optional<std::string> papers;
+    for (const std::string& planner : planners) {
+      const TableCell* cell = find(task, planner);
+      text += " " + (cell ? MeanWithInterval(cell->per_seed, 1) : std::string("-")) + " |";
+      if (cell && IsPapersMethod(planner)) papers = planner;
+    }
+    std::string verdict = "-";
+    if (papers) {
+      const TableCell& ours = *find(task, *papers);
+      const MeanInterval ours_interval = BootstrapMeanInterval(ours.per_seed);
+      bool lowest_mean = true, apart = true, others = false;
+      for (const TableCell& other : cells) {
+        if (other.task != task || other.planner == *papers) continue;
+        others = true;
+        lowest_mean = lowest_mean && ours.mean < other.mean;
+        apart = apart && ours_interval.high < BootstrapMeanInterval(other.per_seed).low;
+      }
+      if (others) verdict = !lowest_mean ? "no" : apart ? "yes" : "mean only";
+    }
+    text += " " + verdict + " |";
+    for (const std::string& planner : planners) {
+      const TableCell* cell = find(task, planner);
+      if (cell == nullptr || cell->original_per_seed.empty()) {
+        text += " - |";
+        continue;
+      }
+      text += fmt::format(" {} / {} |", AgainstRange(cell->mean, cell->original_per_seed),
+                          AgainstRange(cell->return_mean, cell->original_final_returns));
+    }
+    text += "\n";
+  }
+  return text;
+}
+
+std::string ProtocolCellsMarkdown(const std::vector<TableCell>& cells, std::int64_t window) {
+  std::string text = fmt::format(
+      "Every cell over the first {} agent steps: violations (the EpCost of the episodes that "
+      "ended in the window) and return (the mean EpRet of each run's last 10 episodes in it), per "
+      "seed in seed order, their mean [bootstrap 90% interval], and the original's seeds (0, 10, "
+      "100) from its logs. * marks a cell whose shortest run has not reached the window.\n\n"
+      "| task | method | seeds | violations per seed | mean [90%] | original | vs original | "
+      "return per seed | mean [90%] | original | vs original |\n"
+      "|---|---|---|---|---|---|---|---|---|---|---|\n",
+      window);
+  for (const TableCell& cell : cells) {
+    const std::string original =
+        cell.original_per_seed.empty()
+            ? "-"
+            : fmt::format("{} ({})", PerSeed(cell.original_per_seed, 0),
+                          Figure(Mean(cell.original_per_seed), 1));
+    const std::string original_returns =
+        cell.original_final_returns.empty()
+            ? "-"
+            : fmt::format("{} ({})", PerSeed(cell.original_final_returns, 2),
+                          Figure(Mean(cell.original_final_returns), 2));
+    const std::string vs = AgainstRange(cell.mean, cell.original_per_seed);
+    const std::string vs_return = AgainstRange(cell.return_mean, cell.original_final_returns);
+    text += fmt::format("| {} | {} | {}{} | {} | {} | {} | {} | {} | {} | {} | {} |\n", cell.task,
+                        MethodLabel(cell.planner), cell.per_seed.size(),
+                        cell.fewest_steps < window ? "*" : "", Counts(cell.per_seed),
+                        MeanWithInterval(cell.per_seed, 1), original, vs.empty() ? "-" : vs,
+                        PerSeed(cell.final_returns, 2), MeanWithInterval(cell.final_returns, 2),
+                        original_returns, vs_return.empty() ? "-" : vs_return);
+  }
   return text;
 }
 

@@ -194,6 +194,30 @@ std::vector<TableCell> WithEarlierCells(std::vector<TableCell> cells,
                                         const std::vector<TableCell>& earlier);
 
 std::string TableMarkdown(const std::vector<TableCell>& cells, std::int64_t window);
+
+// An interval of a mean by the percentile bootstrap: the central `level` share of the means of
+// `resamples` resamples of `values` drawn with replacement. The resamples come from a fixed seed,
+// so that a report made again from the same logs is the same. NaN bounds for no values.
+struct MeanInterval {
+  double low = std::numeric_limits<double>::quiet_NaN();
+  double high = std::numeric_limits<double>::quiet_NaN();
+};
+MeanInterval BootstrapMeanInterval(const std::vector<double>& values, double level = 0.9,
+                                   int resamples = 10000);
+
+// Where a mean lies against a set of the original's per-seed values: "below" the lowest, "inside"
+// their range, "above" the highest; "" without them.
+std::string AgainstRange(double mean, const std::vector<double>& original);
+
+// An experiment report's first table, one row per task: each method's violations as the mean
+// and its bootstrap 90% interval, whether the paper's method (RCE) violates least (its interval
+// wholly below every other method's, or only its mean lowest), and where each cell's
+// violations and returns lie against the original's seeds.
+std::string ProtocolVerdictMarkdown(const std::vector<TableCell>& cells, std::int64_t window);
+
+// Every cell with its seeds: violations and last-10-episode returns per seed, their means with
+// bootstrap 90% intervals, and the original's seeds beside them.
+std::string ProtocolCellsMarkdown(const std::vector<TableCell>& cells, std::int64_t window);
 std::string TableCsv(const std::vector<TableCell>& cells, std::int64_t window);
 
 // A metric over agent steps, across seeds: at each grid step x, each run's mean over its

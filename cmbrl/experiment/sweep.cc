@@ -33,6 +33,22 @@ std::string Quote(const std::string& word) {
   return quoted + "'";
 }
 
+// A value as a word of a folder name: "[256, 256]" becomes "256x256", other characters that a
+// shell or a path would trip on become '_'.
+std::string PathWord(const std::string& value) {
+  std::string word;
+  for (const char c : value) {
+    if (std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '-' || c == '_') {
+      word += c;
+    } else if (c == ',') {
+      word += 'x';
+    } else if (c != ' ' && c != '[' && c != ']') {
+      word += '_';
+    }
+  }
+  return word.empty() ? "_" : word;
+}
+
 }  // namespace
 
 std::vector<SweepRun> PlanSweep(const SweepGrid& grid, const std::string& sweep_dir) {
@@ -56,6 +72,30 @@ std::vector<SweepRun> PlanSweep(const SweepGrid& grid, const std::string& sweep_
           "seeds {} repeat a seed: each run needs its own", fmt::join(grid.seeds, " "));
   Require(!grid.steps || *grid.steps >= 1, "--steps is {}: expected a positive number",
           grid.steps.value_or(0));
+  for (const std::string& overlay : grid.overlays) {
+    Require(fs::is_regular_file(overlay), "no config '{}': expected a YAML file to compose over "
+            "each run's preset", overlay);
+  }
+  // Every combination of the axes' values, as (name part, override) lists.
+  std::vector<std::pair<std::string, std::vector<std::string>>> points = {{"", {}}};
+  for (const SweepAxis& axis : grid.axes) {
+    Require(!axis.values.empty(), "axis '{}' has no values: expected a list of at least one",
+            axis.key);
+    Require(std::set<std::string>(axis.values.begin(), axis.values.end()).size() ==
+                axis.values.size(),
+            "axis '{}' repeats a value in {}: each value makes its own runs", axis.key,
+            fmt::join(axis.values, ", "));
+    const std::string short_key = axis.key.substr(axis.key.rfind('.') + 1);
+    std::vector<std::pair<std::string, std::vector<std::string>>> longer;
+    for (const auto& [name, overrides] : points) {
+      for (const std::string& value : axis.values) {
+        std::vector<std::string> with = overrides;
+        with.push_back(axis.key + "=" + value);
+        longer.emplace_back(name + "-" + short_key + "=" + PathWord(value), with);
+      }
+    }
+    points = longer;
+  }
   std::vector<SweepRun> runs;
   for (const std::string& task : grid.tasks) {
     for (const std::string& planner : grid.planners) {
@@ -64,15 +104,22 @@ std::vector<SweepRun> PlanSweep(const SweepGrid& grid, const std::string& sweep_
       Require(fs::exists(config), "no config '{}' for {} with {}: expected <task>-<planner>.yaml "
               "in --config-dir",
               config.string(), task, planner);
-      for (const std::uint64_t seed : grid.seeds) {
-        SweepRun run;
-        run.name = fmt::format("{}-s{}", stem, seed);
-        run.task = task;
-        run.planner = planner;
-        run.seed = seed;
-        run.config_path = config.string();
-        run.run_dir = (fs::path(sweep_dir) / "runs" / run.name).string();
-        runs.push_back(run);
+      for (const auto& [point_name, point_overrides] : points) {
+        for (const std::uint64_t seed : grid.seeds) {
+          SweepRun run;
+          run.name = fmt::format("{}{}-s{}", stem, point_name, seed);
+          run.task = task;
+          run.planner = planner;
+          run.seed = seed;
+          run.config_paths = {config.string()};
+          run.config_paths.insert(run.config_paths.end(), grid.overlays.begin(),
+                                  grid.overlays.end());
+          run.overrides = grid.overrides;
+          run.overrides.insert(run.overrides.end(), point_overrides.begin(),
+                               point_overrides.end());
+          run.run_dir = (fs::path(sweep_dir) / "runs" / run.name).string();
+          runs.push_back(run);
+        }
       }
     }
   }
@@ -100,9 +147,18 @@ RunStatus StatusOf(const SweepRun& run, std::optional<std::int64_t> budget) {
 
 void RecordOrCheckSweep(const SweepGrid& grid, const std::string& sweep_dir) {
   const fs::path path = fs::path(sweep_dir) / "sweep.json";
+  nlohmann::json axes = nlohmann::json::array();
+  for (const SweepAxis& axis : grid.axes) axes.push_back({{"key", axis.key}, {"values", axis.values}});
+  nlohmann::json overlays = nlohmann::json::array();
+  for (const std::string& overlay : grid.overlays) {
+    overlays.push_back(fs::absolute(overlay).lexically_normal().string());
+  }
   const nlohmann::json settings = {
       {"config_dir", fs::absolute(grid.config_dir).lexically_normal().string()},
-      {"steps", grid.steps ? nlohmann::json(*grid.steps) : nlohmann::json(nullptr)}};
+      {"steps", grid.steps ? nlohmann::json(*grid.steps) : nlohmann::json(nullptr)},
+      {"overlays", overlays},
+      {"overrides", grid.overrides},
+      {"axes", axes}};
   if (fs::exists(path)) {
     std::ifstream in(path);
     nlohmann::json recorded;
@@ -117,12 +173,16 @@ void RecordOrCheckSweep(const SweepGrid& grid, const std::string& sweep_dir) {
     const nlohmann::json& steps = settings["steps"];
     const bool longer = recorded_steps.is_number_integer() && steps.is_number_integer() &&
                         steps.get<std::int64_t>() > recorded_steps.get<std::int64_t>();
-    for (const char* key : {"config_dir", "steps"}) {
+    for (const char* key : {"config_dir", "steps", "overlays", "overrides", "axes"}) {
       if (longer && std::string(key) == "steps") continue;
-      Require(recorded.value(key, nlohmann::json()) == settings[key],
+      // A sweep recorded before overlays, overrides and axes existed had none of them.
+      const nlohmann::json none = std::string(key) == "config_dir" || std::string(key) == "steps"
+                                      ? nlohmann::json()
+                                      : nlohmann::json::array();
+      Require(recorded.value(key, none) == settings[key],
               "this sweep was started with {} {}, now {} is {}: finish it with the same "
               "settings (or a larger --steps), or use another --out",
-              key, recorded.value(key, nlohmann::json()).dump(), key, settings[key].dump());
+              key, recorded.value(key, none).dump(), key, settings[key].dump());
     }
     if (!longer) return;
   }
@@ -133,14 +193,25 @@ void RecordOrCheckSweep(const SweepGrid& grid, const std::string& sweep_dir) {
 }
 
 std::vector<std::string> TrainArguments(const SweepRun& run, const SweepGrid& grid) {
-  std::vector<std::string> args =
-      StatusOf(run) != RunStatus::kNew
-          ? std::vector<std::string>{"train", "--resume", run.run_dir}
-          : std::vector<std::string>{"train", "--config", run.config_path, "--seed",
-                                     std::to_string(run.seed), "--out", run.run_dir};
+  std::vector<std::string> args = {"train", "--resume", run.run_dir};
+  if (StatusOf(run) == RunStatus::kNew) args = NewRunArguments(run);
   if (grid.steps) {
     args.push_back("--steps");
     args.push_back(std::to_string(*grid.steps));
+  }
+  return args;
+}
+
+std::vector<std::string> NewRunArguments(const SweepRun& run) {
+  std::vector<std::string> args = {"train", "--config"};
+  args.insert(args.end(), run.config_paths.begin(), run.config_paths.end());
+  if (!run.overrides.empty()) {
+    args.push_back("--set");
+    args.insert(args.end(), run.overrides.begin(), run.overrides.end());
+  }
+  for (const std::string& word : {std::string("--seed"), std::to_string(run.seed),
+                                  std::string("--out"), run.run_dir}) {
+    args.push_back(word);
   }
   return args;
 }
@@ -171,23 +242,25 @@ std::string SlurmScript(const std::vector<SweepRun>& runs, const SweepGrid& grid
       "#SBATCH --output={0}/logs/slurm-%a.log\n"
       "set -euo pipefail\n"
       "cmbrl={2}\n"
-      "runs=(\n",
+      "case \"$SLURM_ARRAY_TASK_ID\" in\n",
       dir, runs.size() - 1, Quote(program));
-  for (const SweepRun& run : runs) {
-    script += fmt::format("  {}\n", Quote(fmt::format(
-                                        "{}|{}|{}", fs::absolute(run.run_dir).string(),
-                                        fs::absolute(run.config_path).string(), run.seed)));
+  const std::string steps = grid.steps ? fmt::format(" --steps {}", *grid.steps) : "";
+  for (size_t index = 0; index < runs.size(); ++index) {
+    SweepRun run = runs[index];
+    run.run_dir = fs::absolute(run.run_dir).string();
+    for (std::string& path : run.config_paths) path = fs::absolute(path).string();
+    std::vector<std::string> words;
+    for (const std::string& word : NewRunArguments(run)) words.push_back(Quote(word));
+    script += fmt::format("  {}) run_dir={}; start=({});;\n", index, Quote(run.run_dir),
+                          fmt::join(words, " "));
   }
-  script += ")\n";
-  script += "IFS='|' read -r run_dir config seed <<< \"${runs[$SLURM_ARRAY_TASK_ID]}\"\n";
+  script += "esac\n";
   // A run exists once its config file does (RunDirectory::HoldsRun).
   script += fmt::format("if [ -f \"$run_dir/{}\" ]; then\n",
                         RunDirectory("").config_file().filename().string());
-  const std::string steps = grid.steps ? fmt::format(" --steps {}", *grid.steps) : "";
   script += "  exec \"$cmbrl\" train --resume \"$run_dir\"" + steps + "\n";
   script += "fi\n";
-  script += "exec \"$cmbrl\" train --config \"$config\" --seed \"$seed\" --out \"$run_dir\"" +
-            steps + "\n";
+  script += "exec \"$cmbrl\" \"${start[@]}\"" + steps + "\n";
   return script;
 }
 

@@ -11,24 +11,40 @@
 
 namespace cmbrl {
 
+// An axis of overrides: one config key (section.key, as `--set` takes it) and its values, each
+// written as YAML ("0.3", "[256, 256]"). A grid with axes has a run for every combination.
+struct SweepAxis {
+  std::string key;
+  std::vector<std::string> values;
+};
+
 struct SweepGrid {
   std::vector<std::string> tasks;     // PointGoal1 ...
-  std::vector<std::string> planners;  // rce, cem, random
+  std::vector<std::string> planners;  // methods: rce, cem, random, trpo-lagrangian ...
   std::vector<std::uint64_t> seeds;
   std::string config_dir = "configs";      // holds <task>-<planner>.yaml, task in lower case
   std::optional<std::int64_t> steps;       // overrides training.total_steps of every run
+  // Config files composed over each <task>-<planner>.yaml, in order (a preset family such as
+  // configs/cpu.yaml), then `overrides` ("section.key=value") of every run, then the axes.
+  std::vector<std::string> overlays;
+  std::vector<std::string> overrides;
+  std::vector<SweepAxis> axes;
 };
 
 struct SweepRun {
-  std::string name;         // pointgoal1-rce-s0
+  std::string name;  // pointgoal1-rce-s0; with axes pointgoal1-rce-threshold=0.3-s0
   std::string task, planner;
   std::uint64_t seed = 0;
-  std::string config_path;  // config_dir/pointgoal1-rce.yaml
-  std::string run_dir;      // sweep_dir/runs/pointgoal1-rce-s0
+  // config_dir/pointgoal1-rce.yaml, then the grid's overlays: composed in this order.
+  std::vector<std::string> config_paths;
+  std::vector<std::string> overrides;  // the grid's, then this run's axis values
+  std::string run_dir;                 // sweep_dir/runs/pointgoal1-rce-s0
 };
 
-// Every run of the grid, tasks outermost, then planners, then seeds. Throws cmbrl::Error naming
-// an unknown task or planner, an empty list, a repeated seed, or a missing config file.
+// Every run of the grid, tasks outermost, then planners, then the axes' combinations (the first
+// axis outermost), then seeds. Throws cmbrl::Error naming an unknown task or planner, an empty
+// list, a repeated seed, a missing config file, or an axis without values or with a repeated
+// value.
 std::vector<SweepRun> PlanSweep(const SweepGrid& grid, const std::string& sweep_dir);
 
 // Where a run stands: not started, started (resume it), or finished (its progress reached
@@ -45,6 +61,9 @@ void RecordOrCheckSweep(const SweepGrid& grid, const std::string& sweep_dir);
 // The command line of one run: `train --resume DIR` when it has started (with `--steps N` when
 // the grid sets a budget: a run made with a smaller one continues to it), else a new run.
 std::vector<std::string> TrainArguments(const SweepRun& run, const SweepGrid& grid);
+
+// The command line that starts a new run: its configs composed, its overrides, seed and folder.
+std::vector<std::string> NewRunArguments(const SweepRun& run);
 
 // The CPUs of each of `jobs` runs at a time: `cpus` split into `jobs` equal contiguous shares
 // (a remainder stays unused), so that each run's threads (BLAS, OpenMP, the classifier's) see

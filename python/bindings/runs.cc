@@ -1,5 +1,6 @@
 // Training and trained runs in Python: train (or resume) a run as `cmbrl train` does, and a
 // run's agent (LoadedRun) acting on numpy observations, with its last plan and its models.
+#include <fmt/ranges.h>
 #include <pybind11/functional.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -121,7 +122,7 @@ class PyAgent {
 };
 
 // Trains (or resumes) a run; `progress` sees each unit's summary, with the GIL held.
-py::dict Train(const std::optional<std::string>& config_path,
+py::dict Train(const std::optional<std::vector<std::string>>& config_path,
                const std::optional<std::string>& config_text, const std::optional<std::string>& out,
                const std::optional<std::string>& resume, std::optional<std::int64_t> steps,
                std::optional<std::uint64_t> seed, const std::optional<std::string>& device,
@@ -138,7 +139,8 @@ py::dict Train(const std::optional<std::string>& config_path,
   } else {
     Require((config_path.has_value() != config_text.has_value()) && out.has_value(),
             "a new run needs a config (a YAML file or a dict) and out (the run directory)");
-    const std::string source = config_path ? *config_path : "the config dict";
+    const std::string source =
+        config_path ? fmt::format("{}", fmt::join(*config_path, "' + '")) : "the config dict";
     TrainConfig config =
         config_path ? LoadTrainConfig(*config_path) : ParseTrainConfig(*config_text, source);
     if (steps) config.training.total_steps = *steps;

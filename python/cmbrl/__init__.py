@@ -6,7 +6,8 @@
     obs, reward, cost, terminated, truncated, info = env.step(env.action_space.sample())
 
     envs = cmbrl.make_vec("PointGoal1", num_envs=4)  # stepped in C++ threads, auto-reset
-    cmbrl.train(config="configs/quickstart.yaml", out="runs/q", steps=200)
+    cmbrl.train(config=["configs/pointgoal1-rce.yaml", "configs/quickstart.yaml"], out="runs/q",
+                steps=200)
     agent = cmbrl.load_run("runs/q")
     action = agent.act(obs)
 
@@ -162,8 +163,9 @@ def make_vec(task, num_envs, variant="paper", spawn="standing", threads=None, sp
 def train(config=None, out=None, steps=None, seed=None, device=None, resume=None, progress=None):
     """Trains a run as `cmbrl train` does, into the run directory `out`.
 
-    config: a YAML file (path) or a dict of the same keys. steps, seed and device override the
-    config's. resume=RUN_DIR continues a stopped run instead (steps then gives a new budget).
+    config: a YAML file (path), a list of them composed in order (a task's paper preset, then a
+    preset family: ["configs/pointgoal1-rce.yaml", "configs/quickstart.yaml"]), or a dict of
+    the same keys. steps, seed and device override the config's. resume=RUN_DIR continues a stopped run instead (steps then gives a new budget).
     progress(summary) is called after each unit of work (an MPC episode or a model-free epoch)
     with a dict of epoch, steps, budget, episode_return, episode_cost and seconds. An exception
     it raises, or Ctrl-C (checked after each unit), stops training; the run resumes later from
@@ -173,8 +175,10 @@ def train(config=None, out=None, steps=None, seed=None, device=None, resume=None
     config_path = config_text = None
     if isinstance(config, dict):
         config_text = json.dumps(config)  # JSON is YAML
+    elif isinstance(config, (list, tuple)):
+        config_path = [os.fspath(path) for path in config]
     elif config is not None:
-        config_path = os.fspath(config)
+        config_path = [os.fspath(config)]
     out = os.fspath(out) if out is not None else None
     resume = os.fspath(resume) if resume is not None else None
     return _cmbrl.train(config_path, config_text, out, resume,

@@ -7,10 +7,12 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <yaml-cpp/yaml.h>
 
 #include "cmbrl/env/registry.h"
 #include "cmbrl/env/tasks/goal_spec.h"
 #include "tests/error_message.h"
+#include "tests/temp_path.h"
 
 namespace cmbrl {
 namespace {
@@ -199,7 +201,8 @@ TEST(ConfigTest, EveryPresetInConfigsLoads) {
     SCOPED_TRACE(entry.path().string());
     const TrainConfig config = LoadTrainConfig(entry.path().string());
     const std::string name = entry.path().stem().string();
-    if (name == "quickstart" || name == "tiny-test") continue;
+    // The preset families (composed over these) and the test suite's tiny config.
+    if (name == "quickstart" || name == "cpu" || name == "tiny-test") continue;
     // The paper presets: <task>-<method>.yaml with the paper's sizes.
     std::string task = config.task;
     for (char& c : task) c = static_cast<char>(std::tolower(c));
@@ -221,160 +224,163 @@ TEST(ConfigTest, EveryPresetInConfigsLoads) {
   EXPECT_EQ(model_free, 12);  // 4 tasks x trpo, trpo-lagrangian, cpo
 }
 
-// Each preset of a folder of task x planner configs (<task>-<planner>.yaml), as loaded.
-void ForEachPreset(const std::string& folder,
-                   const std::function<void(const std::string& task, const std::string& planner,
-                                            const TrainConfig& config)>& check) {
+// The paper's preset of every task and MPC method with a family composed over it (LoadTrainConfig
+// of two files), as `cmbrl train --config PRESET FAMILY` and the experiments resolve it.
+void ForEachFamilyPreset(const std::string& family,
+                         const std::function<void(const std::string& task,
+                                                  const std::string& planner,
+                                                  const TrainConfig& paper,
+                                                  const TrainConfig& config)>& check) {
   int presets = 0;
   for (const std::string task : {"PointGoal1", "PointGoal2", "CarGoal1", "CarGoal2"}) {
     for (const std::string planner : {"rce", "cem", "random"}) {
       std::string stem = task;
       for (char& c : stem) c = static_cast<char>(std::tolower(c));
-      const std::string path = folder + "/" + stem + "-" + planner + ".yaml";
-      SCOPED_TRACE(path);
-      const TrainConfig config = LoadTrainConfig(path);
+      const std::string path = CMBRL_SOURCE_DIR "/configs/" + stem + "-" + planner + ".yaml";
+      SCOPED_TRACE(path + " + " + family);
+      const TrainConfig paper = LoadTrainConfig(path);
+      const TrainConfig config = LoadTrainConfig(std::vector<std::string>{path, family});
       EXPECT_EQ(config.task, task);
       EXPECT_EQ(config.planner, planner);
-      check(task, planner, config);
+      check(task, planner, paper, config);
       ++presets;
     }
   }
   EXPECT_EQ(presets, 12);
 }
 
-TEST(ConfigTest, TheQuickstartGridHasEveryTaskAndPlannerAtQuickstartSize) {
-  const TrainConfig quickstart = LoadTrainConfig(CMBRL_SOURCE_DIR "/configs/quickstart.yaml");
-  ForEachPreset(CMBRL_SOURCE_DIR "/configs/quickstart",
-                [&](const std::string& task, const std::string&, const TrainConfig& config) {
-                  EXPECT_EQ(config.ensemble.hidden_sizes, quickstart.ensemble.hidden_sizes);
-                  EXPECT_EQ(config.ensemble.ensemble_size, task.rfind("Car", 0) == 0 ? 5 : 4);
-                  EXPECT_EQ(config.training.total_steps, quickstart.training.total_steps);
-                  EXPECT_EQ(config.planning.cross_entropy.population,
-                            quickstart.planning.cross_entropy.population);
-                });
-}
-
-// The CPU presets: the paper's settings but for the dynamics networks' width, RCE's planner
-// (the grid's 200 x 5 with 10 elites: ablation 'population'), the window, for the Car
-// networks that predict the change of state (ablation 'delta'), and for the level-2 RCE
-// presets' and PointGoal1 CEM's classifier threshold of 0.3 (ablation 'threshold').
-TEST(ConfigTest, TheCpuPresetsKeepThePapersSettingsButTheNetworksWidthAndRcesPlanner) {
-  const TrainConfig paper = ParseTrainConfig("task: PointGoal1", "paper");
-  ForEachPreset(
-      CMBRL_SOURCE_DIR "/configs/cpu",
-      [&](const std::string& task, const std::string& planner, const TrainConfig& config) {
-        EXPECT_EQ(config.variant, Variant::kPaper);
+// The CPU family changes the same keys of every task and method, and only those: the window,
+// the networks' width, the population (RCE and CEM alike) and random shooting's samples by the
+// same factor (experiments/cpu-grid/README.md says why).
+TEST(ConfigTest, TheCpuFamilyChangesTheSameKeysOfEveryPreset) {
+  ForEachFamilyPreset(
+      CMBRL_SOURCE_DIR "/configs/cpu.yaml",
+      [](const std::string&, const std::string&, const TrainConfig& paper,
+         const TrainConfig& config) {
         EXPECT_EQ(config.training.total_steps, 3000);
         EXPECT_EQ(config.ensemble.hidden_sizes, std::vector<int>({256, 256, 256}));
-        const bool car = task.rfind("Car", 0) == 0;
-        EXPECT_EQ(config.ensemble.ensemble_size, car ? 5 : 4);
-        EXPECT_EQ(config.ensemble.predict_delta, car);
-        // Everything else as the paper ran it.
+        EXPECT_EQ(config.planning.cross_entropy.population, 150);
+        // Random shooting scores as many sequences as the CE iterations (paper: 5000 for 500).
+        EXPECT_EQ(config.planning.random.samples * paper.planning.cross_entropy.population,
+                  paper.planning.random.samples * config.planning.cross_entropy.population);
         TrainConfig expected = paper;
-        expected.task = config.task;
-        expected.planner = config.planner;
         expected.training.total_steps = config.training.total_steps;
         expected.ensemble.hidden_sizes = config.ensemble.hidden_sizes;
-        expected.ensemble.ensemble_size = config.ensemble.ensemble_size;
-        expected.ensemble.predict_delta = config.ensemble.predict_delta;
-        expected.objective.goal_index = config.objective.goal_index;
-        // Named departures of two presets (their configs say why).
-        if ((task == "CarGoal2" && planner == "rce") ||
-            (task == "PointGoal2" && planner == "rce") ||
-            (task == "PointGoal1" && planner == "cem")) {
-          expected.classifier.threshold = 0.3;
-        }
-        if (planner == "rce") {
-          expected.planning.cross_entropy.population = 200;
-          expected.planning.cross_entropy.elites = 10;
-          expected.planning.cross_entropy.max_iterations = 5;
-        }
+        expected.planning.cross_entropy.population = config.planning.cross_entropy.population;
+        expected.planning.random.samples = config.planning.random.samples;
         EXPECT_EQ(TrainConfigToYaml(config), TrainConfigToYaml(expected));
       });
 }
 
-// The level-2 ablation 'combined' is the CPU preset at the 2000-step screening window, so that
-// its runs continued to the CPU grid's 3000 steps (cmbrl train --resume --steps). Its Car configs
-// record runs made before the Car presets predicted the change of state, and CarGoal2's before
-// its preset's classifier threshold of 0.3; they differ in that.
-TEST(ConfigTest, TheCombinedAblationIsTheCpuPresetAtTwoThousandSteps) {
-  int checked = 0;
-  for (const std::string name : {"pointgoal2-rce", "cargoal2-rce", "cargoal1-cem"}) {
-    SCOPED_TRACE(name);
-    TrainConfig combined =
-        LoadTrainConfig(CMBRL_SOURCE_DIR "/configs/ablation-level2/combined/" + name + ".yaml");
-    const TrainConfig preset = LoadTrainConfig(CMBRL_SOURCE_DIR "/configs/cpu/" + name + ".yaml");
-    EXPECT_EQ(combined.training.total_steps, 2000);
-    combined.training.total_steps = preset.training.total_steps;
-    EXPECT_EQ(combined.ensemble.predict_delta, false);
-    combined.ensemble.predict_delta = preset.ensemble.predict_delta;
-    EXPECT_DOUBLE_EQ(combined.classifier.threshold, 0.5);
-    combined.classifier.threshold = preset.classifier.threshold;
-    EXPECT_EQ(TrainConfigToYaml(combined), TrainConfigToYaml(preset));
-    ++checked;
-  }
-  EXPECT_EQ(checked, 3);
+TEST(ConfigTest, TheQuickstartFamilyIsSmallerThanThePaperForEveryPreset) {
+  ForEachFamilyPreset(
+      CMBRL_SOURCE_DIR "/configs/quickstart.yaml",
+      [](const std::string& task, const std::string&, const TrainConfig& paper,
+         const TrainConfig& config) {
+        EXPECT_EQ(config.ensemble.hidden_sizes, std::vector<int>({200, 200}));
+        EXPECT_EQ(config.ensemble.ensemble_size, task.rfind("Car", 0) == 0 ? 5 : 4);
+        EXPECT_EQ(config.training.total_steps, 3000);
+        EXPECT_LT(config.planning.cross_entropy.population,
+                  paper.planning.cross_entropy.population);
+      });
 }
 
-// The ablation 'delta' became the Car presets: each of its configs is the Car preset at the
-// 2000-step screening window, so its runs continue into the CPU grid's cells (CarGoal2 RCE's
-// until its preset took the classifier threshold of 0.3).
-TEST(ConfigTest, TheDeltaAblationIsTheCarPresetAtTwoThousandSteps) {
-  int checked = 0;
+// Composing files merges their mappings key by key: a later file names only what it changes.
+TEST(ConfigTest, LaterFilesChangeOnlyTheKeysTheyName) {
+  const std::filesystem::path dir =
+      std::filesystem::path(testing::TestTempPath("compose"));
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir / "base.yaml") << "task: CarGoal2\nplanner: cem\nplanning: {population: 300, "
+                                      "elites: 20}\nensemble: {ensemble_size: 5}\n";
+  std::ofstream(dir / "over.yaml") << "planning: {population: 100}\n";
+  const TrainConfig config = LoadTrainConfig(
+      std::vector<std::string>{(dir / "base.yaml").string(), (dir / "over.yaml").string()});
+  EXPECT_EQ(config.task, "CarGoal2");
+  EXPECT_EQ(config.planning.cross_entropy.population, 100);
+  EXPECT_EQ(config.planning.cross_entropy.elites, 20);  // kept from the base
+  EXPECT_EQ(config.ensemble.ensemble_size, 5);
+  std::ofstream(dir / "bad.yaml") << "planning: {popsize: 100}\n";
+  EXPECT_THAT(ErrorMessage([&] {
+                LoadTrainConfig(std::vector<std::string>{(dir / "base.yaml").string(),
+                                                         (dir / "bad.yaml").string()});
+              }),
+              ::testing::HasSubstr("unknown key 'planning.popsize'"));
+  std::ofstream(dir / "list.yaml") << "- 1\n- 2\n";
+  EXPECT_THAT(ErrorMessage([&] {
+                LoadTrainConfig(std::vector<std::string>{(dir / "list.yaml").string()});
+              }),
+              ::testing::HasSubstr("must be a mapping"));
+}
+
+// `--set section={key: value}` merges into the section: the section's other keys stay.
+TEST(ConfigTest, AnOverrideWithAMappingMergesIntoItsSection) {
+  const TrainConfig base = ParseTrainConfig("task: PointGoal1\nplanning: {elites: 20}", "base");
+  const TrainConfig changed =
+      ApplyConfigOverrides(base, {"planning={population: 30}"}, "--set");
+  EXPECT_EQ(changed.planning.cross_entropy.population, 30);
+  EXPECT_EQ(changed.planning.cross_entropy.elites, 20);
+}
+
+// No two files under configs/ differ in a single key other than the task or the method: a
+// preset that restates another with one key changed belongs in an experiment as an override.
+// The family files (no task of their own) are compared as composed over each paper preset.
+TEST(ConfigTest, NoTwoPresetsDifferInOneKeyOtherThanTaskOrMethod) {
+  std::vector<std::pair<std::string, YAML::Node>> presets;
+  const auto add = [&](const std::string& name, const TrainConfig& config) {
+    presets.emplace_back(name, YAML::Load(TrainConfigToYaml(config)));
+  };
+  std::vector<std::string> families, paper;
   for (const auto& entry :
-       std::filesystem::directory_iterator(CMBRL_SOURCE_DIR "/configs/ablation-level2/delta")) {
-    const std::string name = entry.path().stem().string();
-    SCOPED_TRACE(name);
-    TrainConfig delta = LoadTrainConfig(entry.path().string());
-    const TrainConfig preset = LoadTrainConfig(CMBRL_SOURCE_DIR "/configs/cpu/" + name + ".yaml");
-    EXPECT_TRUE(delta.ensemble.predict_delta);
-    EXPECT_EQ(delta.training.total_steps, 2000);
-    delta.training.total_steps = preset.training.total_steps;
-    EXPECT_DOUBLE_EQ(delta.classifier.threshold, 0.5);
-    delta.classifier.threshold = preset.classifier.threshold;
-    EXPECT_EQ(TrainConfigToYaml(delta), TrainConfigToYaml(preset));
-    ++checked;
+       std::filesystem::recursive_directory_iterator(CMBRL_SOURCE_DIR "/configs")) {
+    if (entry.path().extension() != ".yaml") continue;
+    const YAML::Node file = YAML::LoadFile(entry.path().string());
+    if (!file["task"]) {
+      families.push_back(entry.path().string());
+    } else {
+      paper.push_back(entry.path().string());
+      add(entry.path().string(), LoadTrainConfig(entry.path().string()));
+    }
   }
-  EXPECT_EQ(checked, 4);
-}
-
-TEST(ConfigTest, ThePointGoal1DeltaAblationIsThePresetPredictingTheChange) {
-  TrainConfig delta =
-      LoadTrainConfig(CMBRL_SOURCE_DIR "/configs/ablation-pointgoal1/delta/pointgoal1-cem.yaml");
-  const TrainConfig preset = LoadTrainConfig(CMBRL_SOURCE_DIR "/configs/cpu/pointgoal1-cem.yaml");
-  EXPECT_TRUE(delta.ensemble.predict_delta);
-  EXPECT_FALSE(preset.ensemble.predict_delta);
-  delta.ensemble.predict_delta = false;
-  // Made before the preset took the classifier threshold of 0.3.
-  EXPECT_DOUBLE_EQ(delta.classifier.threshold, 0.5);
-  delta.classifier.threshold = preset.classifier.threshold;
-  EXPECT_EQ(TrainConfigToYaml(delta), TrainConfigToYaml(preset));
-}
-
-// The ablation 'threshold' became the PointGoal1 CEM preset: the same 3000 steps, so its runs are
-// the CPU grid's cell.
-TEST(ConfigTest, ThePointGoal1ThresholdAblationIsThePreset) {
-  const TrainConfig ablation = LoadTrainConfig(
-      CMBRL_SOURCE_DIR "/configs/ablation-pointgoal1/threshold/pointgoal1-cem.yaml");
-  const TrainConfig preset = LoadTrainConfig(CMBRL_SOURCE_DIR "/configs/cpu/pointgoal1-cem.yaml");
-  EXPECT_DOUBLE_EQ(preset.classifier.threshold, 0.3);
-  EXPECT_EQ(TrainConfigToYaml(ablation), TrainConfigToYaml(preset));
-}
-
-// The ablation 'threshold' became the level-2 RCE presets: the preset at 2000 steps, so its
-// runs (continued to, or run for, 3000 steps with --steps) are the CPU grid's cells.
-TEST(ConfigTest, TheLevel2ThresholdAblationIsThePresetAtTwoThousandSteps) {
-  for (const std::string name : {"cargoal2-rce", "pointgoal2-rce"}) {
-    SCOPED_TRACE(name);
-    TrainConfig ablation =
-        LoadTrainConfig(CMBRL_SOURCE_DIR "/configs/ablation-level2/threshold/" + name + ".yaml");
-    const TrainConfig preset = LoadTrainConfig(CMBRL_SOURCE_DIR "/configs/cpu/" + name + ".yaml");
-    EXPECT_EQ(ablation.training.total_steps, 2000);
-    EXPECT_DOUBLE_EQ(ablation.classifier.threshold, 0.3);
-    EXPECT_DOUBLE_EQ(preset.classifier.threshold, 0.3);
-    ablation.training.total_steps = preset.training.total_steps;
-    EXPECT_EQ(TrainConfigToYaml(ablation), TrainConfigToYaml(preset));
+  ASSERT_GE(paper.size(), 24u);
+  ASSERT_EQ(families.size(), 2u);  // cpu, quickstart
+  for (const std::string& family : families) {
+    for (const std::string& preset : paper) {
+      const TrainConfig config = LoadTrainConfig(preset);
+      if (config.algorithm != "mpc") continue;  // the families size MPC runs
+      add(preset + " + " + family, LoadTrainConfig(std::vector<std::string>{preset, family}));
+    }
   }
+  int compared = 0;
+  for (size_t a = 0; a < presets.size(); ++a) {
+    for (size_t b = a + 1; b < presets.size(); ++b) {
+      std::vector<std::string> differing;
+      for (const auto& section : presets[a].second) {
+        const std::string name = section.first.as<std::string>();
+        if (name == "task" || name == "planner" || name == "algorithm") continue;
+        if (section.second.IsMap()) {
+          for (const auto& key : section.second) {
+            const std::string k = key.first.as<std::string>();
+            if (YAML::Dump(key.second) != YAML::Dump(presets[b].second[name][k])) {
+              differing.push_back(name + "." + k);
+            }
+          }
+        } else if (YAML::Dump(section.second) != YAML::Dump(presets[b].second[name])) {
+          differing.push_back(name);
+        }
+      }
+      // The method's own keys (the model-free penalty) come with the method.
+      const bool same_task_and_method =
+          YAML::Dump(presets[a].second["task"]) == YAML::Dump(presets[b].second["task"]) &&
+          YAML::Dump(presets[a].second["planner"]) == YAML::Dump(presets[b].second["planner"]) &&
+          YAML::Dump(presets[a].second["algorithm"]) ==
+              YAML::Dump(presets[b].second["algorithm"]);
+      EXPECT_FALSE(same_task_and_method && differing.size() == 1)
+          << presets[a].first << " and " << presets[b].first << " differ only in "
+          << differing.front();
+      ++compared;
+    }
+  }
+  EXPECT_GT(compared, 1000);
 }
 
 TEST(ConfigTest, ObservationSizesMatchTheEnvironments) {

@@ -30,13 +30,48 @@ TEST(SweepTest, PlansEveryRunOfTheGridWithItsConfig) {
   ASSERT_EQ(runs.size(), 8u);
   EXPECT_EQ(runs[0].name, "pointgoal1-rce-s0");
   EXPECT_EQ(runs[0].run_dir, "/tmp/sweep/runs/pointgoal1-rce-s0");
-  EXPECT_THAT(runs[0].config_path, ::testing::EndsWith("configs/pointgoal1-rce.yaml"));
+  ASSERT_EQ(runs[0].config_paths.size(), 1u);
+  EXPECT_THAT(runs[0].config_paths[0], ::testing::EndsWith("configs/pointgoal1-rce.yaml"));
   EXPECT_EQ(runs[7].name, "cargoal2-random-s1");
   EXPECT_EQ(runs[7].seed, 1u);
   EXPECT_EQ(StatusOf(runs[0]), RunStatus::kNew);
   EXPECT_EQ(TrainArguments(runs[7], PaperGrid()),
-            (std::vector<std::string>{"train", "--config", runs[7].config_path, "--seed", "1",
-                                      "--out", runs[7].run_dir}));
+            (std::vector<std::string>{"train", "--config", runs[7].config_paths[0], "--seed",
+                                      "1", "--out", runs[7].run_dir}));
+}
+
+// A family composed over every preset, overrides for every run, and axes whose combinations
+// each make their own runs, named by their values.
+TEST(SweepTest, AxesMakeARunPerCombinationAfterTheGridsOverrides) {
+  SweepGrid grid = PaperGrid();
+  grid.tasks = {"PointGoal2"};
+  grid.planners = {"rce"};
+  grid.seeds = {4};
+  grid.overlays = {CMBRL_SOURCE_DIR "/configs/cpu.yaml"};
+  grid.overrides = {"training.total_steps=2000"};
+  grid.axes = {{"classifier.threshold", {"0.3", "0.5"}},
+               {"ensemble.hidden_sizes", {"[128, 128]", "[256, 256, 256]"}}};
+  const std::vector<SweepRun> runs = PlanSweep(grid, "/tmp/sweep");
+  ASSERT_EQ(runs.size(), 4u);
+  EXPECT_EQ(runs[0].name, "pointgoal2-rce-threshold=0.3-hidden_sizes=128x128-s4");
+  EXPECT_EQ(runs[3].name, "pointgoal2-rce-threshold=0.5-hidden_sizes=256x256x256-s4");
+  EXPECT_EQ(runs[1].overrides,
+            (std::vector<std::string>{"training.total_steps=2000", "classifier.threshold=0.3",
+                                      "ensemble.hidden_sizes=[256, 256, 256]"}));
+  EXPECT_EQ(NewRunArguments(runs[1]),
+            (std::vector<std::string>{"train", "--config", runs[1].config_paths[0],
+                                      CMBRL_SOURCE_DIR "/configs/cpu.yaml", "--set",
+                                      "training.total_steps=2000", "classifier.threshold=0.3",
+                                      "ensemble.hidden_sizes=[256, 256, 256]", "--seed", "4",
+                                      "--out", runs[1].run_dir}));
+  grid.axes = {{"classifier.threshold", {"0.3", "0.3"}}};
+  EXPECT_THAT(ErrorMessage([&] { PlanSweep(grid, "s"); }), HasSubstr("repeats a value"));
+  grid.axes = {{"classifier.threshold", {}}};
+  EXPECT_THAT(ErrorMessage([&] { PlanSweep(grid, "s"); }), HasSubstr("has no values"));
+  grid.axes = {};
+  grid.overlays = {"/nonexistent/family.yaml"};
+  EXPECT_THAT(ErrorMessage([&] { PlanSweep(grid, "s"); }),
+              HasSubstr("no config '/nonexistent/family.yaml'"));
 }
 
 TEST(SweepTest, BadGridsAreNamed) {
@@ -62,9 +97,11 @@ TEST(SweepTest, SlurmScriptHasOneArrayTaskPerRun) {
   const std::string script = SlurmScript(runs, grid, "/tmp/sweep", "/opt/cmbrl/bin/cmbrl");
   EXPECT_THAT(script, HasSubstr("#SBATCH --array=0-7\n"));
   EXPECT_THAT(script, HasSubstr("cmbrl='/opt/cmbrl/bin/cmbrl'\n"));
-  EXPECT_THAT(script, HasSubstr("'/tmp/sweep/runs/cargoal2-random-s1|"));
+  EXPECT_THAT(script, HasSubstr("  7) run_dir='/tmp/sweep/runs/cargoal2-random-s1'; start=('train' "
+                                 "'--config' '" CMBRL_SOURCE_DIR "/configs/cargoal2-random.yaml' "
+                                 "'--seed' '1' '--out' '/tmp/sweep/runs/cargoal2-random-s1');;\n"));
   EXPECT_THAT(script, HasSubstr("train --resume \"$run_dir\" --steps 3000\n"));
-  EXPECT_THAT(script, HasSubstr("--out \"$run_dir\" --steps 3000\n"));
+  EXPECT_THAT(script, HasSubstr("exec \"$cmbrl\" \"${start[@]}\" --steps 3000\n"));
 }
 
 TEST(SweepTest, ARestartWithOtherSettingsIsRefused) {
@@ -80,10 +117,15 @@ TEST(SweepTest, ARestartWithOtherSettingsIsRefused) {
   grid.steps = std::nullopt;  // the configs' budgets: another grid
   EXPECT_THAT(ErrorMessage([&] { RecordOrCheckSweep(grid, dir); }),
               HasSubstr("this sweep was started with steps 3000, now steps is null"));
-  grid.config_dir = CMBRL_SOURCE_DIR "/configs/quickstart";
+  grid.config_dir = CMBRL_SOURCE_DIR "/configs/ppo";
   grid.steps = 5000;
   EXPECT_THAT(ErrorMessage([&] { RecordOrCheckSweep(grid, dir); }),
               HasSubstr("this sweep was started with config_dir"));
+  grid = PaperGrid();
+  grid.steps = 3000;
+  grid.overlays = {CMBRL_SOURCE_DIR "/configs/cpu.yaml"};
+  EXPECT_THAT(ErrorMessage([&] { RecordOrCheckSweep(grid, dir); }),
+              HasSubstr("this sweep was started with overlays []"));
   // A larger budget continues the sweep: recorded, and every started run resumes to it.
   grid = PaperGrid();
   grid.steps = 5000;
