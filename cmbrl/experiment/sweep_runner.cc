@@ -9,6 +9,7 @@
 
 extern char** environ;
 
+#include <algorithm>
 #include <chrono>
 #include <cstdlib>
 #include <deque>
@@ -89,6 +90,14 @@ SweepOutcome RunSweep(const SweepGrid& grid, const std::string& sweep_dir, int j
       queue.push_back(&run);
     }
   }
+  // Seeds outermost: every cell gets its first seed before any gets its second, so that a sweep
+  // stopped part-way (a session's end) has covered the grid evenly.
+  const auto seed_rank = [&](const SweepRun* run) {
+    return std::find(grid.seeds.begin(), grid.seeds.end(), run->seed) - grid.seeds.begin();
+  };
+  std::stable_sort(queue.begin(), queue.end(), [&](const SweepRun* a, const SweepRun* b) {
+    return seed_rank(a) < seed_rank(b);
+  });
   // Each run at a time gets its own CPUs; a finished run's share goes to the next run.
   const std::vector<int> allowed = AllowedCpus();
   const std::vector<std::vector<int>> shares = CpuShares(allowed, jobs);

@@ -30,7 +30,7 @@ struct SweepOutcome {
 };
 
 // Trains the grid into sweep_dir with `program` (the cmbrl executable) as `jobs` processes at a
-// time; `on_event` sees every run started, resumed, finished or failed. Training processes die
+// time, seeds outermost (every cell's first seed, then every cell's second, ...); `on_event` sees every run started, resumed, finished or failed. Training processes die
 // with the sweep. Throws cmbrl::Error for a bad grid or a sweep_dir recorded with other
 // settings; a failed run is reported in the outcome, not thrown.
 SweepOutcome RunSweep(const SweepGrid& grid, const std::string& sweep_dir, int jobs,
