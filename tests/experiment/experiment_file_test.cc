@@ -54,6 +54,19 @@ TEST(ExperimentTest, TheCpuGridsCellsShareEverySettingWithinATask) {
   EXPECT_EQ(per_task.size(), 4u);
 }
 
+// Every experiment of the repository loads and resolves every run's config.
+TEST(ExperimentTest, EveryDeclaredExperimentResolves) {
+  int experiments = 0;
+  for (const auto& entry : fs::directory_iterator(CMBRL_SOURCE_DIR "/experiments")) {
+    if (!IsExperimentDir(entry.path())) continue;
+    SCOPED_TRACE(entry.path().string());
+    const Experiment e = LoadExperiment(entry.path());
+    EXPECT_FALSE(ResolveExperimentRuns(e).empty());
+    ++experiments;
+  }
+  EXPECT_GE(experiments, 2);  // cpu-grid, model-free
+}
+
 TEST(ExperimentTest, AxesAndOverridesApplyToEveryRun) {
   const fs::path dir = WriteExperiment("axes",
                                        "family: cpu\ntasks: [PointGoal2]\nmethods: [rce, cem]\n"

@@ -1,0 +1,44 @@
+#!/usr/bin/env bash
+# An experiment declared as data, end to end: `cmbrl sweep EXPERIMENT` makes its runs, `cmbrl
+# report EXPERIMENT` its report; the report made again from its own logs alone (the runs
+# deleted, as in a fresh clone) is the same but for the line that says when it was made; a
+# declaration edited after its runs is refused, naming the run and the key.
+# Usage: experiment_test.sh CMBRL CONFIGS_DIR WORK_DIR
+set -euo pipefail
+cmbrl=$1 configs=$2 work=$3
+rm -rf "$work" && mkdir -p "$work/experiments/tiny"
+ln -s "$configs" "$work/configs"
+cat > "$work/experiments/tiny/experiment.yaml" << 'YAML'
+family: paper
+tasks: [PointGoal1]
+methods: [rce, random]
+seeds: [0, 1]
+window: 120
+set:
+  training: {pretrain_episodes: 6, pretrain_steps: 20, episodes_per_epoch: 2, total_steps: 120}
+  ensemble: {hidden_sizes: [16], max_epochs: 5}
+  classifier: {rounds: 10}
+  planning: {horizon: 3, population: 24, elites: 6, min_feasible_elites: 3, max_iterations: 2,
+             random_samples: 50}
+axes:
+  objective.gamma: [0.98, 0.9]
+YAML
+cd "$work"
+"$cmbrl" sweep experiments/tiny --jobs 2 > sweep.log
+runs=$(ls experiments/tiny/runs/runs | wc -l)
+[ "$runs" -eq 8 ] || { echo "expected 8 runs (2 methods x 2 gammas x 2 seeds), got $runs"; exit 1; }
+"$cmbrl" report experiments/tiny > /dev/null
+grep -q "SHA-256 $(sha256sum experiments/tiny/experiment.yaml | cut -d' ' -f1)" \
+  experiments/tiny/report/report.md || { echo "the report lacks the file's SHA-256"; exit 1; }
+cp -r experiments/tiny/report first-report
+rm -rf experiments/tiny/runs
+"$cmbrl" report experiments/tiny > /dev/null
+diff -r -I '^Made by `cmbrl report' first-report experiments/tiny/report ||
+  { echo "the report made again from its logs differs"; exit 1; }
+sed -i 's/rounds: 10/rounds: 11/' experiments/tiny/experiment.yaml
+if "$cmbrl" report experiments/tiny 2> edited.err; then
+  echo "a report of runs made under another declaration was accepted"; exit 1
+fi
+grep -q "was made with another config than" edited.err || { cat edited.err; exit 1; }
+grep -q "rounds: 10" edited.err || { cat edited.err; exit 1; }
+echo "experiment: 8 runs, report made again identical, edited declaration refused"
