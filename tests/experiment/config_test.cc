@@ -259,7 +259,7 @@ TEST(ConfigTest, TheCpuFamilyChangesTheSameKeysOfEveryPreset) {
          const TrainConfig& config) {
         EXPECT_EQ(config.training.total_steps, 3000);
         EXPECT_EQ(config.ensemble.hidden_sizes, std::vector<int>({256, 256, 256}));
-        EXPECT_EQ(config.planning.cross_entropy.population, 150);
+        EXPECT_EQ(config.planning.cross_entropy.population, 100);
         // Random shooting scores as many sequences as the CE iterations (paper: 5000 for 500).
         EXPECT_EQ(config.planning.random.samples * paper.planning.cross_entropy.population,
                   paper.planning.random.samples * config.planning.cross_entropy.population);

@@ -81,7 +81,7 @@ TEST(ExperimentTest, AxesAndOverridesApplyToEveryRun) {
   EXPECT_DOUBLE_EQ(runs[0].second.classifier.threshold, 0.3);
   EXPECT_DOUBLE_EQ(runs[2].second.classifier.threshold, 0.5);
   EXPECT_EQ(runs[0].second.training.total_steps, 2000);
-  EXPECT_EQ(runs[0].second.planning.cross_entropy.population, 150);  // the cpu family
+  EXPECT_EQ(runs[0].second.planning.cross_entropy.population, 100);  // the cpu family
   EXPECT_EQ(ExperimentGrid(e).overlays, (std::vector<std::string>{std::string(kConfigs) +
                                                                   "/cpu.yaml"}));
   EXPECT_EQ(e.runs_dir(), dir / "runs");
