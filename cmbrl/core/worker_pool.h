@@ -2,7 +2,7 @@
 // environments' steps. ParallelRanges (parallel.h) starts threads per call, which suits large
 // loops; for a call of a millisecond, on this project's virtual machines, a new thread often
 // waited for its CPU to wake, and two environments on two threads stepped only 1.1 to 1.4 times
-// as fast as one (PERFORMANCE.md). These workers stay alive and, between calls, spin for a
+// as fast as one (docs/PERFORMANCE.md). These workers stay alive and, between calls, spin for a
 // while before they sleep, so a call that follows soon finds them awake.
 #pragma once
 

@@ -16,7 +16,7 @@ struct PolicyOptimisationOptions {
   int envs = 1;
   // Threads that step the environments of a round (at most envs, and the cores this process
   // has). A thread is started per round, which costs more than it saves on a loaded machine
-  // (PERFORMANCE.md); results do not depend on it.
+  // (docs/PERFORMANCE.md); results do not depend on it.
   int env_threads = 1;
   std::vector<int> policy_hidden = {256, 256};
   double initial_log_std = -0.5;

@@ -484,7 +484,7 @@ TEST_F(ReportTest, ShippedReferenceLogsGiveTheOriginalsCounts) {
   EXPECT_NEAR(trpo[0], 2383.0 / 3, 1e-9);
   EXPECT_EQ(counts("PointGoal1", "trpo", 30000), (std::vector<double>{2383}));
   // The first epoch (10 episodes) of the original's CarGoal1 random runs: 8, 2 and 4 violations
-  // with mean returns of 28.1, 27.9 and 29.8 (results/ablation-level2/README.md).
+  // with mean returns of 28.1, 27.9 and 29.8 (the level-2 ablations, at commit 95a7bdc).
   std::vector<double> violations, returns;
   for (const RunRecord* run : ReferenceRunsOf(reference, "CarGoal1", "random")) {
     const std::optional<FirstEpoch> first = FirstEpochOf(*run);
