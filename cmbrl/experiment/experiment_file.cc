@@ -157,6 +157,7 @@ Experiment LoadExperiment(const fs::path& dir, const fs::path& configs_dir) {
     }
   }
   e.sha256 = Sha256OfFile(e.file());
+  if (!e.family_file().empty()) e.family_sha256 = Sha256OfFile(e.family_file());
   // Every run's config must resolve now, before any run starts.
   ResolveExperimentRuns(e);
   return e;
@@ -168,9 +169,7 @@ SweepGrid ExperimentGrid(const Experiment& experiment) {
   grid.planners = experiment.methods;
   grid.seeds = experiment.seeds;
   grid.config_dir = experiment.configs_dir.string();
-  if (experiment.family != "paper") {
-    grid.overlays = {(experiment.configs_dir / (experiment.family + ".yaml")).string()};
-  }
+  if (!experiment.family_file().empty()) grid.overlays = {experiment.family_file().string()};
   grid.overrides = experiment.overrides;
   grid.axes = experiment.axes;
   return grid;

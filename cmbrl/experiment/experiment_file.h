@@ -38,8 +38,13 @@ struct Experiment {
   std::vector<std::string> overrides;  // "section.key=value", every run
   std::vector<SweepAxis> axes;
   std::string sha256;  // of experiment.yaml's bytes, as `sha256sum` prints it
+  std::string family_sha256;  // of configs/<family>.yaml ("" for the paper family)
 
   std::filesystem::path file() const { return dir / kExperimentFile; }
+  // configs/<family>.yaml, composed over every preset (empty for the paper family).
+  std::filesystem::path family_file() const {
+    return family == "paper" ? std::filesystem::path() : configs_dir / (family + ".yaml");
+  }
   std::filesystem::path runs_dir() const { return dir / "runs"; }      // not committed
   std::filesystem::path report_dir() const { return dir / "report"; }  // committed, with logs
 };
