@@ -9,7 +9,7 @@
 
 #include "app/arguments.h"
 #include "app/commands.h"
-#include "cmbrl/experiment/evaluation.h"
+#include "cmbrl/eval/evaluation.h"
 #include "cmbrl/viz/scene_picture.h"
 
 namespace cmbrl::app {

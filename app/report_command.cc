@@ -16,9 +16,9 @@
 #include "app/commands.h"
 #include "cmbrl/core/check.h"
 #include "cmbrl/core/build_info.h"
-#include "cmbrl/experiment/experiment_file.h"
-#include "cmbrl/experiment/reference.h"
-#include "cmbrl/experiment/report.h"
+#include "cmbrl/sweep/experiment.h"
+#include "cmbrl/report/reference.h"
+#include "cmbrl/report/report.h"
 #include "cmbrl/planning/planner_registry.h"
 #include "cmbrl/viz/plot.h"
 
@@ -258,7 +258,9 @@ void RunReport(const ReportArgs& args) {
           : fmt::format(" (with --earlier-table '{}')",
                         fmt::join(args.earlier_tables, "' --earlier-table '")),
       args.experiment ? "## Details of" : "# Sweep report:");
-  for (const std::string& note : SetupDifferences(runs, window)) report += "- " + note + "\n";
+  for (const std::string& note : SetupDifferences(runs, window, DefaultConfigsDir())) {
+    report += "- " + note + "\n";
+  }
   report += "- " + reference_note + "\n";
   report += "\n## Where the outcome differs\n\n";
   for (const std::string& note : OutcomeDifferences(cells, window)) report += "- " + note + "\n";

@@ -15,7 +15,7 @@
 #include "cmbrl/core/check.h"
 #include "cmbrl/core/rng.h"
 #include "cmbrl/env/registry.h"
-#include "cmbrl/experiment/rollout.h"
+#include "cmbrl/eval/rollout.h"
 #include "cmbrl/viz/scene_picture.h"
 
 namespace cmbrl::app {

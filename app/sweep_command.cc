@@ -11,8 +11,8 @@
 #include "app/commands.h"
 #include "cmbrl/core/check.h"
 #include "cmbrl/env/registry.h"
-#include "cmbrl/experiment/experiment_file.h"
-#include "cmbrl/experiment/sweep_runner.h"
+#include "cmbrl/sweep/experiment.h"
+#include "cmbrl/sweep/sweep_runner.h"
 #include "cmbrl/planning/planner_registry.h"
 
 namespace cmbrl::app {

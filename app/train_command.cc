@@ -16,7 +16,7 @@
 #include "app/arguments.h"
 #include "app/commands.h"
 #include "cmbrl/core/check.h"
-#include "cmbrl/experiment/trainer.h"
+#include "cmbrl/train/trainer.h"
 
 namespace cmbrl::app {
 namespace {

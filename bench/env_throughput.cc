@@ -8,7 +8,7 @@
 #include "cmbrl/core/check.h"
 #include "cmbrl/core/rng.h"
 #include "cmbrl/env/goal_env.h"
-#include "cmbrl/experiment/config.h"
+#include "cmbrl/config/config.h"
 
 namespace cmbrl::bench {
 namespace {

@@ -12,14 +12,14 @@
 
 #include "bench/bench_util.h"
 #include "bench/ceiling.h"
-#include "cmbrl/agent/mpc_agent.h"
+#include "cmbrl/learners/mpc/mpc_agent.h"
 #include "cmbrl/agent/policy.h"
 #include "cmbrl/core/check.h"
 #include "cmbrl/core/rng.h"
 #include "cmbrl/core/torch_util.h"
 #include "cmbrl/env/registry.h"
-#include "cmbrl/experiment/config.h"
-#include "cmbrl/experiment/mpc_parts.h"
+#include "cmbrl/config/config.h"
+#include "cmbrl/learners/mpc/mpc_parts.h"
 #include "cmbrl/models/ensemble.h"
 #include "cmbrl/models/xgboost_cost_model.h"
 

@@ -7,14 +7,14 @@
 #include "bench/ceiling.h"
 #include "bench/env_throughput.h"
 #include "cmbrl/core/rng.h"
-#include "cmbrl/experiment/config.h"
-#include "cmbrl/experiment/policy_opt_learner.h"
+#include "cmbrl/config/config.h"
+#include "cmbrl/learners/policy_opt/policy_opt_learner.h"
 
 namespace cmbrl::bench {
 
 void RunPolicyOptBench(const PolicyOptBenchOptions& options, const FigureSink& emit) {
   TrainConfig config = LoadTrainConfig(options.config_path);
-  Require(config.algorithm != "mpc",
+  Require(!IsMpcAlgorithm(config.algorithm),
           "'{}' is an MPC config: bench learn measures the model-free algorithms (bench plan "
           "and bench train measure MPC)",
           options.config_path);

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The CUDA build and its benchmarks, on a GPU machine that has PyTorch (with its CUDA LibTorch)
-# but neither a package registry nor MuJoCo, XGBoost, yaml-cpp and friends (../shared/device.md).
+# but neither a package registry nor MuJoCo, XGBoost, yaml-cpp and friends (see the GPU machines' notes).
 # Two halves:
 #
 #   bash scripts/gpu-bench.sh fetch     here, on Debian 12 with the package registries: downloads
@@ -92,7 +92,23 @@ run() {
       tee -a "$results"
   done
   build-gpu/bin/cmbrl bench env --config "${configs[0]}" --runs 5 | tee -a "$results"
-  python3 scripts/bench_table.py "$results"
+  # The JSON lines as one Markdown table.
+  python3 - "$results" << 'PY'
+import json, sys
+lines = [json.loads(t) for t in open(sys.argv[1]) if t.strip().startswith("{")]
+for line in lines:
+    if line.get("bench") == "ceiling":
+        rates = ", ".join(f"{k} {v:.0f}" for k, v in line.items() if k.endswith("_gflops"))
+        print(f'ceiling on {line["device"]}: GEMM GFLOP/s {rates}')
+print("| what | median | floor | ratio |\n|---|---|---|---|")
+for line in lines:
+    if "median_ms" not in line:
+        continue
+    name = " ".join(str(line[k]) for k in ("task", "what", "planner", "precision") if line.get(k))
+    floor = f'{line["floor_ms"]:.2f} ms' if "floor_ms" in line else ""
+    ratio = f'{line["ratio_to_ceiling"]:.2f}' if "ratio_to_ceiling" in line else ""
+    print(f'| {name} | {line["median_ms"]:.2f} ms | {floor} | {ratio} |')
+PY
 }
 
 case "${1:-}" in

@@ -3,7 +3,7 @@
 //
 // OpenBLAS picks its matrix kernels once, when the library loads, from the CPU it detects. On
 // the virtual CPUs we run on it often detects an ancient core ("Prescott") and runs about 5x
-// slower (../shared/device.md). The environment variable OPENBLAS_CORETYPE overrides the
+// slower (measured on the development machines). The environment variable OPENBLAS_CORETYPE overrides the
 // detection, but only before the library loads, so a program has to restart itself to use it.
 #pragma once
 

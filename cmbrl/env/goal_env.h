@@ -1,5 +1,5 @@
 // The Safety Gym Goal task on MuJoCo: a robot drives to a goal among hazards and vases
-// (paper Section V-A; numbers in shared/spec/safety-gym-and-safe-mbrl-facts.md).
+// (paper Section V-A; numbers in docs/FACTS.md).
 #pragma once
 
 #include <array>

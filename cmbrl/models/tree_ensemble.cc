@@ -226,7 +226,6 @@ bool CpuHasAvx512() {
 
 }  // namespace
 
-bool FlatTreeEnsemble::UsesAvx512() { return CpuHasAvx512(); }
 
 void FlatTreeEnsemble::MarginsOfBlock(const float* rows, int count, float* columns, bool avx512,
                                       float* out) const {

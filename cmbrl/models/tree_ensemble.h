@@ -47,9 +47,6 @@ class FlatTreeEnsemble {
   void Margins(const float* rows, std::int64_t count, float* out, int threads = 1,
                TreeKernel kernel = TreeKernel::kFastest) const;
 
-  // Whether kFastest runs AVX-512 code on this CPU.
-  static bool UsesAvx512();
-
   int num_trees() const { return static_cast<int>(roots_.size()); }
   int num_features() const { return num_features_; }
   int max_depth() const { return max_depth_; }  // edges from a root to its deepest leaf

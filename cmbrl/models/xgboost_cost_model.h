@@ -77,7 +77,6 @@ class XgbCostModel final : public CostModel {
   std::vector<float> XgboostMargins(const float* states, int rows) const;
 
   const FlatTreeEnsemble& trees() const { return trees_; }
-  float margin_threshold() const { return margin_threshold_; }
 
   // The booster (XGBoost's JSON) and this model's settings in one JSON file. Load checks the
   // state dimension and throws cmbrl::Error naming a mismatch.

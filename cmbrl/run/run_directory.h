@@ -28,10 +28,6 @@ class RunDirectory {
   std::filesystem::path sessions_file() const { return root_ / "sessions.jsonl"; }
   // The last whole checkpoint; a learner's files and manifest.json.
   std::filesystem::path checkpoint_dir() const { return root_ / "checkpoint"; }
-  // A file of the checkpoint.
-  std::filesystem::path checkpoint_file(const std::string& name) const {
-    return checkpoint_dir() / name;
-  }
 
   bool HoldsRun() const;
   // Throws cmbrl::Error naming the directory when it already holds a run.

@@ -13,12 +13,12 @@
 #include <string>
 #include <vector>
 
-#include "cmbrl/agent/mpc_agent.h"
+#include "cmbrl/learners/mpc/mpc_agent.h"
 #include "cmbrl/core/check.h"
-#include "cmbrl/experiment/config.h"
-#include "cmbrl/experiment/evaluation.h"
-#include "cmbrl/experiment/loaded_run.h"
-#include "cmbrl/experiment/trainer.h"
+#include "cmbrl/config/config.h"
+#include "cmbrl/eval/evaluation.h"
+#include "cmbrl/eval/loaded_run.h"
+#include "cmbrl/train/trainer.h"
 #include "python/bindings/arrays.h"
 #include "python/bindings/bindings.h"
 

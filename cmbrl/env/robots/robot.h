@@ -1,6 +1,6 @@
 // The robots of the Goal tasks, as MJCF fragments plus what the task needs to know about them.
 // The models are written for this project from the parameters in
-// shared/spec/safety-gym-and-safe-mbrl-facts.md (A6 for stock, B0 for the paper's versions).
+// docs/FACTS.md (A6 for stock, B0 for the paper's versions).
 #pragma once
 
 #include <string>

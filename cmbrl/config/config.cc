@@ -1,0 +1,589 @@
+#include "cmbrl/config/config.h"
+
+#include <fmt/ranges.h>
+#include <unistd.h>
+#include <yaml-cpp/yaml.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <limits>
+#include <map>
+#include <set>
+#include <sstream>
+#include <typeinfo>
+#include <vector>
+
+#include "cmbrl/core/check.h"
+#include "cmbrl/core/torch_util.h"
+#include "cmbrl/env/tasks/goal_spec.h"
+#include "cmbrl/env/variant.h"
+#include "cmbrl/planning/planning_checks.h"
+
+namespace cmbrl {
+namespace {
+
+constexpr double kGiB = 1024.0 * 1024.0 * 1024.0;
+
+template <typename T>
+const char* TypeName() {
+  if constexpr (std::is_same_v<T, bool>) return "true or false";
+  if constexpr (std::is_integral_v<T>) return "an integer";
+  if constexpr (std::is_floating_point_v<T>) return "a number";
+  if constexpr (std::is_same_v<T, std::string>) return "a string";
+  return "a list of integers";
+}
+
+// One mapping of the file: reads known keys into fields and reports the ones nobody read.
+class Section {
+ public:
+  Section(const YAML::Node& node, std::string path, const std::string& source)
+      : node_(node), path_(std::move(path)), source_(source) {
+    Require(!node_.IsDefined() || node_.IsNull() || node_.IsMap(),
+            "config '{}': '{}' must be a mapping of keys to values", source_, Name(""));
+  }
+
+  std::string Name(const std::string& key) const {
+    return path_.empty() ? key : key.empty() ? path_ : path_ + "." + key;
+  }
+
+  template <typename T>
+  void Read(const std::string& key, T& field) {
+    known_.push_back(key);
+    if (!node_.IsMap() || !node_[key]) return;
+    const YAML::Node value = node_[key];
+    try {
+      field = value.as<T>();
+    } catch (const YAML::Exception&) {
+      if constexpr (std::is_integral_v<T> && !std::is_same_v<T, bool>) {
+        // A number that is not an integer of this range (1e12, 2.5, -1 for an unsigned key).
+        double number = 0.0;
+        if (YAML::convert<double>::decode(value, number)) {
+          Fail("config '{}': key '{}' is '{}': expected an integer from {} to {}", source_,
+               Name(key), Dump(value), std::numeric_limits<T>::min(),
+               std::numeric_limits<T>::max());
+        }
+      }
+      Fail("config '{}': key '{}' is '{}': expected {}", source_, Name(key), Dump(value),
+           TypeName<T>());
+    }
+  }
+
+  Section Child(const std::string& key) {
+    known_.push_back(key);
+    return Section(node_.IsMap() ? node_[key] : YAML::Node(), Name(key), source_);
+  }
+
+  // Throws for any key of the file that no Read or Child asked for.
+  void RejectUnknownKeys() const {
+    if (!node_.IsMap()) return;
+    for (const auto& entry : node_) {
+      const std::string key = entry.first.as<std::string>();
+      if (std::find(known_.begin(), known_.end(), key) == known_.end()) {
+        Fail("config '{}': unknown key '{}': expected one of {}", source_, Name(key),
+             fmt::join(known_, ", "));
+      }
+    }
+  }
+
+ private:
+  static std::string Dump(const YAML::Node& node) {
+    YAML::Emitter out;
+    out << YAML::Flow << node;
+    return out.c_str();
+  }
+
+  YAML::Node node_;
+  std::string path_;
+  const std::string& source_;
+  std::vector<std::string> known_;
+};
+
+// Every key of the file, once: section ("" for the top level), key and field. Reading and
+// writing both walk this list, so they cannot drift apart. Keys of one section stay together.
+template <typename Config, typename Visitor>
+void VisitConfig(Config& c, Visitor& v) {
+  v.Field("", "task", c.task);
+  v.Field("", "variant", c.variant);
+  v.Field("", "algorithm", c.algorithm);
+  v.Field("", "planner", c.planner);
+  v.Field("", "seed", c.seed);
+  v.Field("", "device", c.device);
+  v.Field("environment", "spawn", c.spawn);
+  auto& t = c.training;
+  v.Field("training", "pretrain_episodes", t.pretrain_episodes);
+  v.Field("training", "pretrain_steps", t.pretrain_steps);
+  v.Field("training", "episodes_per_epoch", t.episodes_per_epoch);
+  v.Field("training", "total_steps", t.total_steps);
+  v.Field("training", "transition_capacity", t.transition_capacity);
+  v.Field("training", "safe_capacity", t.safe_capacity);
+  v.Field("training", "unsafe_capacity", t.unsafe_capacity);
+  v.Field("training", "label_every_step", t.label_every_step);
+  auto& e = c.ensemble;
+  v.Field("ensemble", "ensemble_size", e.ensemble_size);
+  v.Field("ensemble", "hidden_sizes", e.hidden_sizes);
+  v.Field("ensemble", "predict_delta", e.predict_delta);
+  v.Field("ensemble", "learning_rate", e.learning_rate);
+  v.Field("ensemble", "batch_size", e.batch_size);
+  v.Field("ensemble", "max_epochs", e.max_epochs);
+  v.Field("ensemble", "validation_fraction", e.validation_fraction);
+  v.Field("ensemble", "member_subset_fraction", e.member_subset_fraction);
+  v.Field("ensemble", "validate_every", e.validate_every);
+  v.Field("ensemble", "patience", e.patience);
+  v.Field("ensemble", "init_std", e.init_std);
+  v.Field("ensemble", "min_std", e.min_std);
+  v.Field("ensemble", "precision", e.precision);
+  auto& x = c.classifier;
+  v.Field("classifier", "rounds", x.rounds);
+  v.Field("classifier", "learning_rate", x.learning_rate);
+  v.Field("classifier", "max_depth", x.max_depth);
+  v.Field("classifier", "max_leaves", x.max_leaves);
+  v.Field("classifier", "grow_policy", x.grow_policy);
+  v.Field("classifier", "tree_method", x.tree_method);
+  v.Field("classifier", "l2_regularization", x.l2_regularization);
+  v.Field("classifier", "min_child_weight", x.min_child_weight);
+  v.Field("classifier", "boost_from_average", x.boost_from_average);
+  v.Field("classifier", "threshold", x.threshold);
+  v.Field("classifier", "safe_per_unsafe", x.safe_per_unsafe);
+  v.Field("classifier", "safe_selection", x.safe_selection);
+  v.Field("classifier", "threads", x.threads);
+  v.Field("classifier", "predict_threads", x.predict_threads);
+  auto& p = c.planning.problem;
+  auto& ce = c.planning.cross_entropy;
+  v.Field("planning", "horizon", p.horizon);
+  v.Field("planning", "action_low", p.action_low);
+  v.Field("planning", "action_high", p.action_high);
+  v.Field("planning", "population", ce.population);
+  v.Field("planning", "elites", ce.elites);
+  v.Field("planning", "min_feasible_elites", ce.min_feasible_elites);
+  v.Field("planning", "max_iterations", ce.max_iterations);
+  v.Field("planning", "epsilon", ce.epsilon);
+  v.Field("planning", "alpha", ce.alpha);
+  v.Field("planning", "initial_variance", ce.initial_variance);
+  v.Field("planning", "penalty", c.planning.penalty);
+  v.Field("planning", "warm_start", ce.warm_start);
+  v.Field("planning", "random_samples", c.planning.random.samples);
+  auto& o = c.objective;
+  v.Field("objective", "goal_index", o.goal_index);
+  v.Field("objective", "gamma", o.gamma);
+  v.Field("objective", "beta", o.beta);
+  v.Field("objective", "near_goal_radius", o.near_goal_radius);
+  v.Field("objective", "near_goal_bonus", o.near_goal_bonus);
+  v.Field("objective", "at_goal_radius", o.at_goal_radius);
+  v.Field("objective", "at_goal_bonus", o.at_goal_bonus);
+  v.Field("objective", "at_goal_test_after_near_bonus", o.at_goal_test_after_near_bonus);
+  auto& m = c.policy_optimisation;
+  v.Field("policy_optimisation", "steps_per_epoch", m.steps_per_epoch);
+  v.Field("policy_optimisation", "envs", m.envs);
+  v.Field("policy_optimisation", "env_threads", m.env_threads);
+  v.Field("policy_optimisation", "policy_hidden", m.policy_hidden);
+  v.Field("policy_optimisation", "initial_log_std", m.initial_log_std);
+  v.Field("policy_optimisation", "value_hidden", m.value_hidden);
+  v.Field("policy_optimisation", "value_learning_rate", m.value_learning_rate);
+  v.Field("policy_optimisation", "value_iterations", m.value_iterations);
+  v.Field("policy_optimisation", "gamma", m.gamma);
+  v.Field("policy_optimisation", "lambda", m.lambda);
+  v.Field("policy_optimisation", "target_kl", m.target_kl);
+  v.Field("policy_optimisation", "damping", m.damping);
+  v.Field("policy_optimisation", "cg_iterations", m.cg_iterations);
+  v.Field("policy_optimisation", "backtrack_coefficient", m.backtrack_coefficient);
+  v.Field("policy_optimisation", "backtrack_iterations", m.backtrack_iterations);
+  v.Field("policy_optimisation", "cost_limit", m.cost_limit);
+  v.Field("policy_optimisation", "penalty_init", m.penalty_init);
+  v.Field("policy_optimisation", "penalty_learning_rate", m.penalty_learning_rate);
+  v.Field("policy_optimisation", "policy_learning_rate", m.policy_learning_rate);
+  v.Field("policy_optimisation", "policy_iterations", m.policy_iterations);
+  v.Field("policy_optimisation", "clip_ratio", m.clip_ratio);
+  v.Field("policy_optimisation", "kl_margin", m.kl_margin);
+}
+
+// Reads the fields that the file names; then refuses any key it does not know.
+class ConfigReader {
+ public:
+  ConfigReader(const YAML::Node& document, const std::string& source)
+      : root_(document, "", source), source_(source) {}
+
+  template <typename T>
+  void Field(const std::string& section, const char* key, T& value) {
+    SectionFor(section).Read(key, value);
+  }
+
+  // Named choices (variant, spawn) are parsed here, once; a bad one is named under its key.
+  void Field(const std::string& section, const char* key, Variant& value) {
+    ReadChoice(section, key, value, VariantName, ParseVariant);
+  }
+  void Field(const std::string& section, const char* key, Spawn& value) {
+    ReadChoice(section, key, value, SpawnName, ParseSpawn);
+  }
+
+  void RejectUnknownKeys() const {
+    for (const auto& [name, section] : sections_) section.RejectUnknownKeys();
+    root_.RejectUnknownKeys();
+  }
+
+ private:
+  template <typename Choice>
+  void ReadChoice(const std::string& section, const char* key, Choice& value,
+                  std::string (*name_of)(Choice), Choice (*parse)(const std::string&)) {
+    std::string name = name_of(value);
+    SectionFor(section).Read(key, name);
+    try {
+      value = parse(name);
+    } catch (const Error& error) {
+      const std::string where =
+          section.empty() ? fmt::format("key '{}'", key) : fmt::format("{}.{}", section, key);
+      Fail("config '{}': {}: {}", source_, where, error.what());
+    }
+  }
+
+  Section& SectionFor(const std::string& name) {
+    if (name.empty()) return root_;
+    auto found = sections_.find(name);
+    if (found == sections_.end()) found = sections_.emplace(name, root_.Child(name)).first;
+    return found->second;
+  }
+
+  Section root_;
+  const std::string& source_;
+  std::map<std::string, Section> sections_;
+};
+
+// Writes every field, one YAML mapping per section.
+class ConfigWriter {
+ public:
+  ConfigWriter() { out_ << YAML::BeginMap; }
+
+  template <typename T>
+  void Field(const std::string& section, const char* key, const T& value) {
+    if (section != open_section_) {
+      if (!open_section_.empty()) out_ << YAML::EndMap;
+      if (!section.empty()) out_ << YAML::Key << section << YAML::Value << YAML::BeginMap;
+      open_section_ = section;
+    }
+    out_ << YAML::Key << key << YAML::Value;
+    if constexpr (std::is_same_v<T, std::vector<int>>) out_ << YAML::Flow;
+    if constexpr (std::is_same_v<T, Variant>) {
+      out_ << VariantName(value);
+    } else if constexpr (std::is_same_v<T, Spawn>) {
+      out_ << SpawnName(value);
+    } else {
+      out_ << value;
+    }
+  }
+
+  std::string Finish() {
+    if (!open_section_.empty()) out_ << YAML::EndMap;
+    out_ << YAML::EndMap;
+    return std::string(out_.c_str()) + "\n";
+  }
+
+ private:
+  YAML::Emitter out_;
+  std::string open_section_;
+};
+
+// Runs a component's validation and names the section in its message ("planning.elites is ...").
+template <typename Check>
+void InSection(const std::string& source, const std::string& section, Check&& check) {
+  try {
+    check();
+  } catch (const Error& error) {
+    Fail("config '{}': {}.{}", source, section, error.what());
+  }
+}
+
+// The same for a top-level key ("key 'task': unknown task ...").
+template <typename Check>
+void AtKey(const std::string& source, const std::string& key, Check&& check) {
+  try {
+    check();
+  } catch (const Error& error) {
+    Fail("config '{}': key '{}': {}", source, key, error.what());
+  }
+}
+
+// Merges `overlay` into `base`, key by key: a mapping merges into a mapping (a file or an
+// override names only the keys it changes), anything else replaces the value.
+void MergeInto(YAML::Node base, const YAML::Node& overlay) {
+  for (const auto& entry : overlay) {
+    const std::string key = entry.first.as<std::string>();
+    YAML::Node current = base[key];
+    if (entry.second.IsMap() && current.IsMap()) {
+      MergeInto(current, entry.second);
+    } else {
+      base[key] = YAML::Clone(entry.second);
+    }
+  }
+}
+
+}  // namespace
+
+std::vector<std::string> AlgorithmNames() {
+  std::vector<std::string> names;
+  for (const AlgorithmEntry& entry : Algorithms()) names.push_back(entry.name);
+  return names;
+}
+
+std::string MethodOf(const TrainConfig& config) {
+  return IsMpcAlgorithm(config.algorithm) ? config.planner : config.algorithm;
+}
+
+std::vector<std::string> MethodNames() {
+  std::vector<std::string> names = PlannerNames();
+  for (const AlgorithmEntry& entry : Algorithms()) {
+    if (entry.family != LearnerFamily::kMpc) names.push_back(entry.name);
+  }
+  return names;
+}
+
+std::string MethodLabel(const std::string& method) {
+  const AlgorithmEntry* algorithm = FindAlgorithmOrNull(method);
+  return algorithm != nullptr && algorithm->family != LearnerFamily::kMpc ? algorithm->label
+                                                                          : PlannerLabel(method);
+}
+
+void SetTrainDevice(TrainConfig& c, const std::string& device) {
+  c.device = device;
+  c.ensemble.device = device;
+  c.classifier.device = device;
+  c.planning.problem.device = device;
+}
+
+TrainConfig ParseTrainConfig(const std::string& yaml, const std::string& source) {
+  YAML::Node document;
+  try {
+    document = YAML::Load(yaml);
+  } catch (const YAML::Exception& error) {
+    Fail("config '{}' is not valid YAML: {}", source, error.what());
+  }
+  TrainConfig config;
+  ConfigReader reader(document, source);
+  VisitConfig(config, reader);
+  reader.RejectUnknownKeys();
+  SetTrainDevice(config, config.device);  // one device for everything
+  ValidateTrainConfig(config, source);
+  return config;
+}
+
+TrainConfig LoadTrainConfig(const std::string& path) {
+  return LoadTrainConfig(std::vector<std::string>{path});
+}
+
+TrainConfig LoadTrainConfig(const std::vector<std::string>& paths) {
+  Require(!paths.empty(), "no config file given: expected at least one YAML file");
+  YAML::Node merged(YAML::NodeType::Map);
+  for (const std::string& path : paths) {
+    std::ifstream in(path);
+    Require(static_cast<bool>(in), "config file '{}' cannot be opened: expected a YAML file",
+            path);
+    std::stringstream text;
+    text << in.rdbuf();
+    YAML::Node document;
+    try {
+      document = YAML::Load(text.str());
+    } catch (const YAML::Exception& error) {
+      Fail("config '{}' is not valid YAML: {}", path, error.what());
+    }
+    Require(document.IsNull() || document.IsMap(),
+            "config '{}' must be a mapping of keys to values", path);
+    if (document.IsMap()) MergeInto(merged, document);
+  }
+  YAML::Emitter out;
+  out << merged;
+  return ParseTrainConfig(out.c_str(), fmt::format("{}", fmt::join(paths, "' + '")));
+}
+
+void ValidateTrainConfig(const TrainConfig& c, const std::string& source) {
+  AtKey(source, "task", [&] { GoalTaskSpecByName(c.task, c.variant); });
+  const std::vector<std::string>& algorithms = AlgorithmNames();
+  Require(std::find(algorithms.begin(), algorithms.end(), c.algorithm) != algorithms.end(),
+          "config '{}': key 'algorithm' is '{}': expected one of {}", source, c.algorithm,
+          fmt::join(algorithms, ", "));
+  InSection(source, "policy_optimisation",
+            [&] { ValidatePolicyOptimisationOptions(c.policy_optimisation); });
+  Require(FindPlannerOrNull(c.planner) != nullptr,
+          "config '{}': key 'planner' is '{}': expected one of {}", source, c.planner,
+          fmt::join(PlannerNames(), ", "));
+  AtKey(source, "device", [&] { ParseDevice(c.device); });
+  const TrainingLoopOptions& t = c.training;
+  InSection(source, "training", [&] {
+    Require(t.pretrain_episodes >= 0 && t.pretrain_episodes <= 10'000'000,
+            "pretrain_episodes is {}: expected 0 to 10000000", t.pretrain_episodes);
+    Require(t.pretrain_steps >= 1 && t.pretrain_steps <= 1'000'000,
+            "pretrain_steps is {}: expected 1 to 1000000", t.pretrain_steps);
+    Require(t.episodes_per_epoch >= 1 && t.episodes_per_epoch <= 1'000'000,
+            "episodes_per_epoch is {}: expected 1 to 1000000", t.episodes_per_epoch);
+    Require(t.total_steps >= 1 && t.total_steps <= kMaxTotalSteps,
+            "total_steps is {}: expected 1 to {}", t.total_steps, kMaxTotalSteps);
+    Require(t.transition_capacity >= 2 && t.transition_capacity <= 100'000'000,
+            "transition_capacity is {}: expected 2 to 100000000", t.transition_capacity);
+    Require(t.safe_capacity >= 1 && t.unsafe_capacity >= 1 && t.safe_capacity <= 100'000'000 &&
+                t.unsafe_capacity <= 100'000'000,
+            "safe_capacity and unsafe_capacity are {} and {}: expected 1 to 100000000 each",
+            t.safe_capacity, t.unsafe_capacity);
+  });
+  InSection(source, "ensemble", [&] { ValidateEnsembleOptions(c.ensemble); });
+  InSection(source, "classifier", [&] { ValidateXgbCostModelOptions(c.classifier); });
+  InSection(source, "planning", [&] {
+    Require(c.planning.penalty >= 0 && std::isfinite(c.planning.penalty),
+            "penalty is {}: expected a non-negative number", c.planning.penalty);
+    ValidateCrossEntropyOptions(c.planning.cross_entropy);
+    ValidateRandomShootingOptions(c.planning.random);
+    ValidatePlanningProblem(c.planning.problem);
+  });
+  const GoalTaskSpec spec = GoalTaskSpecByName(c.task, c.variant);
+  if (!IsMpcAlgorithm(c.algorithm)) return;  // the rest concerns the MPC learner's parts
+  // The planning objective reads the goal from the paper's ego-state vector.
+  Require(spec.observation == ObservationKind::kEgoState,
+          "config '{}': key 'variant' is '{}': training plans on the paper variant's ego-state "
+          "vector (the standard variant observes lidar)",
+          source, VariantName(c.variant));
+  InSection(source, "objective",
+            [&] { ValidateTrajectoryObjectiveOptions(c.objective, ObservationSize(spec)); });
+  // What the run will hold in memory, before it takes any: sizes each within its bound can
+  // still add up to more than the machine has.
+  const RunMemory memory = EstimateRunMemory(c, ObservationSize(spec), 2);
+  const double available = static_cast<double>(PhysicalMemoryBytes());
+  Require(available <= 0 || memory.total() <= 0.8 * available,
+          "config '{}': the run would need about {:.1f} GiB ({}), more than 80% of this "
+          "machine's {:.1f} GiB: lower the sizes named",
+          source, memory.total() / kGiB, memory.Describe(), available / kGiB);
+}
+
+double RunMemory::total() const {
+  return transitions + labeled_states + ensemble + planning + classifier_fit;
+}
+
+std::string RunMemory::Describe() const {
+  const auto part = [](const char* name, double bytes) {
+    return fmt::format("{} {:.2f} GiB", name, bytes / kGiB);
+  };
+  return fmt::format("{}, {}, {}, {}, {}", part("training.transition_capacity", transitions),
+                     part("training.safe_capacity and unsafe_capacity", labeled_states),
+                     part("ensemble", ensemble),
+                     part("planning (population x members x horizon)", planning),
+                     part("classifier fit", classifier_fit));
+}
+
+RunMemory EstimateRunMemory(const TrainConfig& c, int state_dim, int action_dim) {
+  constexpr double kFloat = 4.0;
+  const double s = state_dim, a = action_dim;
+  const TrainingLoopOptions& t = c.training;
+  RunMemory m;
+  m.transitions = static_cast<double>(t.transition_capacity) * (2 * s + a) * kFloat;
+  m.labeled_states = (static_cast<double>(t.safe_capacity) + t.unsafe_capacity) * s * kFloat;
+  // Weights, gradients and Adam's two moments of every member, and one batch's activations.
+  double parameters = 0.0, widest = s;
+  double in = s + a;
+  for (const int width : c.ensemble.hidden_sizes) {
+    parameters += (in + 1) * width;
+    in = width;
+    widest = std::max(widest, static_cast<double>(width));
+  }
+  parameters += (in + 1) * s;
+  const double members = c.ensemble.ensemble_size;
+  m.ensemble =
+      members * (4 * parameters * kFloat + static_cast<double>(c.ensemble.batch_size) * widest *
+                                               kFloat * (c.ensemble.hidden_sizes.size() + 1));
+  // The planner keeps every step's predicted states of the population (E, N, H, S) and the
+  // widest layer's activations; random shooting scores its samples the same way.
+  const double samples =
+      std::max<double>(c.planning.cross_entropy.population, c.planning.random.samples);
+  const double horizon = c.planning.problem.horizon;
+  m.planning = members * samples * (horizon * (s + a) + 2 * widest) * kFloat;
+  // The classifier's training matrix: every unsafe state and up to safe_per_unsafe times as
+  // many safe ones, in XGBoost's copy too.
+  m.classifier_fit = 2.0 *
+                     std::min<double>(t.safe_capacity + t.unsafe_capacity,
+                                      (c.classifier.safe_per_unsafe + 1.0) * t.unsafe_capacity) *
+                     s * kFloat;
+  return m;
+}
+
+std::uint64_t PhysicalMemoryBytes() {
+  const long pages = sysconf(_SC_PHYS_PAGES);
+  const long page_size = sysconf(_SC_PAGE_SIZE);
+  return pages > 0 && page_size > 0
+             ? static_cast<std::uint64_t>(pages) * static_cast<std::uint64_t>(page_size)
+             : 0;
+}
+
+std::string TrainConfigToYaml(const TrainConfig& c) {
+  ConfigWriter writer;
+  VisitConfig(c, writer);
+  return writer.Finish();
+}
+
+std::vector<ConfigDifference> ConfigDifferences(const TrainConfig& ours, const TrainConfig& theirs) {
+  // Both written by the one visitor, then compared key by key in its order.
+  const YAML::Node a = YAML::Load(TrainConfigToYaml(ours));
+  const YAML::Node b = YAML::Load(TrainConfigToYaml(theirs));
+  static const std::set<std::string> kNotMethod = {
+      "seed", "device", "classifier.threads", "classifier.predict_threads",
+      "policy_optimisation.env_threads"};
+  // The shortest text that reads back as the value: 0.3, not YAML's 0.29999999999999999.
+  const auto text = [](const YAML::Node& node) {
+    double number = 0.0;
+    if (node.IsScalar() && node.Scalar().find_first_of(".eE") != std::string::npos &&
+        YAML::convert<double>::decode(node, number)) {
+      return fmt::format("{}", number);
+    }
+    YAML::Emitter out;
+    out << YAML::Flow << node;
+    return std::string(out.c_str());
+  };
+  std::vector<ConfigDifference> differences;
+  for (const auto& entry : a) {
+    const std::string name = entry.first.as<std::string>();
+    if (entry.second.IsMap()) {
+      for (const auto& field : entry.second) {
+        const std::string key = name + "." + field.first.as<std::string>();
+        const std::string mine = text(field.second);
+        const std::string other = text(b[name][field.first.as<std::string>()]);
+        if (mine != other && kNotMethod.count(key) == 0) differences.push_back({key, mine, other});
+      }
+    } else {
+      const std::string mine = text(entry.second);
+      const std::string other = text(b[name]);
+      if (mine != other && kNotMethod.count(name) == 0) differences.push_back({name, mine, other});
+    }
+  }
+  return differences;
+}
+
+TrainConfig ApplyConfigOverrides(const TrainConfig& config,
+                                 const std::vector<std::string>& overrides,
+                                 const std::string& source) {
+  YAML::Node document = YAML::Load(TrainConfigToYaml(config));
+  for (const std::string& item : overrides) {
+    const size_t equals = item.find('=');
+    const std::string key = item.substr(0, equals);
+    const size_t dot = key.find('.');
+    Require(equals != std::string::npos && !key.empty() && equals + 1 < item.size() &&
+                (dot == std::string::npos ||
+                 (dot > 0 && dot + 1 < key.size() && key.find('.', dot + 1) == std::string::npos)),
+            "{} '{}': expected section.key=value, e.g. planning.population=500", source, item);
+    const std::string section = dot == std::string::npos ? "" : key.substr(0, dot);
+    const std::string name = dot == std::string::npos ? key : key.substr(dot + 1);
+    const YAML::Node parent = section.empty() ? document : document[section];
+    Require(parent.IsMap() && parent[name], "{} '{}': unknown key '{}'", source, item, key);
+    YAML::Node value;
+    try {
+      value = YAML::Load(item.substr(equals + 1));
+    } catch (const YAML::Exception& error) {
+      Fail("{} '{}': the value is not valid YAML: {}", source, item, error.what());
+    }
+    YAML::Node patch(YAML::NodeType::Map);
+    if (section.empty()) {
+      patch[name] = value;
+    } else {
+      patch[section][name] = value;
+    }
+    MergeInto(document, patch);  // a mapping merges into its section, keeping its other keys
+  }
+  YAML::Emitter out;
+  out << document;
+  return ParseTrainConfig(out.c_str(), source);
+}
+
+}  // namespace cmbrl

@@ -1,0 +1,136 @@
+// Training configuration: the only place that reads YAML. Keys map one to one onto the options
+// structs of the components, whose defaults are the paper's values; a file only names what it
+// changes.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "cmbrl/env/variant.h"
+#include "cmbrl/models/ensemble.h"
+#include "cmbrl/models/xgboost_cost_model.h"
+#include "cmbrl/planning/planner_registry.h"
+#include "cmbrl/planning/trajectory_objective.h"
+#include "cmbrl/policy_opt/policy_opt_options.h"
+#include "cmbrl/run/algorithms.h"
+
+namespace cmbrl {
+
+// Streams of the run seed (DeriveSeed(seed, stream)), one per consumer of randomness.
+enum SeedStream : std::uint64_t {
+  kEnvSeedStream,
+  kPretrainSeedStream,
+  kEnsembleSeedStream,
+  kClassifierSeedStream,
+  kPlannerSeedStream,
+};
+
+// The outer loop of Algorithm 2 (facts B6).
+struct TrainingLoopOptions {
+  int pretrain_episodes = 1000;      // random-action episodes before the first fit
+  int pretrain_steps = 50;           // stored agent steps per pre-training episode
+  int episodes_per_epoch = 10;       // MPC episodes between refits
+  std::int64_t total_steps = 10000;  // budget of TotalEnvInteracts (MPC agent steps)
+  int transition_capacity = 500000;  // dynamics ring buffer
+  int safe_capacity = 50000;         // classifier rings
+  int unsafe_capacity = 10000;
+  // false (the original's run.py): a violation label is stored only for the agent steps whose
+  // transition is stored, i.e. not on a step that met the goal or ended the episode (facts B4).
+  // true: every agent step's next state is labelled.
+  bool label_every_step = false;
+};
+
+// The training algorithms `cmbrl train` knows (run/algorithms.h): "mpc" (the paper's Algorithm 2
+// with `planner`), the paper's model-free baselines and PPO's variants.
+std::vector<std::string> AlgorithmNames();
+
+struct TrainConfig {
+  std::string task = "PointGoal1";
+  Variant variant = Variant::kPaper;  // parsed once, where the file is read
+  Spawn spawn = Spawn::kStanding;     // environment.spawn
+  std::string algorithm = "mpc";      // AlgorithmNames()
+  std::string planner = "rce";        // rce, cem or random (algorithm mpc)
+  std::uint64_t seed = 0;
+  std::string device = "cpu";  // models and planner
+  TrainingLoopOptions training;
+  EnsembleOptions ensemble;
+  XgbCostModelOptions classifier;
+  PlannerSettings planning;
+  TrajectoryObjectiveOptions objective;
+  PolicyOptimisationOptions policy_optimisation;  // the model-free algorithms
+};
+
+// What a run's results are grouped by in sweeps and reports: the planner of an MPC run
+// ("rce"), the algorithm of a model-free one ("cpo").
+std::string MethodOf(const TrainConfig& config);
+
+// Every method in the paper's order: the planners, then the model-free algorithms.
+std::vector<std::string> MethodNames();
+
+// The paper's name of a method ("MPC-RCE", "TRPO-Lagrangian"), or the name itself when unknown.
+std::string MethodLabel(const std::string& method);
+
+// The largest budget of agent steps a run may have.
+inline constexpr std::int64_t kMaxTotalSteps = 10'000'000'000;
+
+// Bytes a run will hold in memory, part by part (an estimate from the configuration).
+struct RunMemory {
+  double transitions = 0.0;
+  double labeled_states = 0.0;
+  double ensemble = 0.0;
+  double planning = 0.0;
+  double classifier_fit = 0.0;
+  double total() const;
+  std::string Describe() const;  // each part with its config keys and GiB
+};
+
+RunMemory EstimateRunMemory(const TrainConfig& config, int state_dim, int action_dim);
+
+// This machine's physical memory in bytes (0 when unknown).
+std::uint64_t PhysicalMemoryBytes();
+
+// Reads a YAML file. Throws cmbrl::Error naming the file, the key (as section.key) and the value
+// for a missing file, invalid YAML, an unknown key, a value of the wrong type or a bad setting.
+TrainConfig LoadTrainConfig(const std::string& path);
+
+// Several YAML files composed in order: each names only the keys it changes, later files over
+// earlier ones (a mapping merges into a mapping), e.g. a task's paper preset and then a preset
+// family (configs/cpu.yaml). Throws as LoadTrainConfig does, naming the files.
+TrainConfig LoadTrainConfig(const std::vector<std::string>& paths);
+
+// The same from YAML text; `source` names it in messages.
+TrainConfig ParseTrainConfig(const std::string& yaml, const std::string& source);
+
+// Checks every setting (task, variant, planner, device and each component's options, for example
+// more elites than samples or a horizon of 0, each within a bound), and that what the run will
+// allocate fits this machine; throws cmbrl::Error naming the key.
+void ValidateTrainConfig(const TrainConfig& config, const std::string& source);
+
+// Sets the one device of the models and the planner ("cpu", "cuda", "cuda:N").
+void SetTrainDevice(TrainConfig& config, const std::string& device);
+
+// Every key with its value, in the layout LoadTrainConfig reads.
+std::string TrainConfigToYaml(const TrainConfig& config);
+
+// A key whose value differs between two configs, as the config file writes them.
+struct ConfigDifference {
+  std::string key;     // "planning.population", or "task" for a top-level key
+  std::string ours;    // the first config's value, as YAML ("100", "[256, 256, 256]")
+  std::string theirs;  // the second's
+};
+
+// Every key of the config (the one table of keys every reader and writer visits) whose value
+// differs between `ours` and `theirs`, in the table's order. The seed, the device and the
+// thread counts, which name a run or the machine rather than its method, are left out.
+std::vector<ConfigDifference> ConfigDifferences(const TrainConfig& ours, const TrainConfig& theirs);
+
+// `config` with each "section.key=value" (or "key=value" for a top-level key) of `overrides`
+// applied in order, the value read as YAML ("500", "0.3", "[256, 256]"), then validated as a
+// file would be. Throws cmbrl::Error naming `source` (where the overrides came from, e.g.
+// "--set") and the override for a malformed one, an unknown key or a bad value.
+TrainConfig ApplyConfigOverrides(const TrainConfig& config,
+                                 const std::vector<std::string>& overrides,
+                                 const std::string& source);
+
+}  // namespace cmbrl

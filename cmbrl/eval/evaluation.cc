@@ -1,0 +1,117 @@
+#include "cmbrl/eval/evaluation.h"
+
+#include <torch/torch.h>
+
+#include <chrono>
+#include <cmath>
+
+#include "cmbrl/learners/mpc/mpc_agent.h"
+#include "cmbrl/core/check.h"
+#include "cmbrl/config/config.h"
+#include "cmbrl/eval/loaded_run.h"
+
+namespace cmbrl {
+namespace {
+
+std::optional<std::uint64_t> EpisodeResetSeed(const EvaluationOptions& options, int episode) {
+  if (options.reseed_each_episode) return options.seed + static_cast<std::uint64_t>(episode);
+  return episode == 0 ? std::optional<std::uint64_t>(options.seed) : std::nullopt;
+}
+
+// Predicted robot positions in the world: the predicted magnetometer gives the heading theta
+// ((-0.5 sin theta, -0.5 cos theta) in the body frame), the predicted ego-frame goal the offset,
+// and the goal itself does not move: p = goal - R(theta) goal_ego.
+std::vector<PredictedPath> WorldPaths(MpcAgent& agent, const BoxSpec& spec, Vec2 goal, Vec2 robot,
+                                      int keep) {
+  const torch::Tensor trajectories = agent.objective()
+                                         .last_trajectories()
+                                         .to(torch::kCPU, torch::kFloat)
+                                         .contiguous();  // (E,N,H,S)
+  const torch::Tensor constraint = agent.objective().last_values().constraint_cost.cpu();
+  const int mx = spec.IndexOf("magnetometer_x"), my = spec.IndexOf("magnetometer_y");
+  const int gx = spec.IndexOf("goal_x"), gy = spec.IndexOf("goal_y");
+  const std::int64_t samples = trajectories.size(1), horizon = trajectories.size(2);
+  const auto states = trajectories.accessor<float, 4>();
+  const auto point = [&](std::int64_t e, std::int64_t n, std::int64_t t) {
+    const double theta = std::atan2(-states[e][n][t][mx], -states[e][n][t][my]);
+    const double ex = states[e][n][t][gx], ey = states[e][n][t][gy];
+    return Vec2{goal.x - (std::cos(theta) * ex - std::sin(theta) * ey),
+                goal.y - (std::sin(theta) * ex + std::cos(theta) * ey)};
+  };
+  std::vector<PredictedPath> paths;
+  const std::int64_t stride = std::max<std::int64_t>(1, samples / std::max(1, keep));
+  for (std::int64_t n = 0; n < samples; n += stride) {
+    for (std::int64_t e = 0; e < trajectories.size(0); ++e) {
+      PredictedPath path;
+      path.feasible = constraint[n].item<float>() == 0.0f;
+      path.points.push_back(robot);
+      for (std::int64_t t = 0; t < horizon; ++t) path.points.push_back(point(e, n, t));
+      paths.push_back(std::move(path));
+    }
+  }
+  return paths;
+}
+
+}  // namespace
+
+std::vector<PredictedPath> PlannerPredictions(MpcAgent& agent, const BoxSpec& spec,
+                                              const SceneState& scene, int samples) {
+  std::vector<PredictedPath> paths =
+      WorldPaths(agent, spec, scene.goal, scene.robot.position, samples);
+  // The executed plan: its final mean rolled through the objective once more.
+  agent.objective().Evaluate(agent.last_result().sequence.unsqueeze(0));
+  for (PredictedPath& chosen : WorldPaths(agent, spec, scene.goal, scene.robot.position, 1)) {
+    chosen.chosen = true;
+    paths.push_back(std::move(chosen));
+  }
+  return paths;
+}
+
+std::vector<EvaluatedEpisode> EvaluateRun(const std::string& run_dir,
+                                          const EvaluationOptions& options) {
+  Require(options.episodes >= 1, "episodes is {}: expected at least 1", options.episodes);
+  LoadedRun run(run_dir, options.seed, options.overrides);
+  Env& env = run.env();
+  if (!run.is_mpc()) {
+    // A model-free run: its policy's mean action, no predictions to draw.
+    std::vector<EvaluatedEpisode> episodes;
+    for (int k = 0; k < options.episodes; ++k) {
+      EvaluatedEpisode result;
+      const auto start = std::chrono::steady_clock::now();
+      result.record = RunEpisode(env, run.policy(), EpisodeResetSeed(options, k));
+      result.mean_ms_per_plan =
+          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+              .count() /
+          result.record.steps;
+      episodes.push_back(std::move(result));
+    }
+    return episodes;
+  }
+  MpcAgent& agent = run.mpc_agent();
+
+  std::vector<EvaluatedEpisode> episodes;
+  for (int k = 0; k < options.episodes; ++k) {
+    EvaluatedEpisode result;
+    double milliseconds = 0.0;
+    double feasible = 0.0;
+    int fallback_steps = 0;
+    const auto record_plan = [&](int step, const SceneState& scene) {
+      const PlanStats& plan = agent.last_plan();
+      milliseconds += plan.milliseconds;
+      feasible += plan.feasible_fraction;
+      if (plan.infeasible_elite_fraction > 0.0) ++fallback_steps;
+      if (options.predictions_every <= 0 || step % options.predictions_every != 0) return;
+      const std::vector<PredictedPath> paths =
+          PlannerPredictions(agent, env.observation_spec(), scene, options.predicted_samples);
+      result.predictions.insert(result.predictions.end(), paths.begin(), paths.end());
+    };
+    result.record = RunEpisode(env, agent, EpisodeResetSeed(options, k), record_plan);
+    result.mean_ms_per_plan = milliseconds / result.record.steps;
+    result.mean_feasible_fraction = feasible / result.record.steps;
+    result.fallback_step_fraction = static_cast<double>(fallback_steps) / result.record.steps;
+    episodes.push_back(std::move(result));
+  }
+  return episodes;
+}
+
+}  // namespace cmbrl

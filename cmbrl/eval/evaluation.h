@@ -1,0 +1,54 @@
+// Evaluating a trained run: episodes of its MPC agent with the models of its last checkpoint,
+// with what pictures need, the planner's predicted trajectories included.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "cmbrl/eval/rollout.h"
+#include "cmbrl/viz/scene_picture.h"
+
+namespace cmbrl {
+
+struct EvaluationOptions {
+  int episodes = 1;
+  std::uint64_t seed = 0;  // environment and planner
+  // false: only the first episode's reset is seeded, later ones continue its generator. true:
+  // episode k is reset with seed + k, so its layout is the same whatever happened before (two
+  // planners meet the same layouts).
+  bool reseed_each_episode = false;
+  int predictions_every = 25;  // record the planner's predictions every this many steps (0: never)
+  int predicted_samples = 8;   // sample trajectories kept per recorded step (each x members)
+  // "section.key=value" changes of the planner, its objective or the classifier's threshold,
+  // for this evaluation only (LoadedRun::PlanningOverrideKeys).
+  std::vector<std::string> overrides;
+};
+
+struct EvaluatedEpisode {
+  EpisodeRecord record;
+  std::vector<PredictedPath> predictions;  // world coordinates, at the recorded steps
+  double mean_ms_per_plan = 0.0;
+  // MPC runs only: the mean feasible fraction of the plans' last populations, and the share of
+  // steps whose executed plan came from infeasible elites (RCE's fallback: too few feasible
+  // samples).
+  std::optional<double> mean_feasible_fraction;
+  std::optional<double> fallback_step_fraction;
+};
+
+class MpcAgent;
+
+// The agent's last plan in world coordinates, for pictures: `samples` of its sampled action
+// sequences (each as every ensemble member predicted it) and the executed plan (chosen).
+// `scene` is the one the plan was made in; `spec` the environment's observation spec. Rolls the
+// executed plan through the objective once more, so the objective's last values change.
+std::vector<PredictedPath> PlannerPredictions(MpcAgent& agent, const BoxSpec& spec,
+                                              const SceneState& scene, int samples);
+
+// Loads run_dir's config and checkpoint and runs the episodes. Throws cmbrl::Error when run_dir
+// holds no trained run.
+std::vector<EvaluatedEpisode> EvaluateRun(const std::string& run_dir,
+                                          const EvaluationOptions& options);
+
+}  // namespace cmbrl

@@ -1,0 +1,58 @@
+// A trained run's agent, loaded from its last checkpoint to act outside training: the MPC agent
+// with its dynamics ensemble and constraint classifier, or a model-free run's policy (its mean
+// action). Evaluation and the Python module act through it.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "cmbrl/agent/policy.h"
+#include "cmbrl/env/env.h"
+#include "cmbrl/config/config.h"
+
+namespace cmbrl {
+
+class MpcAgent;
+class EnsembleDynamics;
+class XgbCostModel;
+
+// Not thread-safe.
+class LoadedRun {
+ public:
+  // Loads run_dir's config and verified checkpoint; `seed` seeds the environment it builds and
+  // the MPC planner. `overrides` ("section.key=value", ApplyConfigOverrides) change how the
+  // trained models are used, never the models: only keys of PlanningOverrideKeys() are
+  // accepted. Throws cmbrl::Error when run_dir holds no trained run or for a bad override.
+  LoadedRun(const std::string& run_dir, std::uint64_t seed,
+            const std::vector<std::string>& overrides = {});
+
+  // What an override may name: "planning.*", "objective.*", "classifier.threshold",
+  // "classifier.predict_threads" and "planner" (the planner, its settings and objective, and how
+  // the classifier's probability becomes a verdict; an MPC run's models serve every planner).
+  static const std::vector<std::string>& PlanningOverrideKeys();
+  ~LoadedRun();
+
+  const TrainConfig& config() const { return config_; }
+  bool is_mpc() const { return mpc_ != nullptr; }
+  // The environment built with the agent (an MPC run's models are shaped by it).
+  Env& env();
+
+  // Acts as in training's evaluation: BeginEpisode at each episode's start, then Act per step.
+  Policy& policy();
+
+  // The MPC run's parts; each throws cmbrl::Error for a model-free run.
+  MpcAgent& mpc_agent();
+  const EnsembleDynamics& dynamics() const;
+  const XgbCostModel& classifier() const;
+
+ private:
+  struct Mpc;
+  struct ModelFree;
+  TrainConfig config_;
+  std::unique_ptr<Mpc> mpc_;
+  std::unique_ptr<ModelFree> model_free_;
+};
+
+}  // namespace cmbrl

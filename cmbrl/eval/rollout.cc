@@ -1,0 +1,44 @@
+#include "cmbrl/eval/rollout.h"
+
+#include "cmbrl/core/check.h"
+
+namespace cmbrl {
+
+EpisodeRecord RunEpisode(Env& env, Policy& policy, std::optional<std::uint64_t> seed,
+                         const AfterActHook& after_act) {
+  const SceneSource* scenes = env.scene_source();
+  Require(scenes != nullptr, "this environment shows no scene to record an episode from");
+  EpisodeRecord record;
+  std::vector<double> observation = env.Reset(seed);
+  policy.BeginEpisode();
+  SceneState scene = scenes->Scene();
+  record.path.push_back(scene.robot.position);
+  record.path_violations.push_back(false);
+  for (;;) {
+    const Vec2 goal_before = scene.goal;
+    const std::vector<double> action = policy.Act(observation);
+    if (after_act) after_act(record.steps, scene);
+    StepResult step = env.Step(action);
+    scene = scenes->Scene();
+    record.episode_return += step.reward;
+    record.episode_cost += step.cost;
+    ++record.steps;
+    record.env_steps += step.info.env_steps;
+    if (step.info.goal_met) {
+      ++record.goals_met;
+      record.reached_goals.push_back(goal_before);
+    }
+    record.path.push_back(scene.robot.position);
+    record.path_violations.push_back(step.cost > 0.0);
+    observation = std::move(step.observation);
+    if (step.terminated || step.truncated) {
+      record.terminated = step.terminated;
+      record.truncated = step.truncated;
+      break;
+    }
+  }
+  record.final_scene = std::move(scene);
+  return record;
+}
+
+}  // namespace cmbrl

@@ -1,0 +1,113 @@
+// The training loop of the paper (Algorithm 2; facts B6) as a learner: random-action
+// pre-training, model fits, then epochs of MPC episodes, each epoch followed by refits, until a
+// budget of agent steps. The refit due after the episode that spends the budget would act in no
+// episode: it waits until the run is continued to a larger budget (Trainer::Resume), which then
+// gives the rows of a run started with that budget. A finished run's checkpoint therefore holds
+// the models its last episodes acted with.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "cmbrl/config/config.h"
+#include "cmbrl/learners/mpc/mpc_parts.h"
+#include "cmbrl/models/labeled_state_buffer.h"
+#include "cmbrl/models/transition_buffer.h"
+#include "cmbrl/run/learner.h"
+#include "cmbrl/run/progress_table.h"
+
+namespace cmbrl {
+
+// One row of an MPC run's progress.csv: one MPC episode, with the diagnostics of the latest fit
+// and of the episode's plans.
+struct ProgressRow {
+  int epoch = 0;                         // 1-based; refits happen between epochs
+  int episode = 0;                       // 1-based MPC episode
+  double episode_return = 0.0;           // EpRet
+  double episode_cost = 0.0;             // EpCost: agent steps with a violation
+  std::int64_t total_env_interacts = 0;  // MPC agent steps so far
+  std::int64_t pretrain_interacts = 0;   // random pre-training agent steps (not counted above)
+  double time_seconds = 0.0;             // since the run began, across resumes
+  double dynamics_validation_mse = 0.0;
+  double classifier_safe_accuracy = 0.0;
+  double classifier_unsafe_accuracy = 0.0;
+  double feasible_fraction = 0.0;  // mean over the episode's plans
+  double ms_per_plan = 0.0;        // mean over the episode's plans
+  int steps = 0;
+  int goals_met = 0;
+  // Agent steps of the episode that violated a constraint by entering a hazard, and by touching
+  // or moving a constrained vase. A step can do both, so their sum can exceed EpCost.
+  int hazard_steps = 0;
+  int vase_steps = 0;
+};
+
+// Names of the columns that reports read (and the original's logs share).
+inline constexpr const char* kEpRetColumn = "EpRet";
+inline constexpr const char* kEpCostColumn = "EpCost";
+inline constexpr const char* kTotalEnvInteractsColumn = "TotalEnvInteracts";
+inline constexpr const char* kStepsColumn = "Steps";
+inline constexpr const char* kFeasibleFractionColumn = "FeasibleFraction";
+inline constexpr const char* kHazardStepsColumn = "HazardSteps";
+inline constexpr const char* kVaseStepsColumn = "VaseSteps";
+
+// The columns of an MPC run's progress.csv, the one definition of their names and formats.
+const std::vector<ProgressColumn<ProgressRow>>& MpcProgressColumns();
+
+// The CSV header and one line (no newline) of progress.csv.
+std::string ProgressCsvHeader();
+std::string ProgressCsvLine(const ProgressRow& row);
+
+// Loads the models of an MPC checkpoint folder into `parts` (for evaluation). Throws
+// cmbrl::Error naming a missing or damaged file.
+void LoadMpcModels(const std::filesystem::path& checkpoint, MpcParts& parts);
+
+// Algorithm 2. Checkpoint files: transitions.bin, labeled_states.bin, ensemble.pt,
+// classifier.json, planner_generator.pt and state.json (counters, the environment's generator,
+// the last fits' figures). On the CPU a resumed run writes the rows an uninterrupted one would
+// (Time aside). Not thread-safe.
+class MpcLearner final : public Learner {
+ public:
+  // Builds everything for a validated `config`; throws cmbrl::Error for settings the components
+  // refuse.
+  explicit MpcLearner(TrainConfig config);
+  ~MpcLearner() override;
+
+  std::string ProgressHeader() const override { return ProgressCsvHeader(); }
+  bool Finished() const override;
+  LearnerStep Advance(const std::function<double()>& elapsed_seconds) override;
+  void Save(const std::filesystem::path& folder, const std::filesystem::path& previous,
+            bool models_changed) const override;
+  void Load(const std::filesystem::path& folder) override;
+  std::int64_t steps_done() const override { return total_steps_; }
+  std::int64_t budget() const override { return config_.training.total_steps; }
+
+  const TrainConfig& config() const { return config_; }
+  // The last MPC episode's full row (for callers that want more than the summary).
+  const ProgressRow& last_row() const { return last_row_; }
+
+ private:
+  void Pretrain();
+  void FitModels();
+  void AddLabel(const std::vector<double>& next_state, double cost, bool transition_kept);
+  ProgressRow Episode(const std::function<double()>& elapsed_seconds);
+
+  TrainConfig config_;
+  MpcParts parts_;
+  std::unique_ptr<TransitionBuffer> transitions_;
+  std::unique_ptr<LabeledStateBuffer> labeled_;
+
+  // Counters and the last fits' figures, all in the checkpoint.
+  bool pretrained_ = false;
+  bool models_due_ = false;  // a refit the budget's end put off
+  int episodes_ = 0;
+  std::int64_t total_steps_ = 0;
+  std::int64_t pretrain_steps_ = 0;
+  double dynamics_validation_mse_;
+  double classifier_safe_accuracy_;
+  double classifier_unsafe_accuracy_;
+  ProgressRow last_row_;
+};
+
+}  // namespace cmbrl

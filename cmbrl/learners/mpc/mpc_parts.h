@@ -1,0 +1,44 @@
+// The parts of an MPC run built from its configuration, in one place: the environment (through
+// the registry), the dynamics ensemble, the constraint classifier and the MPC agent. Training,
+// evaluation and the benchmarks assemble them here.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+
+#include "cmbrl/learners/mpc/mpc_agent.h"
+#include "cmbrl/env/env.h"
+#include "cmbrl/config/config.h"
+#include "cmbrl/models/ensemble.h"
+#include "cmbrl/models/xgboost_cost_model.h"
+
+namespace cmbrl {
+
+// Models and agent borrow nothing from each other beyond what MpcAgent documents: the agent
+// borrows the models, so they live here together. Not thread-safe.
+struct MpcParts {
+  std::unique_ptr<Env> env;
+  std::unique_ptr<EnsembleDynamics> ensemble;
+  std::unique_ptr<XgbCostModel> classifier;
+  std::unique_ptr<MpcAgent> agent;
+};
+
+// The seeds of the parts. Training derives them from the run seed (DeriveSeed with the
+// SeedStream of each); evaluation and benchmarks choose their own.
+struct MpcPartSeeds {
+  std::uint64_t ensemble = 0;
+  std::uint64_t classifier = 0;
+  std::uint64_t planner = 0;
+};
+
+// The run's own streams of `seed`.
+MpcPartSeeds RunSeeds(std::uint64_t seed);
+
+// Builds everything for `config` (a validated configuration). Throws cmbrl::Error for settings
+// the components refuse.
+MpcParts AssembleMpc(const TrainConfig& config, const MpcPartSeeds& seeds);
+
+// The planner settings of `config` for an environment with `action_dim` actions.
+PlannerSettings PlannerSettingsFor(const TrainConfig& config, int action_dim);
+
+}  // namespace cmbrl

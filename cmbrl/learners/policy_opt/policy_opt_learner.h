@@ -1,0 +1,113 @@
+// The model-free baselines of the paper (Section V-B; TRPO, TRPO-Lagrangian, CPO as
+// safety-starter-agents ran them, and its PPO and PPO-Lagrangian) as a learner: epochs of steps_per_epoch environment steps with
+// the current Gaussian policy, then the penalty, policy and value-function updates.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "cmbrl/agent/policy.h"
+#include "cmbrl/env/env.h"
+#include "cmbrl/config/config.h"
+#include "cmbrl/policy_opt/lagrange.h"
+#include "cmbrl/policy_opt/networks.h"
+#include "cmbrl/policy_opt/policy_update.h"
+#include "cmbrl/run/learner.h"
+#include "cmbrl/run/progress_table.h"
+
+namespace cmbrl {
+
+// One row of a model-free run's progress.csv: one epoch, with the original's column names.
+struct EpochRow {
+  int epoch = 0;                     // 1-based
+  double average_episode_return = 0.0;  // AverageEpRet over the epoch's finished episodes
+  double average_episode_cost = 0.0;    // AverageEpCost
+  double average_episode_length = 0.0;  // EpLen (environment steps)
+  int episodes = 0;                  // finished in the epoch
+  double cumulative_cost = 0.0;      // every step's cost since the run began
+  double cost_rate = 0.0;            // cumulative_cost / TotalEnvInteracts
+  double penalty = 0.0;  // TRPO-L's lambda before the epoch's update, CPO's nu, 0 for TRPO
+  double kl = 0.0;                   // after the policy update
+  int backtrack_iterations = 0;
+  int optim_case = -1;               // CPO's, -1 otherwise
+  double loss_pi = 0.0;
+  double surrogate_cost = 0.0;
+  double loss_v = 0.0;
+  double loss_vc = 0.0;
+  double entropy = 0.0;
+  std::int64_t total_env_interacts = 0;
+  double time_seconds = 0.0;
+};
+
+const std::vector<ProgressColumn<EpochRow>>& PolicyOptProgressColumns();
+
+// A trained Gaussian policy acting with its mean, clipped to the action box (for evaluation:
+// the environment would clip it too). Borrows the policy. Not thread-safe.
+class GaussianMeanPolicy final : public Policy {
+ public:
+  GaussianMeanPolicy(const GaussianPolicy& policy, BoxSpec action_spec);
+  std::vector<double> Act(const std::vector<double>& observation) override;
+
+ private:
+  const GaussianPolicy& policy_;
+  BoxSpec action_spec_;
+};
+
+// Checkpoint files: networks.pt (policy, value functions, the value optimisers' moments, the
+// sampler's generator) and state.json (counters, the penalty, the environments' generators). Not
+// thread-safe.
+class PolicyOptLearner final : public Learner {
+ public:
+  // `config.algorithm` is trpo, trpo-lagrangian or cpo; the environment is config's task and
+  // variant (paper-lidar for the paper's runs). Throws cmbrl::Error for a bad configuration.
+  explicit PolicyOptLearner(TrainConfig config);
+  ~PolicyOptLearner() override;
+
+  std::string ProgressHeader() const override;
+  bool Finished() const override;
+  LearnerStep Advance(const std::function<double()>& elapsed_seconds) override;
+  void Save(const std::filesystem::path& folder, const std::filesystem::path& previous,
+            bool models_changed) const override;
+  void Load(const std::filesystem::path& folder) override;
+  // Refuses when the last epoch was cut short by the old budget: a longer run has a whole epoch
+  // there.
+  void CheckNewBudget(std::int64_t new_budget) const override;
+  std::int64_t steps_done() const override { return total_steps_; }
+  std::int64_t budget() const override { return config_.training.total_steps; }
+
+  const EpochRow& last_row() const { return last_row_; }
+  // Wall seconds of the last epoch's parts (for benchmarks).
+  struct Timings {
+    double rollout = 0.0;        // environment steps with the networks' forwards
+    double policy_update = 0.0;  // penalty and trust-region step
+    double value_fits = 0.0;     // both value functions' iterations
+  };
+  const Timings& last_timings() const { return timings_; }
+  // Floating-point operations of one epoch's value fits (forward and backward, both networks).
+  double ValueFitFlops(std::int64_t samples) const;
+  const GaussianPolicy& policy() const { return *policy_; }
+
+ private:
+  struct Epoch;
+  Epoch Collect();
+  std::vector<std::string> EnvGenerators() const;
+
+  TrainConfig config_;
+  ConstraintHandling handling_;
+  std::vector<std::unique_ptr<Env>> envs_;
+  at::Generator generator_;  // initialisation, then action sampling
+  std::unique_ptr<GaussianPolicy> policy_;
+  std::unique_ptr<TanhMlp> value_, cost_value_;
+  std::unique_ptr<torch::optim::Adam> policy_optimizer_;  // PPO's (unused by the others)
+  std::unique_ptr<torch::optim::Adam> value_optimizer_, cost_value_optimizer_;
+  LagrangeMultiplier lagrange_;
+
+  int epochs_ = 0;
+  std::int64_t total_steps_ = 0;
+  double cumulative_cost_ = 0.0;
+  EpochRow last_row_;
+  Timings timings_;
+};
+
+}  // namespace cmbrl

@@ -1,0 +1,169 @@
+#include "cmbrl/run/run_sessions.h"
+
+#include <fmt/format.h>
+
+#include <chrono>
+#include <ctime>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <vector>
+
+#include "cmbrl/core/check.h"
+
+namespace cmbrl {
+namespace {
+
+namespace fs = std::filesystem;
+
+// A setup's fields as sessions.jsonl writes them, in one order: also what SetupChanges compares.
+nlohmann::ordered_json SetupJson(const NumericsSetup& setup) {
+  return {{"cmbrl", setup.cmbrl},
+          {"cpu", setup.cpu},
+          {"blas_core", setup.blas_core},
+          {"blas_threads", setup.blas_threads},
+          {"torch_threads", setup.torch_threads},
+          {"libtorch", setup.libtorch},
+          {"mujoco", setup.mujoco},
+          {"xgboost", setup.xgboost},
+          {"device", setup.device}};
+}
+
+std::string UtcNow() {
+  const std::time_t now = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
+  std::tm utc{};
+  gmtime_r(&now, &utc);
+  char text[32];
+  std::strftime(text, sizeof(text), "%Y-%m-%dT%H:%M:%SZ", &utc);
+  return text;
+}
+
+nlohmann::ordered_json SessionJson(const RunSession& session) {
+  nlohmann::ordered_json line = {
+      {"session", session.number}, {"began", session.began}, {"steps_done", session.steps_done}};
+  line.update(SetupJson(session.setup));
+  return line;
+}
+
+// A value of the line's object, named in the error when it is missing or of another type.
+template <typename T>
+T Field(const nlohmann::json& line, const char* key, const std::string& where) {
+  const auto it = line.find(key);
+  Require(it != line.end(), "{}: no '{}': expected a session with its setup", where, key);
+  try {
+    return it->get<T>();
+  } catch (const nlohmann::json::exception&) {
+    Fail("{}: '{}' is {}: expected {}", where, key, it->dump(),
+         std::is_same_v<T, std::string> ? "a string" : "a whole number");
+  }
+}
+
+RunSession ParseSession(const std::string& text, const std::string& where) {
+  nlohmann::json line;
+  try {
+    line = nlohmann::json::parse(text);
+  } catch (const nlohmann::json::exception& error) {
+    Fail("{}: not JSON ({}): expected one session per line", where, error.what());
+  }
+  Require(line.is_object(), "{}: {} is not an object: expected one session per line", where, text);
+  RunSession session;
+  session.number = Field<int>(line, "session", where);
+  session.began = Field<std::string>(line, "began", where);
+  session.steps_done = Field<std::int64_t>(line, "steps_done", where);
+  NumericsSetup& setup = session.setup;
+  setup.cmbrl = Field<std::string>(line, "cmbrl", where);
+  setup.cpu = Field<std::string>(line, "cpu", where);
+  setup.blas_core = Field<std::string>(line, "blas_core", where);
+  setup.blas_threads = Field<int>(line, "blas_threads", where);
+  setup.torch_threads = Field<int>(line, "torch_threads", where);
+  setup.libtorch = Field<std::string>(line, "libtorch", where);
+  setup.mujoco = Field<std::string>(line, "mujoco", where);
+  setup.xgboost = Field<std::string>(line, "xgboost", where);
+  setup.device = Field<std::string>(line, "device", where);
+  return session;
+}
+
+// The file's text up to and including its last newline (what a stop mid-write left whole); ""
+// when there is no file.
+std::string WholeLines(const fs::path& file) {
+  if (!fs::exists(file)) return "";
+  std::ifstream in(file, std::ios::binary);
+  Require(static_cast<bool>(in), "could not read '{}'", file.string());
+  std::stringstream text;
+  text << in.rdbuf();
+  const std::string all = text.str();
+  const size_t end = all.rfind('\n');
+  return end == std::string::npos ? std::string() : all.substr(0, end + 1);
+}
+
+// The sessions of `whole_lines`, the whole lines of `file`.
+std::vector<RunSession> ParseSessions(const std::string& whole_lines, const fs::path& file) {
+  std::vector<RunSession> sessions;
+  std::istringstream lines(whole_lines);
+  std::string line;
+  for (int number = 1; std::getline(lines, line); ++number) {
+    sessions.push_back(ParseSession(line, fmt::format("'{}' line {}", file.string(), number)));
+  }
+  return sessions;
+}
+
+std::string ValueText(const nlohmann::ordered_json& value) {
+  return value.is_string() ? value.get<std::string>() : value.dump();
+}
+
+}  // namespace
+
+bool NumericsSetup::operator==(const NumericsSetup& other) const {
+  return SetupChanges(*this, other).empty();
+}
+
+std::vector<std::string> SetupChanges(const NumericsSetup& before, const NumericsSetup& after) {
+  const nlohmann::ordered_json then = SetupJson(before);
+  const nlohmann::ordered_json now = SetupJson(after);
+  std::vector<std::string> changes;
+  for (const auto& [key, value] : then.items()) {
+    if (value == now.at(key)) continue;
+    changes.push_back(
+        fmt::format("{} '{}' -> '{}'", key, ValueText(value), ValueText(now.at(key))));
+  }
+  return changes;
+}
+
+std::string DescribeSetup(const NumericsSetup& setup) {
+  return fmt::format(
+      "cmbrl {}; CPU '{}', OpenBLAS kernels '{}' with {} thread(s), LibTorch {} with {} "
+      "thread(s); MuJoCo {}, XGBoost {}; device {}",
+      setup.cmbrl, setup.cpu, setup.blas_core, setup.blas_threads, setup.libtorch,
+      setup.torch_threads, setup.mujoco, setup.xgboost, setup.device);
+}
+
+std::vector<RunSession> ReadRunSessions(const RunDirectory& run) {
+  const fs::path file = run.sessions_file();
+  return ParseSessions(WholeLines(file), file);
+}
+
+std::vector<std::string> RecordRunSession(const RunDirectory& run, std::int64_t steps_done,
+                                          const NumericsSetup& setup) {
+  const fs::path file = run.sessions_file();
+  const std::string whole_lines = WholeLines(file);
+  const std::vector<RunSession> before = ParseSessions(whole_lines, file);
+  if (fs::exists(file)) {
+    std::error_code error;
+    fs::resize_file(file, whole_lines.size(), error);
+    Require(!error, "could not drop the unfinished last line of '{}': {}", file.string(),
+            error.message());
+  }
+  RunSession session;
+  session.number = before.empty() ? 1 : before.back().number + 1;
+  session.began = UtcNow();
+  session.steps_done = steps_done;
+  session.setup = setup;
+  std::ofstream out(file, std::ios::app);
+  out << SessionJson(session).dump() << "\n";
+  out.close();
+  Require(!out.fail(), "could not append to '{}'", file.string());
+  return before.empty() ? std::vector<std::string>() : SetupChanges(before.back().setup, setup);
+}
+
+}  // namespace cmbrl

@@ -1,0 +1,193 @@
+#include "cmbrl/sweep/experiment.h"
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+#include <openssl/evp.h>
+#include <yaml-cpp/yaml.h>
+
+#include <algorithm>
+#include <array>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include "cmbrl/core/check.h"
+#include "cmbrl/env/registry.h"
+
+namespace cmbrl {
+namespace fs = std::filesystem;
+namespace {
+
+// A YAML scalar or sequence in one line, as `--set` reads it back ("0.3", "[256, 256]").
+std::string FlowText(const YAML::Node& node) {
+  YAML::Emitter out;
+  out << YAML::Flow << node;
+  return out.c_str();
+}
+
+template <typename T>
+std::vector<T> ListAt(const YAML::Node& document, const std::string& key,
+                      const std::string& source) {
+  const YAML::Node node = document[key];
+  Require(node && node.IsSequence() && node.size() > 0,
+          "experiment '{}': key '{}' is {}: expected a non-empty list", source, key,
+          node ? fmt::format("'{}'", FlowText(node)) : std::string("missing"));
+  std::vector<T> values;
+  for (const YAML::Node& item : node) {
+    try {
+      values.push_back(item.as<T>());
+    } catch (const YAML::Exception&) {
+      Fail("experiment '{}': key '{}' holds '{}': expected {}", source, key, FlowText(item),
+           std::is_same_v<T, std::string> ? "a name" : "a non-negative integer");
+    }
+  }
+  return values;
+}
+
+// The overrides of a mapping of "section.key" to a value, in the file's order.
+std::vector<std::string> OverridesOf(const YAML::Node& node, const std::string& key,
+                                     const std::string& source) {
+  if (!node || node.IsNull()) return {};
+  Require(node.IsMap(), "experiment '{}': key '{}' is '{}': expected a mapping of config keys "
+          "(section.key, as --set takes them) to values", source, key, FlowText(node));
+  std::vector<std::string> overrides;
+  for (const auto& entry : node) {
+    overrides.push_back(entry.first.as<std::string>() + "=" + FlowText(entry.second));
+  }
+  return overrides;
+}
+
+}  // namespace
+
+bool IsExperimentDir(const fs::path& dir) { return fs::is_regular_file(dir / kExperimentFile); }
+
+std::string Sha256OfFile(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  Require(static_cast<bool>(in), "cannot read '{}' to hash it", path.string());
+  std::stringstream bytes;
+  bytes << in.rdbuf();
+  const std::string text = bytes.str();
+  std::array<unsigned char, EVP_MAX_MD_SIZE> digest{};
+  unsigned int length = 0;
+  Require(EVP_Digest(text.data(), text.size(), digest.data(), &length, EVP_sha256(), nullptr) == 1,
+          "could not hash '{}' (OpenSSL's SHA-256 failed)", path.string());
+  std::string hex;
+  for (unsigned int i = 0; i < length; ++i) hex += fmt::format("{:02x}", digest[i]);
+  return hex;
+}
+
+Experiment LoadExperiment(const fs::path& dir, const fs::path& configs_dir) {
+  Experiment e;
+  e.dir = dir.lexically_normal();
+  fs::path absolute = fs::absolute(dir).lexically_normal();
+  if (absolute.filename().empty()) absolute = absolute.parent_path();  // "experiments/x/"
+  e.name = absolute.filename().string();
+  const std::string source = e.file().string();
+  Require(IsExperimentDir(dir), "'{}' is not an experiment: expected a folder holding {}",
+          dir.string(), kExperimentFile);
+  YAML::Node document;
+  try {
+    document = YAML::LoadFile(source);
+  } catch (const YAML::Exception& error) {
+    Fail("experiment '{}' is not valid YAML: {}", source, error.what());
+  }
+  Require(document.IsMap(), "experiment '{}' must be a mapping of keys to values", source);
+  const std::set<std::string> known = {"family", "tasks", "methods", "seeds",
+                                       "window", "set",   "axes"};
+  for (const auto& entry : document) {
+    const std::string key = entry.first.as<std::string>();
+    Require(known.count(key) == 1, "experiment '{}': unknown key '{}': expected one of {}",
+            source, key, fmt::join(known, ", "));
+  }
+
+  e.configs_dir =
+      configs_dir.empty() ? absolute.parent_path().parent_path() / "configs" : configs_dir;
+  Require(document["family"] && document["family"].IsScalar(),
+          "experiment '{}': key 'family' is missing: expected 'paper' or the name of a preset "
+          "family in {} (cpu, quickstart)", source, e.configs_dir.string());
+  e.family = document["family"].as<std::string>();
+  Require(e.family == "paper" || fs::is_regular_file(e.configs_dir / (e.family + ".yaml")),
+          "experiment '{}': key 'family' is '{}': expected 'paper' or a family with a file "
+          "{}/<family>.yaml",
+          source, e.family, e.configs_dir.string());
+
+  e.tasks = ListAt<std::string>(document, "tasks", source);
+  for (const std::string& task : e.tasks) {
+    const std::vector<std::string>& known_tasks = EnvNames();
+    Require(std::find(known_tasks.begin(), known_tasks.end(), task) != known_tasks.end(),
+            "experiment '{}': key 'tasks' holds '{}': expected some of {}", source, task,
+            fmt::join(known_tasks, ", "));
+  }
+  e.methods = ListAt<std::string>(document, "methods", source);
+  const std::vector<std::string> known_methods = MethodNames();
+  for (const std::string& method : e.methods) {
+    Require(std::find(known_methods.begin(), known_methods.end(), method) != known_methods.end(),
+            "experiment '{}': key 'methods' holds '{}': expected some of {}", source, method,
+            fmt::join(known_methods, ", "));
+  }
+  e.seeds = ListAt<std::uint64_t>(document, "seeds", source);
+  Require(std::set<std::uint64_t>(e.seeds.begin(), e.seeds.end()).size() == e.seeds.size(),
+          "experiment '{}': key 'seeds' repeats a seed in [{}]: each run needs its own", source,
+          fmt::join(e.seeds, ", "));
+  const YAML::Node window = document["window"];
+  try {
+    Require(window && window.IsScalar(), "");
+    e.window = window.as<std::int64_t>();
+  } catch (const std::exception&) {
+    Fail("experiment '{}': key 'window' is {}: expected the number of agent steps counted "
+         "(3000, or the paper's 10000)",
+         source, window ? fmt::format("'{}'", FlowText(window)) : std::string("missing"));
+  }
+  Require(e.window >= 1 && e.window <= kMaxTotalSteps,
+          "experiment '{}': key 'window' is {}: expected 1 to {}", source, e.window,
+          kMaxTotalSteps);
+  e.overrides = OverridesOf(document["set"], "set", source);
+  const YAML::Node axes = document["axes"];
+  if (axes && !axes.IsNull()) {
+    Require(axes.IsMap(), "experiment '{}': key 'axes' is '{}': expected a mapping of config "
+            "keys to lists of values", source, FlowText(axes));
+    for (const auto& entry : axes) {
+      SweepAxis axis;
+      axis.key = entry.first.as<std::string>();
+      Require(entry.second.IsSequence() && entry.second.size() > 0,
+              "experiment '{}': axis '{}' is '{}': expected a non-empty list of values", source,
+              axis.key, FlowText(entry.second));
+      for (const YAML::Node& value : entry.second) axis.values.push_back(FlowText(value));
+      e.axes.push_back(axis);
+    }
+  }
+  e.sha256 = Sha256OfFile(e.file());
+  if (!e.family_file().empty()) e.family_sha256 = Sha256OfFile(e.family_file());
+  // Every run's config must resolve now, before any run starts.
+  ResolveExperimentRuns(e);
+  return e;
+}
+
+SweepGrid ExperimentGrid(const Experiment& experiment) {
+  SweepGrid grid;
+  grid.tasks = experiment.tasks;
+  grid.planners = experiment.methods;
+  grid.seeds = experiment.seeds;
+  grid.config_dir = experiment.configs_dir.string();
+  if (!experiment.family_file().empty()) grid.overlays = {experiment.family_file().string()};
+  grid.overrides = experiment.overrides;
+  grid.axes = experiment.axes;
+  return grid;
+}
+
+std::vector<std::pair<SweepRun, TrainConfig>> ResolveExperimentRuns(const Experiment& experiment) {
+  std::vector<std::pair<SweepRun, TrainConfig>> resolved;
+  for (const SweepRun& run : PlanSweep(ExperimentGrid(experiment), experiment.runs_dir())) {
+    TrainConfig config = LoadTrainConfig(run.config_paths);
+    if (!run.overrides.empty()) {
+      config = ApplyConfigOverrides(
+          config, run.overrides,
+          fmt::format("experiment '{}', run {}: override", experiment.file().string(), run.name));
+    }
+    config.seed = run.seed;
+    resolved.emplace_back(run, config);
+  }
+  return resolved;
+}
+
+}  // namespace cmbrl

@@ -1,0 +1,267 @@
+#include "cmbrl/sweep/sweep.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cctype>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <set>
+
+#include "cmbrl/core/check.h"
+#include "cmbrl/env/registry.h"
+#include "cmbrl/config/config.h"
+#include "cmbrl/report/report.h"
+#include "cmbrl/run/run_directory.h"
+#include "cmbrl/planning/planner_registry.h"
+
+namespace cmbrl {
+namespace fs = std::filesystem;
+namespace {
+
+std::string Lower(std::string text) {
+  std::transform(text.begin(), text.end(), text.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return text;
+}
+
+// A shell word in single quotes.
+std::string Quote(const std::string& word) {
+  std::string quoted = "'";
+  for (char c : word) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return quoted + "'";
+}
+
+// A value as a word of a folder name: "[256, 256]" becomes "256x256", other characters that a
+// shell or a path would trip on become '_'.
+std::string PathWord(const std::string& value) {
+  std::string word;
+  for (const char c : value) {
+    if (std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '-' || c == '_') {
+      word += c;
+    } else if (c == ',') {
+      word += 'x';
+    } else if (c != ' ' && c != '[' && c != ']') {
+      word += '_';
+    }
+  }
+  return word.empty() ? "_" : word;
+}
+
+}  // namespace
+
+std::vector<SweepRun> PlanSweep(const SweepGrid& grid, const std::string& sweep_dir) {
+  Require(!grid.tasks.empty() && !grid.planners.empty() && !grid.seeds.empty(),
+          "a sweep needs at least one task, one planner and one seed");
+  const std::vector<std::string>& known_tasks = EnvNames();
+  for (const std::string& task : grid.tasks) {
+    Require(std::find(known_tasks.begin(), known_tasks.end(), task) != known_tasks.end(),
+            "unknown task '{}': expected some of {}", task, fmt::join(known_tasks, ", "));
+  }
+  // Methods: the MPC planners and the model-free algorithms (configs <task>-<method>.yaml).
+  const std::vector<std::string> known_methods = MethodNames();
+  for (const std::string& method : grid.planners) {
+    Require(std::find(known_methods.begin(), known_methods.end(), method) != known_methods.end(),
+            "unknown planner or algorithm '{}': expected some of {}", method,
+            fmt::join(known_methods, ", "));
+  }
+
+  Require(std::set<std::uint64_t>(grid.seeds.begin(), grid.seeds.end()).size() ==
+              grid.seeds.size(),
+          "seeds {} repeat a seed: each run needs its own", fmt::join(grid.seeds, " "));
+  Require(!grid.steps || *grid.steps >= 1, "--steps is {}: expected a positive number",
+          grid.steps.value_or(0));
+  for (const std::string& overlay : grid.overlays) {
+    Require(fs::is_regular_file(overlay), "no config '{}': expected a YAML file to compose over "
+            "each run's preset", overlay);
+  }
+  // Every combination of the axes' values, as (name part, override) lists.
+  std::vector<std::pair<std::string, std::vector<std::string>>> points = {{"", {}}};
+  for (const SweepAxis& axis : grid.axes) {
+    Require(!axis.values.empty(), "axis '{}' has no values: expected a list of at least one",
+            axis.key);
+    Require(std::set<std::string>(axis.values.begin(), axis.values.end()).size() ==
+                axis.values.size(),
+            "axis '{}' repeats a value in {}: each value makes its own runs", axis.key,
+            fmt::join(axis.values, ", "));
+    const std::string short_key = axis.key.substr(axis.key.rfind('.') + 1);
+    std::vector<std::pair<std::string, std::vector<std::string>>> longer;
+    for (const auto& [name, overrides] : points) {
+      for (const std::string& value : axis.values) {
+        std::vector<std::string> with = overrides;
+        with.push_back(axis.key + "=" + value);
+        longer.emplace_back(name + "-" + short_key + "=" + PathWord(value), with);
+      }
+    }
+    points = longer;
+  }
+  std::vector<SweepRun> runs;
+  for (const std::string& task : grid.tasks) {
+    for (const std::string& planner : grid.planners) {
+      const std::string stem = Lower(task) + "-" + planner;
+      const fs::path config = fs::path(grid.config_dir) / (stem + ".yaml");
+      Require(fs::exists(config), "no config '{}' for {} with {}: expected <task>-<planner>.yaml "
+              "in --config-dir",
+              config.string(), task, planner);
+      for (const auto& [point_name, point_overrides] : points) {
+        for (const std::uint64_t seed : grid.seeds) {
+          SweepRun run;
+          run.name = fmt::format("{}{}-s{}", stem, point_name, seed);
+          run.task = task;
+          run.planner = planner;
+          run.seed = seed;
+          run.config_paths = {config.string()};
+          run.config_paths.insert(run.config_paths.end(), grid.overlays.begin(),
+                                  grid.overlays.end());
+          run.overrides = grid.overrides;
+          run.overrides.insert(run.overrides.end(), point_overrides.begin(),
+                               point_overrides.end());
+          run.run_dir = (fs::path(sweep_dir) / "runs" / run.name).string();
+          runs.push_back(run);
+        }
+      }
+    }
+  }
+  return runs;
+}
+
+RunStatus StatusOf(const SweepRun& run, std::optional<std::int64_t> budget) {
+  const RunDirectory dir(run.run_dir);
+  if (!dir.HoldsRun()) return RunStatus::kNew;
+  const TrainConfig config = LoadTrainConfig(dir.config_file().string());
+  std::vector<EpisodePoint> episodes;
+  try {
+    // An MPC run has a row per episode, a model-free one a row per epoch.
+    episodes = IsMpcAlgorithm(config.algorithm) ? ReadProgressEpisodes(dir.progress_file().string())
+                                         : ReadEpochLog(dir.progress_file().string());
+  } catch (const Error&) {
+    // A process killed while writing a row leaves it half written; resuming repairs that.
+    return RunStatus::kStarted;
+  }
+  const std::int64_t steps = budget.value_or(config.training.total_steps);
+  return !episodes.empty() && episodes.back().end_step >= steps
+             ? RunStatus::kFinished
+             : RunStatus::kStarted;
+}
+
+void RecordOrCheckSweep(const SweepGrid& grid, const std::string& sweep_dir) {
+  const fs::path path = fs::path(sweep_dir) / "sweep.json";
+  nlohmann::json axes = nlohmann::json::array();
+  for (const SweepAxis& axis : grid.axes) axes.push_back({{"key", axis.key}, {"values", axis.values}});
+  nlohmann::json overlays = nlohmann::json::array();
+  for (const std::string& overlay : grid.overlays) {
+    overlays.push_back(fs::absolute(overlay).lexically_normal().string());
+  }
+  const nlohmann::json settings = {
+      {"config_dir", fs::absolute(grid.config_dir).lexically_normal().string()},
+      {"steps", grid.steps ? nlohmann::json(*grid.steps) : nlohmann::json(nullptr)},
+      {"overlays", overlays},
+      {"overrides", grid.overrides},
+      {"axes", axes}};
+  if (fs::exists(path)) {
+    std::ifstream in(path);
+    nlohmann::json recorded;
+    try {
+      recorded = nlohmann::json::parse(in);
+    } catch (const nlohmann::json::exception& error) {
+      Fail("'{}' is not valid JSON: {}", path.string(), error.what());
+    }
+    const nlohmann::json recorded_steps = recorded.value("steps", nlohmann::json());
+    // A larger budget continues the sweep's runs (train --resume --steps); nothing else may
+    // change.
+    const nlohmann::json& steps = settings["steps"];
+    const bool longer = recorded_steps.is_number_integer() && steps.is_number_integer() &&
+                        steps.get<std::int64_t>() > recorded_steps.get<std::int64_t>();
+    for (const char* key : {"config_dir", "steps", "overlays", "overrides", "axes"}) {
+      if (longer && std::string(key) == "steps") continue;
+      // A sweep recorded before overlays, overrides and axes existed had none of them.
+      const nlohmann::json none = std::string(key) == "config_dir" || std::string(key) == "steps"
+                                      ? nlohmann::json()
+                                      : nlohmann::json::array();
+      Require(recorded.value(key, none) == settings[key],
+              "this sweep was started with {} {}, now {} is {}: finish it with the same "
+              "settings (or a larger --steps), or use another --out",
+              key, recorded.value(key, none).dump(), key, settings[key].dump());
+    }
+    if (!longer) return;
+  }
+  fs::create_directories(sweep_dir);
+  const fs::path tmp = path.string() + ".tmp";
+  std::ofstream(tmp) << settings.dump(2) << "\n";
+  fs::rename(tmp, path);
+}
+
+std::vector<std::string> TrainArguments(const SweepRun& run, const SweepGrid& grid) {
+  std::vector<std::string> args = {"train", "--resume", run.run_dir};
+  if (StatusOf(run) == RunStatus::kNew) args = NewRunArguments(run);
+  if (grid.steps) {
+    args.push_back("--steps");
+    args.push_back(std::to_string(*grid.steps));
+  }
+  return args;
+}
+
+std::vector<std::string> NewRunArguments(const SweepRun& run) {
+  std::vector<std::string> args = {"train", "--config"};
+  args.insert(args.end(), run.config_paths.begin(), run.config_paths.end());
+  if (!run.overrides.empty()) {
+    args.push_back("--set");
+    args.insert(args.end(), run.overrides.begin(), run.overrides.end());
+  }
+  for (const std::string& word : {std::string("--seed"), std::to_string(run.seed),
+                                  std::string("--out"), run.run_dir}) {
+    args.push_back(word);
+  }
+  return args;
+}
+
+std::vector<std::vector<int>> CpuShares(const std::vector<int>& cpus, int jobs) {
+  Require(jobs >= 1, "jobs is {}: expected at least 1", jobs);
+  const size_t per_job = cpus.size() / static_cast<size_t>(jobs);
+  if (per_job == 0) return {};
+  std::vector<std::vector<int>> shares;
+  for (size_t job = 0; job < static_cast<size_t>(jobs); ++job) {
+    shares.emplace_back(cpus.begin() + static_cast<std::ptrdiff_t>(job * per_job),
+                        cpus.begin() + static_cast<std::ptrdiff_t>((job + 1) * per_job));
+  }
+  return shares;
+}
+
+std::string SlurmScript(const std::vector<SweepRun>& runs, const SweepGrid& grid,
+                        const std::string& sweep_dir, const std::string& program) {
+  const std::string dir = fs::absolute(sweep_dir).lexically_normal().string();
+  std::string script = fmt::format(
+      "#!/bin/bash\n"
+      "# The sweep's grid as a Slurm job array, one task per run: sbatch {0}/slurm.sh\n"
+      "# Each task resumes its run if it has started, so resubmitting finishes an interrupted\n"
+      "# sweep. Written by `cmbrl sweep`; edit partitions and limits for your cluster.\n"
+      "#SBATCH --job-name=cmbrl-sweep\n"
+      "#SBATCH --array=0-{1}\n"
+      "#SBATCH --cpus-per-task=2\n"
+      "#SBATCH --output={0}/logs/slurm-%a.log\n"
+      "set -euo pipefail\n"
+      "cmbrl={2}\n"
+      "case \"$SLURM_ARRAY_TASK_ID\" in\n",
+      dir, runs.size() - 1, Quote(program));
+  const std::string steps = grid.steps ? fmt::format(" --steps {}", *grid.steps) : "";
+  for (size_t index = 0; index < runs.size(); ++index) {
+    SweepRun run = runs[index];
+    run.run_dir = fs::absolute(run.run_dir).string();
+    for (std::string& path : run.config_paths) path = fs::absolute(path).string();
+    std::vector<std::string> words;
+    for (const std::string& word : NewRunArguments(run)) words.push_back(Quote(word));
+    script += fmt::format("  {}) run_dir={}; start=({});;\n", index, Quote(run.run_dir),
+                          fmt::join(words, " "));
+  }
+  script += "esac\n";
+  // A run exists once its config file does (RunDirectory::HoldsRun).
+  script += fmt::format("if [ -f \"$run_dir/{}\" ]; then\n",
+                        RunDirectory("").config_file().filename().string());
+  script += "  exec \"$cmbrl\" train --resume \"$run_dir\"" + steps + "\n";
+  script += "fi\n";
+  script += "exec \"$cmbrl\" \"${start[@]}\"" + steps + "\n";
+  return script;
+}
+
+}  // namespace cmbrl

@@ -1,0 +1,127 @@
+#include "cmbrl/train/trainer.h"
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <optional>
+#include <string>
+
+#include "cmbrl/core/check.h"
+#include "cmbrl/core/run_lock.h"
+#include "cmbrl/learners/registry.h"
+#include "cmbrl/run/run_sessions.h"
+#include "cmbrl/train/current_setup.h"
+#include "cmbrl/run/progress_table.h"
+#include "cmbrl/run/run_directory.h"
+
+namespace cmbrl {
+namespace fs = std::filesystem;
+
+struct Trainer::State {
+  TrainConfig config;
+  RunDirectory run;
+  std::unique_ptr<RunLock> lock;  // held for the trainer's lifetime
+  std::unique_ptr<Learner> learner;
+  std::int64_t rows = 0;
+  // The columns of progress.csv's rows: all the learner's, or the first ones when the run was
+  // begun by a version that wrote fewer (ProgressColumnsKept).
+  std::optional<size_t> columns_kept;
+  double elapsed_before = 0.0;  // seconds of earlier sessions of this run
+  std::vector<std::string> setup_changes;  // against the previous session (run_sessions.h)
+  std::chrono::steady_clock::time_point session_start = std::chrono::steady_clock::now();
+
+  State(TrainConfig c, RunDirectory r) : config(std::move(c)), run(std::move(r)) {}
+
+  double Elapsed() const {
+    return elapsed_before +
+           std::chrono::duration<double>(std::chrono::steady_clock::now() - session_start).count();
+  }
+
+  void AppendRow(const std::string& line) {
+    std::ofstream out(run.progress_file(), std::ios::app);
+    out << (columns_kept ? FirstProgressFields(line, *columns_kept) : line) << "\n";
+    out.close();
+    Require(!out.fail(), "could not append to '{}'", run.progress_file().string());
+    ++rows;
+  }
+};
+
+std::unique_ptr<Trainer> Trainer::Start(const TrainConfig& config, const std::string& run_dir) {
+  ValidateTrainConfig(config, "(command line)");
+  RunDirectory(run_dir).RefuseExistingRun();  // before the costly learner is built
+  // The learner first: should building it (and taking its memory) fail, nothing is on disk yet.
+  auto state = std::make_unique<State>(config, RunDirectory(run_dir));
+  state->learner = MakeLearner(config);
+  RunDirectory::Create(run_dir, TrainConfigToYaml(config), state->learner->ProgressHeader(),
+                       [&] { state->lock = std::make_unique<RunLock>(run_dir); });
+  RecordRunSession(state->run, 0, CurrentNumericsSetup(config.device));
+  return std::unique_ptr<Trainer>(new Trainer(std::move(state)));
+}
+
+std::unique_ptr<Trainer> Trainer::Resume(const std::string& run_dir,
+                                         std::optional<std::int64_t> new_budget) {
+  RunDirectory run(run_dir);
+  Require(run.HoldsRun(), "'{}' holds no run (no {}): start one with --config", run_dir,
+          run.config_file().filename().string());
+  auto lock = std::make_unique<RunLock>(run_dir);
+  auto state = std::make_unique<State>(LoadTrainConfig(run.config_file().string()), run);
+  state->lock = std::move(lock);
+  RecoverInterruptedCheckpoint(run);
+  const std::optional<CheckpointManifest> checkpoint = VerifiedCheckpoint(run);
+  const std::int64_t old_budget = state->config.training.total_steps;
+  if (new_budget) {
+    state->config.training.total_steps = *new_budget;
+    ValidateTrainConfig(state->config, run.config_file().string());
+  }
+  state->learner = MakeLearner(state->config);
+  if (checkpoint) {
+    state->learner->Load(run.checkpoint_dir());
+    state->rows = checkpoint->rows;
+    state->elapsed_before = checkpoint->elapsed_seconds;
+  }
+  if (new_budget && *new_budget != old_budget) {
+    const std::int64_t done = state->learner->steps_done();
+    Require(*new_budget > done,
+            "cannot continue '{}' to {} steps: it has done {} already (its budget was {})",
+            run_dir, *new_budget, done, old_budget);
+    state->learner->CheckNewBudget(*new_budget);
+    run.ReplaceConfig(TrainConfigToYaml(state->config));
+  }
+  TruncateProgress(run, state->rows);
+  std::string header;
+  std::ifstream progress(run.progress_file());
+  std::getline(progress, header);
+  const std::string columns = state->learner->ProgressHeader();
+  if (header != columns) {
+    state->columns_kept = ProgressColumnsKept(run.progress_file(), header, columns);
+  }
+  // A finished run asked to go on with nothing to do is no session.
+  if (!state->learner->Finished()) {
+    state->setup_changes = RecordRunSession(run, state->learner->steps_done(),
+                                            CurrentNumericsSetup(state->config.device));
+  }
+  return std::unique_ptr<Trainer>(new Trainer(std::move(state)));
+}
+
+Trainer::Trainer(std::unique_ptr<State> state) : state_(std::move(state)) {}
+Trainer::~Trainer() = default;
+
+const std::vector<std::string>& Trainer::setup_changes() const { return state_->setup_changes; }
+const TrainConfig& Trainer::config() const { return state_->config; }
+const Learner& Trainer::learner() const { return *state_->learner; }
+std::int64_t Trainer::steps_done() const { return state_->learner->steps_done(); }
+
+void Trainer::Run(const std::function<void(const ProgressSummary&)>& on_unit) {
+  State& s = *state_;
+  while (!s.learner->Finished()) {
+    const LearnerStep step = s.learner->Advance([&s] { return s.Elapsed(); });
+    if (step.row) s.AppendRow(*step.row);
+    if (step.row && on_unit) on_unit(step.summary);
+    WriteCheckpoint(s.run, s.rows, s.Elapsed(),
+                    [&](const fs::path& folder, const fs::path& previous) {
+                      s.learner->Save(folder, previous, step.models_changed);
+                    });
+  }
+}
+
+}  // namespace cmbrl

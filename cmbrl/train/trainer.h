@@ -1,0 +1,61 @@
+// A training run: one learner (MPC with learned models, the paper's Algorithm 2, or another
+// behind run/learner.h) working in one run directory (run/run_directory.h) that survives being
+// stopped at any moment. The run owns the lock, progress.csv, checkpoints and resume; the learner
+// owns the algorithm.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "cmbrl/config/config.h"
+#include "cmbrl/run/learner.h"
+
+namespace cmbrl {
+
+// Files in the run directory: config.yaml (resolved), progress.csv, checkpoint/ (rewritten after
+// every unit of work, swapped in atomically, with a manifest of what it covers), sessions.jsonl
+// (where each session ran, run_sessions.h). Resume checks
+// the checkpoint against its manifest and progress.csv, drops rows written after it and
+// continues; on the CPU the rows then equal an uninterrupted run's (Time aside). Not
+// thread-safe.
+class Trainer {
+ public:
+  // A new run: validates `config` and builds the learner before anything else, and leaves no
+  // directory or file behind when that fails. Throws cmbrl::Error when run_dir already holds a
+  // run, or another process works in it.
+  static std::unique_ptr<Trainer> Start(const TrainConfig& config, const std::string& run_dir);
+
+  // Continues the run in run_dir from its last checkpoint (or from the start when it stopped
+  // before the first one). Throws cmbrl::Error when run_dir holds no run, or its parts disagree
+  // (naming the file). With `new_budget`, a run (finished or not) continues to that many steps
+  // instead, as if started with that budget, and its config.yaml says so; refused when the run
+  // has done that many steps already or its learner cannot (Learner::CheckNewBudget).
+  static std::unique_ptr<Trainer> Resume(const std::string& run_dir,
+                                         std::optional<std::int64_t> new_budget = std::nullopt);
+
+  ~Trainer();
+
+  // Trains until the learner's budget is spent. `on_unit` sees each unit of work's summary after
+  // its row is in progress.csv and before the checkpoint that covers it.
+  void Run(const std::function<void(const ProgressSummary&)>& on_unit = {});
+
+  // How this session's setup differs from the run's previous session (run_sessions.h), one
+  // part per field: empty for a new run, an unchanged setup, or a run that kept no sessions.
+  // Rows from here on are not those of an uninterrupted run where it is not empty.
+  const std::vector<std::string>& setup_changes() const;
+
+  const TrainConfig& config() const;
+  const Learner& learner() const;
+  std::int64_t steps_done() const;
+
+ private:
+  struct State;
+  explicit Trainer(std::unique_ptr<State> state);
+  std::unique_ptr<State> state_;
+};
+
+}  // namespace cmbrl

@@ -1,0 +1,131 @@
+"""Where an MPC run's violations come from: each violating step of a trained run's agent, sorted
+by what its models knew.
+
+For every step whose agent step had a cost, with the run's final models (cmbrl.load_run):
+  - hole: the classifier calls the true next state safe, so no plan could have avoided it;
+  - unforeseen: the classifier knows that state is unsafe, but every ensemble member predicted a
+    safe next state for the executed action (a dynamics error);
+  - foreseen, fallback: a member predicted the violation and RCE had too few feasible samples
+    (its plan came from the least-violating, infeasible elites);
+  - foreseen, feasible: a member predicted the violation although the plan had enough feasible
+    samples (the executed mean of the elites differs from each elite).
+Also: how long violations last once they start (consecutive violating steps) and the robot's
+speed at violating steps and at the others.
+
+Usage (Debian's python3, with python3-numpy):
+       PYTHONPATH=build/python python3 -m cmbrl.diagnostics.violation_anatomy RUN_DIR [--episodes 8] [--seed 5]
+       [--set planning.population=500 ...]
+Episode k is episode k of `cmbrl eval --run RUN_DIR --seed 5` with the same --set (and
+--reseed).
+"""
+import argparse
+import collections
+import statistics
+import sys
+
+import numpy as np
+
+import cmbrl
+
+COST_TERMS = ("cost_hazards", "cost_vases_contact", "cost_vases_velocity")  # facts A3
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("run")
+    parser.add_argument("--episodes", type=int, default=8)
+    parser.add_argument("--seed", type=int, default=5)
+    parser.add_argument("--set", nargs="*", default=[], help="overrides, as cmbrl eval --set")
+    parser.add_argument("--reseed", action="store_true",
+                        help="episode k reset with seed + k, as cmbrl eval --reseed")
+    args = parser.parse_args(argv)
+
+    agent = cmbrl.load_run(args.run, seed=args.seed, overrides=args.set)
+    if not agent.is_mpc:
+        sys.exit(f"{args.run} is not an MPC run")
+    env = agent.make_env()
+
+    kinds = collections.Counter()
+    terms = collections.Counter()  # which cost terms made the violating steps (facts A3)
+    steps = violations = 0
+    dwell = []          # lengths of runs of consecutive violating steps
+    speeds_in, speeds_out = [], []
+    episode_costs, episode_returns = [], []
+    for k in range(args.episodes):
+        # As `cmbrl eval --seed S`: the first reset seeded, the others continuing its generator,
+        # so episode k here is eval's episode k (the same planner seed too).
+        if args.reseed:
+            obs, _ = env.reset(seed=args.seed + k)
+        else:
+            obs, _ = env.reset(seed=args.seed) if k == 0 else env.reset()
+        agent.begin_episode()
+        run_length = 0
+        cost_sum = 0
+        episode_return = 0.0
+        done = False
+        while not done:
+            action = agent.act(obs)
+            plan = agent.last_plan()
+            predicted = agent.predict_next(obs[None, :], action[None, :])[:, 0, :]
+            foreseen = bool(agent.predict_violation(predicted).any())
+            speed = float(np.hypot(obs[0], obs[1]))  # velocimeter x, y (facts B1)
+            nxt, reward, cost, terminated, truncated, info = env.step(action)
+            episode_return += reward
+            steps += 1
+            done = terminated or truncated
+            if cost > 0:
+                violations += 1
+                cost_sum += 1
+                run_length += 1
+                speeds_in.append(speed)
+                for term in COST_TERMS:
+                    if info.get(term, 0.0) > 0:
+                        terms[term] += 1
+                if info.get("cost_hazards", 0.0) > 0:
+                    # An agent step repeats its action over several environment steps (facts
+                    # B0); the cost counts each of them, the models see only the last state.
+                    truth = env.ground_truth()
+                    gap = np.hypot(*(truth["hazards"] - truth["robot_position"]).T).min()
+                    if gap > truth["hazard_radius"]:
+                        terms["hazard crossed between samples"] += 1
+                known = bool(agent.predict_violation(nxt[None, :])[0])
+                if not known:
+                    kinds["hole"] += 1
+                elif not foreseen:
+                    kinds["unforeseen"] += 1
+                elif plan["infeasible_elite_fraction"] > 0:
+                    kinds["foreseen, fallback"] += 1
+                else:
+                    kinds["foreseen, feasible"] += 1
+            else:
+                speeds_out.append(speed)
+                if run_length:
+                    dwell.append(run_length)
+                run_length = 0
+            obs = nxt
+        if run_length:
+            dwell.append(run_length)
+        episode_costs.append(cost_sum)
+        episode_returns.append(round(episode_return, 3))
+
+    print(f"{args.run}: {args.episodes} episodes, {steps} steps, {violations} violating "
+          f"(per episode: {episode_costs}; returns {episode_returns})"
+          + (f", overrides {args.set}" if args.set else ""))
+    print("| kind | steps | share |\n|---|---|---|")
+    for kind in ("hole", "unforeseen", "foreseen, fallback", "foreseen, feasible"):
+        share = kinds[kind] / violations if violations else 0.0
+        print(f"| {kind} | {kinds[kind]} | {share:.2f} |")
+    print("cost terms at violating steps (a step may have several): "
+          + ", ".join(f"{term[5:]} {terms[term]}" for term in COST_TERMS)
+          + f"; hazard steps that end outside every hazard (crossed within the agent step): "
+          f"{terms['hazard crossed between samples']}")
+    if dwell:
+        print(f"runs of consecutive violations: {len(dwell)}, median length "
+              f"{statistics.median(dwell)}, longest {max(dwell)}, share of violating steps in "
+              f"runs of 5 or more {sum(d for d in dwell if d >= 5) / violations:.2f}")
+        print(f"robot speed (m/s): median {statistics.median(speeds_in):.3f} at violating steps, "
+              f"{statistics.median(speeds_out):.3f} at the others")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,63 @@
+"""The diagnostics package: its pure parts on known inputs, and each module end to end on a tiny
+trained run or tiny models."""
+import json
+import os
+
+import pytest
+
+import cmbrl
+from cmbrl.diagnostics import model_size, planner_study, violation_anatomy
+
+TINY = {
+    "task": "PointGoal1",
+    "training": {"pretrain_episodes": 6, "pretrain_steps": 20, "episodes_per_epoch": 2,
+                 "total_steps": 120},
+    "ensemble": {"hidden_sizes": [16], "max_epochs": 5},
+    "classifier": {"rounds": 10},
+    "planning": {"horizon": 3, "population": 24, "elites": 6, "min_feasible_elites": 3,
+                 "max_iterations": 2, "random_samples": 50},
+}
+
+
+def test_a_setting_names_its_overrides():
+    assert planner_study.parse_setting("preset=") == ("preset", [])
+    assert planner_study.parse_setting("t=classifier.threshold=0.3,planning.population=50") == (
+        "t", ["classifier.threshold=0.3", "planning.population=50"])
+    with pytest.raises(SystemExit):
+        planner_study.parse_setting("=planning.population=50")
+
+
+def test_the_summary_counts_per_run_and_per_100_steps():
+    episode = {"cost": 5, "steps": 100, "return": 2.0, "goals_met": 1, "ms_per_plan": 10.0,
+               "feasible_fraction": 0.5, "fallback_steps": 0.1}
+    heavy = dict(episode, cost=25)
+    summary = planner_study.summarise({"a": [episode, heavy], "b": [episode]})
+    assert summary["per_run"] == {"a": 30, "b": 5}
+    assert summary["per_100_steps"] == pytest.approx(35 / 3)
+    assert summary["heavy"] == 1
+    assert summary["episodes"] == 3
+
+
+def test_model_size_parses_its_settings_and_fits_tiny_ensembles(capsys):
+    assert model_size.parse_setting("d=8,8,delta") == ("d", [8, 8], True)
+    assert model_size.parse_setting("a=16") == ("a", [16], False)
+    model_size.main(["--task", "PointGoal1", "--transitions", "300", "--ensemble-size", "2",
+                     "--max-epochs", "2", "--setting", "a=8", "--setting", "d=8,delta"])
+    table = capsys.readouterr().out
+    assert "| a | " in table and "| d | " in table
+
+
+def test_the_planner_study_and_the_violation_anatomy_run_on_a_trained_run(
+        tmp_path, cmbrl_binary, capsys):
+    run = tmp_path / "run"
+    cmbrl.train(config=TINY, out=str(run))
+    out = tmp_path / "study"
+    planner_study.main(["--cmbrl", cmbrl_binary, "--runs", str(run), "--episodes", "1",
+                        "--out", str(out), "--setting", "own=",
+                        "--setting", "small=planning.population=12"])
+    table = (out / "table.md").read_text()
+    assert "| own | (the run's own) |" in table and "| small | planning.population=12 |" in table
+    lines = (out / "small" / "run.jsonl").read_text().splitlines()
+    assert len(lines) == 1 and "cost" in json.loads(lines[0])
+    violation_anatomy.main([str(run), "--episodes", "1"])
+    assert capsys.readouterr().out.strip()

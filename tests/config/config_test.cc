@@ -1,0 +1,397 @@
+#include "cmbrl/config/config.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <cctype>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <yaml-cpp/yaml.h>
+
+#include "cmbrl/env/registry.h"
+#include "cmbrl/env/tasks/goal_spec.h"
+#include "tests/error_message.h"
+#include "tests/temp_path.h"
+
+namespace cmbrl {
+namespace {
+
+using testing::ErrorMessage;
+
+TEST(ConfigTest, AnEmptyFileGivesThePapersSettings) {
+  const TrainConfig config = ParseTrainConfig("{}", "empty");
+  EXPECT_EQ(config.task, "PointGoal1");
+  EXPECT_EQ(config.planner, "rce");
+  EXPECT_EQ(config.ensemble.hidden_sizes, std::vector<int>({1024, 1024, 1024}));
+  EXPECT_EQ(config.planning.cross_entropy.population, 500);
+  EXPECT_EQ(config.planning.random.samples, 5000);
+  EXPECT_EQ(config.classifier.rounds, 400);
+  EXPECT_EQ(config.training.pretrain_episodes, 1000);
+  // The original's code as it ran (facts B2, B4): labels beside stored transitions, safe states
+  // in storage order, both goal bonuses below 0.2.
+  EXPECT_FALSE(config.training.label_every_step);
+  EXPECT_EQ(config.classifier.safe_selection, "storage_order");
+  EXPECT_TRUE(config.objective.at_goal_test_after_near_bonus);
+}
+
+TEST(ConfigTest, EveryYamlFileUnderConfigsLoads) {
+  int files = 0;
+  for (const auto& entry :
+       std::filesystem::recursive_directory_iterator(CMBRL_SOURCE_DIR "/configs")) {
+    if (entry.path().extension() != ".yaml") continue;
+    SCOPED_TRACE(entry.path().string());
+    EXPECT_NO_THROW(LoadTrainConfig(entry.path().string()));
+    ++files;
+  }
+  EXPECT_GT(files, 14);
+}
+
+TEST(ConfigTest, KeysReachTheirComponents) {
+  const TrainConfig config = ParseTrainConfig(R"(
+task: CarGoal2
+planner: cem
+seed: 7
+ensemble: {ensemble_size: 5, hidden_sizes: [64, 32], batch_size: 128}
+classifier: {rounds: 50, threshold: 0.3}
+planning: {horizon: 5, population: 100, elites: 10, penalty: 200, random_samples: 300}
+training: {pretrain_episodes: 20, total_steps: 2000}
+objective: {beta: 0.5}
+)",
+                                              "inline");
+  EXPECT_EQ(config.task, "CarGoal2");
+  EXPECT_EQ(config.seed, 7u);
+  EXPECT_EQ(config.ensemble.ensemble_size, 5);
+  EXPECT_EQ(config.ensemble.hidden_sizes, std::vector<int>({64, 32}));
+  EXPECT_EQ(config.classifier.rounds, 50);
+  EXPECT_DOUBLE_EQ(config.classifier.threshold, 0.3);
+  EXPECT_EQ(config.planning.problem.horizon, 5);
+  EXPECT_EQ(config.planning.cross_entropy.elites, 10);
+  EXPECT_DOUBLE_EQ(config.planning.penalty, 200);  // one penalty for CEM and random
+  EXPECT_EQ(config.planning.random.samples, 300);
+  EXPECT_EQ(config.training.total_steps, 2000);
+  EXPECT_DOUBLE_EQ(config.objective.beta, 0.5);
+}
+
+TEST(ConfigTest, WrittenConfigReadsBackTheSame) {
+  TrainConfig config = ParseTrainConfig("planner: random\nensemble: {hidden_sizes: [8]}", "a");
+  const std::string yaml = TrainConfigToYaml(config);
+  const TrainConfig again = ParseTrainConfig(yaml, "b");
+  EXPECT_EQ(TrainConfigToYaml(again), yaml);
+  EXPECT_EQ(again.planner, "random");
+  EXPECT_EQ(again.ensemble.hidden_sizes, std::vector<int>({8}));
+}
+
+TEST(ConfigTest, BadConfigurationsNameTheKeyAndTheValue) {
+  EXPECT_EQ(ErrorMessage([] { ParseTrainConfig("planning: {elites: 600}", "c.yaml"); }),
+            "config 'c.yaml': planning.elites is 600: expected between 1 and population (500)");
+  EXPECT_EQ(ErrorMessage([] { ParseTrainConfig("planning: {horizon: 0}", "c.yaml"); }),
+            "config 'c.yaml': planning.horizon is 0: expected 1 to 1000 steps");
+  EXPECT_EQ(ErrorMessage([] { ParseTrainConfig("planner: mppi", "c.yaml"); }),
+            "config 'c.yaml': key 'planner' is 'mppi': expected one of rce, cem, random");
+  EXPECT_THAT(ErrorMessage([] { ParseTrainConfig("task: AntGoal1", "c.yaml"); }),
+              ::testing::HasSubstr("config 'c.yaml': key 'task': unknown task 'AntGoal1'"));
+  EXPECT_EQ(ErrorMessage([] { ParseTrainConfig("ensemble: {hiden_sizes: [8]}", "c.yaml"); }),
+            "config 'c.yaml': unknown key 'ensemble.hiden_sizes': expected one of ensemble_size, "
+            "hidden_sizes, predict_delta, learning_rate, batch_size, max_epochs, "
+            "validation_fraction, member_subset_fraction, validate_every, patience, init_std, "
+            "min_std, precision");
+  EXPECT_EQ(ErrorMessage([] { ParseTrainConfig("ensemble: {precision: tf32}", "c.yaml"); }),
+            "config 'c.yaml': ensemble.precision is tf32 but device is 'cpu': TF32 is a CUDA "
+            "tensor-core format; use fp32 or bf16 on the CPU");
+  EXPECT_EQ(
+      ErrorMessage([] { ParseTrainConfig("classifier: {safe_selection: oldest}", "c.yaml"); }),
+      "config 'c.yaml': classifier.safe_selection is 'oldest': expected 'storage_order' or "
+      "'newest'");
+  EXPECT_EQ(ErrorMessage([] { ParseTrainConfig("training: {label_every_step: 2}", "c.yaml"); }),
+            "config 'c.yaml': key 'training.label_every_step' is '2': expected true or false");
+  EXPECT_THAT(ErrorMessage([] { ParseTrainConfig("colour: blue", "c.yaml"); }),
+              ::testing::HasSubstr("unknown key 'colour'"));
+  EXPECT_EQ(ErrorMessage([] { ParseTrainConfig("planning: {population: many}", "c.yaml"); }),
+            "config 'c.yaml': key 'planning.population' is 'many': expected an integer");
+  EXPECT_THAT(ErrorMessage([] { ParseTrainConfig("variant: standard", "c.yaml"); }),
+              ::testing::HasSubstr("training plans on the paper variant"));
+  EXPECT_THAT(ErrorMessage([] { ParseTrainConfig("planning: [1, 2]", "c.yaml"); }),
+              ::testing::HasSubstr("'planning' must be a mapping"));
+  EXPECT_THAT(ErrorMessage([] { ParseTrainConfig("task: [", "c.yaml"); }),
+              ::testing::HasSubstr("config 'c.yaml' is not valid YAML"));
+  EXPECT_EQ(ErrorMessage([] { LoadTrainConfig("/nonexistent/x.yaml"); }),
+            "config file '/nonexistent/x.yaml' cannot be opened: expected a YAML file");
+}
+
+TEST(ConfigTest, OverridesChangeTheirKeysAndAreValidatedAsAFileIs) {
+  const TrainConfig base = ParseTrainConfig("planner: cem", "c.yaml");
+  const TrainConfig changed =
+      ApplyConfigOverrides(base,
+                           {"planning.population=300", "classifier.threshold=0.3", "planner=rce",
+                            "ensemble.hidden_sizes=[16, 16]"},
+                           "--set");
+  EXPECT_EQ(changed.planning.cross_entropy.population, 300);
+  EXPECT_DOUBLE_EQ(changed.classifier.threshold, 0.3);
+  EXPECT_EQ(changed.planner, "rce");
+  EXPECT_EQ(changed.ensemble.hidden_sizes, (std::vector<int>{16, 16}));
+  // Everything else is the base's.
+  EXPECT_EQ(changed.planning.cross_entropy.elites, base.planning.cross_entropy.elites);
+  EXPECT_EQ(TrainConfigToYaml(ApplyConfigOverrides(base, {}, "--set")), TrainConfigToYaml(base));
+
+  EXPECT_EQ(ErrorMessage([&] { ApplyConfigOverrides(base, {"planning.populaton=3"}, "--set"); }),
+            "--set 'planning.populaton=3': unknown key 'planning.populaton'");
+  EXPECT_EQ(ErrorMessage([&] { ApplyConfigOverrides(base, {"planning.population"}, "--set"); }),
+            "--set 'planning.population': expected section.key=value, e.g. "
+            "planning.population=500");
+  EXPECT_EQ(ErrorMessage([&] { ApplyConfigOverrides(base, {"a.b.c=1"}, "--set"); }),
+            "--set 'a.b.c=1': expected section.key=value, e.g. planning.population=500");
+  EXPECT_EQ(ErrorMessage([&] { ApplyConfigOverrides(base, {"planning.elites=900"}, "--set"); }),
+            "config '--set': planning.elites is 900: expected between 1 and population (500)");
+  EXPECT_EQ(ErrorMessage([&] { ApplyConfigOverrides(base, {"planning.population=x"}, "--set"); }),
+            "config '--set': key 'planning.population' is 'x': expected an integer");
+}
+
+// Every number a config can give has a bound, checked before the run takes any memory.
+TEST(ConfigTest, SizesOutOfTheirBoundsAreNamedBeforeAnythingIsAllocated) {
+  EXPECT_EQ(ErrorMessage([] { ParseTrainConfig("planning: {population: 1e12}", "c.yaml"); }),
+            "config 'c.yaml': key 'planning.population' is '1e12': expected an integer from "
+            "-2147483648 to 2147483647");
+  EXPECT_EQ(ErrorMessage([] { ParseTrainConfig("seed: -1", "c.yaml"); }),
+            "config 'c.yaml': key 'seed' is '-1': expected an integer from 0 to "
+            "18446744073709551615");
+  EXPECT_EQ(ErrorMessage([] { ParseTrainConfig("planning: {horizon: 1000000000}", "c.yaml"); }),
+            "config 'c.yaml': planning.horizon is 1000000000: expected 1 to 1000 steps");
+  EXPECT_EQ(ErrorMessage([] { ParseTrainConfig("ensemble: {hidden_sizes: [100000000]}", "c"); }),
+            "config 'c': ensemble.hidden_sizes[0] is 100000000: expected a width from 1 to 65536");
+  EXPECT_EQ(ErrorMessage([] { ParseTrainConfig("planning: {population: 2000000000}", "c"); }),
+            "config 'c': planning.population is 2000000000: expected 1 to 1000000");
+  EXPECT_EQ(
+      ErrorMessage([] { ParseTrainConfig("training: {transition_capacity: 2000000000}", "c"); }),
+      "config 'c': training.transition_capacity is 2000000000: expected 2 to 100000000");
+  EXPECT_EQ(ErrorMessage([] { ParseTrainConfig("environment: {spawn: floating}", "c"); }),
+            "config 'c': environment.spawn: spawn 'floating': expected standing or model-origin");
+  EXPECT_EQ(ParseTrainConfig("environment: {spawn: model-origin}", "c").spawn, Spawn::kModelOrigin);
+  EXPECT_EQ(ErrorMessage([] { ParseTrainConfig("variant: foo", "c"); }),
+            "config 'c': key 'variant': unknown variant 'foo': expected 'paper' (the paper's "
+            "modified tasks), 'standard' (Safety-Gymnasium's stock tasks) or 'paper-lidar' (the "
+            "paper's tasks as its model-free baselines observed them)");
+  // Each size within its bound, together more than any machine has.
+  EXPECT_THAT(ErrorMessage([] {
+                ParseTrainConfig(
+                    "ensemble: {ensemble_size: 64, hidden_sizes: [65536]}\n"
+                    "planning: {population: 1000000, elites: 10, horizon: 1000}",
+                    "c");
+              }),
+              ::testing::AllOf(::testing::HasSubstr("config 'c': the run would need about"),
+                               ::testing::HasSubstr("planning (population x members x horizon)"),
+                               ::testing::HasSubstr("lower the sizes named")));
+}
+
+TEST(ConfigTest, TheMemoryEstimateCountsTheBuffersExactly) {
+  const TrainConfig config = ParseTrainConfig(
+      "training: {transition_capacity: 1000, safe_capacity: 100, unsafe_capacity: 10}", "c");
+  const RunMemory memory = EstimateRunMemory(config, 24, 2);
+  EXPECT_DOUBLE_EQ(memory.transitions, 1000.0 * (24 + 24 + 2) * 4);  // state, action, next
+  EXPECT_DOUBLE_EQ(memory.labeled_states, 110.0 * 24 * 4);
+  EXPECT_GT(memory.ensemble, 4 * 4.0 * (26 * 1024));  // at least the first layer's weights x 4
+  EXPECT_GT(memory.planning, 0.0);
+  EXPECT_GT(PhysicalMemoryBytes(), 0u);
+}
+
+TEST(ConfigTest, EveryPresetInConfigsLoads) {
+  int mpc = 0, model_free = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(CMBRL_SOURCE_DIR "/configs")) {
+    if (entry.path().extension() != ".yaml") continue;
+    SCOPED_TRACE(entry.path().string());
+    const TrainConfig config = LoadTrainConfig(entry.path().string());
+    const std::string name = entry.path().stem().string();
+    // The preset families (composed over these) and the test suite's tiny config.
+    if (name == "quickstart" || name == "cpu" || name == "tiny-test") continue;
+    // The paper presets: <task>-<method>.yaml with the paper's sizes.
+    std::string task = config.task;
+    for (char& c : task) c = static_cast<char>(std::tolower(c));
+    EXPECT_EQ(name, task + "-" + MethodOf(config));
+    if (config.algorithm == "mpc") {
+      ++mpc;
+      EXPECT_EQ(config.ensemble.hidden_sizes, std::vector<int>({1024, 1024, 1024}));
+      EXPECT_EQ(config.ensemble.ensemble_size, config.task.rfind("Car", 0) == 0 ? 5 : 4);
+      EXPECT_EQ(config.planning.cross_entropy.population, 500);
+    } else {
+      ++model_free;
+      EXPECT_EQ(config.variant, Variant::kPaperLidar);
+      EXPECT_EQ(config.training.total_steps, 10'000'000);
+      EXPECT_EQ(config.policy_optimisation.steps_per_epoch, 30000);
+      EXPECT_EQ(config.policy_optimisation.policy_hidden, std::vector<int>({256, 256}));
+    }
+  }
+  EXPECT_EQ(mpc, 12);         // 4 tasks x 3 planners
+  EXPECT_EQ(model_free, 12);  // 4 tasks x trpo, trpo-lagrangian, cpo
+}
+
+// The paper's preset of every task and MPC method with a family composed over it (LoadTrainConfig
+// of two files), as `cmbrl train --config PRESET FAMILY` and the experiments resolve it.
+void ForEachFamilyPreset(const std::string& family,
+                         const std::function<void(const std::string& task,
+                                                  const std::string& planner,
+                                                  const TrainConfig& paper,
+                                                  const TrainConfig& config)>& check) {
+  int presets = 0;
+  for (const std::string task : {"PointGoal1", "PointGoal2", "CarGoal1", "CarGoal2"}) {
+    for (const std::string planner : {"rce", "cem", "random"}) {
+      std::string stem = task;
+      for (char& c : stem) c = static_cast<char>(std::tolower(c));
+      const std::string path = CMBRL_SOURCE_DIR "/configs/" + stem + "-" + planner + ".yaml";
+      SCOPED_TRACE(path + " + " + family);
+      const TrainConfig paper = LoadTrainConfig(path);
+      const TrainConfig config = LoadTrainConfig(std::vector<std::string>{path, family});
+      EXPECT_EQ(config.task, task);
+      EXPECT_EQ(config.planner, planner);
+      check(task, planner, paper, config);
+      ++presets;
+    }
+  }
+  EXPECT_EQ(presets, 12);
+}
+
+// The CPU family changes the same keys of every task and method, and only those: the window,
+// the networks' width, the population (RCE and CEM alike) and random shooting's samples by the
+// same factor (experiments/cpu-grid/README.md says why).
+TEST(ConfigTest, TheCpuFamilyChangesTheSameKeysOfEveryPreset) {
+  ForEachFamilyPreset(
+      CMBRL_SOURCE_DIR "/configs/cpu.yaml",
+      [](const std::string&, const std::string&, const TrainConfig& paper,
+         const TrainConfig& config) {
+        EXPECT_EQ(config.training.total_steps, 3000);
+        EXPECT_EQ(config.ensemble.hidden_sizes, std::vector<int>({256, 256, 256}));
+        EXPECT_EQ(config.planning.cross_entropy.population, 100);
+        // Random shooting scores as many sequences as the CE iterations (paper: 5000 for 500).
+        EXPECT_EQ(config.planning.random.samples * paper.planning.cross_entropy.population,
+                  paper.planning.random.samples * config.planning.cross_entropy.population);
+        TrainConfig expected = paper;
+        expected.training.total_steps = config.training.total_steps;
+        expected.ensemble.hidden_sizes = config.ensemble.hidden_sizes;
+        expected.planning.cross_entropy.population = config.planning.cross_entropy.population;
+        expected.planning.random.samples = config.planning.random.samples;
+        EXPECT_EQ(TrainConfigToYaml(config), TrainConfigToYaml(expected));
+      });
+}
+
+TEST(ConfigTest, TheQuickstartFamilyIsSmallerThanThePaperForEveryPreset) {
+  ForEachFamilyPreset(
+      CMBRL_SOURCE_DIR "/configs/quickstart.yaml",
+      [](const std::string& task, const std::string&, const TrainConfig& paper,
+         const TrainConfig& config) {
+        EXPECT_EQ(config.ensemble.hidden_sizes, std::vector<int>({200, 200}));
+        EXPECT_EQ(config.ensemble.ensemble_size, task.rfind("Car", 0) == 0 ? 5 : 4);
+        EXPECT_EQ(config.training.total_steps, 3000);
+        EXPECT_LT(config.planning.cross_entropy.population,
+                  paper.planning.cross_entropy.population);
+      });
+}
+
+// Composing files merges their mappings key by key: a later file names only what it changes.
+TEST(ConfigTest, LaterFilesChangeOnlyTheKeysTheyName) {
+  const std::filesystem::path dir =
+      std::filesystem::path(testing::TestTempPath("compose"));
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir / "base.yaml") << "task: CarGoal2\nplanner: cem\nplanning: {population: 300, "
+                                      "elites: 20}\nensemble: {ensemble_size: 5}\n";
+  std::ofstream(dir / "over.yaml") << "planning: {population: 100}\n";
+  const TrainConfig config = LoadTrainConfig(
+      std::vector<std::string>{(dir / "base.yaml").string(), (dir / "over.yaml").string()});
+  EXPECT_EQ(config.task, "CarGoal2");
+  EXPECT_EQ(config.planning.cross_entropy.population, 100);
+  EXPECT_EQ(config.planning.cross_entropy.elites, 20);  // kept from the base
+  EXPECT_EQ(config.ensemble.ensemble_size, 5);
+  std::ofstream(dir / "bad.yaml") << "planning: {popsize: 100}\n";
+  EXPECT_THAT(ErrorMessage([&] {
+                LoadTrainConfig(std::vector<std::string>{(dir / "base.yaml").string(),
+                                                         (dir / "bad.yaml").string()});
+              }),
+              ::testing::HasSubstr("unknown key 'planning.popsize'"));
+  std::ofstream(dir / "list.yaml") << "- 1\n- 2\n";
+  EXPECT_THAT(ErrorMessage([&] {
+                LoadTrainConfig(std::vector<std::string>{(dir / "list.yaml").string()});
+              }),
+              ::testing::HasSubstr("must be a mapping"));
+}
+
+// `--set section={key: value}` merges into the section: the section's other keys stay.
+TEST(ConfigTest, AnOverrideWithAMappingMergesIntoItsSection) {
+  const TrainConfig base = ParseTrainConfig("task: PointGoal1\nplanning: {elites: 20}", "base");
+  const TrainConfig changed =
+      ApplyConfigOverrides(base, {"planning={population: 30}"}, "--set");
+  EXPECT_EQ(changed.planning.cross_entropy.population, 30);
+  EXPECT_EQ(changed.planning.cross_entropy.elites, 20);
+}
+
+// No two files under configs/ differ in a single key other than the task or the method: a
+// preset that restates another with one key changed belongs in an experiment as an override.
+// The family files (no task of their own) are compared as composed over each paper preset.
+TEST(ConfigTest, NoTwoPresetsDifferInOneKeyOtherThanTaskOrMethod) {
+  std::vector<std::pair<std::string, YAML::Node>> presets;
+  const auto add = [&](const std::string& name, const TrainConfig& config) {
+    presets.emplace_back(name, YAML::Load(TrainConfigToYaml(config)));
+  };
+  std::vector<std::string> families, paper;
+  for (const auto& entry :
+       std::filesystem::recursive_directory_iterator(CMBRL_SOURCE_DIR "/configs")) {
+    if (entry.path().extension() != ".yaml") continue;
+    const YAML::Node file = YAML::LoadFile(entry.path().string());
+    if (!file["task"]) {
+      families.push_back(entry.path().string());
+    } else {
+      paper.push_back(entry.path().string());
+      add(entry.path().string(), LoadTrainConfig(entry.path().string()));
+    }
+  }
+  ASSERT_GE(paper.size(), 24u);
+  ASSERT_EQ(families.size(), 2u);  // cpu, quickstart
+  for (const std::string& family : families) {
+    for (const std::string& preset : paper) {
+      const TrainConfig config = LoadTrainConfig(preset);
+      if (config.algorithm != "mpc") continue;  // the families size MPC runs
+      add(preset + " + " + family, LoadTrainConfig(std::vector<std::string>{preset, family}));
+    }
+  }
+  int compared = 0;
+  for (size_t a = 0; a < presets.size(); ++a) {
+    for (size_t b = a + 1; b < presets.size(); ++b) {
+      std::vector<std::string> differing;
+      for (const auto& section : presets[a].second) {
+        const std::string name = section.first.as<std::string>();
+        if (name == "task" || name == "planner" || name == "algorithm") continue;
+        if (section.second.IsMap()) {
+          for (const auto& key : section.second) {
+            const std::string k = key.first.as<std::string>();
+            if (YAML::Dump(key.second) != YAML::Dump(presets[b].second[name][k])) {
+              differing.push_back(name + "." + k);
+            }
+          }
+        } else if (YAML::Dump(section.second) != YAML::Dump(presets[b].second[name])) {
+          differing.push_back(name);
+        }
+      }
+      // The method's own keys (the model-free penalty) come with the method.
+      const bool same_task_and_method =
+          YAML::Dump(presets[a].second["task"]) == YAML::Dump(presets[b].second["task"]) &&
+          YAML::Dump(presets[a].second["planner"]) == YAML::Dump(presets[b].second["planner"]) &&
+          YAML::Dump(presets[a].second["algorithm"]) ==
+              YAML::Dump(presets[b].second["algorithm"]);
+      EXPECT_FALSE(same_task_and_method && differing.size() == 1)
+          << presets[a].first << " and " << presets[b].first << " differ only in "
+          << differing.front();
+      ++compared;
+    }
+  }
+  EXPECT_GT(compared, 1000);
+}
+
+TEST(ConfigTest, ObservationSizesMatchTheEnvironments) {
+  for (const std::string& task : EnvNames()) {
+    for (const Variant variant : {Variant::kPaper, Variant::kStandard}) {
+      EXPECT_EQ(ObservationSize(GoalTaskSpecByName(task, variant)),
+                MakeEnv(task, variant)->observation_spec().size())
+          << task << " " << VariantName(variant);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace cmbrl

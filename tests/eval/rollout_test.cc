@@ -1,0 +1,43 @@
+#include "cmbrl/eval/rollout.h"
+
+#include <gtest/gtest.h>
+
+#include "cmbrl/env/registry.h"
+
+namespace cmbrl {
+namespace {
+
+TEST(RolloutTest, RecordsAWholeEpisode) {
+  std::unique_ptr<Env> env = MakeEnv("PointGoal1", Variant::kPaper);
+  RandomPolicy policy(env->action_spec(), 5);
+  const EpisodeRecord record = RunEpisode(*env, policy, 17);
+  // No physics error in a Point episode: it runs to the 30 s limit.
+  EXPECT_TRUE(record.truncated);
+  // 300 env steps of 0.1 s; 100 agent steps of three, plus one for each step that reaching a
+  // goal cut short (by one or two env steps).
+  EXPECT_EQ(record.env_steps, 300);
+  EXPECT_GE(record.steps, 100);
+  EXPECT_LE(record.steps, 100 + record.goals_met);
+  EXPECT_EQ(record.path.size(), static_cast<size_t>(record.steps + 1));
+  EXPECT_EQ(record.path_violations.size(), record.path.size());
+  EXPECT_EQ(static_cast<int>(record.reached_goals.size()), record.goals_met);
+  int violations = 0;
+  for (bool v : record.path_violations) violations += v;
+  EXPECT_EQ(violations, record.episode_cost);
+  EXPECT_EQ(record.path.back(), record.final_scene.robot.position);
+}
+
+TEST(RolloutTest, SameSeedSameRecord) {
+  std::unique_ptr<Env> a = MakeEnv("CarGoal2", Variant::kPaper);
+  std::unique_ptr<Env> b = MakeEnv("CarGoal2", Variant::kPaper);
+  RandomPolicy pa(a->action_spec(), 2), pb(b->action_spec(), 2);
+  const EpisodeRecord ra = RunEpisode(*a, pa, 8);
+  const EpisodeRecord rb = RunEpisode(*b, pb, 8);
+  EXPECT_EQ(ra.episode_return, rb.episode_return);
+  EXPECT_EQ(ra.episode_cost, rb.episode_cost);
+  ASSERT_EQ(ra.path.size(), rb.path.size());
+  for (size_t i = 0; i < ra.path.size(); ++i) EXPECT_EQ(ra.path[i], rb.path[i]);
+}
+
+}  // namespace
+}  // namespace cmbrl

@@ -1,0 +1,40 @@
+#include "cmbrl/learners/registry.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include "tests/error_message.h"
+
+namespace cmbrl {
+namespace {
+
+// Every algorithm of run/algorithms.h has a learner, built from a tiny config, whose progress
+// header is its family's: the smoke test that exercises every registry entry.
+TEST(LearnerRegistryTest, EveryAlgorithmBuildsItsFamilysLearner) {
+  int built = 0;
+  for (const AlgorithmEntry& entry : Algorithms()) {
+    SCOPED_TRACE(entry.name);
+    TrainConfig config = ParseTrainConfig(
+        entry.family == LearnerFamily::kMpc
+            ? "task: PointGoal1\nalgorithm: mpc\ntraining: {pretrain_episodes: 2, "
+              "pretrain_steps: 5, total_steps: 20}\nensemble: {hidden_sizes: [8]}\n"
+              "classifier: {rounds: 2}\nplanning: {population: 12, elites: 4, "
+              "min_feasible_elites: 2, max_iterations: 1, random_samples: 8, horizon: 2}\n"
+            : "task: PointGoal1\nvariant: paper-lidar\nalgorithm: " + entry.name +
+                  "\ntraining: {total_steps: 600}\npolicy_optimisation: {steps_per_epoch: 300, "
+                  "envs: 1, env_threads: 1, policy_hidden: [8], value_hidden: [8]}\n",
+        "registry test");
+    const std::unique_ptr<Learner> learner = MakeLearner(config);
+    ASSERT_NE(learner, nullptr);
+    EXPECT_EQ(learner->ProgressHeader(), RegistrationOf(entry.family).progress_header());
+    ++built;
+  }
+  EXPECT_EQ(built, 6);  // mpc, trpo, trpo-lagrangian, cpo, ppo, ppo-lagrangian
+  TrainConfig unknown;
+  unknown.algorithm = "sac";
+  EXPECT_THAT(testing::ErrorMessage([&] { MakeLearner(unknown); }),
+              ::testing::HasSubstr("unknown algorithm 'sac'"));
+}
+
+}  // namespace
+}  // namespace cmbrl

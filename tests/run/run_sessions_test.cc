@@ -1,0 +1,136 @@
+#include "cmbrl/run/run_sessions.h"
+#include "cmbrl/train/current_setup.h"
+
+#include <ATen/Parallel.h>
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <torch/version.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "cmbrl/core/build_info.h"
+#include "tests/error_message.h"
+
+namespace cmbrl {
+namespace {
+
+namespace fs = std::filesystem;
+using ::testing::ElementsAre;
+using testing::ErrorMessage;
+using ::testing::HasSubstr;
+using ::testing::StartsWith;
+
+// A run directory of this test process's own (ctest runs tests as parallel processes).
+RunDirectory TempRun(const std::string& name) {
+  const fs::path dir =
+      fs::path(::testing::TempDir()) / fmt::format("run_sessions_test_{}_{}", name, ::getpid());
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return RunDirectory(dir);
+}
+
+NumericsSetup SomeSetup() {
+  NumericsSetup setup;
+  setup.cmbrl = "0.1.0 (abc)";
+  setup.cpu = "AMD EPYC";
+  setup.blas_core = "Haswell";
+  setup.blas_threads = 1;
+  setup.torch_threads = 1;
+  setup.libtorch = "1.13.0";
+  setup.mujoco = "2.2.2";
+  setup.xgboost = "1.7.4";
+  setup.device = "cpu";
+  return setup;
+}
+
+void Append(const fs::path& file, const std::string& text) {
+  std::ofstream out(file, std::ios::app);
+  out << text;
+}
+
+TEST(RunSessionsTest, ThisProcessSetupNamesItsProgramLibrariesAndThreads) {
+  const NumericsSetup setup = CurrentNumericsSetup("cpu");
+  EXPECT_THAT(setup.cmbrl, StartsWith(std::string(CmbrlVersion()) + " ("));
+  EXPECT_THAT(setup.cmbrl, HasSubstr(CmbrlCommit()));
+  EXPECT_EQ(setup.libtorch, TORCH_VERSION);
+  EXPECT_THAT(setup.mujoco, StartsWith("2."));
+  EXPECT_THAT(setup.xgboost, StartsWith("1."));
+  EXPECT_EQ(setup.torch_threads, at::get_num_threads());
+  EXPECT_EQ(setup.device, "cpu");
+  // The CPU's name where /proc/cpuinfo gives one (x86 Linux does).
+  std::ifstream cpuinfo("/proc/cpuinfo");
+  const std::string text((std::istreambuf_iterator<char>(cpuinfo)),
+                         std::istreambuf_iterator<char>());
+  if (text.find("model name") != std::string::npos) {
+    EXPECT_FALSE(setup.cpu.empty());
+  }
+}
+
+TEST(RunSessionsTest, ChangesNameEachFieldThatDiffers) {
+  NumericsSetup other = SomeSetup();
+  EXPECT_TRUE(SetupChanges(SomeSetup(), other).empty());
+  EXPECT_EQ(SomeSetup(), other);
+  other.cpu = "Intel Xeon";
+  other.torch_threads = 2;
+  EXPECT_THAT(SetupChanges(SomeSetup(), other),
+              ElementsAre("cpu 'AMD EPYC' -> 'Intel Xeon'", "torch_threads '1' -> '2'"));
+  EXPECT_NE(SomeSetup(), other);
+  EXPECT_THAT(DescribeSetup(other), HasSubstr("CPU 'Intel Xeon', OpenBLAS kernels 'Haswell'"));
+}
+
+TEST(RunSessionsTest, EachSessionIsALineAndAResumeElsewhereIsNamed) {
+  const RunDirectory run = TempRun("record");
+  EXPECT_TRUE(ReadRunSessions(run).empty()) << "no file: a run that kept no sessions";
+  EXPECT_TRUE(RecordRunSession(run, 0, SomeSetup()).empty());
+  EXPECT_TRUE(RecordRunSession(run, 120, SomeSetup()).empty());
+  NumericsSetup elsewhere = SomeSetup();
+  elsewhere.blas_core = "SkylakeX";
+  EXPECT_THAT(RecordRunSession(run, 250, elsewhere),
+              ElementsAre("blas_core 'Haswell' -> 'SkylakeX'"));
+  const std::vector<RunSession> sessions = ReadRunSessions(run);
+  ASSERT_EQ(sessions.size(), 3u);
+  EXPECT_EQ(sessions[0].number, 1);
+  EXPECT_EQ(sessions[2].number, 3);
+  EXPECT_EQ(sessions[1].steps_done, 120);
+  EXPECT_EQ(sessions[0].setup, SomeSetup());
+  EXPECT_EQ(sessions[2].setup, elsewhere);
+  // "2026-11-25T06:25:46Z"
+  EXPECT_EQ(sessions[0].began.size(), 20u);
+  EXPECT_EQ(sessions[0].began.back(), 'Z');
+}
+
+// A stop while a line was written leaves it unfinished: it is no session, and the next one
+// takes its place.
+TEST(RunSessionsTest, AnUnfinishedLastLineIsDropped) {
+  const RunDirectory run = TempRun("unfinished");
+  RecordRunSession(run, 0, SomeSetup());
+  Append(run.sessions_file(), "{\"session\":2,\"began\":\"2026-");
+  ASSERT_EQ(ReadRunSessions(run).size(), 1u);
+  RecordRunSession(run, 300, SomeSetup());
+  const std::vector<RunSession> sessions = ReadRunSessions(run);
+  ASSERT_EQ(sessions.size(), 2u);
+  EXPECT_EQ(sessions[1].number, 2);
+  EXPECT_EQ(sessions[1].steps_done, 300);
+}
+
+TEST(RunSessionsTest, AMalformedLineIsNamedWithItsKey) {
+  const RunDirectory run = TempRun("malformed");
+  RecordRunSession(run, 0, SomeSetup());
+  Append(run.sessions_file(), "{\"session\":2,\"began\":\"x\",\"steps_done\":\"many\"}\n");
+  EXPECT_THAT(ErrorMessage([&] { ReadRunSessions(run); }),
+              HasSubstr("sessions.jsonl' line 2: 'steps_done' is \"many\": expected a whole "
+                        "number"));
+  const RunDirectory other = TempRun("missing_key");
+  Append(other.sessions_file(), "{\"session\":1,\"began\":\"x\",\"steps_done\":0}\n");
+  EXPECT_THAT(ErrorMessage([&] { ReadRunSessions(other); }),
+              HasSubstr("line 1: no 'cmbrl': expected a session with its setup"));
+  const RunDirectory garbled = TempRun("garbled");
+  Append(garbled.sessions_file(), "not json\n");
+  EXPECT_THAT(ErrorMessage([&] { ReadRunSessions(garbled); }), HasSubstr("line 1: not JSON"));
+}
+
+}  // namespace
+}  // namespace cmbrl

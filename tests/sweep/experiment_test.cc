@@ -1,0 +1,187 @@
+#include "cmbrl/sweep/experiment.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <map>
+
+#include "cmbrl/report/report.h"
+#include "tests/error_message.h"
+#include "tests/temp_path.h"
+
+namespace cmbrl {
+namespace {
+namespace fs = std::filesystem;
+using ::testing::HasSubstr;
+using testing::ErrorMessage;
+
+// An experiment folder of the test's own, two folders below a copy-free configs/ link: the
+// experiment finds the repository's presets through `configs_dir`.
+fs::path WriteExperiment(const std::string& name, const std::string& yaml) {
+  const fs::path dir = fs::path(testing::TestTempPath("experiments")) / name;
+  fs::create_directories(dir);
+  std::ofstream(dir / kExperimentFile) << yaml;
+  return dir;
+}
+
+const char* kConfigs = CMBRL_SOURCE_DIR "/configs";
+
+// Every (task, method) config of the CPU grid resolves, and within a task the three methods
+// agree on every key but the method: one protocol for every cell.
+TEST(ExperimentTest, TheCpuGridsCellsShareEverySettingWithinATask) {
+  const Experiment grid = LoadExperiment(CMBRL_SOURCE_DIR "/experiments/cpu-grid");
+  EXPECT_EQ(grid.name, "cpu-grid");
+  EXPECT_EQ(grid.window, 3000);
+  EXPECT_EQ(grid.seeds, (std::vector<std::uint64_t>{0, 1, 2, 3, 4}));
+  const auto runs = ResolveExperimentRuns(grid);
+  ASSERT_EQ(runs.size(), 60u);  // 4 tasks x 3 methods x 5 seeds
+  std::map<std::string, std::string> per_task;
+  for (const auto& [run, config] : runs) {
+    SCOPED_TRACE(run.name);
+    EXPECT_EQ(config.seed, run.seed);
+    EXPECT_EQ(config.training.total_steps, grid.window);
+    EXPECT_DOUBLE_EQ(config.classifier.threshold, 0.5);  // the original code's
+    EXPECT_FALSE(config.ensemble.predict_delta);          // the absolute state, both robots
+    TrainConfig normalised = config;
+    normalised.planner = "rce";
+    normalised.seed = 0;
+    const std::string text = TrainConfigToYaml(normalised);
+    const auto [it, first] = per_task.emplace(config.task, text);
+    EXPECT_EQ(text, it->second) << "differs from the task's first method";
+  }
+  EXPECT_EQ(per_task.size(), 4u);
+}
+
+// Every experiment of the repository loads and resolves every run's config.
+TEST(ExperimentTest, EveryDeclaredExperimentResolves) {
+  int experiments = 0;
+  for (const auto& entry : fs::directory_iterator(CMBRL_SOURCE_DIR "/experiments")) {
+    if (!IsExperimentDir(entry.path())) continue;
+    SCOPED_TRACE(entry.path().string());
+    const Experiment e = LoadExperiment(entry.path());
+    EXPECT_FALSE(ResolveExperimentRuns(e).empty());
+    ++experiments;
+  }
+  EXPECT_GE(experiments, 2);  // cpu-grid, model-free
+}
+
+TEST(ExperimentTest, AxesAndOverridesApplyToEveryRun) {
+  const fs::path dir = WriteExperiment("axes",
+                                       "family: cpu\ntasks: [PointGoal2]\nmethods: [rce, cem]\n"
+                                       "seeds: [0, 1]\nwindow: 2000\n"
+                                       "set: {training.total_steps: 2000}\n"
+                                       "axes: {classifier.threshold: [0.3, 0.5]}\n");
+  const Experiment e = LoadExperiment(dir, kConfigs);
+  EXPECT_EQ(e.sha256.size(), 64u);
+  const auto runs = ResolveExperimentRuns(e);
+  ASSERT_EQ(runs.size(), 8u);
+  EXPECT_EQ(runs[0].first.name, "pointgoal2-rce-threshold=0.3-s0");
+  EXPECT_DOUBLE_EQ(runs[0].second.classifier.threshold, 0.3);
+  EXPECT_DOUBLE_EQ(runs[2].second.classifier.threshold, 0.5);
+  EXPECT_EQ(runs[0].second.training.total_steps, 2000);
+  EXPECT_EQ(runs[0].second.planning.cross_entropy.population, 100);  // the cpu family
+  EXPECT_EQ(ExperimentGrid(e).overlays, (std::vector<std::string>{std::string(kConfigs) +
+                                                                  "/cpu.yaml"}));
+  EXPECT_EQ(e.runs_dir(), dir / "runs");
+}
+
+TEST(ExperimentTest, BadDeclarationsNameTheKeyAndTheValue) {
+  const std::string ok = "tasks: [PointGoal1]\nmethods: [rce]\nseeds: [0]\nwindow: 3000\n";
+  const auto error = [&](const std::string& yaml) {
+    return ErrorMessage([&] { LoadExperiment(WriteExperiment("bad", yaml), kConfigs); });
+  };
+  EXPECT_THAT(error("family: paper\n" + ok + "seed: 3\n"), HasSubstr("unknown key 'seed'"));
+  EXPECT_THAT(error(ok), HasSubstr("key 'family' is missing"));
+  EXPECT_THAT(error("family: gpu\n" + ok), HasSubstr("key 'family' is 'gpu'"));
+  EXPECT_THAT(error("family: paper\ntasks: [AntGoal1]\nmethods: [rce]\nseeds: [0]\nwindow: 9\n"),
+              HasSubstr("key 'tasks' holds 'AntGoal1'"));
+  EXPECT_THAT(error("family: paper\ntasks: [PointGoal1]\nmethods: [mppi]\nseeds: [0]\nwindow: 9\n"),
+              HasSubstr("key 'methods' holds 'mppi'"));
+  EXPECT_THAT(error("family: paper\ntasks: [PointGoal1]\nmethods: [rce]\nseeds: [1, 1]\nwindow: 9\n"),
+              HasSubstr("repeats a seed"));
+  EXPECT_THAT(error("family: paper\ntasks: [PointGoal1]\nmethods: [rce]\nseeds: [0]\nwindow: -4\n"),
+              HasSubstr("key 'window' is -4"));
+  EXPECT_THAT(error("family: paper\ntasks: [PointGoal1]\nmethods: [rce]\nseeds: []\nwindow: 9\n"),
+              HasSubstr("key 'seeds' is '[]': expected a non-empty list"));
+  EXPECT_THAT(error("family: paper\n" + ok + "axes: {classifier.treshold: [0.3]}\n"),
+              HasSubstr("unknown key 'classifier.treshold'"));
+  EXPECT_THAT(error("family: paper\n" + ok + "axes: {classifier.threshold: [2.5]}\n"),
+              HasSubstr("threshold"));
+  EXPECT_THAT(error("family: paper\n" + ok + "set: [planning.population=3]\n"),
+              HasSubstr("key 'set'"));
+  EXPECT_THAT(ErrorMessage([&] { LoadExperiment("/nonexistent", kConfigs); }),
+              HasSubstr("is not an experiment"));
+}
+
+TEST(ExperimentTest, TheHashIsTheFilesSha256) {
+  const fs::path dir = WriteExperiment("hash", "abc");
+  // sha256sum of the three bytes "abc" (FIPS 180-2's first example).
+  EXPECT_EQ(Sha256OfFile(dir / kExperimentFile),
+            "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
+}
+
+// The percentile bootstrap of a mean: inside the values' range, around their mean, the same from
+// run to run, and narrower the more alike the values.
+TEST(ExperimentReportTest, TheBootstrapIntervalHoldsTheMean) {
+  const std::vector<double> counts = {116, 118, 105, 56, 64};
+  const MeanInterval interval = BootstrapMeanInterval(counts);
+  EXPECT_LT(interval.low, 91.8);
+  EXPECT_GT(interval.high, 91.8);
+  EXPECT_GE(interval.low, 56.0);
+  EXPECT_LE(interval.high, 118.0);
+  const MeanInterval again = BootstrapMeanInterval(counts);
+  EXPECT_EQ(again.low, interval.low);
+  EXPECT_EQ(again.high, interval.high);
+  const MeanInterval alike = BootstrapMeanInterval({90, 91, 92, 93, 94});
+  EXPECT_LT(alike.high - alike.low, interval.high - interval.low);
+  const MeanInterval constant = BootstrapMeanInterval({7, 7, 7});
+  EXPECT_EQ(constant.low, 7.0);
+  EXPECT_EQ(constant.high, 7.0);
+  EXPECT_TRUE(std::isnan(BootstrapMeanInterval({}).low));
+  const MeanInterval wider = BootstrapMeanInterval(counts, 0.99);
+  EXPECT_LE(wider.low, interval.low);
+  EXPECT_GE(wider.high, interval.high);
+}
+
+TableCell Cell(const std::string& task, const std::string& planner, std::vector<double> seeds,
+               std::vector<double> original, std::vector<double> returns = {1, 1, 1}) {
+  TableCell cell;
+  cell.task = task;
+  cell.planner = planner;
+  cell.per_seed = seeds;
+  double sum = 0.0;
+  for (double v : seeds) sum += v;
+  cell.mean = sum / static_cast<double>(seeds.size());
+  cell.final_returns = returns;
+  cell.return_mean = 1.0;
+  cell.original_per_seed = original;
+  cell.original_final_returns = {0.5, 2.0, 1.5};
+  cell.fewest_steps = 3000;
+  return cell;
+}
+
+TEST(ExperimentReportTest, TheVerdictSaysWhetherRceViolatesLeastWithItsIntervals) {
+  const std::vector<TableCell> cells = {
+      Cell("PointGoal1", "rce", {1, 2, 3}, {12, 16, 4}),
+      Cell("PointGoal1", "cem", {50, 60, 70}, {106, 65, 77}),
+      Cell("PointGoal2", "rce", {100, 200, 300}, {113, 78, 108}),
+      Cell("PointGoal2", "cem", {150, 250, 350}, {369, 240, 201}),
+      Cell("CarGoal1", "rce", {40, 50, 60}, {2, 1, 3}),
+      Cell("CarGoal1", "cem", {10, 20, 30}, {45, 31, 26}),
+  };
+  const std::string text = ProtocolVerdictMarkdown(cells, 3000);
+  EXPECT_THAT(text, HasSubstr("| PointGoal1 | 2.0 ["));
+  EXPECT_THAT(text, HasSubstr("| yes | below / inside | below / inside |"));
+  EXPECT_THAT(text, HasSubstr("| mean only | above / inside | inside / inside |"));
+  EXPECT_THAT(text, HasSubstr("| no | above / inside | below / inside |"));
+  const std::string all = ProtocolCellsMarkdown(cells, 3000);
+  EXPECT_THAT(all, HasSubstr("| PointGoal1 | MPC-RCE | 3 | 1, 2, 3 | 2.0 ["));
+  EXPECT_THAT(all, HasSubstr("| 12, 16, 4 (10.7) | below |"));
+  EXPECT_EQ(AgainstRange(5, {}), "");
+  EXPECT_EQ(AgainstRange(5, {5, 6}), "inside");
+}
+
+}  // namespace
+}  // namespace cmbrl

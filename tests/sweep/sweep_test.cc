@@ -1,0 +1,181 @@
+#include "cmbrl/sweep/sweep.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "cmbrl/learners/mpc/mpc_learner.h"
+#include "tests/error_message.h"
+#include "tests/temp_path.h"
+
+namespace cmbrl {
+namespace {
+namespace fs = std::filesystem;
+using ::testing::HasSubstr;
+using testing::ErrorMessage;
+
+SweepGrid PaperGrid() {
+  SweepGrid grid;
+  grid.tasks = {"PointGoal1", "CarGoal2"};
+  grid.planners = {"rce", "random"};
+  grid.seeds = {0, 1};
+  grid.config_dir = CMBRL_SOURCE_DIR "/configs";
+  return grid;
+}
+
+TEST(SweepTest, PlansEveryRunOfTheGridWithItsConfig) {
+  const std::vector<SweepRun> runs = PlanSweep(PaperGrid(), "/tmp/sweep");
+  ASSERT_EQ(runs.size(), 8u);
+  EXPECT_EQ(runs[0].name, "pointgoal1-rce-s0");
+  EXPECT_EQ(runs[0].run_dir, "/tmp/sweep/runs/pointgoal1-rce-s0");
+  ASSERT_EQ(runs[0].config_paths.size(), 1u);
+  EXPECT_THAT(runs[0].config_paths[0], ::testing::EndsWith("configs/pointgoal1-rce.yaml"));
+  EXPECT_EQ(runs[7].name, "cargoal2-random-s1");
+  EXPECT_EQ(runs[7].seed, 1u);
+  EXPECT_EQ(StatusOf(runs[0]), RunStatus::kNew);
+  EXPECT_EQ(TrainArguments(runs[7], PaperGrid()),
+            (std::vector<std::string>{"train", "--config", runs[7].config_paths[0], "--seed",
+                                      "1", "--out", runs[7].run_dir}));
+}
+
+// A family composed over every preset, overrides for every run, and axes whose combinations
+// each make their own runs, named by their values.
+TEST(SweepTest, AxesMakeARunPerCombinationAfterTheGridsOverrides) {
+  SweepGrid grid = PaperGrid();
+  grid.tasks = {"PointGoal2"};
+  grid.planners = {"rce"};
+  grid.seeds = {4};
+  grid.overlays = {CMBRL_SOURCE_DIR "/configs/cpu.yaml"};
+  grid.overrides = {"training.total_steps=2000"};
+  grid.axes = {{"classifier.threshold", {"0.3", "0.5"}},
+               {"ensemble.hidden_sizes", {"[128, 128]", "[256, 256, 256]"}}};
+  const std::vector<SweepRun> runs = PlanSweep(grid, "/tmp/sweep");
+  ASSERT_EQ(runs.size(), 4u);
+  EXPECT_EQ(runs[0].name, "pointgoal2-rce-threshold=0.3-hidden_sizes=128x128-s4");
+  EXPECT_EQ(runs[3].name, "pointgoal2-rce-threshold=0.5-hidden_sizes=256x256x256-s4");
+  EXPECT_EQ(runs[1].overrides,
+            (std::vector<std::string>{"training.total_steps=2000", "classifier.threshold=0.3",
+                                      "ensemble.hidden_sizes=[256, 256, 256]"}));
+  EXPECT_EQ(NewRunArguments(runs[1]),
+            (std::vector<std::string>{"train", "--config", runs[1].config_paths[0],
+                                      CMBRL_SOURCE_DIR "/configs/cpu.yaml", "--set",
+                                      "training.total_steps=2000", "classifier.threshold=0.3",
+                                      "ensemble.hidden_sizes=[256, 256, 256]", "--seed", "4",
+                                      "--out", runs[1].run_dir}));
+  grid.axes = {{"classifier.threshold", {"0.3", "0.3"}}};
+  EXPECT_THAT(ErrorMessage([&] { PlanSweep(grid, "s"); }), HasSubstr("repeats a value"));
+  grid.axes = {{"classifier.threshold", {}}};
+  EXPECT_THAT(ErrorMessage([&] { PlanSweep(grid, "s"); }), HasSubstr("has no values"));
+  grid.axes = {};
+  grid.overlays = {"/nonexistent/family.yaml"};
+  EXPECT_THAT(ErrorMessage([&] { PlanSweep(grid, "s"); }),
+              HasSubstr("no config '/nonexistent/family.yaml'"));
+}
+
+TEST(SweepTest, BadGridsAreNamed) {
+  SweepGrid grid = PaperGrid();
+  grid.tasks = {"AntGoal1"};
+  EXPECT_THAT(ErrorMessage([&] { PlanSweep(grid, "s"); }), HasSubstr("unknown task 'AntGoal1'"));
+  grid = PaperGrid();
+  grid.planners = {"mppi"};
+  EXPECT_THAT(ErrorMessage([&] { PlanSweep(grid, "s"); }), HasSubstr("unknown planner or algorithm 'mppi'"));
+  grid = PaperGrid();
+  grid.seeds = {3, 3};
+  EXPECT_THAT(ErrorMessage([&] { PlanSweep(grid, "s"); }), HasSubstr("repeat a seed"));
+  grid = PaperGrid();
+  grid.config_dir = "/nonexistent";
+  EXPECT_THAT(ErrorMessage([&] { PlanSweep(grid, "s"); }),
+              HasSubstr("no config '/nonexistent/pointgoal1-rce.yaml' for PointGoal1 with rce"));
+}
+
+TEST(SweepTest, SlurmScriptHasOneArrayTaskPerRun) {
+  SweepGrid grid = PaperGrid();
+  grid.steps = 3000;
+  const std::vector<SweepRun> runs = PlanSweep(grid, "/tmp/sweep");
+  const std::string script = SlurmScript(runs, grid, "/tmp/sweep", "/opt/cmbrl/bin/cmbrl");
+  EXPECT_THAT(script, HasSubstr("#SBATCH --array=0-7\n"));
+  EXPECT_THAT(script, HasSubstr("cmbrl='/opt/cmbrl/bin/cmbrl'\n"));
+  EXPECT_THAT(script, HasSubstr("  7) run_dir='/tmp/sweep/runs/cargoal2-random-s1'; start=('train' "
+                                 "'--config' '" CMBRL_SOURCE_DIR "/configs/cargoal2-random.yaml' "
+                                 "'--seed' '1' '--out' '/tmp/sweep/runs/cargoal2-random-s1');;\n"));
+  EXPECT_THAT(script, HasSubstr("train --resume \"$run_dir\" --steps 3000\n"));
+  EXPECT_THAT(script, HasSubstr("exec \"$cmbrl\" \"${start[@]}\" --steps 3000\n"));
+}
+
+TEST(SweepTest, ARestartWithOtherSettingsIsRefused) {
+  const std::string dir = testing::TestTempPath("sweep_settings");
+  fs::remove_all(dir);
+  SweepGrid grid = PaperGrid();
+  grid.steps = 3000;
+  RecordOrCheckSweep(grid, dir);
+  RecordOrCheckSweep(grid, dir);  // the same settings again: fine
+  grid.steps = 2000;
+  EXPECT_THAT(ErrorMessage([&] { RecordOrCheckSweep(grid, dir); }),
+              HasSubstr("this sweep was started with steps 3000, now steps is 2000"));
+  grid.steps = std::nullopt;  // the configs' budgets: another grid
+  EXPECT_THAT(ErrorMessage([&] { RecordOrCheckSweep(grid, dir); }),
+              HasSubstr("this sweep was started with steps 3000, now steps is null"));
+  grid.config_dir = CMBRL_SOURCE_DIR "/configs/ppo";
+  grid.steps = 5000;
+  EXPECT_THAT(ErrorMessage([&] { RecordOrCheckSweep(grid, dir); }),
+              HasSubstr("this sweep was started with config_dir"));
+  grid = PaperGrid();
+  grid.steps = 3000;
+  grid.overlays = {CMBRL_SOURCE_DIR "/configs/cpu.yaml"};
+  EXPECT_THAT(ErrorMessage([&] { RecordOrCheckSweep(grid, dir); }),
+              HasSubstr("this sweep was started with overlays []"));
+  // A larger budget continues the sweep: recorded, and every started run resumes to it.
+  grid = PaperGrid();
+  grid.steps = 5000;
+  RecordOrCheckSweep(grid, dir);
+  std::ifstream recorded(fs::path(dir) / "sweep.json");
+  EXPECT_THAT(std::string(std::istreambuf_iterator<char>(recorded), {}),
+              HasSubstr("\"steps\": 5000"));
+  const std::vector<SweepRun> runs = PlanSweep(grid, dir);
+  fs::create_directories(runs[0].run_dir);
+  std::ofstream(fs::path(runs[0].run_dir) / "config.yaml") << "training: {total_steps: 3000}\n";
+  std::ofstream(fs::path(runs[0].run_dir) / "progress.csv")
+      << ProgressCsvHeader() << "\n1,1,0,0,3001,0,0,0,0,0,0,0,100,0,0,0\n";
+  EXPECT_EQ(StatusOf(runs[0]), RunStatus::kFinished);  // by its own budget
+  EXPECT_EQ(StatusOf(runs[0], 5000), RunStatus::kStarted);
+  EXPECT_EQ(TrainArguments(runs[0], grid),
+            (std::vector<std::string>{"train", "--resume", runs[0].run_dir, "--steps", "5000"}));
+}
+
+// A model-free run's progress has a row per epoch: finished once its last epoch reaches the
+// budget, like an MPC run's last episode.
+TEST(SweepTest, AModelFreeRunIsFinishedByItsEpochs) {
+  const std::string dir = testing::TestTempPath("sweep_model_free");
+  fs::remove_all(dir);
+  SweepGrid grid = PaperGrid();
+  grid.planners = {"cpo"};
+  const std::vector<SweepRun> runs = PlanSweep(grid, dir);
+  fs::create_directories(runs[0].run_dir);
+  std::ofstream(fs::path(runs[0].run_dir) / "config.yaml")
+      << "variant: paper-lidar\nalgorithm: cpo\ntraining: {total_steps: 60000}\n";
+  const auto write_epochs = [&](int epochs) {
+    std::ofstream progress(fs::path(runs[0].run_dir) / "progress.csv");
+    progress << "Epoch,AverageEpRet,AverageEpCost,EpLen,CumulativeCost,TotalEnvInteracts\n";
+    for (int e = 1; e <= epochs; ++e) {
+      progress << e << ",1,2,300," << 200 * e << "," << 30000 * e << "\n";
+    }
+  };
+  write_epochs(1);
+  EXPECT_EQ(StatusOf(runs[0]), RunStatus::kStarted);
+  write_epochs(2);
+  EXPECT_EQ(StatusOf(runs[0]), RunStatus::kFinished);
+}
+
+TEST(SweepTest, EachRunAtATimeGetsItsOwnCpus) {
+  using Shares = std::vector<std::vector<int>>;
+  EXPECT_EQ(CpuShares({0, 1}, 2), (Shares{{0}, {1}}));
+  EXPECT_EQ(CpuShares({0, 1, 2, 3, 4}, 2), (Shares{{0, 1}, {2, 3}}));  // CPU 4 stays unused
+  EXPECT_EQ(CpuShares({2, 5, 7}, 1), (Shares{{2, 5, 7}}));             // a taskset's CPUs
+  EXPECT_EQ(CpuShares({0, 1}, 3), Shares{});  // more jobs than CPUs: they share all
+  EXPECT_THAT(ErrorMessage([] { CpuShares({0}, 0); }), HasSubstr("jobs is 0: expected"));
+}
+
+}  // namespace
+}  // namespace cmbrl

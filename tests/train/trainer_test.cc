@@ -1,0 +1,447 @@
+#include "cmbrl/train/trainer.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "cmbrl/learners/mpc/mpc_learner.h"
+#include "cmbrl/run/run_sessions.h"
+#include "cmbrl/train/current_setup.h"
+#include "cmbrl/models/labeled_state_buffer.h"
+#include "cmbrl/models/transition_buffer.h"
+#include "cmbrl/run/progress_table.h"
+#include "cmbrl/run/run_directory.h"
+#include "tests/error_message.h"
+
+namespace cmbrl {
+namespace {
+
+namespace fs = std::filesystem;
+using testing::ErrorMessage;
+
+// Seconds of work: tiny networks, a short horizon, a handful of pre-training episodes.
+TrainConfig TinyConfig(const std::string& planner) {
+  return ParseTrainConfig(fmt::format(R"(
+planner: {}
+seed: 3
+training: {{pretrain_episodes: 6, pretrain_steps: 20, episodes_per_epoch: 2, total_steps: 400}}
+ensemble: {{hidden_sizes: [16], max_epochs: 5}}
+classifier: {{rounds: 10}}
+planning: {{horizon: 3, population: 24, elites: 6, min_feasible_elites: 3, max_iterations: 2,
+           random_samples: 50}}
+)",
+                                      planner),
+                          "tiny");
+}
+
+// A folder of this test process's own (ctest runs tests as parallel processes).
+std::string TempRunDir(const std::string& name) {
+  const fs::path dir =
+      fs::path(::testing::TempDir()) / fmt::format("trainer_test_{}_{}", name, ::getpid());
+  fs::remove_all(dir);
+  return dir.string();
+}
+
+// progress.csv without the Time and MsPerPlan columns (wall-clock figures).
+std::vector<std::string> RowsWithoutTimes(const std::string& run_dir) {
+  std::ifstream in(fs::path(run_dir) / "progress.csv");
+  std::vector<std::string> rows;
+  std::string line;
+  while (std::getline(in, line)) {
+    std::vector<std::string> cells;
+    std::stringstream stream(line);
+    std::string cell;
+    for (int column = 0; std::getline(stream, cell, ','); ++column) {
+      if (column != 6 && column != 11) cells.push_back(cell);
+    }
+    rows.push_back(fmt::format("{}", fmt::join(cells, ",")));
+  }
+  return rows;
+}
+
+// Starts a run and crashes it (an exception out of Run) right after its `rows`-th progress row
+// is written, before that row's checkpoint.
+void CrashAfterRows(const TrainConfig& config, const std::string& dir, int rows) {
+  struct Crash {};
+  try {
+    int units = 0;
+    Trainer::Start(config, dir)->Run([&](const ProgressSummary&) {
+      if (++units == rows) throw Crash{};
+    });
+    FAIL() << "expected the simulated crash";
+  } catch (const Crash&) {
+  }
+}
+
+TEST(TrainerTest, AShortRunWritesEveryFile) {
+  const std::string dir = TempRunDir("files");
+  std::vector<ProgressRow> seen;
+  const std::unique_ptr<Trainer> trainer = Trainer::Start(TinyConfig("rce"), dir);
+  trainer->Run([&](const ProgressSummary& unit) {
+    seen.push_back(dynamic_cast<const MpcLearner&>(trainer->learner()).last_row());
+    EXPECT_EQ(unit.steps, seen.back().total_env_interacts);
+    EXPECT_EQ(unit.epoch, seen.back().epoch);
+  });
+  EXPECT_TRUE(fs::exists(fs::path(dir) / "config.yaml"));
+  EXPECT_TRUE(fs::exists(fs::path(dir) / "checkpoint" / "state.json"));
+  EXPECT_TRUE(fs::exists(fs::path(dir) / "checkpoint" / "ensemble.pt"));
+  EXPECT_TRUE(fs::exists(fs::path(dir) / "checkpoint" / "classifier.json"));
+  EXPECT_TRUE(fs::exists(fs::path(dir) / "checkpoint" / "transitions.bin"));
+  EXPECT_TRUE(fs::exists(fs::path(dir) / "checkpoint" / "manifest.json"));
+  // 400 agent steps of whole episodes of about 100: four or five rows, one per episode.
+  const std::vector<std::string> rows = RowsWithoutTimes(dir);
+  ASSERT_GE(seen.size(), 4u);
+  EXPECT_EQ(rows.size(), seen.size() + 1);
+  EXPECT_EQ(rows[0],
+            "Epoch,Episode,EpRet,EpCost,TotalEnvInteracts,PretrainInteracts,DynamicsValMSE,"
+            "ClassifierSafeAcc,ClassifierUnsafeAcc,FeasibleFraction,Steps,GoalsMet,HazardSteps,"
+            "VaseSteps");
+  EXPECT_GE(seen.back().total_env_interacts, 400);
+  EXPECT_EQ(seen[0].epoch, 1);
+  EXPECT_EQ(seen[2].epoch, 2);  // two episodes per epoch
+  EXPECT_GT(seen[0].pretrain_interacts, 0);
+  EXPECT_EQ(seen[0].pretrain_interacts, seen.back().pretrain_interacts);
+  EXPECT_TRUE(std::isfinite(seen[0].dynamics_validation_mse));
+  EXPECT_GT(seen[0].ms_per_plan, 0.0);
+  // Every violating step is in a hazard or at a vase (no physics errors here), and each count is
+  // at most the episode's violations.
+  for (const ProgressRow& row : seen) {
+    EXPECT_LE(row.hazard_steps, row.episode_cost);
+    EXPECT_LE(row.vase_steps, row.episode_cost);
+    EXPECT_GE(row.hazard_steps + row.vase_steps, row.episode_cost);
+  }
+  // The resolved config reads back as the same config.
+  EXPECT_EQ(TrainConfigToYaml(LoadTrainConfig((fs::path(dir) / "config.yaml").string())),
+            TrainConfigToYaml(TinyConfig("rce")));
+}
+
+// Labels beside stored transitions only, as the original (facts B4), or on every agent step.
+TEST(TrainerTest, ClassifierLabelsFollowTheStoredTransitionsUnlessEveryStepIsAsked) {
+  for (const bool every_step : {false, true}) {
+    TrainConfig config = TinyConfig("cem");
+    config.training.label_every_step = every_step;
+    config.training.total_steps = 150;
+    const std::string dir = TempRunDir(every_step ? "labels_every" : "labels_stored");
+    Trainer::Start(config, dir)->Run();
+    const fs::path checkpoint = fs::path(dir) / "checkpoint";
+    TransitionBuffer transitions(24, 2);
+    transitions.Load((checkpoint / "transitions.bin").string());
+    LabeledStateBuffer labels(24);
+    labels.Load((checkpoint / "labeled_states.bin").string());
+    const int labelled = labels.safe_size() + labels.unsafe_size();
+    // Every episode ends with a step that is not stored (the end), so every-step labelling keeps
+    // at least one label per episode more.
+    if (every_step) {
+      EXPECT_GT(labelled, transitions.size());
+    } else {
+      EXPECT_EQ(labelled, transitions.size());
+    }
+  }
+}
+
+TEST(TrainerTest, SameSeedGivesTheSameRows) {
+  const std::string a = TempRunDir("same_a"), b = TempRunDir("same_b");
+  Trainer::Start(TinyConfig("cem"), a)->Run();
+  Trainer::Start(TinyConfig("cem"), b)->Run();
+  EXPECT_EQ(RowsWithoutTimes(a), RowsWithoutTimes(b));
+}
+
+TEST(TrainerTest, ResumingAfterACrashGivesTheSameRows) {
+  const std::string whole = TempRunDir("whole"), crashed = TempRunDir("crashed");
+  Trainer::Start(TinyConfig("rce"), whole)->Run();
+  // Stop after the third row is written but before its checkpoint: the worst moment.
+  CrashAfterRows(TinyConfig("rce"), crashed, 3);
+  EXPECT_EQ(RowsWithoutTimes(crashed).size(), 4u);  // header + 3 rows, the third uncovered
+  const std::unique_ptr<Trainer> resumed = Trainer::Resume(crashed);
+  const std::int64_t resumed_at = resumed->steps_done();
+  resumed->Run();
+  EXPECT_EQ(RowsWithoutTimes(crashed), RowsWithoutTimes(whole));
+  // Each session is on record, the resume at the checkpoint's step, on the same setup.
+  EXPECT_TRUE(resumed->setup_changes().empty());
+  EXPECT_EQ(ReadRunSessions(RunDirectory(whole)).size(), 1u);
+  const std::vector<RunSession> sessions = ReadRunSessions(RunDirectory(crashed));
+  ASSERT_EQ(sessions.size(), 2u);
+  EXPECT_EQ(sessions[0].steps_done, 0);
+  EXPECT_GT(resumed_at, 0);
+  EXPECT_EQ(sessions[1].steps_done, resumed_at);
+  EXPECT_EQ(sessions[1].setup, CurrentNumericsSetup("cpu"));
+}
+
+// A run resumed on another machine goes on, and says so: its rows from then on are not the
+// uninterrupted run's.
+TEST(TrainerTest, AResumeOnAnotherSetupIsNamed) {
+  const std::string dir = TempRunDir("elsewhere");
+  CrashAfterRows(TinyConfig("cem"), dir, 2);
+  const fs::path sessions = RunDirectory(dir).sessions_file();
+  std::ifstream in(sessions);
+  nlohmann::json first = nlohmann::json::parse(in);
+  in.close();
+  first["cpu"] = "Another CPU";
+  std::ofstream(sessions) << first.dump() << "\n";
+  {
+    const std::unique_ptr<Trainer> resumed = Trainer::Resume(dir);
+    EXPECT_THAT(resumed->setup_changes(),
+                ::testing::ElementsAre(
+                    fmt::format("cpu 'Another CPU' -> '{}'", CurrentNumericsSetup("cpu").cpu)));
+    resumed->Run();
+  }
+  // A finished run asked to go on records no session.
+  EXPECT_TRUE(Trainer::Resume(dir)->setup_changes().empty());
+  EXPECT_EQ(ReadRunSessions(RunDirectory(dir)).size(), 2u);
+}
+
+// A run begun by a version that wrote fewer columns (here without the last two) keeps its
+// columns when a newer one resumes it, and its rows are the uninterrupted run's, cut to them.
+TEST(TrainerTest, ARunBegunWithFewerColumnsKeepsThemOnResume) {
+  const std::string whole = TempRunDir("columns_whole"), old = TempRunDir("columns_old");
+  Trainer::Start(TinyConfig("cem"), whole)->Run();
+  CrashAfterRows(TinyConfig("cem"), old, 3);
+  const fs::path progress = fs::path(old) / "progress.csv";
+  std::vector<std::string> lines;
+  {
+    std::ifstream in(progress);
+    for (std::string line; std::getline(in, line);) lines.push_back(FirstProgressFields(line, 14));
+  }
+  // Rewrite the log as the older version would have, and its checkpoint's record of it.
+  std::string covered;
+  {
+    std::ofstream out(progress, std::ios::trunc);
+    for (size_t i = 0; i < lines.size(); ++i) {
+      out << lines[i] << "\n";
+      if (i < 3) covered += lines[i] + "\n";  // the header and the two checkpointed rows
+    }
+  }
+  const fs::path prefix = fs::path(old) / "covered.csv";
+  std::ofstream(prefix) << covered;
+  const fs::path manifest_path = fs::path(old) / "checkpoint" / "manifest.json";
+  nlohmann::json manifest = nlohmann::json::parse(std::ifstream(manifest_path));
+  manifest["progress_crc32"] = FileCrc(prefix);
+  std::ofstream(manifest_path) << manifest.dump(2);
+  fs::remove(prefix);
+
+  Trainer::Resume(old)->Run();
+  std::vector<std::string> expected = RowsWithoutTimes(whole);
+  for (std::string& row : expected) row = FirstProgressFields(row, 12);  // 14 less Time and MsPerPlan
+  EXPECT_EQ(RowsWithoutTimes(old), expected);
+
+  // A log of some other kind is refused by name.
+  const std::string other = TempRunDir("columns_other");
+  {
+    std::unique_ptr<Trainer> trainer = Trainer::Start(TinyConfig("cem"), other);
+  }
+  std::ofstream(fs::path(other) / "progress.csv", std::ios::trunc) << "Epoch,Episode,Reward\n";
+  EXPECT_THAT(ErrorMessage([&] { Trainer::Resume(other); }),
+              ::testing::AllOf(::testing::HasSubstr("has the columns 'Epoch,Episode,Reward'"),
+                               ::testing::HasSubstr("or its first columns")));
+}
+
+TEST(TrainerTest, ResumingBeforeTheFirstCheckpointStartsOver) {
+  const std::string dir = TempRunDir("early");
+  { std::unique_ptr<Trainer> trainer = Trainer::Start(TinyConfig("random"), dir); }  // no Run
+  Trainer::Resume(dir)->Run();
+  const std::string reference = TempRunDir("early_reference");
+  Trainer::Start(TinyConfig("random"), reference)->Run();
+  EXPECT_EQ(RowsWithoutTimes(dir), RowsWithoutTimes(reference));
+}
+
+TEST(TrainerTest, RunDirectoriesAreNotMixedUp) {
+  const std::string dir = TempRunDir("twice");
+  Trainer::Start(TinyConfig("rce"), dir);
+  EXPECT_THAT(ErrorMessage([&] { Trainer::Start(TinyConfig("rce"), dir); }),
+              ::testing::HasSubstr("already holds a run"));
+  EXPECT_THAT(ErrorMessage([&] { Trainer::Resume(TempRunDir("nothing")); }),
+              ::testing::HasSubstr("holds no run"));
+}
+
+// A run knows its own state: parts that disagree with the checkpoint's manifest are refused,
+// naming the file, instead of being used silently.
+TEST(TrainerTest, ARunWhosePartsDisagreeIsRefusedByName) {
+  const std::string original = TempRunDir("parts");
+  Trainer::Start(TinyConfig("cem"), original)->Run();
+  const auto copy = [&](const std::string& name) {
+    const std::string dir = TempRunDir(name);
+    fs::copy(original, dir, fs::copy_options::recursive);
+    fs::remove(fs::path(dir) / "lock");
+    return fs::path(dir);
+  };
+  const auto rows = [](const fs::path& dir) {
+    std::ifstream in(dir / "progress.csv");
+    std::vector<std::string> lines;
+    for (std::string line; std::getline(in, line);) lines.push_back(line);
+    return lines;
+  };
+  const auto write_rows = [](const fs::path& dir, const std::vector<std::string>& lines) {
+    std::ofstream out(dir / "progress.csv", std::ios::trunc);
+    for (const std::string& line : lines) out << line << "\n";
+  };
+  const size_t n = rows(fs::path(original)).size() - 1;  // rows the last checkpoint covers
+  {
+    const fs::path dir = copy("no_state");
+    fs::remove(dir / "checkpoint" / "state.json");
+    EXPECT_THAT(ErrorMessage([&] { Trainer::Resume(dir.string()); }),
+                ::testing::HasSubstr("state.json' is missing: the checkpoint's manifest lists it"));
+  }
+  {
+    const fs::path dir = copy("no_checkpoint");
+    fs::remove_all(dir / "checkpoint");
+    EXPECT_THAT(ErrorMessage([&] { Trainer::Resume(dir.string()); }),
+                ::testing::HasSubstr(fmt::format(
+                    "progress.csv' has {} rows but the run has no checkpoint", n)));
+  }
+  {
+    const fs::path dir = copy("shortened");
+    std::vector<std::string> lines = rows(dir);
+    lines.pop_back();
+    write_rows(dir, lines);
+    EXPECT_THAT(ErrorMessage([&] { Trainer::Resume(dir.string()); }),
+                ::testing::HasSubstr(fmt::format(
+                    "progress.csv' has {} rows but the checkpoint covers {}", n - 1, n)));
+  }
+  {
+    const fs::path dir = copy("edited");
+    std::vector<std::string> lines = rows(dir);
+    lines[2][0] = '7';  // the second row's epoch
+    write_rows(dir, lines);
+    EXPECT_THAT(ErrorMessage([&] { Trainer::Resume(dir.string()); }),
+                ::testing::HasSubstr(
+                    fmt::format("progress.csv' differs in its first {} rows", n)));
+  }
+  {
+    const fs::path dir = copy("garbage_state");
+    std::ofstream(dir / "checkpoint" / "state.json") << "{ garbage";
+    EXPECT_THAT(ErrorMessage([&] { Trainer::Resume(dir.string()); }),
+                ::testing::HasSubstr("state.json' differs from the file the checkpoint wrote"));
+  }
+  {
+    const fs::path dir = copy("garbage_model");
+    std::ofstream(dir / "checkpoint" / "ensemble.pt", std::ios::trunc) << "not a model";
+    EXPECT_THAT(ErrorMessage([&] { Trainer::Resume(dir.string()); }),
+                ::testing::HasSubstr("ensemble.pt' differs from the file the checkpoint wrote"));
+  }
+  // The untouched copy resumes (nothing left to do: its budget is spent).
+  EXPECT_NO_THROW(Trainer::Resume(copy("untouched").string())->Run());
+}
+
+// A model-free learner behind the same run machinery: rows per epoch, and a resume after a
+// crash between a row and its checkpoint gives an uninterrupted run's rows.
+TrainConfig TinyModelFree(const std::string& algorithm) {
+  return ParseTrainConfig(fmt::format(R"(
+task: PointGoal1
+variant: paper-lidar
+algorithm: {}
+seed: 4
+training: {{total_steps: 900}}
+policy_optimisation: {{steps_per_epoch: 300, policy_hidden: [16], value_hidden: [16],
+                      value_iterations: 5}}
+)",
+                                      algorithm),
+                          "tiny model-free");
+}
+
+std::vector<std::string> EpochRowsWithoutTime(const std::string& run_dir) {
+  std::ifstream in(fs::path(run_dir) / "progress.csv");
+  std::vector<std::string> rows;
+  for (std::string line; std::getline(in, line);) rows.push_back(line.substr(0, line.rfind(',')));
+  return rows;
+}
+
+TEST(TrainerTest, ModelFreeLearnersResumeToTheSameRows) {
+  for (const std::string algorithm : {"trpo", "trpo-lagrangian", "cpo", "ppo-lagrangian"}) {
+    SCOPED_TRACE(algorithm);
+    const std::string whole = TempRunDir("mf_whole_" + algorithm);
+    const std::string crashed = TempRunDir("mf_crashed_" + algorithm);
+    Trainer::Start(TinyModelFree(algorithm), whole)->Run();
+    const std::vector<std::string> rows = EpochRowsWithoutTime(whole);
+    ASSERT_EQ(rows.size(), 4u);  // header and three epochs of 300 steps
+    EXPECT_EQ(rows[0].rfind("Epoch,AverageEpRet,AverageEpCost,EpLen", 0), 0u);
+    struct Crash {};
+    try {
+      int units = 0;
+      Trainer::Start(TinyModelFree(algorithm), crashed)->Run([&](const ProgressSummary&) {
+        if (++units == 2) throw Crash{};
+      });
+      FAIL() << "expected the simulated crash";
+    } catch (const Crash&) {
+    }
+    Trainer::Resume(crashed)->Run();
+    EXPECT_EQ(EpochRowsWithoutTime(crashed), rows);
+  }
+}
+
+// Several environments stepped side by side (on threads) give the same rows every time, and
+// resume to them.
+TEST(TrainerTest, ModelFreeRowsWithSeveralEnvironmentsDoNotDependOnThreads) {
+  TrainConfig config = TinyModelFree("trpo-lagrangian");
+  config.policy_optimisation.envs = 3;
+  config.policy_optimisation.env_threads = 3;
+  const std::string a = TempRunDir("mf_envs_a"), b = TempRunDir("mf_envs_b");
+  Trainer::Start(config, a)->Run();
+  struct Crash {};
+  try {
+    Trainer::Start(config, b)->Run([](const ProgressSummary& unit) {
+      if (unit.epoch == 2) throw Crash{};
+    });
+  } catch (const Crash&) {
+  }
+  Trainer::Resume(b)->Run();
+  EXPECT_EQ(EpochRowsWithoutTime(a), EpochRowsWithoutTime(b));
+  EXPECT_EQ(EpochRowsWithoutTime(a).size(), 4u);
+  config.policy_optimisation.envs = 7;  // 300 steps cannot be shared by 7
+  EXPECT_THAT(ErrorMessage([&] { Trainer::Start(config, TempRunDir("mf_envs_bad")); }),
+              ::testing::HasSubstr("steps_per_epoch is 300 and envs 7"));
+}
+
+// A finished run continued to a larger budget writes the rows a run started with that budget
+// writes, and its config.yaml then holds the new budget.
+TEST(TrainerTest, AFinishedRunContinuesToALargerBudget) {
+  TrainConfig longer = TinyConfig("cem");
+  longer.training.total_steps = 600;
+  const std::string whole = TempRunDir("budget_whole"), extended = TempRunDir("budget_extended");
+  Trainer::Start(longer, whole)->Run();
+  Trainer::Start(TinyConfig("cem"), extended)->Run();  // 400 steps
+  ASSERT_LT(RowsWithoutTimes(extended).size(), RowsWithoutTimes(whole).size());
+  // Its last episode ended an epoch: the refit it would have had is put off, not done.
+  std::ifstream state(fs::path(extended) / "checkpoint" / "state.json");
+  EXPECT_EQ(nlohmann::json::parse(state).at("models_due"), true);
+  Trainer::Resume(extended, 600)->Run();
+  EXPECT_EQ(RowsWithoutTimes(extended), RowsWithoutTimes(whole));
+  EXPECT_EQ(LoadTrainConfig((fs::path(extended) / "config.yaml").string()).training.total_steps,
+            600);
+  // Nothing left below what is done.
+  EXPECT_THAT(ErrorMessage([&] { Trainer::Resume(extended, 300); }),
+              ::testing::HasSubstr("to 300 steps: it has done"));
+  EXPECT_EQ(LoadTrainConfig((fs::path(extended) / "config.yaml").string()).training.total_steps,
+            600);
+}
+
+// A model-free run whose last epoch the old budget cut short cannot become the longer run; one
+// that ended on an epoch's end can.
+TEST(TrainerTest, AModelFreeRunContinuesOnlyFromAWholeEpoch) {
+  const std::string whole = TempRunDir("mf_budget_whole"), cut = TempRunDir("mf_budget_cut");
+  const std::string exact = TempRunDir("mf_budget_exact");
+  Trainer::Start(TinyModelFree("cpo"), whole)->Run();  // 900 steps: three epochs
+  TrainConfig shorter = TinyModelFree("cpo");
+  shorter.training.total_steps = 450;  // one epoch and a half
+  Trainer::Start(shorter, cut)->Run();
+  EXPECT_THAT(ErrorMessage([&] { Trainer::Resume(cut, 900); }),
+              ::testing::HasSubstr("last epoch was cut to 150 of its 300 steps"));
+  shorter.training.total_steps = 600;
+  Trainer::Start(shorter, exact)->Run();
+  Trainer::Resume(exact, 900)->Run();
+  EXPECT_EQ(EpochRowsWithoutTime(exact), EpochRowsWithoutTime(whole));
+}
+
+TEST(TrainerTest, ARunDirectoryServesOneProcessAtATime) {
+  const std::string dir = TempRunDir("locked");
+  const std::unique_ptr<Trainer> first = Trainer::Start(TinyConfig("rce"), dir);
+  EXPECT_THAT(testing::ErrorMessage([&] { Trainer::Resume(dir); }),
+              ::testing::HasSubstr("is in use by another cmbrl process"));
+}
+
+}  // namespace
+}  // namespace cmbrl
