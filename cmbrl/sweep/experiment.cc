@@ -190,4 +190,40 @@ std::vector<std::pair<SweepRun, TrainConfig>> ResolveExperimentRuns(const Experi
   return resolved;
 }
 
+ExperimentStamp StampOf(const Experiment& experiment) {
+  ExperimentStamp stamp;
+  stamp.name = experiment.name;
+  stamp.dir = experiment.dir.string();
+  stamp.file = kExperimentFile;
+  stamp.sha256 = experiment.sha256;
+  stamp.family = experiment.family;
+  stamp.family_sha256 = experiment.family_sha256;
+  return stamp;
+}
+
+void CheckRunsAgainstExperiment(const std::vector<RunRecord>& runs, const Experiment& experiment) {
+  const auto resolved = ResolveExperimentRuns(experiment);
+  for (const RunRecord& run : runs) {
+    const auto planned = std::find_if(resolved.begin(), resolved.end(),
+                                      [&](const auto& item) { return item.first.name == run.name; });
+    Require(planned != resolved.end(),
+            "run '{}' (in '{}') is not a run of the experiment '{}': its experiment.yaml makes "
+            "none of that name; remove it, or declare it",
+            run.name, run.source.string(), experiment.file().string());
+    std::istringstream ours(TrainConfigToYaml(run.config));
+    std::istringstream declared(TrainConfigToYaml(planned->second));
+    std::string our_line, declared_line;
+    while (std::getline(declared, declared_line)) {
+      std::getline(ours, our_line);
+      Require(our_line == declared_line,
+              "run '{}' (in '{}') was made with another config than '{}' declares now: its "
+              "config.yaml has '{}' where the declaration gives '{}'. A protocol is fixed before "
+              "its runs: make the run again, or declare a new experiment",
+              run.name, run.source.string(), experiment.file().string(), our_line,
+              declared_line);
+    }
+  }
+}
+
+
 }  // namespace cmbrl

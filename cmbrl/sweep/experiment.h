@@ -20,6 +20,8 @@
 #include <vector>
 
 #include "cmbrl/config/config.h"
+#include "cmbrl/report/document.h"
+#include "cmbrl/report/report.h"
 #include "cmbrl/sweep/sweep.h"
 
 namespace cmbrl {
@@ -67,6 +69,14 @@ SweepGrid ExperimentGrid(const Experiment& experiment);
 // presets composed, the overrides and the seed applied), in the sweep's order. Throws
 // cmbrl::Error naming the run and the key for an override that does not apply.
 std::vector<std::pair<SweepRun, TrainConfig>> ResolveExperimentRuns(const Experiment& experiment);
+
+// Refuses runs that are not the experiment's: each must be named as the sweep names it and hold
+// the config the declaration resolves to now. Throws cmbrl::Error naming the first run that is
+// not, and the first line of its config that differs.
+void CheckRunsAgainstExperiment(const std::vector<RunRecord>& runs, const Experiment& experiment);
+
+// What a report records of the experiment (report/document.h).
+ExperimentStamp StampOf(const Experiment& experiment);
 
 // The SHA-256 of a file's bytes in hexadecimal. Throws cmbrl::Error when it cannot be read.
 std::string Sha256OfFile(const std::filesystem::path& path);

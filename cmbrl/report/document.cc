@@ -1,0 +1,233 @@
+#include "cmbrl/report/document.h"
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include <algorithm>
+#include <ctime>
+#include <filesystem>
+#include <fstream>
+
+#include "cmbrl/core/build_info.h"
+#include "cmbrl/core/check.h"
+#include "cmbrl/report/reference.h"
+#include "cmbrl/viz/plot.h"
+
+namespace cmbrl {
+namespace {
+namespace fs = std::filesystem;
+
+// The local time the report was made, the one line that differs when a report is made again.
+std::string Now() {
+  const std::time_t now = std::time(nullptr);
+  char text[64];
+  std::strftime(text, sizeof(text), "%Y-%m-%d %H:%M UTC", std::gmtime(&now));
+  return text;
+}
+
+void WriteFile(const fs::path& path, const std::string& text) {
+  std::ofstream out(path);
+  out << text;
+  Require(static_cast<bool>(out), "could not write '{}'", path.string());
+}
+
+std::vector<PlotPanel> CurvePanels(const std::vector<RunRecord>& runs,
+                                   const std::vector<RunRecord>& reference,
+                                   const std::vector<std::string>& tasks, CurveMetric metric,
+                                   const ReportRequest& args, std::int64_t longest,
+                                   const std::string& x_label) {
+  std::vector<PlotPanel> panels;
+  for (const std::string& task : tasks) {
+    PlotPanel panel;
+    panel.title = task;
+    panel.x_label = x_label;
+    panel.y_label = metric == CurveMetric::kReturn ? "EpRet" : "EpCost";
+    if (metric == CurveMetric::kCost) panel.y_floor = 0.0;  // violations are counts
+    for (const LearningCurve& curve :
+         LearningCurves(runs, task, metric, args.grid_step, args.smoothing)) {
+      PlotSeries ours;
+      ours.label = MethodLabel(curve.planner);
+      ours.x = curve.steps;
+      ours.y = curve.mean;
+      ours.band = curve.std;
+      panel.series.push_back(ours);
+    }
+    // The original's mean over its seeds, dashed in the colour of ours, over our steps only.
+    std::vector<PlotSeries> originals;
+    for (const PlotSeries& ours : panel.series) {
+      for (const LearningCurve& curve :
+           LearningCurves(reference, task, metric, args.grid_step, args.smoothing, longest)) {
+        if (MethodLabel(curve.planner) != ours.label) continue;
+        PlotSeries original;
+        original.label = ours.label + " (original)";
+        original.x = curve.steps;
+        original.y = curve.mean;
+        original.dashed = true;
+        original.colour_of = ours.label;
+        originals.push_back(original);
+      }
+    }
+    panel.series.insert(panel.series.end(), originals.begin(), originals.end());
+    panels.push_back(panel);
+  }
+  return panels;
+}
+
+}  // namespace
+
+ReportSummary WriteReport(const ReportRequest& args) {
+  std::vector<RunRecord> runs = ReadSweeps(args.sweep_dirs);
+  if (args.check_runs) args.check_runs(runs);
+  Require(!runs.empty(), "'{}' holds no runs yet", fmt::join(args.sweep_dirs, "', '"));
+  std::int64_t window = kPaperWindow;
+  for (const RunRecord& run : runs) window = std::min(window, run.config.training.total_steps);
+  if (args.window) window = *args.window;
+  Require(window >= 1, "--window is {}: expected a positive number of agent steps", window);
+  std::vector<std::string> left_out;
+  if (args.complete) {
+    left_out = LeaveOutRunsShortOf(runs, window);
+    Require(!runs.empty(), "--complete: no run has reached the window of {} steps", window);
+  }
+  fs::create_directories(args.out);
+  const fs::path out(args.out);
+
+  std::vector<RunRecord> reference;
+  std::string reference_note;
+  const std::string reference_dir = args.reference.value_or(DefaultReferenceDir());
+  if (args.reference || fs::is_directory(fs::path(reference_dir) / "mbrl")) {
+    reference = ReadReferenceRuns(reference_dir);
+    // Relative to where the report was made, so that a committed report names no machine's path.
+    reference_note =
+        fmt::format("The original's logs: {} runs from '{}'.", reference.size(),
+                    fs::path(reference_dir).lexically_proximate(fs::current_path()).string());
+  } else {
+    reference_note = fmt::format(
+        "The original's logs were not found at '{}' (give --reference DIR): no comparison with "
+        "them.",
+        reference_dir);
+  }
+  std::vector<TableCell> earlier;
+  for (const std::string& path : args.earlier_tables) {
+    const std::vector<TableCell> read = ReadEarlierTable(path, window, reference);
+    earlier.insert(earlier.end(), read.begin(), read.end());
+  }
+  const std::vector<TableCell> cells =
+      WithEarlierCells(ViolationTable(runs, window, reference), earlier);
+  std::vector<std::string> earlier_cells;
+  for (const TableCell& cell : cells) {
+    if (!cell.source.empty()) {
+      earlier_cells.push_back(cell.task + " " + MethodLabel(cell.planner));
+    }
+  }
+  const std::string table = TableMarkdown(cells, window);
+  WriteFile(out / "table-1.md", table);
+  WriteFile(out / "table-1.csv", TableCsv(cells, window));
+
+  std::vector<std::string> tasks;
+  for (const TableCell& cell : cells) {
+    if (std::find(tasks.begin(), tasks.end(), cell.task) == tasks.end()) tasks.push_back(cell.task);
+  }
+  // Curves per family: MPC runs against agent steps, model-free runs against environment
+  // steps (1e7 of them), each with its own grid.
+  std::string curves;
+  for (const bool model_free : {false, true}) {
+    std::vector<RunRecord> family, family_reference;
+    for (const RunRecord& run : runs) {
+      if (run.epoch_log == model_free) family.push_back(run);
+    }
+    for (const RunRecord& run : reference) {
+      if (run.epoch_log == model_free) family_reference.push_back(run);
+    }
+    if (family.empty()) continue;
+    ReportRequest chosen = args;
+    std::int64_t longest = 1;
+    for (const RunRecord& run : family) {
+      longest = std::max(longest, StepsReached(run));
+    }
+    if (chosen.grid_step == 0) chosen.grid_step = std::max<std::int64_t>(1, longest / 50);
+    if (chosen.smoothing == 0) chosen.smoothing = std::max(4 * chosen.grid_step, longest / 10);
+    const std::string prefix = model_free ? "curves-model-free-" : "curves-";
+    const std::string x_label = model_free ? "environment steps" : "agent steps";
+    std::vector<std::string> family_tasks;
+    for (const std::string& task : tasks) {
+      for (const RunRecord& run : family) {
+        if (run.config.task == task) {
+          family_tasks.push_back(task);
+          break;
+        }
+      }
+    }
+    for (const CurveMetric metric : {CurveMetric::kReturn, CurveMetric::kCost}) {
+      const std::string name = prefix + (metric == CurveMetric::kReturn ? "epret" : "epcost");
+      WritePlots(
+          CurvePanels(family, family_reference, family_tasks, metric, chosen, longest, x_label),
+          (out / (name + ".png")).string(), (out / (name + ".svg")).string());
+    }
+    curves += fmt::format(
+        "{0}A point every {2} {3}: each run's mean over its {4} that ended in the {1} steps "
+        "before it, then the mean over seeds; the band is one standard deviation over seeds. "
+        "Dashed: the original's mean over its seeds, the same way.\n\n"
+        "![EpRet]({5}epret.png)\n\n![EpCost]({5}epcost.png)\n\n",
+        model_free ? "### Model-free baselines\n\n" : "", chosen.smoothing, chosen.grid_step,
+        x_label, model_free ? "epochs (AverageEpRet, AverageEpCost)" : "episodes", prefix);
+  }
+
+  std::string report;
+  if (args.experiment) {
+    const ExperimentStamp& e = *args.experiment;
+    report = fmt::format(
+        "# Experiment report: {0}\n\nMade by `cmbrl report {1}` on {2} with cmbrl {3}.\n\n"
+        "From `{1}/{4}` (SHA-256 {5}){10} and the logs of its {6} runs{7} (run-logs/).\n\n"
+        "## Outcome per task\n\n{8}\n## Every cell\n\n{9}\n",
+        e.name, e.dir, Now(), fmt::format("{} ({})", CmbrlVersion(), CmbrlCommit()),
+        e.file, e.sha256,
+        runs.size(),
+        left_out.empty()
+            ? std::string()
+            : fmt::format("; not yet at the window, left out: {}", fmt::join(left_out, ", ")),
+        ProtocolVerdictMarkdown(cells, window), ProtocolCellsMarkdown(cells, window),
+        e.family_sha256.empty()
+            ? std::string()
+            : fmt::format(", the family `configs/{}.yaml` (SHA-256 {})", e.family,
+                          e.family_sha256));
+  }
+  report += fmt::format(
+      "{7} {0}\n\n{1} runs{4}{5}. Generated by `cmbrl report`; the runs' "
+      "`config.yaml`, `progress.csv` and `sessions.jsonl` are kept in run-logs/, from which `cmbrl "
+      "report` makes "
+      "this report again{6}.\n\n## Table I\n\n{2}\n"
+      "## Learning curves\n\n{3}## Where the setup differs from the paper\n\n",
+      args.experiment ? args.experiment->name
+                      : fs::path(args.sweep_dirs.front()).filename().string(),
+      runs.size(), table, curves,
+      left_out.empty()
+          ? std::string()
+          : fmt::format(" (left out, short of the window: {})", fmt::join(left_out, ", ")),
+      earlier_cells.empty() ? std::string()
+                            : fmt::format(", and {} cells read from earlier tables ({})",
+                                          earlier_cells.size(), fmt::join(earlier_cells, ", ")),
+      args.earlier_tables.empty()
+          ? std::string()
+          : fmt::format(" (with --earlier-table '{}')",
+                        fmt::join(args.earlier_tables, "' --earlier-table '")),
+      args.experiment ? "## Details of" : "# Sweep report:");
+  for (const std::string& note : SetupDifferences(runs, window, DefaultConfigsDir())) {
+    report += "- " + note + "\n";
+  }
+  report += "- " + reference_note + "\n";
+  report += "\n## Where the outcome differs\n\n";
+  for (const std::string& note : OutcomeDifferences(cells, window)) report += "- " + note + "\n";
+  report += "\n## Where the runs were made\n\n";
+  for (const std::string& note : WhereRunsWereMade(runs)) report += "- " + note + "\n";
+  WriteFile(out / "report.md", report);
+  KeepRunLogs(runs, args.out);
+  ReportSummary summary;
+  summary.report = (out / "report.md").string();
+  summary.runs = runs.size();
+  summary.window = window;
+  summary.cells = cells.size();
+  summary.earlier_cells = earlier_cells.size();
+  return summary;
+}
+
+}  // namespace cmbrl
