@@ -5,6 +5,7 @@
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 
+#include <mutex>
 #include <vector>
 
 namespace cmbrl {
@@ -15,6 +16,22 @@ class XgbCostModel;
 namespace cmbrl::python {
 
 namespace py = pybind11;
+
+// Serialises the calls of one Python-facing object (an Env, a VectorEnv, an Agent, a model):
+// two Python threads that share it take turns, while distinct objects still run in parallel.
+// The lock is taken with the GIL released, so that a thread waiting for it never holds the GIL
+// its holder needs to finish; hold one for a whole call, from its first line.
+class ObjectLock {
+ public:
+  explicit ObjectLock(std::mutex& mutex) : lock_(mutex, std::defer_lock) {
+    if (lock_.try_lock()) return;  // uncontended: no need to give up the GIL
+    py::gil_scoped_release release;
+    lock_.lock();
+  }
+
+ private:
+  std::unique_lock<std::mutex> lock_;
+};
 
 void BindEnvs(py::module_& m);    // envs.cc: Env, VectorEnv, env_names, bench_env
 void BindModels(py::module_& m);  // models.cc: Ensemble, CostClassifier

@@ -48,14 +48,15 @@ py::array_t<std::uint8_t> RgbArray(RgbImage&& image) {
                            {image.geometry.height_px, image.geometry.width_px, 3});
 }
 
-// One environment, with the episode's path kept for render(). Not thread-safe (Python calls
-// it with the GIL held, which it releases only around the environment's own work).
+// One environment, with the episode's path kept for render(). Thread-safe: calls from several
+// Python threads take turns (ObjectLock), the GIL released around the environment's own work.
 class PyEnv {
  public:
   PyEnv(const std::string& task, const std::string& variant, const std::string& spawn)
       : env_(MakeEnv(task, ParseVariant(variant), ParseSpawn(spawn))), task_(task) {}
 
   py::tuple Reset(std::optional<std::uint64_t> seed) {
+    const ObjectLock lock(mutex_);
     Open();
     std::vector<double> observation;
     {
@@ -67,6 +68,7 @@ class PyEnv {
   }
 
   py::tuple Step(const py::handle& action) {
+    const ObjectLock lock(mutex_);
     Open();
     Require(started_, "step() before reset(): reset the environment first");
     const std::vector<double> values =
@@ -95,6 +97,7 @@ class PyEnv {
   }
 
   py::dict GroundTruth() const {
+    const ObjectLock lock(mutex_);
     Open();
     const SceneSource* source = env_->scene_source();
     Require(source != nullptr, "{} has no ground truth to show", task_);
@@ -102,6 +105,7 @@ class PyEnv {
   }
 
   py::array_t<std::uint8_t> Render(int size_px) const {
+    const ObjectLock lock(mutex_);
     Open();
     const SceneSource* source = env_->scene_source();
     Require(source != nullptr, "{} has no scene to render", task_);
@@ -120,6 +124,7 @@ class PyEnv {
   // (dicts of points (K, 2), feasible, chosen, as Agent.predictions gives them).
   void SavePicture(const std::string& path, int size_px, const std::string& caption,
                    const py::list& predictions) const {
+    const ObjectLock lock(mutex_);
     Open();
     const SceneSource* source = env_->scene_source();
     Require(source != nullptr, "{} has no scene to draw", task_);
@@ -152,7 +157,10 @@ class PyEnv {
   py::dict ActionSpec() const { return BoxDict(env_->action_spec()); }
   int max_episode_steps() const { return env_->max_episode_steps(); }
   double agent_step_seconds() const { return env_->agent_step_seconds(); }
-  void Close() { closed_ = true; }
+  void Close() {
+    const ObjectLock lock(mutex_);
+    closed_ = true;
+  }
   bool closed() const { return closed_; }
   Env& env() { return *env_; }
 
@@ -171,6 +179,7 @@ class PyEnv {
     }
   }
 
+  mutable std::mutex mutex_;  // ObjectLock: one call at a time
   std::unique_ptr<Env> env_;
   std::string task_;
   bool closed_ = false;
@@ -181,7 +190,7 @@ class PyEnv {
   Vec2 last_goal_;
 };
 
-// A VectorEnv of one task. Not thread-safe.
+// A VectorEnv of one task. Thread-safe: calls from several Python threads take turns.
 class PyVectorEnv {
  public:
   PyVectorEnv(const std::string& task, int num_envs, const std::string& variant,
@@ -198,6 +207,7 @@ class PyVectorEnv {
   }
 
   py::tuple Reset(std::optional<std::uint64_t> seed) {
+    const ObjectLock lock(mutex_);
     Open();
     std::vector<double> observations;
     {
@@ -210,6 +220,7 @@ class PyVectorEnv {
   }
 
   py::tuple Step(const py::handle& actions) {
+    const ObjectLock lock(mutex_);
     Open();
     Require(started_, "step() before reset(): reset the environments first");
     const py::ssize_t n = vector_->size();
@@ -238,13 +249,17 @@ class PyVectorEnv {
   int size() const { return vector_->size(); }
   py::dict ObservationSpec() const { return BoxDict(vector_->env(0).observation_spec()); }
   py::dict ActionSpec() const { return BoxDict(vector_->env(0).action_spec()); }
-  void Close() { closed_ = true; }
+  void Close() {
+    const ObjectLock lock(mutex_);
+    closed_ = true;
+  }
   bool closed() const { return closed_; }
 
  private:
   py::ssize_t Width() const { return vector_->env(0).observation_spec().size(); }
   void Open() const { Require(!closed_, "the vector of {} environments is closed", task_); }
 
+  mutable std::mutex mutex_;  // ObjectLock: one call at a time
   std::unique_ptr<VectorEnv> vector_;
   std::string task_;
   bool closed_ = false;

@@ -58,6 +58,7 @@ namespace {
 // A dynamics ensemble of its own, fitted on the caller's transitions (a ring of 500k, as in
 // training: each fit adds the new ones and trains on all, warm-started after the first). Not
 // thread-safe.
+// Thread-safe: calls from several Python threads take turns (ObjectLock).
 class PyEnsemble {
  public:
   PyEnsemble(int state_dim, int action_dim, int ensemble_size, const std::vector<int>& hidden,
@@ -67,6 +68,7 @@ class PyEnsemble {
                   Options(ensemble_size, hidden, max_epochs, predict_delta), seed) {}
 
   py::dict Fit(const py::handle& states, const py::handle& actions, const py::handle& next_states) {
+    const ObjectLock lock(mutex_);
     const py::ssize_t n = RowsOf(states, "states");
     const int s = dynamics_.state_dim(), a = dynamics_.action_dim();
     const std::vector<double> sv = Matrix(states, n, s, "states");
@@ -95,6 +97,7 @@ class PyEnsemble {
 
   // states (N, S), actions (N, A) -> every member's next state (E, N, S).
   py::array_t<double> Predict(const py::handle& states, const py::handle& actions) const {
+    const ObjectLock lock(mutex_);
     const py::ssize_t n = RowsOf(states, "states");
     return PredictNextStates(dynamics_, Matrix(states, n, dynamics_.state_dim(), "states"),
                              Matrix(actions, n, dynamics_.action_dim(), "actions"), n);
@@ -103,6 +106,7 @@ class PyEnsemble {
   int transitions() const { return buffer_.size(); }
 
  private:
+  mutable std::mutex mutex_;  // ObjectLock: one call at a time
   static EnsembleOptions Options(int ensemble_size, const std::vector<int>& hidden,
                                  int max_epochs, bool predict_delta) {
     EnsembleOptions o;
@@ -119,12 +123,14 @@ class PyEnsemble {
 
 // A constraint classifier of its own, fitted from scratch on the caller's labelled states. Not
 // thread-safe.
+// Thread-safe: calls from several Python threads take turns (ObjectLock).
 class PyCostClassifier {
  public:
   PyCostClassifier(int state_dim, int rounds, double threshold, std::uint64_t seed)
       : classifier_(state_dim, Options(rounds, threshold), seed) {}
 
   py::dict Fit(const py::handle& states, const py::handle& unsafe) {
+    const ObjectLock lock(mutex_);
     const int s = classifier_.state_dim();
     const py::ssize_t n = RowsOf(states, "states");
     const std::vector<double> sv = Matrix(states, n, s, "states");
@@ -153,10 +159,12 @@ class PyCostClassifier {
   }
 
   py::array Predict(const py::handle& states) const {
+    const ObjectLock lock(mutex_);
     return PredictViolations(classifier_, states);
   }
 
  private:
+  mutable std::mutex mutex_;  // ObjectLock: one call at a time
   static XgbCostModelOptions Options(int rounds, double threshold) {
     XgbCostModelOptions o;
     o.rounds = rounds;

@@ -25,15 +25,20 @@
 namespace cmbrl::python {
 namespace {
 
-// A trained run's agent (LoadedRun). Not thread-safe.
+// A trained run's agent (LoadedRun). Thread-safe: calls from several Python threads take turns
+// (ObjectLock), as its planner, models and environment are one state.
 class PyAgent {
  public:
   PyAgent(const std::string& run_dir, std::uint64_t seed, const std::vector<std::string>& overrides)
       : run_(run_dir, seed, overrides) {}
 
-  void BeginEpisode() { run_.policy().BeginEpisode(); }
+  void BeginEpisode() {
+    const ObjectLock lock(mutex_);
+    run_.policy().BeginEpisode();
+  }
 
   py::array_t<double> Act(const py::handle& observation) {
+    const ObjectLock lock(mutex_);
     const std::vector<double> values =
         RealValues(observation, {static_cast<py::ssize_t>(run_.env().observation_spec().size())},
                    "the observation");
@@ -49,6 +54,7 @@ class PyAgent {
 
   // The last plan in world coordinates: a list of dicts (points (H+1, 2), feasible, chosen).
   py::list Predictions(const py::dict& scene_of_plan, int samples) {
+    const ObjectLock lock(mutex_);
     SceneState scene;
     const auto xy = [](const py::handle& a) {
       const Doubles v = Doubles::ensure(a);
@@ -77,6 +83,7 @@ class PyAgent {
   }
 
   py::dict LastPlan() {
+    const ObjectLock lock(mutex_);
     MpcAgent& agent = run_.mpc_agent();
     py::dict d;
     d["milliseconds"] = agent.last_plan().milliseconds;
@@ -93,6 +100,7 @@ class PyAgent {
 
   // Next states of every member: states (N, S), actions (N, A) -> (E, N, S).
   py::array_t<double> PredictNext(const py::handle& states, const py::handle& actions) {
+    const ObjectLock lock(mutex_);
     const EnsembleDynamics& dynamics = run_.dynamics();
     const py::ssize_t n = RowsOf(states, "states");
     return PredictNextStates(dynamics, Matrix(states, n, dynamics.state_dim(), "states"),
@@ -101,6 +109,7 @@ class PyAgent {
 
   // The classifier's 0/1 violation prediction for states (N, S) -> (N) bool.
   py::array PredictViolation(const py::handle& states) {
+    const ObjectLock lock(mutex_);
     return PredictViolations(run_.classifier(), states);
   }
 
@@ -118,6 +127,7 @@ class PyAgent {
   py::dict ActionSpec() { return BoxDict(run_.env().action_spec()); }
 
  private:
+  mutable std::mutex mutex_;  // ObjectLock: one call at a time
   LoadedRun run_;
 };
 
