@@ -302,6 +302,45 @@ void AtKey(const std::string& source, const std::string& key, Check&& check) {
   }
 }
 
+// Refuses what YAML accepts but a config cannot mean: several documents in one file, a document
+// that is empty or not a mapping, and a key given twice in one mapping (YAML keeps only one of
+// them, silently). Names the file and the line (1-based).
+YAML::Node LoadConfigDocument(const std::string& text, const std::string& source) {
+  std::vector<YAML::Node> documents;
+  try {
+    documents = YAML::LoadAll(text);
+  } catch (const YAML::Exception& error) {
+    Fail("config '{}' is not valid YAML: {}", source, error.what());
+  }
+  Require(documents.size() <= 1,
+          "config '{}' holds {} YAML documents (separated by '---'): expected one", source,
+          documents.size());
+  Require(!documents.empty() && !documents.front().IsNull(),
+          "config '{}' is empty: expected a mapping of keys to values (task: PointGoal1, ...)",
+          source);
+  const YAML::Node& document = documents.front();
+  Require(document.IsMap(), "config '{}', line {}: the document is not a mapping of keys to "
+          "values", source, document.Mark().line + 1);
+  // Every mapping, at any depth: a repeated key is an error.
+  std::vector<YAML::Node> pending = {document};
+  while (!pending.empty()) {
+    const YAML::Node node = pending.back();
+    pending.pop_back();
+    if (node.IsMap()) {
+      std::set<std::string> keys;
+      for (const auto& entry : node) {
+        const std::string key = entry.first.Scalar();
+        Require(keys.insert(key).second, "config '{}', line {}: key '{}' is given twice",
+                source, entry.first.Mark().line + 1, key);
+        pending.push_back(entry.second);
+      }
+    } else if (node.IsSequence()) {
+      for (const auto& item : node) pending.push_back(item);
+    }
+  }
+  return document;
+}
+
 // Merges `overlay` into `base`, key by key: a mapping merges into a mapping (a file or an
 // override names only the keys it changes), anything else replaces the value.
 void MergeInto(YAML::Node base, const YAML::Node& overlay) {
@@ -350,12 +389,7 @@ void SetTrainDevice(TrainConfig& c, const std::string& device) {
 }
 
 TrainConfig ParseTrainConfig(const std::string& yaml, const std::string& source) {
-  YAML::Node document;
-  try {
-    document = YAML::Load(yaml);
-  } catch (const YAML::Exception& error) {
-    Fail("config '{}' is not valid YAML: {}", source, error.what());
-  }
+  const YAML::Node document = LoadConfigDocument(yaml, source);
   TrainConfig config;
   ConfigReader reader(document, source);
   VisitConfig(config, reader);
@@ -378,15 +412,7 @@ TrainConfig LoadTrainConfig(const std::vector<std::string>& paths) {
             path);
     std::stringstream text;
     text << in.rdbuf();
-    YAML::Node document;
-    try {
-      document = YAML::Load(text.str());
-    } catch (const YAML::Exception& error) {
-      Fail("config '{}' is not valid YAML: {}", path, error.what());
-    }
-    Require(document.IsNull() || document.IsMap(),
-            "config '{}' must be a mapping of keys to values", path);
-    if (document.IsMap()) MergeInto(merged, document);
+    MergeInto(merged, LoadConfigDocument(text.str(), path));
   }
   YAML::Emitter out;
   out << merged;

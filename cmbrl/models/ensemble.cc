@@ -31,8 +31,9 @@ void ValidateEnsembleOptions(const EnsembleOptions& o) {
   // Upper bounds keep a typing slip from allocating the machine away or running for ever.
   Require(o.ensemble_size >= 1 && o.ensemble_size <= 64,
           "ensemble_size is {}: expected 1 to 64 members", o.ensemble_size);
-  Require(o.hidden_sizes.size() <= 16, "hidden_sizes has {} layers: expected at most 16",
-          o.hidden_sizes.size());
+  // No hidden layer would make a linear model, which is not the paper's and never meant.
+  Require(!o.hidden_sizes.empty() && o.hidden_sizes.size() <= 16,
+          "hidden_sizes has {} layers: expected 1 to 16", o.hidden_sizes.size());
   for (size_t i = 0; i < o.hidden_sizes.size(); ++i) {
     Require(o.hidden_sizes[i] >= 1 && o.hidden_sizes[i] <= 65536,
             "hidden_sizes[{}] is {}: expected a width from 1 to 65536", i, o.hidden_sizes[i]);

@@ -16,7 +16,9 @@ void ValidatePolicyOptimisationOptions(const PolicyOptimisationOptions& o) {
           "steps_per_epoch is {} and envs {}: expected steps_per_epoch to be a multiple of envs",
           o.steps_per_epoch, o.envs);
   for (const auto* hidden : {&o.policy_hidden, &o.value_hidden}) {
-    Require(hidden->size() <= 16, "hidden layers: {} given, expected at most 16", hidden->size());
+    Require(!hidden->empty() && hidden->size() <= 16,
+            "{}: {} hidden layers given, expected 1 to 16",
+            hidden == &o.policy_hidden ? "policy_hidden" : "value_hidden", hidden->size());
     for (const int width : *hidden) {
       Require(width >= 1 && width <= 65536, "a hidden width is {}: expected 1 to 65536", width);
     }

@@ -309,7 +309,30 @@ TEST(ConfigTest, LaterFilesChangeOnlyTheKeysTheyName) {
   EXPECT_THAT(ErrorMessage([&] {
                 LoadTrainConfig(std::vector<std::string>{(dir / "list.yaml").string()});
               }),
-              ::testing::HasSubstr("must be a mapping"));
+              ::testing::HasSubstr("line 1: the document is not a mapping"));
+}
+
+// What YAML accepts but a config cannot mean is refused, naming the file and the line.
+TEST(ConfigTest, OddDocumentsAreRefusedWithTheirLine) {
+  const auto error = [](const std::string& yaml) {
+    return ErrorMessage([&] { ParseTrainConfig(yaml, "odd.yaml"); });
+  };
+  EXPECT_THAT(error(""), ::testing::HasSubstr("config 'odd.yaml' is empty"));
+  EXPECT_THAT(error("# only a comment\n"), ::testing::HasSubstr("is empty"));
+  EXPECT_THAT(error("task: PointGoal1\n---\ntask: CarGoal1\n"),
+              ::testing::HasSubstr("holds 2 YAML documents"));
+  EXPECT_THAT(error("task: PointGoal1\ntask: CarGoal1\n"),
+              ::testing::HasSubstr("line 2: key 'task' is given twice"));
+  EXPECT_THAT(error("task: PointGoal1\nplanning:\n  population: 3\n  elites: 2\n"
+                    "  population: 30\n"),
+              ::testing::HasSubstr("line 5: key 'population' is given twice"));
+  EXPECT_THAT(error("- task\n"), ::testing::HasSubstr("line 1: the document is not a mapping"));
+  EXPECT_THAT(error("ensemble: {hidden_sizes: []}\n"),
+              ::testing::HasSubstr("hidden_sizes has 0 layers: expected 1 to 16"));
+  EXPECT_THAT(error("variant: paper-lidar\nalgorithm: cpo\n"
+                    "policy_optimisation: {policy_hidden: []}\n"),
+              ::testing::HasSubstr("policy_hidden: 0 hidden layers given"));
+  EXPECT_NO_THROW(ParseTrainConfig("{}", "empty mapping"));  // the paper's settings, asked for
 }
 
 // `--set section={key: value}` merges into the section: the section's other keys stay.
