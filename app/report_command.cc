@@ -26,7 +26,8 @@ void RunReport(ReportRequest request) {
                                       {"runs", summary.runs},
                                       {"window", summary.window},
                                       {"cells", summary.cells},
-                                      {"earlier_cells", summary.earlier_cells}}
+                                      {"earlier_cells", summary.earlier_cells},
+                                      {"left_out", summary.left_out}}
                    .dump()
             << std::endl;
 }

@@ -182,9 +182,9 @@ ReportSummary WriteReport(const ReportRequest& args) {
         e.name, e.dir, Now(), fmt::format("{} ({})", CmbrlVersion(), CmbrlCommit()),
         e.file, e.sha256,
         runs.size(),
-        left_out.empty()
-            ? std::string()
-            : fmt::format("; not yet at the window, left out: {}", fmt::join(left_out, ", ")),
+        // Runs still going are not named: the committed report must come out the same from
+        // its committed logs alone, where they are absent (the summary names them).
+        std::string(),
         ProtocolVerdictMarkdown(cells, window), ProtocolCellsMarkdown(cells, window),
         e.family_sha256.empty()
             ? std::string()
@@ -200,7 +200,7 @@ ReportSummary WriteReport(const ReportRequest& args) {
       args.experiment ? args.experiment->name
                       : fs::path(args.sweep_dirs.front()).filename().string(),
       runs.size(), table, curves,
-      left_out.empty()
+      left_out.empty() || args.experiment
           ? std::string()
           : fmt::format(" (left out, short of the window: {})", fmt::join(left_out, ", ")),
       earlier_cells.empty() ? std::string()
@@ -227,6 +227,7 @@ ReportSummary WriteReport(const ReportRequest& args) {
   summary.window = window;
   summary.cells = cells.size();
   summary.earlier_cells = earlier_cells.size();
+  summary.left_out = left_out;
   return summary;
 }
 

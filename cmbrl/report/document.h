@@ -44,6 +44,7 @@ struct ReportSummary {
   std::int64_t window = 0;
   std::size_t cells = 0;
   std::size_t earlier_cells = 0;
+  std::vector<std::string> left_out;  // runs short of the window: "name (N steps)"
 };
 
 // Writes the report into request.out. Throws cmbrl::Error naming a bad input (no runs, a bad
