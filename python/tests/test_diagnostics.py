@@ -6,17 +6,10 @@ import os
 import pytest
 
 import cmbrl
+from conftest import tiny_config
 from cmbrl.diagnostics import model_size, planner_study, violation_anatomy
 
-TINY = {
-    "task": "PointGoal1",
-    "training": {"pretrain_episodes": 6, "pretrain_steps": 20, "episodes_per_epoch": 2,
-                 "total_steps": 120},
-    "ensemble": {"hidden_sizes": [16], "max_epochs": 5},
-    "classifier": {"rounds": 10},
-    "planning": {"horizon": 3, "population": 24, "elites": 6, "min_feasible_elites": 3,
-                 "max_iterations": 2, "random_samples": 50},
-}
+TINY = tiny_config(120)
 
 
 def test_a_setting_names_its_overrides():

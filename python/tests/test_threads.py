@@ -5,16 +5,9 @@ import threading
 import numpy as np
 
 import cmbrl
+from conftest import tiny_config
 
-TINY = {
-    "task": "PointGoal1",
-    "training": {"pretrain_episodes": 6, "pretrain_steps": 20, "episodes_per_epoch": 2,
-                 "total_steps": 60},
-    "ensemble": {"hidden_sizes": [16], "max_epochs": 3},
-    "classifier": {"rounds": 5},
-    "planning": {"horizon": 3, "population": 24, "elites": 6, "min_feasible_elites": 3,
-                 "max_iterations": 2, "random_samples": 50},
-}
+TINY = tiny_config(60)
 
 
 def hammer(work, threads=4):

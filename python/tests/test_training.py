@@ -5,16 +5,9 @@ import numpy as np
 import pytest
 
 import cmbrl
+from conftest import tiny_config
 
-TINY = {
-    "task": "PointGoal1", "planner": "rce", "seed": 0,
-    "training": {"pretrain_episodes": 6, "pretrain_steps": 20, "episodes_per_epoch": 2,
-                 "total_steps": 300},
-    "ensemble": {"hidden_sizes": [16], "max_epochs": 5},
-    "classifier": {"rounds": 10},
-    "planning": {"horizon": 3, "population": 24, "elites": 6, "min_feasible_elites": 3,
-                 "max_iterations": 2, "random_samples": 50},
-}
+TINY = tiny_config(300)
 
 
 def rows(run_dir):
