@@ -53,6 +53,22 @@ class _Closable:
         self.close()
 
 
+def _entropy_seed():
+    """A seed from the operating system's entropy, for a first reset without one (Gymnasium's
+    convention: unseeded environments differ from process to process)."""
+    return int.from_bytes(os.urandom(8), "little") >> 1
+
+
+def _as_seed(seed, what="seed"):
+    """seed as an int from 0 to 2**64 - 1; refuses floats, bools and anything else by name."""
+    if isinstance(seed, (bool, np.bool_)) or not isinstance(seed, (int, np.integer)):
+        raise Error(f"{what} is {seed!r}: expected an integer from 0 to 2**64 - 1")
+    seed = int(seed)
+    if not 0 <= seed < 2**64:
+        raise Error(f"{what} is {seed}: expected an integer from 0 to 2**64 - 1")
+    return seed
+
+
 class Env(_Closable):
     """One Goal environment with Safety-Gymnasium's API (reset, step with a separate cost,
     observation_space, action_space, render to an RGB array, close).
@@ -80,10 +96,15 @@ class Env(_Closable):
 
     def reset(self, seed=None, options=None):
         """Starts an episode: (observation, info). A seed re-seeds the layouts' generator;
-        without one the generator continues (Gymnasium's convention)."""
+        without one the generator continues, and a first reset without one draws its seed from
+        the operating system's entropy (Gymnasium's convention)."""
+        if seed is None and not getattr(self, "_seeded", False):
+            seed = _entropy_seed()
         if seed is not None:
-            self.action_space.seed(int(seed))
-        return self._env.reset(None if seed is None else int(seed))
+            seed = _as_seed(seed)
+            self.action_space.seed(seed)
+        self._seeded = True
+        return self._env.reset(seed)
 
     def step(self, action):
         """(observation, reward, cost, terminated, truncated, info) for one agent step."""
@@ -134,10 +155,25 @@ class VectorEnv(_Closable):
             high=np.tile(act_spec["high"], (self.num_envs, 1)), dtype=np.float64)
 
     def reset(self, seed=None, options=None):
-        """Resets all; with a seed, environment k gets seed + k."""
+        """Resets all; with a seed, environment k gets seed + k, and a list of seeds may give
+        them as [s, s + 1, ...]. A first reset without a seed draws one from the operating
+        system's entropy, so unseeded environments differ from each other and from run to run."""
+        if isinstance(seed, (list, tuple, np.ndarray)):
+            seeds = [_as_seed(item, "a seed of the list") for item in seed]
+            if len(seeds) != self.num_envs:
+                raise Error(f"{len(seeds)} seeds for {self.num_envs} environments: expected one "
+                            "each")
+            if any(later != seeds[0] + k for k, later in enumerate(seeds)):
+                raise Error(f"seeds {seeds}: this vector seeds environment k with seed + k, so "
+                            "a list must be consecutive; give one seed for other layouts")
+            seed = seeds[0]
+        if seed is None and not getattr(self, "_seeded", False):
+            seed = max(0, _entropy_seed() - self.num_envs)  # room for seed + k
         if seed is not None:
-            self.action_space.seed(int(seed))
-        return self._env.reset(None if seed is None else int(seed))
+            seed = _as_seed(seed)
+            self.action_space.seed(seed)
+        self._seeded = True
+        return self._env.reset(seed)
 
     def step(self, actions):
         return self._env.step(actions)

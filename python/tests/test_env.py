@@ -132,3 +132,30 @@ def test_spaces_are_gymnasiums_boxes_when_gymnasium_is_importable(monkeypatch):
         monkeypatch.undo()
         importlib.reload(cmbrl.spaces)
     assert not isinstance(cmbrl.spaces.Box(low=[0], high=[1]), FakeBox)
+
+
+def test_an_unseeded_first_reset_draws_from_entropy_and_seeds_must_be_integers():
+    first = [cmbrl.make("PointGoal1").reset()[0] for _ in range(3)]
+    # Three layouts drawn from OS entropy: equal only by a collision of 63-bit seeds.
+    assert not np.array_equal(first[0], first[1]) or not np.array_equal(first[1], first[2])
+    env = cmbrl.make("PointGoal1")
+    seeded = env.reset(seed=np.int64(5))[0]
+    assert np.array_equal(seeded, cmbrl.make("PointGoal1").reset(seed=5)[0])
+    for bad in (1.7, True, -1, 2**64, "3"):
+        with pytest.raises(cmbrl.Error, match="expected an integer"):
+            env.reset(seed=bad)
+
+
+def test_unseeded_vector_envs_differ_and_a_list_of_seeds_is_consecutive():
+    envs = cmbrl.make_vec("PointGoal1", num_envs=3)
+    obs, _ = envs.reset()
+    assert not np.array_equal(obs[0], obs[1]) and not np.array_equal(obs[1], obs[2])
+    by_list, _ = envs.reset(seed=[7, 8, 9])
+    by_base, _ = cmbrl.make_vec("PointGoal1", num_envs=3).reset(seed=7)
+    assert np.array_equal(by_list, by_base)
+    with pytest.raises(cmbrl.Error, match="must be consecutive"):
+        envs.reset(seed=[7, 9, 11])
+    with pytest.raises(cmbrl.Error, match="2 seeds for 3 environments"):
+        envs.reset(seed=[7, 8])
+    with pytest.raises(cmbrl.Error, match="expected an integer"):
+        envs.reset(seed=2.5)
