@@ -67,6 +67,13 @@ std::vector<SweepRun> PlanSweep(const SweepGrid& grid, const std::string& sweep_
             fmt::join(known_methods, ", "));
   }
 
+  // A repeated task or method would name one run twice, and two processes would train it.
+  Require(std::set<std::string>(grid.tasks.begin(), grid.tasks.end()).size() == grid.tasks.size(),
+          "tasks {} repeat a task: each run of the grid needs its own", fmt::join(grid.tasks, " "));
+  Require(std::set<std::string>(grid.planners.begin(), grid.planners.end()).size() ==
+              grid.planners.size(),
+          "methods {} repeat a method: each run of the grid needs its own",
+          fmt::join(grid.planners, " "));
   Require(std::set<std::uint64_t>(grid.seeds.begin(), grid.seeds.end()).size() ==
               grid.seeds.size(),
           "seeds {} repeat a seed: each run needs its own", fmt::join(grid.seeds, " "));

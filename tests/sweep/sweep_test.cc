@@ -84,6 +84,13 @@ TEST(SweepTest, BadGridsAreNamed) {
   grid = PaperGrid();
   grid.seeds = {3, 3};
   EXPECT_THAT(ErrorMessage([&] { PlanSweep(grid, "s"); }), HasSubstr("repeat a seed"));
+  // One run named twice would get two processes (the probe's --tasks PointGoal1 PointGoal1).
+  grid = PaperGrid();
+  grid.tasks = {"PointGoal1", "PointGoal1"};
+  EXPECT_THAT(ErrorMessage([&] { PlanSweep(grid, "s"); }), HasSubstr("repeat a task"));
+  grid = PaperGrid();
+  grid.planners = {"rce", "cem", "rce"};
+  EXPECT_THAT(ErrorMessage([&] { PlanSweep(grid, "s"); }), HasSubstr("repeat a method"));
   grid = PaperGrid();
   grid.config_dir = "/nonexistent";
   EXPECT_THAT(ErrorMessage([&] { PlanSweep(grid, "s"); }),
