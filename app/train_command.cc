@@ -4,6 +4,7 @@
 #include <fmt/ranges.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdint>
 #include <cstdio>
@@ -59,6 +60,13 @@ void RunTrain(const TrainArgs& args) {
             "a new run needs --config FILE and --out RUN_DIR (or --resume RUN_DIR)");
     TrainConfig config = LoadTrainConfig(args.config);
     const std::string source = fmt::format("{}", fmt::join(args.config, "' + '"));
+    // Defaults alone are the paper's full PointGoal1 RCE run (hours): only when asked for.
+    const bool task_set = std::any_of(args.overrides.begin(), args.overrides.end(),
+                                      [](const std::string& o) { return o.rfind("task=", 0) == 0; });
+    Require(task_set || ConfigFilesNameKey(args.config, "task"),
+            "'{}' names no task, so the run would be the defaults' full paper-size PointGoal1 "
+            "run: name one (task: PointGoal1 in the file, or --set task=PointGoal1)",
+            source);
     if (!args.overrides.empty()) config = ApplyConfigOverrides(config, args.overrides, "--set");
     if (args.steps) config.training.total_steps = *args.steps;
     if (args.seed) config.seed = *args.seed;

@@ -403,6 +403,18 @@ TrainConfig LoadTrainConfig(const std::string& path) {
   return LoadTrainConfig(std::vector<std::string>{path});
 }
 
+bool ConfigFilesNameKey(const std::vector<std::string>& paths, const std::string& key) {
+  for (const std::string& path : paths) {
+    std::ifstream in(path);
+    Require(static_cast<bool>(in), "config file '{}' cannot be opened: expected a YAML file",
+            path);
+    std::stringstream text;
+    text << in.rdbuf();
+    if (LoadConfigDocument(text.str(), path)[key]) return true;
+  }
+  return false;
+}
+
 TrainConfig LoadTrainConfig(const std::vector<std::string>& paths) {
   Require(!paths.empty(), "no config file given: expected at least one YAML file");
   YAML::Node merged(YAML::NodeType::Map);

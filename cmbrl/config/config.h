@@ -99,6 +99,11 @@ TrainConfig LoadTrainConfig(const std::string& path);
 // family (configs/cpu.yaml). Throws as LoadTrainConfig does, naming the files.
 TrainConfig LoadTrainConfig(const std::vector<std::string>& paths);
 
+// Whether any of the files (as LoadTrainConfig composes them) names the top-level key `key`,
+// e.g. "task": a run whose files name no task would silently be the defaults' full paper-size
+// PointGoal1 run. Throws as LoadTrainConfig does for a file it cannot read.
+bool ConfigFilesNameKey(const std::vector<std::string>& paths, const std::string& key);
+
 // The same from YAML text; `source` names it in messages.
 TrainConfig ParseTrainConfig(const std::string& yaml, const std::string& source);
 

@@ -53,6 +53,17 @@ class _Closable:
         self.close()
 
 
+def _json_number(value):
+    """numpy scalars in a config dict, as JSON numbers (json.dumps knows only Python's)."""
+    if isinstance(value, np.integer):
+        return int(value)
+    if isinstance(value, np.floating):
+        return float(value)
+    if isinstance(value, np.ndarray):
+        return value.tolist()
+    raise TypeError(f"a config value of type {type(value).__name__} is not a number or a list")
+
+
 def _entropy_seed():
     """A seed from the operating system's entropy, for a first reset without one (Gymnasium's
     convention: unseeded environments differ from process to process)."""
@@ -210,7 +221,10 @@ def train(config=None, out=None, steps=None, seed=None, device=None, resume=None
     """
     config_path = config_text = None
     if isinstance(config, dict):
-        config_text = json.dumps(config)  # JSON is YAML
+        if "task" not in config:
+            raise Error("the config dict names no task, so the run would be the defaults' full "
+                        "paper-size PointGoal1 run: name one ({'task': 'PointGoal1', ...})")
+        config_text = json.dumps(config, default=_json_number)  # JSON is YAML
     elif isinstance(config, (list, tuple)):
         config_path = [os.fspath(path) for path in config]
     elif config is not None:

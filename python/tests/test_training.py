@@ -119,3 +119,13 @@ def test_the_example_trains_evaluates_and_draws(tmp_path, source_dir):
                     "--config", str(source_dir / "configs" / "tiny-test.yaml"), "--out", str(out),
                     "--steps", "100"], check=True, env=dict(os.environ), stdout=subprocess.PIPE)
     assert (out / "python-evaluation.png").stat().st_size > 10_000
+
+
+def test_a_config_dict_must_name_its_task_and_may_hold_numpy_numbers(tmp_path):
+    with pytest.raises(cmbrl.Error, match="names no task"):
+        cmbrl.train(config={}, out=str(tmp_path / "none"))
+    config = tiny_config(40)
+    config["planning"]["population"] = np.int64(24)
+    config["objective"] = {"gamma": np.float32(0.98)}
+    result = cmbrl.train(config=config, out=str(tmp_path / "numpy"))
+    assert result["steps"] >= 40
