@@ -341,6 +341,15 @@ YAML::Node LoadConfigDocument(const std::string& text, const std::string& source
   return document;
 }
 
+// LoadConfigDocument of a file's text.
+YAML::Node LoadConfigFile(const std::string& path) {
+  std::ifstream in(path);
+  Require(static_cast<bool>(in), "config file '{}' cannot be opened: expected a YAML file", path);
+  std::stringstream text;
+  text << in.rdbuf();
+  return LoadConfigDocument(text.str(), path);
+}
+
 // Merges `overlay` into `base`, key by key: a mapping merges into a mapping (a file or an
 // override names only the keys it changes), anything else replaces the value.
 void MergeInto(YAML::Node base, const YAML::Node& overlay) {
@@ -405,12 +414,7 @@ TrainConfig LoadTrainConfig(const std::string& path) {
 
 bool ConfigFilesNameKey(const std::vector<std::string>& paths, const std::string& key) {
   for (const std::string& path : paths) {
-    std::ifstream in(path);
-    Require(static_cast<bool>(in), "config file '{}' cannot be opened: expected a YAML file",
-            path);
-    std::stringstream text;
-    text << in.rdbuf();
-    if (LoadConfigDocument(text.str(), path)[key]) return true;
+    if (LoadConfigFile(path)[key]) return true;
   }
   return false;
 }
@@ -419,12 +423,7 @@ TrainConfig LoadTrainConfig(const std::vector<std::string>& paths) {
   Require(!paths.empty(), "no config file given: expected at least one YAML file");
   YAML::Node merged(YAML::NodeType::Map);
   for (const std::string& path : paths) {
-    std::ifstream in(path);
-    Require(static_cast<bool>(in), "config file '{}' cannot be opened: expected a YAML file",
-            path);
-    std::stringstream text;
-    text << in.rdbuf();
-    MergeInto(merged, LoadConfigDocument(text.str(), path));
+    MergeInto(merged, LoadConfigFile(path));
   }
   YAML::Emitter out;
   out << merged;
