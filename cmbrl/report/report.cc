@@ -436,10 +436,7 @@ std::optional<double> PaperViolations(const std::string& task, const std::string
 }
 
 std::string VersusOriginal(const TableCell& cell) {
-  if (cell.original_per_seed.empty()) return "";
-  const auto [low, high] =
-      std::minmax_element(cell.original_per_seed.begin(), cell.original_per_seed.end());
-  return cell.mean < *low ? "below" : cell.mean > *high ? "above" : "inside";
+  return AgainstRange(cell.mean, cell.original_per_seed);
 }
 
 std::string WithinWidenedRange(const TableCell& cell) {
@@ -618,13 +615,33 @@ std::string ViolationCausesMarkdown(const std::vector<TableCell>& cells) {
 
 }  // namespace
 
-std::string TableMarkdown(const std::vector<TableCell>& cells, std::int64_t window) {
-  std::vector<std::string> planners;
+namespace {
+
+// The cell of a task and planner, or nullptr when the table has none.
+const TableCell* FindCell(const std::vector<TableCell>& cells, const std::string& task,
+                          const std::string& planner) {
+  const auto it = std::find_if(cells.begin(), cells.end(), [&](const TableCell& c) {
+    return c.task == task && c.planner == planner;
+  });
+  return it == cells.end() ? nullptr : &*it;
+}
+
+// The distinct values of one field of the cells (task or planner), in the table's order.
+std::vector<std::string> DistinctInOrder(const std::vector<TableCell>& cells,
+                                         std::string TableCell::*field) {
+  std::vector<std::string> values;
   for (const TableCell& cell : cells) {
-    if (std::find(planners.begin(), planners.end(), cell.planner) == planners.end()) {
-      planners.push_back(cell.planner);
+    if (std::find(values.begin(), values.end(), cell.*field) == values.end()) {
+      values.push_back(cell.*field);
     }
   }
+  return values;
+}
+
+}  // namespace
+
+std::string TableMarkdown(const std::vector<TableCell>& cells, std::int64_t window) {
+  const std::vector<std::string> planners = DistinctInOrder(cells, &TableCell::planner);
   std::string text = fmt::format(
       "Violations during the first {} agent steps: ours as mean ± std over seeds (seeds), the "
       "paper's Table I (mean of 3 seeds over 10,000 steps) in brackets. * marks a cell whose "
@@ -641,10 +658,8 @@ std::string TableMarkdown(const std::vector<TableCell>& cells, std::int64_t wind
       task = cell.task;
       text += "| " + task + " |";
       for (const std::string& planner : planners) {
-        const auto it = std::find_if(cells.begin(), cells.end(), [&](const TableCell& c) {
-          return c.task == task && c.planner == planner;
-        });
-        if (it == cells.end()) {
+        const TableCell* it = FindCell(cells, task, planner);
+        if (it == nullptr) {
           text += " |";
           continue;
         }
@@ -679,10 +694,8 @@ std::string TableMarkdown(const std::vector<TableCell>& cells, std::int64_t wind
     task = cell.task;
     text += "\n| " + task + " |";
     for (const std::string& planner : planners) {
-      const auto it = std::find_if(cells.begin(), cells.end(), [&](const TableCell& c) {
-        return c.task == task && c.planner == planner;
-      });
-      text += it == cells.end() ? " |"
+      const TableCell* it = FindCell(cells, task, planner);
+      text += it == nullptr ? " |"
               : !std::isfinite(it->return_mean)
                   ? " - |"
                   : fmt::format(" {:.2f} ± {:.2f} |", it->return_mean, it->return_std);
@@ -745,21 +758,8 @@ std::string PerSeed(const std::vector<double>& values, int digits) {
 }  // namespace
 
 std::string ProtocolVerdictMarkdown(const std::vector<TableCell>& cells, std::int64_t window) {
-  std::vector<std::string> tasks, planners;
-  for (const TableCell& cell : cells) {
-    if (std::find(tasks.begin(), tasks.end(), cell.task) == tasks.end()) {
-      tasks.push_back(cell.task);
-    }
-    if (std::find(planners.begin(), planners.end(), cell.planner) == planners.end()) {
-      planners.push_back(cell.planner);
-    }
-  }
-  const auto find = [&](const std::string& task, const std::string& planner) -> const TableCell* {
-    const auto it = std::find_if(cells.begin(), cells.end(), [&](const TableCell& c) {
-      return c.task == task && c.planner == planner;
-    });
-    return it == cells.end() ? nullptr : &*it;
-  };
+  const std::vector<std::string> tasks = DistinctInOrder(cells, &TableCell::task);
+  const std::vector<std::string> planners = DistinctInOrder(cells, &TableCell::planner);
   std::string text = fmt::format(
       "Violations during the first {} agent steps: mean over seeds [bootstrap 90% interval of "
       "the mean]. \"Least\": the paper's method violates least, its interval wholly below every "
@@ -777,13 +777,13 @@ std::string ProtocolVerdictMarkdown(const std::vector<TableCell>& cells, std::in
     text += "| " + task + " |";
     std::optional<std::string> papers;
     for (const std::string& planner : planners) {
-      const TableCell* cell = find(task, planner);
+      const TableCell* cell = FindCell(cells, task, planner);
       text += " " + (cell ? MeanWithInterval(cell->per_seed, 1) : std::string("-")) + " |";
       if (cell && IsPapersMethod(planner)) papers = planner;
     }
     std::string verdict = "-";
     if (papers) {
-      const TableCell& ours = *find(task, *papers);
+      const TableCell& ours = *FindCell(cells, task, *papers);
       const MeanInterval ours_interval = BootstrapMeanInterval(ours.per_seed);
       bool lowest_mean = true, apart = true, others = false;
       for (const TableCell& other : cells) {
@@ -796,7 +796,7 @@ std::string ProtocolVerdictMarkdown(const std::vector<TableCell>& cells, std::in
     }
     text += " " + verdict + " |";
     for (const std::string& planner : planners) {
-      const TableCell* cell = find(task, planner);
+      const TableCell* cell = FindCell(cells, task, planner);
       if (cell == nullptr || cell->original_per_seed.empty()) {
         text += " - |";
         continue;
