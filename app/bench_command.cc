@@ -19,7 +19,9 @@ namespace {
 void PrintFigure(const nlohmann::ordered_json& line) { std::cout << line.dump() << std::endl; }
 
 void AddCommonOptions(CLI::App& command, bench::LearningBenchOptions& args) {
-  command.add_option("--config", args.config_path, "training config (YAML) whose settings to use")
+  command.add_option("--config", args.config_paths,
+                     "training config files (YAML) whose settings to use, composed in order "
+                     "(a task's preset, then a family such as configs/cpu.yaml)")
       ->check(CLI::ExistingFile)
       ->capture_default_str();
   command.add_option("--device", args.device, "cpu, cuda or cuda:N (default: the config's)");
@@ -43,6 +45,10 @@ void AddBenchLearningCommands(CLI::App& bench_command) {
                    "first fitted briefly and each later precision's prediction errors and chosen "
                    "actions are compared with the first's")
       ->check(CLI::IsMember({"fp32", "tf32", "bf16"}));
+  plan->add_option("--backends", plan_args->backends,
+                   "auto, libtorch, onednn (default: the config's); crossed with --precisions, the "
+                   "first pair being the reference")
+      ->check(CLI::IsMember({"auto", "libtorch", "onednn"}));
   plan->add_option("--fit-steps", plan_args->fit_steps,
                    "random-policy transitions of that fit")
       ->check(IntegerIn(1, 100'000'000))

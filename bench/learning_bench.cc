@@ -12,6 +12,7 @@
 
 #include "bench/bench_util.h"
 #include "bench/ceiling.h"
+#include "bench/kernel_ceiling.h"
 #include "cmbrl/learners/mpc/mpc_agent.h"
 #include "cmbrl/agent/policy.h"
 #include "cmbrl/core/check.h"
@@ -28,10 +29,16 @@ namespace {
 
 
 TrainConfig LoadBenchConfig(const LearningBenchOptions& args) {
-  TrainConfig config = LoadTrainConfig(args.config_path);
+  const std::string source = fmt::format("{}", fmt::join(args.config_paths, " + "));
+  // Defaults alone would be the paper's PointGoal1: a family overlay given alone is a slip.
+  Require(ConfigFilesNameKey(args.config_paths, "task"),
+          "'{}' names no task: give a task's preset first, e.g. --config "
+          "configs/pointgoal1-rce.yaml {}",
+          source, args.config_paths.back());
+  TrainConfig config = LoadTrainConfig(args.config_paths);
   if (!args.device.empty()) {
     SetTrainDevice(config, args.device);
-    ValidateTrainConfig(config, args.config_path);
+    ValidateTrainConfig(config, source);
   }
   return config;
 }
@@ -74,11 +81,12 @@ struct TimedRuns {
 };
 
 // `runs` runs of `work` after one warm-up, each preceded by a ceiling probe.
-TimedRuns TimeRunsBesideCeiling(int runs, CeilingProbe& probe, const std::function<void()>& work) {
+TimedRuns TimeRunsBesideCeiling(int runs, const std::function<double()>& probe,
+                                 const std::function<void()>& work) {
   work();
   TimedRuns timed;
   for (int i = 0; i < runs; ++i) {
-    timed.ceilings.push_back(probe.Measure());
+    timed.ceilings.push_back(probe());
     timed.seconds.push_back(SecondsOf(work));
   }
   return timed;
@@ -128,16 +136,22 @@ TransitionBuffer RandomPolicyData(const TrainConfig& config, int steps, std::uin
   return data;
 }
 
-// Ensembles of the config's settings that differ only in precision, with the same weights:
-// random ones for a single precision, else fitted on random-policy data (a few epochs), so that
+// One arithmetic of the predictions: a precision on a backend.
+struct Variant {
+  std::string precision, backend;
+};
+
+// Ensembles of the config's settings that differ only in arithmetic, with the same weights:
+// random ones for a single variant, else fitted on random-policy data (a few epochs), so that
 // the errors are those of a model that predicts something.
-std::vector<std::unique_ptr<EnsembleDynamics>> EnsemblesByPrecision(
-    const TrainConfig& config, const std::vector<std::string>& precisions, const TaskShape& shape,
+std::vector<std::unique_ptr<EnsembleDynamics>> EnsemblesByVariant(
+    const TrainConfig& config, const std::vector<Variant>& variants, const TaskShape& shape,
     const TransitionBuffer* data, std::uint64_t seed) {
   std::vector<std::unique_ptr<EnsembleDynamics>> ensembles;
-  for (const std::string& precision : precisions) {
+  for (const Variant& variant : variants) {
     EnsembleOptions options = config.ensemble;
-    options.precision = precision;
+    options.precision = variant.precision;
+    options.backend = variant.backend;
     options.max_epochs = std::min(options.max_epochs, 5);
     ensembles.push_back(std::make_unique<EnsembleDynamics>(
         shape.state_dim, shape.action_dim, options, DeriveSeed(seed, kEnsembleSeedStream)));
@@ -222,13 +236,19 @@ void RunPlanBench(const LearningBenchOptions& args, const FigureSink& emit) {
   const std::vector<std::string> precisions =
       args.precisions.empty() ? std::vector<std::string>{config.ensemble.precision}
                               : args.precisions;
-  const bool compare = precisions.size() > 1;
+  const std::vector<std::string> backends =
+      args.backends.empty() ? std::vector<std::string>{config.ensemble.backend} : args.backends;
+  std::vector<Variant> variants;
+  for (const std::string& precision : precisions) {
+    for (const std::string& backend : backends) variants.push_back({precision, backend});
+  }
+  const bool compare = variants.size() > 1;
   std::unique_ptr<TransitionBuffer> data;
   if (compare) {
     data = std::make_unique<TransitionBuffer>(RandomPolicyData(config, args.fit_steps, args.seed));
   }
   const std::vector<std::unique_ptr<EnsembleDynamics>> ensembles =
-      EnsemblesByPrecision(config, precisions, shape, data.get(), args.seed);
+      EnsemblesByVariant(config, variants, shape, data.get(), args.seed);
   const std::unique_ptr<XgbCostModel> classifier = FittedClassifier(
       config, shape.state_dim, 4000, DeriveSeed(args.seed, kClassifierSeedStream), nullptr);
   const PlannerSettings settings = PlannerSettingsFor(config, shape.action_dim);
@@ -238,17 +258,33 @@ void RunPlanBench(const LearningBenchOptions& args, const FigureSink& emit) {
   const std::vector<std::string> planners =
       args.planners.empty() ? std::vector<std::string>{config.planner} : args.planners;
   for (const std::string& planner : planners) {
-    for (size_t p = 0; p < precisions.size(); ++p) {
+    for (size_t p = 0; p < variants.size(); ++p) {
       const EnsembleDynamics& ensemble = *ensembles[p];
       MpcAgent agent(ensemble, *classifier, planner, settings, config.objective,
                      DeriveSeed(args.seed, kPlannerSeedStream));
-      CeilingProbe probe(device, precisions[p]);
-      const TimedRuns step = TimeRunsBesideCeiling(args.runs, probe, [&] {
-        agent.Act(shape.start);  // ends with the action's copy to the host
-      });
       const PlannerEntry& entry = FindPlanner(planner);
       const PlanWork work = entry.work(settings);
       const std::int64_t population = work.samples;
+      // On the CPU the ceiling is the fastest kernel here on this step's own products; on CUDA
+      // a large square product at the precision.
+      std::vector<std::int64_t> layer_sizes = {shape.state_dim + shape.action_dim};
+      for (const int width : config.ensemble.hidden_sizes) layer_sizes.push_back(width);
+      layer_sizes.push_back(shape.state_dim);
+      std::unique_ptr<ShapeCeiling> shape_ceiling;
+      std::unique_ptr<CeilingProbe> square_ceiling;
+      std::function<double()> probe;
+      if (device.is_cpu()) {
+        shape_ceiling = std::make_unique<ShapeCeiling>(
+            ForwardShapes(members, population, layer_sizes),
+            variants[p].precision == "bf16" ? "bf16" : "fp32", args.runs);
+        probe = [&] { return shape_ceiling->Measure(); };
+      } else {
+        square_ceiling = std::make_unique<CeilingProbe>(device, variants[p].precision);
+        probe = [&] { return square_ceiling->Measure(); };
+      }
+      const TimedRuns step = TimeRunsBesideCeiling(args.runs, probe, [&] {
+        agent.Act(shape.start);  // ends with the action's copy to the host
+      });
       const int iterations = work.iterations;
       const std::int64_t forwards = iterations * horizon;
       const double flops = ensemble.PredictFlops(population) * static_cast<double>(forwards);
@@ -273,7 +309,8 @@ void RunPlanBench(const LearningBenchOptions& args, const FigureSink& emit) {
 
       nlohmann::ordered_json line = Figure("plan", "plan_step", config, step.seconds);
       line["planner"] = planner;
-      line["precision"] = precisions[p];
+      line["precision"] = variants[p].precision;
+      line["backend"] = ensemble.backend();
       line["members"] = members;
       line["hidden"] = config.ensemble.hidden_sizes;
       line["population"] = population;
@@ -284,8 +321,9 @@ void RunPlanBench(const LearningBenchOptions& args, const FigureSink& emit) {
       line["dynamics_forward_ms"] = forward_seconds * 1e3;
       line["classifier_ms"] = classifier_seconds * 1e3;
       AddRate(line, flops, step);
+      if (shape_ceiling) line["ceiling_candidates"] = shape_ceiling->candidates();
       if (p > 0) {
-        line["error_against"] = precisions[0];
+        line["error_against"] = variants[0].precision + "/" + ensembles[0]->backend();
         line["weights"] = fmt::format("fitted for {} epochs on {} random-policy transitions",
                                       std::min(config.ensemble.max_epochs, 5), args.fit_steps);
         line.update(PrecisionErrors(config, planner, settings, *classifier, *ensembles[0],
@@ -321,7 +359,7 @@ void RunTrainBench(const LearningBenchOptions& args, const FigureSink& emit) {
   epoch_options.max_epochs = 1;
   EnsembleDynamics trainee(shape.state_dim, shape.action_dim, epoch_options, args.seed);
   EnsembleFitReport report;
-  const TimedRuns epoch_runs = TimeRunsBesideCeiling(args.runs, probe, [&] {
+  const TimedRuns epoch_runs = TimeRunsBesideCeiling(args.runs, [&] { return probe.Measure(); }, [&] {
     report = trainee.Fit(data);
     Synchronize(device);
   });

@@ -12,10 +12,12 @@
 namespace cmbrl::bench {
 
 struct LearningBenchOptions {
-  std::string config_path = "configs/pointgoal1-rce.yaml";
+  // Composed in order, later files over earlier ones, as `cmbrl train --config` composes them.
+  std::vector<std::string> config_paths = {"configs/pointgoal1-rce.yaml"};
   std::string device;                  // empty: the config's
   std::vector<std::string> planners;   // empty: the config's
   std::vector<std::string> precisions; // bench plan; empty: the config's; the first is the reference
+  std::vector<std::string> backends;   // bench plan; empty: the config's (crossed with precisions)
   int fit_steps = 5000;                // bench plan with several precisions: random-policy data
   int agreement_states = 8;            // start states of the action comparison
   int runs = 5;

@@ -34,6 +34,25 @@ add_library(cmbrl_torch INTERFACE)
 target_link_libraries(cmbrl_torch INTERFACE ${TORCH_LIBRARIES})
 target_compile_options(cmbrl_torch INTERFACE ${TORCH_CXX_FLAGS})
 
+# oneDNN (Debian's libdnnl-dev): the fast CPU prediction backend (cmbrl/models/onednn_forward.h).
+# Optional: without it, or with -DCMBRL_WITH_ONEDNN=OFF (a PyTorch LibTorch that carries its own
+# copy), predictions run on LibTorch. Header and library directly: the package file would also
+# want OpenCL, which the CPU backend never uses.
+option(CMBRL_WITH_ONEDNN "Build the oneDNN prediction backend when libdnnl-dev is installed" ON)
+add_library(cmbrl_onednn INTERFACE)
+if(CMBRL_WITH_ONEDNN)
+  find_path(DNNL_INCLUDE_DIR oneapi/dnnl/dnnl.hpp)
+  find_library(DNNL_LIBRARY NAMES dnnl libdnnl.so.2)
+  if(DNNL_INCLUDE_DIR AND DNNL_LIBRARY)
+    target_include_directories(cmbrl_onednn SYSTEM INTERFACE "${DNNL_INCLUDE_DIR}")
+    target_link_libraries(cmbrl_onednn INTERFACE "${DNNL_LIBRARY}")
+    set(CMBRL_HAVE_ONEDNN ON)
+    message(STATUS "oneDNN: ${DNNL_LIBRARY}")
+  else()
+    message(WARNING "oneDNN not found (install libdnnl-dev): predictions will run on LibTorch")
+  endif()
+endif()
+
 # XGBoost: its package file needs the xgboost program package as well; fall back to the header
 # and library.
 find_package(xgboost CONFIG QUIET)

@@ -22,6 +22,8 @@ packages=(
   # Learned models: LibTorch (CPU) on OpenBLAS, and XGBoost. XGBoost's CMake package file fails
   # unless the xgboost package (its command-line program) is installed too.
   libtorch-dev libopenblas-dev libxgboost-dev xgboost
+  # The fast CPU prediction backend: oneDNN's matrix products (AVX-512, bf16).
+  libdnnl-dev
   # The Python module and its tests.
   pybind11-dev python3-dev python3-numpy python3-pytest
 )

@@ -133,6 +133,7 @@ void VisitConfig(Config& c, Visitor& v) {
   v.Field("ensemble", "init_std", e.init_std);
   v.Field("ensemble", "min_std", e.min_std);
   v.Field("ensemble", "precision", e.precision);
+  v.Field("ensemble", "backend", e.backend);
   auto& x = c.classifier;
   v.Field("classifier", "rounds", x.rounds);
   v.Field("classifier", "learning_rate", x.learning_rate);

@@ -10,6 +10,7 @@
 #include "cmbrl/core/torch_util.h"
 #include "cmbrl/models/fused_adam.h"
 #include "cmbrl/models/normalizer.h"
+#include "cmbrl/models/onednn_forward.h"
 
 namespace cmbrl {
 
@@ -20,6 +21,7 @@ struct EnsembleDynamics::State {
   // With precision bf16: bfloat16 copies of weights and biases for predictions.
   std::vector<torch::Tensor> predict_weights;
   std::vector<torch::Tensor> predict_biases;
+  std::unique_ptr<OnednnEnsembleForward> onednn;  // with backend onednn: the predictions
   Normalizer input_normalizer;         // over [state, action]
   Normalizer target_normalizer;        // over next state (or its change)
   std::unique_ptr<FusedAdam> optimizer;
@@ -61,7 +63,29 @@ void ValidateEnsembleOptions(const EnsembleOptions& o) {
           "precision is tf32 but device is '{}': TF32 is a CUDA tensor-core format; use fp32 or "
           "bf16 on the CPU",
           o.device);
+  Require(o.backend == "auto" || o.backend == "libtorch" || o.backend == "onednn",
+          "backend is '{}': expected auto, libtorch or onednn", o.backend);
+  Require(o.backend != "onednn" || o.device == "cpu",
+          "backend is onednn but device is '{}': oneDNN predicts on the CPU; use libtorch or auto "
+          "on CUDA",
+          o.device);
+  if (o.backend == "onednn") {
+    std::string why_not;
+    Require(OnednnForwardAvailable(o.precision == "bf16", &why_not),
+            "backend is onednn but {}; use auto or libtorch", why_not);
+  }
 }
+
+namespace {
+
+std::string ResolveBackend(const EnsembleOptions& o) {
+  if (o.backend != "auto") return o.backend;
+  return o.device == "cpu" && o.precision != "tf32" && OnednnForwardPreferred(o.precision == "bf16")
+             ? "onednn"
+             : "libtorch";
+}
+
+}  // namespace
 
 EnsembleDynamics::EnsembleDynamics(int state_dim, int action_dim, EnsembleOptions options,
                                    std::uint64_t seed)
@@ -72,6 +96,7 @@ EnsembleDynamics::EnsembleDynamics(int state_dim, int action_dim, EnsembleOption
   Require(state_dim >= 1, "state_dim is {}: expected a positive number", state_dim);
   Require(action_dim >= 1, "action_dim is {}: expected a positive number", action_dim);
   ValidateEnsembleOptions(options_);
+  backend_ = ResolveBackend(options_);
   State& s = *state_;
   s.device = ParseDevice(options_.device);
   s.generator = MakeCpuGenerator(seed);
@@ -102,6 +127,9 @@ EnsembleDynamics::EnsembleDynamics(int state_dim, int action_dim, EnsembleOption
   adam.learning_rate = options_.learning_rate;
   s.optimizer = std::make_unique<FusedAdam>(parameters, adam);
   if (options_.precision == "tf32") at::globalContext().setAllowTF32CuBLAS(true);
+  if (backend_ == "onednn") {
+    s.onednn = std::make_unique<OnednnEnsembleForward>(options_.precision == "bf16");
+  }
   RefreshPredictionWeights();
 }
 
@@ -109,6 +137,12 @@ void EnsembleDynamics::RefreshPredictionWeights() {
   State& s = *state_;
   s.predict_weights.clear();
   s.predict_biases.clear();
+  if (s.onednn) {
+    s.onednn->SetWeights(s.weights, s.biases, s.input_normalizer.mean(),
+                         s.input_normalizer.std(), s.target_normalizer.mean(),
+                         s.target_normalizer.std(), options_.predict_delta);
+    return;
+  }
   if (options_.precision != "bf16") return;
   const torch::NoGradGuard no_grad;
   for (size_t l = 0; l < s.weights.size(); ++l) {
@@ -147,6 +181,7 @@ torch::Tensor EnsembleDynamics::PredictUnchecked(const torch::Tensor& states,
       actions.dim() == 3 && actions.size(0) == states.size(0) && actions.size(1) == states.size(1),
       "actions have shape {}: expected (E={}, N={}, {})", c10::str(actions.sizes()),
       options_.ensemble_size, states.size(1), action_dim_);
+  if (s.onednn) return s.onednn->Predict(states, actions);
   const torch::Tensor inputs = s.input_normalizer.Normalize(torch::cat({states, actions}, -1));
   torch::Tensor next = s.target_normalizer.Denormalize(Forward(inputs, /*prediction=*/true));
   if (options_.predict_delta) next = next + states;

@@ -33,6 +33,12 @@ struct EnsembleOptions {
   //   bf16: predictions with bfloat16 copies of the weights and activations (8-bit mantissa),
   //         refreshed after every fit; training stays float32.
   std::string precision = "fp32";
+  // Who computes the predictions (training always runs on LibTorch):
+  //   auto: onednn where it is available (a build with oneDNN, device cpu, fp32, or bf16 on a
+  //         CPU with AVX-512), libtorch elsewhere;
+  //   libtorch: LibTorch's batched products (OpenBLAS for fp32 on the CPU; cuBLAS on CUDA);
+  //   onednn: oneDNN's matrix-product primitives (onednn_forward.h); an error where unavailable.
+  std::string backend = "auto";
 };
 
 // Throws cmbrl::Error naming the first field with a bad value.
@@ -65,6 +71,8 @@ class EnsembleDynamics final : public DynamicsModel {
   int action_dim() const override { return action_dim_; }
   int ensemble_size() const override { return options_.ensemble_size; }
   const EnsembleOptions& options() const { return options_; }
+  // The backend `options().backend` resolved to here: "onednn" or "libtorch".
+  const std::string& backend() const { return backend_; }
 
   torch::Tensor Predict(const torch::Tensor& states, const torch::Tensor& actions) const override;
   torch::Tensor PredictUnchecked(const torch::Tensor& states,
@@ -97,6 +105,7 @@ class EnsembleDynamics final : public DynamicsModel {
   int state_dim_;
   int action_dim_;
   EnsembleOptions options_;
+  std::string backend_;
   std::unique_ptr<State> state_;
 };
 

@@ -95,10 +95,12 @@ TEST(ConfigTest, BadConfigurationsNameTheKeyAndTheValue) {
             "config 'c.yaml': unknown key 'ensemble.hiden_sizes': expected one of ensemble_size, "
             "hidden_sizes, predict_delta, learning_rate, batch_size, max_epochs, "
             "validation_fraction, member_subset_fraction, validate_every, patience, init_std, "
-            "min_std, precision");
+            "min_std, precision, backend");
   EXPECT_EQ(ErrorMessage([] { ParseTrainConfig("ensemble: {precision: tf32}", "c.yaml"); }),
             "config 'c.yaml': ensemble.precision is tf32 but device is 'cpu': TF32 is a CUDA "
             "tensor-core format; use fp32 or bf16 on the CPU");
+  EXPECT_EQ(ErrorMessage([] { ParseTrainConfig("ensemble: {backend: mkl}", "c.yaml"); }),
+            "config 'c.yaml': ensemble.backend is 'mkl': expected auto, libtorch or onednn");
   EXPECT_EQ(
       ErrorMessage([] { ParseTrainConfig("classifier: {safe_selection: oldest}", "c.yaml"); }),
       "config 'c.yaml': classifier.safe_selection is 'oldest': expected 'storage_order' or "

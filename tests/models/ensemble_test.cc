@@ -6,6 +6,10 @@
 
 #include <cstdio>
 #include <filesystem>
+#include <thread>
+#include <vector>
+
+#include "cmbrl/models/onednn_forward.h"
 
 #include "tests/error_message.h"
 #include "tests/temp_path.h"
@@ -219,6 +223,124 @@ TEST(EnsembleTest, Bfloat16PredictionsStayCloseAndTrainingStaysFloat32) {
   reloaded.Load(path);
   EXPECT_TRUE(torch::equal(reloaded.Predict(batch.states, batch.actions), exact));
   std::filesystem::remove(path);
+}
+
+// The two CPU backends on the same weights (training runs on LibTorch in both, so the same seed
+// gives the same weights): `backend` and `precision` of the second ensemble.
+struct BackendPair {
+  std::unique_ptr<EnsembleDynamics> reference, other;
+};
+BackendPair FittedPair(const std::string& backend, const std::string& precision, bool delta) {
+  EnsembleOptions options = SmallOptions();
+  options.max_epochs = 10;
+  options.predict_delta = delta;
+  options.backend = "libtorch";
+  BackendPair pair;
+  pair.reference = std::make_unique<EnsembleDynamics>(2, 1, options, 5);
+  options.backend = backend;
+  options.precision = precision;
+  pair.other = std::make_unique<EnsembleDynamics>(2, 1, options, 5);
+  const TransitionBuffer data = testing::PendulumData(2000, 4);
+  pair.reference->Fit(data);
+  pair.other->Fit(data);
+  return pair;
+}
+
+double RelativeError(const torch::Tensor& value, const torch::Tensor& exact) {
+  return ((value - exact).abs().mean() / exact.abs().mean()).item<double>();
+}
+
+#define SKIP_WITHOUT_ONEDNN(bf16) \
+  if (std::string why; !OnednnForwardAvailable(bf16, &why)) GTEST_SKIP() << why;
+
+TEST(EnsembleTest, OnednnFloat32AgreesWithLibTorch) {
+  SKIP_WITHOUT_ONEDNN(false);
+  for (const bool delta : {false, true}) {
+    SCOPED_TRACE(delta ? "predicting the change" : "predicting the next state");
+    const BackendPair pair = FittedPair("onednn", "fp32", delta);
+    EXPECT_EQ(pair.reference->backend(), "libtorch");
+    EXPECT_EQ(pair.other->backend(), "onednn");
+    for (const int rows : {1, 7, 300}) {  // one primitive set per batch size
+      const Batch batch = PendulumBatch(4, rows, 6);
+      const torch::Tensor exact = pair.reference->Predict(batch.states, batch.actions);
+      const torch::Tensor fast = pair.other->Predict(batch.states, batch.actions);
+      ASSERT_EQ(fast.sizes(), exact.sizes());
+      // Stated tolerance: float32 sums in another order and the output normaliser folded into
+      // the last layer: agreement to 1e-5 of the values (measured below 1e-6).
+      EXPECT_TRUE(torch::allclose(fast, exact, 1e-5, 1e-5)) << (fast - exact).abs().max();
+    }
+  }
+}
+
+TEST(EnsembleTest, OnednnBfloat16StaysClose) {
+  SKIP_WITHOUT_ONEDNN(true);
+  const BackendPair pair = FittedPair("onednn", "bf16", false);
+  const Batch batch = PendulumBatch(4, 300, 6);
+  const torch::Tensor exact = pair.reference->Predict(batch.states, batch.actions);
+  const torch::Tensor rounded = pair.other->Predict(batch.states, batch.actions);
+  EXPECT_EQ(rounded.scalar_type(), torch::kFloat);
+  // The same bound as LibTorch's bf16 path: rounded (not zero) but within 2e-2.
+  const double error = RelativeError(rounded, exact);
+  EXPECT_GT(error, 1e-5);
+  EXPECT_LT(error, 2e-2);
+}
+
+TEST(EnsembleTest, OnednnFloat32RepeatsExactly) {
+  SKIP_WITHOUT_ONEDNN(false);
+  const BackendPair pair = FittedPair("onednn", "fp32", true);
+  const Batch batch = PendulumBatch(4, 257, 8);
+  const torch::Tensor first = pair.other->Predict(batch.states, batch.actions);
+  pair.other->Predict(batch.states.narrow(1, 0, 3), batch.actions.narrow(1, 0, 3));
+  EXPECT_TRUE(torch::equal(pair.other->Predict(batch.states, batch.actions), first));
+  // Another ensemble of the same seed, and the same model saved and loaded, predict the same bits.
+  const std::string path = testing::TestTempPath("onednn_ensemble.pt");
+  pair.other->Save(path);
+  EnsembleOptions options = pair.other->options();
+  EnsembleDynamics loaded(2, 1, options, 99);
+  loaded.Load(path);
+  EXPECT_TRUE(torch::equal(loaded.Predict(batch.states, batch.actions), first));
+  std::filesystem::remove(path);
+  // Refitting replaces the weights the primitives read: the predictions change.
+  pair.other->Fit(testing::PendulumData(500, 9));
+  EXPECT_FALSE(torch::equal(pair.other->Predict(batch.states, batch.actions), first));
+}
+
+TEST(EnsembleTest, OnednnPredictsConcurrently) {
+  SKIP_WITHOUT_ONEDNN(false);
+  const BackendPair pair = FittedPair("onednn", "fp32", false);
+  const std::vector<int> sizes = {5, 64, 200, 64};
+  std::vector<torch::Tensor> serial, parallel(sizes.size());
+  std::vector<Batch> batches;
+  for (const int rows : sizes) batches.push_back(PendulumBatch(4, rows, rows));
+  std::vector<std::thread> threads;
+  for (size_t i = 0; i < sizes.size(); ++i) {
+    threads.emplace_back([&, i] {
+      for (int repeat = 0; repeat < 20; ++repeat) {
+        parallel[i] = pair.other->Predict(batches[i].states, batches[i].actions);
+      }
+    });
+  }
+  for (std::thread& thread : threads) thread.join();
+  for (size_t i = 0; i < sizes.size(); ++i) {
+    EXPECT_TRUE(torch::equal(parallel[i], pair.other->Predict(batches[i].states,
+                                                              batches[i].actions)));
+  }
+}
+
+TEST(EnsembleTest, BackendIsCheckedByName) {
+  EnsembleOptions options = SmallOptions();
+  options.backend = "mkl";
+  EXPECT_EQ(ErrorMessage([&] { EnsembleDynamics(2, 1, options, 1); }),
+            "backend is 'mkl': expected auto, libtorch or onednn");
+  options.backend = "onednn";
+  options.device = "cuda";
+  EXPECT_EQ(ErrorMessage([&] { EnsembleDynamics(2, 1, options, 1); }),
+            "backend is onednn but device is 'cuda': oneDNN predicts on the CPU; use libtorch or "
+            "auto on CUDA");
+  options.device = "cpu";
+  options.backend = "auto";
+  EXPECT_EQ(EnsembleDynamics(2, 1, options, 1).backend(),
+            OnednnForwardPreferred(false) ? "onednn" : "libtorch");
 }
 
 TEST(EnsembleTest, CpuAndCudaAgree) {
