@@ -99,10 +99,13 @@ void RunTrain(const TrainArgs& args) {
               << std::flush;
   });
   if (live) std::cerr << "\n";
+  nlohmann::ordered_json split = nlohmann::ordered_json::object();
+  for (const auto& [part, seconds] : trainer->TimeSplit()) split[part] = seconds;
   const nlohmann::ordered_json summary = {{"run", run_dir},
                                           {"episodes_this_session", units},
                                           {"total_env_interacts", trainer->steps_done()},
-                                          {"cost_this_session", total_cost}};
+                                          {"cost_this_session", total_cost},
+                                          {"seconds_this_session", split}};
   std::cout << summary.dump() << std::endl;
 }
 

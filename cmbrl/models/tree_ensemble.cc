@@ -209,8 +209,59 @@ __attribute__((target("avx512f"))) void BlockAvx512(const BitvectorView& t, cons
   }
   _mm512_storeu_ps(sums, sum);
 }
+
+// The same on AVX2 CPUs: the 16 rows as two 8-lane halves. A compare gives all-ones lanes where
+// the row goes right; the exit leaf's index comes from the lowest set bit converted to float
+// (a signed conversion: bit 31 gives -2^31, whose exponent field is still 158 once the sign is
+// masked off).
+__attribute__((target("avx2"))) void BlockAvx2(const BitvectorView& t, const float* columns,
+                                               float* sums) {
+  __m256 sum[2] = {_mm256_loadu_ps(sums), _mm256_loadu_ps(sums + 8)};
+  const __m256i all = _mm256_set1_epi32(-1);
+  const __m256i exponent_mask = _mm256_set1_epi32(0xff);
+  const __m256i bias = _mm256_set1_epi32(127);
+  for (int tree = 0; tree < t.trees; ++tree) {
+    __m256i leaves[2] = {all, all};
+    for (int node = t.node_begin[tree]; node < t.node_begin[tree + 1]; ++node) {
+      const float* x = columns + t.feature[node] * kBlockRows;
+      const __m256 threshold = _mm256_set1_ps(t.threshold[node]);
+      const __m256i cleared = _mm256_set1_epi32(static_cast<int>(~t.bitvector[node]));
+      const bool nan_left = t.default_left[node] != 0;
+      for (int half = 0; half < 2; ++half) {
+        const __m256 v = _mm256_loadu_ps(x + 8 * half);
+        __m256 right = _mm256_cmp_ps(v, threshold, _CMP_NLT_UQ);
+        if (nan_left) right = _mm256_and_ps(right, _mm256_cmp_ps(v, v, _CMP_ORD_Q));
+        leaves[half] = _mm256_andnot_si256(
+            _mm256_and_si256(_mm256_castps_si256(right), cleared), leaves[half]);
+      }
+    }
+    const float* values = t.leaf_value + t.leaf_begin[tree];
+    for (int half = 0; half < 2; ++half) {
+      const __m256i lowest =
+          _mm256_and_si256(leaves[half], _mm256_sub_epi32(_mm256_setzero_si256(), leaves[half]));
+      const __m256i exponent = _mm256_and_si256(
+          _mm256_srli_epi32(_mm256_castps_si256(_mm256_cvtepi32_ps(lowest)), 23), exponent_mask);
+      const __m256i index = _mm256_sub_epi32(exponent, bias);
+      sum[half] = _mm256_add_ps(sum[half], _mm256_i32gather_ps(values, index, 4));
+    }
+  }
+  _mm256_storeu_ps(sums, sum[0]);
+  _mm256_storeu_ps(sums + 8, sum[1]);
+}
 #pragma GCC diagnostic pop
 #endif
+
+bool CpuHasAvx2() {
+#ifdef CMBRL_HAVE_AVX512_TREES
+  static const bool has = [] {
+    __builtin_cpu_init();
+    return __builtin_cpu_supports("avx2") != 0;
+  }();
+  return has;
+#else
+  return false;
+#endif
+}
 
 bool CpuHasAvx512() {
 #ifdef CMBRL_HAVE_AVX512_TREES
@@ -227,8 +278,8 @@ bool CpuHasAvx512() {
 }  // namespace
 
 
-void FlatTreeEnsemble::MarginsOfBlock(const float* rows, int count, float* columns, bool avx512,
-                                      float* out) const {
+void FlatTreeEnsemble::MarginsOfBlock(const float* rows, int count, float* columns,
+                                      BlockIsa isa, float* out) const {
   const BitvectorTrees& trees = bitvector_trees_;
   const int features = num_features_;
   // Missing rows of a short block repeat row 0; their sums are dropped.
@@ -243,13 +294,15 @@ void FlatTreeEnsemble::MarginsOfBlock(const float* rows, int count, float* colum
   float sums[kBlockRows];
   for (float& sum : sums) sum = base_margin_;
 #ifdef CMBRL_HAVE_AVX512_TREES
-  if (avx512) {
+  if (isa == BlockIsa::kAvx512) {
     BlockAvx512(view, columns, sums);
+  } else if (isa == BlockIsa::kAvx2) {
+    BlockAvx2(view, columns, sums);
   } else {
     BlockScalar(view, columns, sums);
   }
 #else
-  (void)avx512;
+  (void)isa;
   BlockScalar(view, columns, sums);
 #endif
   for (int r = 0; r < count; ++r) out[r] = sums[r];
@@ -262,14 +315,18 @@ void FlatTreeEnsemble::Margins(const float* rows, std::int64_t count, float* out
     return;
   }
   const std::int64_t blocks = (count + kBlockRows - 1) / kBlockRows;
-  const bool avx512 = kernel == TreeKernel::kFastest && CpuHasAvx512();
+  BlockIsa isa = BlockIsa::kPortable;
+  if (kernel == TreeKernel::kFastest && CpuHasAvx512()) {
+    isa = BlockIsa::kAvx512;
+  } else if ((kernel == TreeKernel::kFastest || kernel == TreeKernel::kAvx2) && CpuHasAvx2()) {
+    isa = BlockIsa::kAvx2;
+  }
   const auto run_blocks = [&](std::int64_t begin, std::int64_t end) {
     std::vector<float> columns(static_cast<size_t>(num_features_) * kBlockRows);
     for (std::int64_t block = begin; block < end; ++block) {
       const std::int64_t first = block * kBlockRows;
       const int block_rows = static_cast<int>(std::min<std::int64_t>(kBlockRows, count - first));
-      MarginsOfBlock(rows + first * num_features_, block_rows, columns.data(), avx512,
-                     out + first);
+      MarginsOfBlock(rows + first * num_features_, block_rows, columns.data(), isa, out + first);
     }
   };
   const int most = threads > 0 ? threads : CoreCount();

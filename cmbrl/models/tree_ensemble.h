@@ -21,7 +21,8 @@ struct TreeNode {
 
 // How Margins() evaluates the trees. Every kernel gives the same bits.
 enum class TreeKernel {
-  kFastest,     // bitvectors on AVX-512 where the CPU has it, else kBitvectors
+  kFastest,     // bitvectors on AVX-512 where the CPU has it, else kAvx2
+  kAvx2,        // bitvectors on AVX2 where the CPU has it, else kBitvectors
   kBitvectors,  // bitvectors in portable code
   kRowByRow,    // Margin() per row: the reference
 };
@@ -72,7 +73,8 @@ class FlatTreeEnsemble {
 
   void BuildBitvectorTrees();
   // Up to 16 rows; columns: scratch of num_features() x 16 floats.
-  void MarginsOfBlock(const float* rows, int count, float* columns, bool avx512,
+  enum class BlockIsa { kPortable, kAvx2, kAvx512 };
+  void MarginsOfBlock(const float* rows, int count, float* columns, BlockIsa isa,
                       float* out) const;
 
   std::vector<TreeNode> nodes_;

@@ -9,6 +9,8 @@
 #include <functional>
 #include <optional>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace cmbrl {
 
@@ -62,6 +64,10 @@ class Learner {
   // Steps of the budget done so far, and the budget.
   virtual std::int64_t steps_done() const = 0;
   virtual std::int64_t budget() const = 0;
+
+  // Wall seconds this process spent in each of its parts (e.g. planning, the environment, model
+  // fits), in a fixed order; empty where a learner does not keep them.
+  virtual std::vector<std::pair<std::string, double>> TimeSplit() const { return {}; }
 };
 
 }  // namespace cmbrl

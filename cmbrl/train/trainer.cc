@@ -29,6 +29,7 @@ struct Trainer::State {
   double elapsed_before = 0.0;  // seconds of earlier sessions of this run
   std::vector<std::string> setup_changes;  // against the previous session (run_sessions.h)
   std::chrono::steady_clock::time_point session_start = std::chrono::steady_clock::now();
+  double checkpoint_seconds = 0.0;  // this session's checkpoint writes
 
   State(TrainConfig c, RunDirectory r) : config(std::move(c)), run(std::move(r)) {}
 
@@ -117,11 +118,26 @@ void Trainer::Run(const std::function<void(const ProgressSummary&)>& on_unit) {
     const LearnerStep step = s.learner->Advance([&s] { return s.Elapsed(); });
     if (step.row) s.AppendRow(*step.row);
     if (step.row && on_unit) on_unit(step.summary);
+    const auto start = std::chrono::steady_clock::now();
     WriteCheckpoint(s.run, s.rows, s.Elapsed(),
                     [&](const fs::path& folder, const fs::path& previous) {
                       s.learner->Save(folder, previous, step.models_changed);
                     });
+    s.checkpoint_seconds +=
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   }
+}
+
+std::vector<std::pair<std::string, double>> Trainer::TimeSplit() const {
+  const State& s = *state_;
+  std::vector<std::pair<std::string, double>> split = s.learner->TimeSplit();
+  split.emplace_back("checkpoints", s.checkpoint_seconds);
+  double accounted = 0.0;
+  for (const auto& part : split) accounted += part.second;
+  const double session =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - s.session_start).count();
+  split.emplace_back("other", std::max(0.0, session - accounted));
+  return split;
 }
 
 }  // namespace cmbrl

@@ -51,6 +51,9 @@ class Trainer {
   const TrainConfig& config() const;
   const Learner& learner() const;
   std::int64_t steps_done() const;
+  // Where this process's wall time went since Start/Resume: the learner's parts, then
+  // "checkpoints" and "other" (the rest of the session, progress rows included), in seconds.
+  std::vector<std::pair<std::string, double>> TimeSplit() const;
 
  private:
   struct State;

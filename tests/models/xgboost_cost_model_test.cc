@@ -98,7 +98,7 @@ TEST_F(XgbCostModelTest, EveryTreeKernelAndThreadCountGivesXgboostsBits) {
   const std::vector<float> expected = model_->XgboostMargins(states.data(), rows);
   const FlatTreeEnsemble& trees = model_->trees();
   for (const TreeKernel kernel :
-       {TreeKernel::kFastest, TreeKernel::kBitvectors, TreeKernel::kRowByRow}) {
+       {TreeKernel::kFastest, TreeKernel::kAvx2, TreeKernel::kBitvectors, TreeKernel::kRowByRow}) {
     for (const int threads : {1, 2, 0}) {
       std::vector<float> margins(rows);
       trees.Margins(states.data(), rows, margins.data(), threads, kernel);

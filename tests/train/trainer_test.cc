@@ -118,6 +118,23 @@ TEST(TrainerTest, AShortRunWritesEveryFile) {
   // The resolved config reads back as the same config.
   EXPECT_EQ(TrainConfigToYaml(LoadTrainConfig((fs::path(dir) / "config.yaml").string())),
             TrainConfigToYaml(TinyConfig("rce")));
+  // The session's wall time, split into its parts: every part measured, none negative, and the
+  // parts that ran (planning, steps, fits, checkpoints) took time.
+  const auto split = trainer->TimeSplit();
+  std::vector<std::string> parts;
+  for (const auto& [part, seconds] : split) {
+    parts.push_back(part);
+    EXPECT_GE(seconds, 0.0) << part;
+    if (part != "other") {
+      EXPECT_GT(seconds, 0.0) << part;
+    }
+  }
+  EXPECT_EQ(parts, (std::vector<std::string>{"planning", "environment", "dynamics_fits",
+                                             "classifier_fits", "checkpoints", "other"}));
+  // Planning is timed around each action, and each action's own clock sits inside it.
+  double plan_ms = 0.0;
+  for (const ProgressRow& row : seen) plan_ms += row.ms_per_plan * row.steps;
+  EXPECT_GE(split[0].second * 1e3, plan_ms * 0.999);
 }
 
 // Labels beside stored transitions only, as the original (facts B4), or on every agent step.

@@ -1,5 +1,7 @@
 #include "cmbrl/learners/mpc/mpc_learner.h"
 
+#include <chrono>
+
 #include <fmt/format.h>
 #include <torch/torch.h>
 
@@ -78,6 +80,24 @@ MpcLearner::MpcLearner(TrainConfig config)
   labeled_ = std::make_unique<LabeledStateBuffer>(state_dim, t.safe_capacity, t.unsafe_capacity);
 }
 
+namespace {
+
+// Adds the seconds `work` takes to `total` and returns its result.
+template <typename Work>
+auto Timed(double& total, Work&& work) {
+  const auto start = std::chrono::steady_clock::now();
+  struct Add {
+    double& total;
+    std::chrono::steady_clock::time_point start;
+    ~Add() {
+      total += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    }
+  } add{total, start};
+  return work();
+}
+
+}  // namespace
+
 MpcLearner::~MpcLearner() = default;
 
 bool MpcLearner::Finished() const {
@@ -122,7 +142,7 @@ void MpcLearner::Pretrain() {
     int stored = 0;
     while (stored < config_.training.pretrain_steps) {
       const std::vector<double> action = random.Act(observation);
-      StepResult step = env.Step(action);
+      StepResult step = Timed(environment_seconds_, [&] { return env.Step(action); });
       ++pretrain_steps_;
       const bool end = step.terminated || step.truncated;
       const bool kept =
@@ -144,9 +164,19 @@ void MpcLearner::AddLabel(const std::vector<double>& next_state, double cost,
   if (transition_kept || config_.training.label_every_step) labeled_->Add(next_state, cost > 0.0);
 }
 
+std::vector<std::pair<std::string, double>> MpcLearner::TimeSplit() const {
+  return {{"planning", planning_seconds_},
+          {"environment", environment_seconds_},
+          {"dynamics_fits", dynamics_fit_seconds_},
+          {"classifier_fits", classifier_fit_seconds_}};
+}
+
 void MpcLearner::FitModels() {
-  dynamics_validation_mse_ = parts_.ensemble->Fit(*transitions_).validation_mse;
-  const CostFitReport classifier = parts_.classifier->Fit(*labeled_);
+  dynamics_validation_mse_ =
+      Timed(dynamics_fit_seconds_, [&] { return parts_.ensemble->Fit(*transitions_); })
+          .validation_mse;
+  const CostFitReport classifier =
+      Timed(classifier_fit_seconds_, [&] { return parts_.classifier->Fit(*labeled_); });
   classifier_safe_accuracy_ = classifier.safe_accuracy;
   classifier_unsafe_accuracy_ = classifier.unsafe_accuracy;
 }
@@ -161,10 +191,11 @@ ProgressRow MpcLearner::Episode(const std::function<double()>& elapsed_seconds) 
   ProgressRow row;
   double feasible = 0.0, milliseconds = 0.0;
   for (;;) {
-    const std::vector<double> action = agent.Act(observation);
+    const std::vector<double> action =
+        Timed(planning_seconds_, [&] { return agent.Act(observation); });
     feasible += agent.last_plan().feasible_fraction;
     milliseconds += agent.last_plan().milliseconds;
-    StepResult step = env.Step(action);
+    StepResult step = Timed(environment_seconds_, [&] { return env.Step(action); });
     const bool end = step.terminated || step.truncated;
     const bool kept =
         transitions_->Add(observation, action, step.observation, step.info.goal_met, end);
