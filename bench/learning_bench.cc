@@ -372,6 +372,18 @@ void RunTrainBench(const LearningBenchOptions& args, const FigureSink& emit) {
   epoch["rows_per_member"] = rows;
   epoch["batch_size"] = config.ensemble.batch_size;
   AddRate(epoch, 3.0 * trainee.PredictFlops(rows), epoch_runs);
+  if (device.is_cpu()) {
+    // Which kernel is fastest on one training batch's forward products (the backward pass's
+    // two products per layer have the same sizes): where another than LibTorch's wins, the
+    // epoch could gain by moving to it.
+    std::vector<std::int64_t> sizes = {shape.state_dim + shape.action_dim};
+    for (const int width : config.ensemble.hidden_sizes) sizes.push_back(width);
+    sizes.push_back(shape.state_dim);
+    const ShapeCeiling batch(
+        ForwardShapes(config.ensemble.ensemble_size, config.ensemble.batch_size, sizes), "fp32",
+        args.runs);
+    epoch["batch_product_candidates"] = batch.candidates();
+  }
   emit(epoch);
 
   if (args.full_fit) {

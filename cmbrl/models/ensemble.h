@@ -62,7 +62,8 @@ struct EnsembleFitReport {
 // concurrently; Fit, Load and Save are not, with each other or with Predict.
 class EnsembleDynamics final : public DynamicsModel {
  public:
-  // Throws cmbrl::Error for bad options or an unavailable device. `seed` drives weight
+  // Throws cmbrl::Error for bad options, an unavailable device or an unavailable backend (oneDNN
+  // not built, or its bf16 on a CPU without AVX-512). `seed` drives weight
   // initialisation, the data splits and the minibatch order.
   EnsembleDynamics(int state_dim, int action_dim, EnsembleOptions options, std::uint64_t seed);
   ~EnsembleDynamics() override;

@@ -40,6 +40,16 @@ bool OnednnForwardAvailable(bool bf16, std::string* why_not) {
 #endif
 }
 
+std::string OnednnVersion() {
+#ifdef CMBRL_HAVE_ONEDNN
+  const dnnl_version_t* version = dnnl_version();
+  return std::to_string(version->major) + "." + std::to_string(version->minor) + "." +
+         std::to_string(version->patch);
+#else
+  return "";
+#endif
+}
+
 bool OnednnForwardPreferred(bool bf16) {
   // Measured faster than LibTorch's path wherever it runs: 1.2-1.6x per planning step on an
   // AVX2 core (docs/PERFORMANCE.md), and oneDNN's AVX-512 kernels beat OpenBLAS's by more.

@@ -24,6 +24,9 @@ bool OnednnForwardAvailable(bool bf16, std::string* why_not = nullptr);
 // faster than LibTorch's path on every CPU tried (docs/PERFORMANCE.md).
 bool OnednnForwardPreferred(bool bf16);
 
+// The version of the oneDNN this build runs ("2.6.3"); "" without oneDNN.
+std::string OnednnVersion();
+
 class OnednnEnsembleForward {
  public:
   // `bf16`: weights and hidden activations in bfloat16 (float32 sums, biases and output);

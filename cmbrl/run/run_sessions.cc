@@ -21,12 +21,14 @@ namespace fs = std::filesystem;
 nlohmann::ordered_json SetupJson(const NumericsSetup& setup) {
   return {{"cmbrl", setup.cmbrl},
           {"cpu", setup.cpu},
+          {"cpu_isa", setup.cpu_isa},
           {"blas_core", setup.blas_core},
           {"blas_threads", setup.blas_threads},
           {"torch_threads", setup.torch_threads},
           {"libtorch", setup.libtorch},
           {"mujoco", setup.mujoco},
           {"xgboost", setup.xgboost},
+          {"onednn", setup.onednn},
           {"device", setup.device}};
 }
 
@@ -59,6 +61,11 @@ T Field(const nlohmann::json& line, const char* key, const std::string& where) {
   }
 }
 
+// The same for a field that sessions of older versions do not have: "" when absent.
+std::string OptionalText(const nlohmann::json& line, const char* key, const std::string& where) {
+  return line.contains(key) ? Field<std::string>(line, key, where) : std::string();
+}
+
 RunSession ParseSession(const std::string& text, const std::string& where) {
   nlohmann::json line;
   try {
@@ -74,12 +81,14 @@ RunSession ParseSession(const std::string& text, const std::string& where) {
   NumericsSetup& setup = session.setup;
   setup.cmbrl = Field<std::string>(line, "cmbrl", where);
   setup.cpu = Field<std::string>(line, "cpu", where);
+  setup.cpu_isa = OptionalText(line, "cpu_isa", where);
   setup.blas_core = Field<std::string>(line, "blas_core", where);
   setup.blas_threads = Field<int>(line, "blas_threads", where);
   setup.torch_threads = Field<int>(line, "torch_threads", where);
   setup.libtorch = Field<std::string>(line, "libtorch", where);
   setup.mujoco = Field<std::string>(line, "mujoco", where);
   setup.xgboost = Field<std::string>(line, "xgboost", where);
+  setup.onednn = OptionalText(line, "onednn", where);
   setup.device = Field<std::string>(line, "device", where);
   return session;
 }
@@ -132,10 +141,11 @@ std::vector<std::string> SetupChanges(const NumericsSetup& before, const Numeric
 
 std::string DescribeSetup(const NumericsSetup& setup) {
   return fmt::format(
-      "cmbrl {}; CPU '{}', OpenBLAS kernels '{}' with {} thread(s), LibTorch {} with {} "
-      "thread(s); MuJoCo {}, XGBoost {}; device {}",
-      setup.cmbrl, setup.cpu, setup.blas_core, setup.blas_threads, setup.libtorch,
-      setup.torch_threads, setup.mujoco, setup.xgboost, setup.device);
+      "cmbrl {}; CPU '{}' ({}), OpenBLAS kernels '{}' with {} thread(s), LibTorch {} with {} "
+      "thread(s); MuJoCo {}, XGBoost {}, oneDNN {}; device {}",
+      setup.cmbrl, setup.cpu, setup.cpu_isa.empty() ? "ISA not recorded" : setup.cpu_isa,
+      setup.blas_core, setup.blas_threads, setup.libtorch, setup.torch_threads, setup.mujoco,
+      setup.xgboost, setup.onednn.empty() ? "none" : setup.onednn, setup.device);
 }
 
 std::vector<RunSession> ReadRunSessions(const RunDirectory& run) {

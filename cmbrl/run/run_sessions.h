@@ -19,12 +19,17 @@ namespace cmbrl {
 struct NumericsSetup {
   std::string cmbrl;      // version and commit of the program, "0.1.0 (744c47e1a2b3)"
   std::string cpu;        // the CPU's model name from /proc/cpuinfo ("" where unknown)
+  // The widest vector instructions the CPU offers the kernels: "avx512-bf16", "avx512", "avx2"
+  // or "" (older, or a session of a version before v0.6). The model name alone does not tell
+  // AMD EPYC generations apart, and oneDNN picks its kernels by this.
+  std::string cpu_isa;
   std::string blas_core;  // the kernel set OpenBLAS runs, e.g. "Haswell" ("" without OpenBLAS)
   int blas_threads = 0;   // OpenBLAS's threads (0 without OpenBLAS)
   int torch_threads = 0;  // LibTorch's intra-op threads
   std::string libtorch;   // versions of the libraries that compute
   std::string mujoco;
   std::string xgboost;
+  std::string onednn;  // "" without oneDNN (or before v0.6)
   std::string device;  // the run's device ("cpu", "cuda:0")
 
   bool operator==(const NumericsSetup& other) const;

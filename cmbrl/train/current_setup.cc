@@ -10,6 +10,7 @@
 
 #include "cmbrl/core/build_info.h"
 #include "cmbrl/core/process_setup.h"
+#include "cmbrl/models/onednn_forward.h"
 
 namespace cmbrl {
 namespace {
@@ -27,12 +28,22 @@ std::string CpuModelName() {
   return "";
 }
 
+std::string CpuIsa() {
+  __builtin_cpu_init();
+  const bool avx512 = __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512bw") &&
+                      __builtin_cpu_supports("avx512vl") && __builtin_cpu_supports("avx512dq");
+  if (avx512) return __builtin_cpu_supports("avx512bf16") ? "avx512-bf16" : "avx512";
+  if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma")) return "avx2";
+  return "";
+}
+
 }  // namespace
 
 NumericsSetup CurrentNumericsSetup(const std::string& device) {
   NumericsSetup setup;
   setup.cmbrl = fmt::format("{} ({})", CmbrlVersion(), CmbrlCommit());
   setup.cpu = CpuModelName();
+  setup.cpu_isa = CpuIsa();
   const BlasKernelInfo blas = DetectBlasKernels();
   setup.blas_core = blas.core;
   setup.blas_threads = blas.threads;
@@ -42,6 +53,7 @@ NumericsSetup CurrentNumericsSetup(const std::string& device) {
   int major = 0, minor = 0, patch = 0;
   XGBoostVersion(&major, &minor, &patch);
   setup.xgboost = fmt::format("{}.{}.{}", major, minor, patch);
+  setup.onednn = OnednnVersion();
   setup.device = device;
   return setup;
 }

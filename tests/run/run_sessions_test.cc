@@ -1,4 +1,5 @@
 #include "cmbrl/run/run_sessions.h"
+
 #include "cmbrl/train/current_setup.h"
 
 #include <ATen/Parallel.h>
@@ -12,6 +13,7 @@
 #include <string>
 
 #include "cmbrl/core/build_info.h"
+#include "cmbrl/models/onednn_forward.h"
 #include "tests/error_message.h"
 
 namespace cmbrl {
@@ -36,12 +38,14 @@ NumericsSetup SomeSetup() {
   NumericsSetup setup;
   setup.cmbrl = "0.1.0 (abc)";
   setup.cpu = "AMD EPYC";
+  setup.cpu_isa = "avx2";
   setup.blas_core = "Haswell";
   setup.blas_threads = 1;
   setup.torch_threads = 1;
   setup.libtorch = "1.13.0";
   setup.mujoco = "2.2.2";
   setup.xgboost = "1.7.4";
+  setup.onednn = "2.6.3";
   setup.device = "cpu";
   return setup;
 }
@@ -60,6 +64,9 @@ TEST(RunSessionsTest, ThisProcessSetupNamesItsProgramLibrariesAndThreads) {
   EXPECT_THAT(setup.xgboost, StartsWith("1."));
   EXPECT_EQ(setup.torch_threads, at::get_num_threads());
   EXPECT_EQ(setup.device, "cpu");
+  // Every x86-64 CPU these builds run on has at least AVX2 (the development and CI machines do).
+  EXPECT_THAT(setup.cpu_isa, ::testing::AnyOf("avx2", "avx512", "avx512-bf16"));
+  EXPECT_EQ(setup.onednn, OnednnVersion());
   // The CPU's name where /proc/cpuinfo gives one (x86 Linux does).
   std::ifstream cpuinfo("/proc/cpuinfo");
   const std::string text((std::istreambuf_iterator<char>(cpuinfo)),
@@ -74,11 +81,30 @@ TEST(RunSessionsTest, ChangesNameEachFieldThatDiffers) {
   EXPECT_TRUE(SetupChanges(SomeSetup(), other).empty());
   EXPECT_EQ(SomeSetup(), other);
   other.cpu = "Intel Xeon";
+  other.cpu_isa = "avx512";
   other.torch_threads = 2;
   EXPECT_THAT(SetupChanges(SomeSetup(), other),
-              ElementsAre("cpu 'AMD EPYC' -> 'Intel Xeon'", "torch_threads '1' -> '2'"));
+              ElementsAre("cpu 'AMD EPYC' -> 'Intel Xeon'", "cpu_isa 'avx2' -> 'avx512'",
+                          "torch_threads '1' -> '2'"));
   EXPECT_NE(SomeSetup(), other);
-  EXPECT_THAT(DescribeSetup(other), HasSubstr("CPU 'Intel Xeon', OpenBLAS kernels 'Haswell'"));
+  EXPECT_THAT(DescribeSetup(other),
+              HasSubstr("CPU 'Intel Xeon' (avx512), OpenBLAS kernels 'Haswell'"));
+}
+
+TEST(RunSessionsTest, SessionsOfVersionsBeforeTheIsaWasRecordedStillRead) {
+  const RunDirectory run = TempRun("older");
+  Append(run.sessions_file(),
+         "{\"session\":1,\"began\":\"2026-11-25T06:25:46Z\",\"steps_done\":0,\"cmbrl\":\"0.1.0 "
+         "(abc)\",\"cpu\":\"AMD EPYC\",\"blas_core\":\"Zen\",\"blas_threads\":1,"
+         "\"torch_threads\":1,\"libtorch\":\"1.13.0\",\"mujoco\":\"2.2.2\",\"xgboost\":"
+         "\"1.7.4\",\"device\":\"cpu\"}\n");
+  const std::vector<RunSession> sessions = ReadRunSessions(run);
+  ASSERT_EQ(sessions.size(), 1u);
+  EXPECT_EQ(sessions[0].setup.cpu_isa, "");
+  EXPECT_EQ(sessions[0].setup.onednn, "");
+  // A resume by a version that records them names what it now knows.
+  EXPECT_THAT(RecordRunSession(run, 100, SomeSetup()),
+              ::testing::Contains("cpu_isa '' -> 'avx2'"));
 }
 
 TEST(RunSessionsTest, EachSessionIsALineAndAResumeElsewhereIsNamed) {
