@@ -59,6 +59,15 @@ TaskShape ShapeOf(const TrainConfig& config, std::uint64_t seed) {
   return shape;
 }
 
+// The ensemble's layer widths at the config's settings: [state + action, hidden..., state].
+std::vector<std::int64_t> LayerSizes(const TrainConfig& config, const TaskShape& shape) {
+  std::vector<std::int64_t> sizes = {shape.state_dim + shape.action_dim};
+  sizes.insert(sizes.end(), config.ensemble.hidden_sizes.begin(),
+               config.ensemble.hidden_sizes.end());
+  sizes.push_back(shape.state_dim);
+  return sizes;
+}
+
 // A classifier at the config's settings fitted on hazard-shaped synthetic states, so that its
 // trees have the size and depth the real runs see.
 std::unique_ptr<XgbCostModel> FittedClassifier(const TrainConfig& config, int state_dim,
@@ -267,15 +276,12 @@ void RunPlanBench(const LearningBenchOptions& args, const FigureSink& emit) {
       const std::int64_t population = work.samples;
       // On the CPU the ceiling is the fastest kernel here on this step's own products; on CUDA
       // a large square product at the precision.
-      std::vector<std::int64_t> layer_sizes = {shape.state_dim + shape.action_dim};
-      for (const int width : config.ensemble.hidden_sizes) layer_sizes.push_back(width);
-      layer_sizes.push_back(shape.state_dim);
       std::unique_ptr<ShapeCeiling> shape_ceiling;
       std::unique_ptr<CeilingProbe> square_ceiling;
       std::function<double()> probe;
       if (device.is_cpu()) {
         shape_ceiling = std::make_unique<ShapeCeiling>(
-            ForwardShapes(members, population, layer_sizes),
+            ForwardShapes(members, population, LayerSizes(config, shape)),
             variants[p].precision == "bf16" ? "bf16" : "fp32", args.runs);
         probe = [&] { return shape_ceiling->Measure(); };
       } else {
@@ -376,11 +382,9 @@ void RunTrainBench(const LearningBenchOptions& args, const FigureSink& emit) {
     // Which kernel is fastest on one training batch's forward products (the backward pass's
     // two products per layer have the same sizes): where another than LibTorch's wins, the
     // epoch could gain by moving to it.
-    std::vector<std::int64_t> sizes = {shape.state_dim + shape.action_dim};
-    for (const int width : config.ensemble.hidden_sizes) sizes.push_back(width);
-    sizes.push_back(shape.state_dim);
     const ShapeCeiling batch(
-        ForwardShapes(config.ensemble.ensemble_size, config.ensemble.batch_size, sizes), "fp32",
+        ForwardShapes(config.ensemble.ensemble_size, config.ensemble.batch_size,
+                      LayerSizes(config, shape)), "fp32",
         args.runs);
     epoch["batch_product_candidates"] = batch.candidates();
   }

@@ -9,6 +9,8 @@
 #include <cctype>
 #include <cstdlib>
 
+#include "cmbrl/core/cpu_features.h"
+
 namespace cmbrl {
 namespace {
 
@@ -44,14 +46,11 @@ BlasKernelInfo DetectBlasKernels() {
           reinterpret_cast<GetThreads>(dlsym(RTLD_DEFAULT, "openblas_get_num_threads"))) {
     info.threads = threads();
   }
-  __builtin_cpu_init();
-  const bool avx512 = __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512bw") &&
-                      __builtin_cpu_supports("avx512vl") && __builtin_cpu_supports("avx512dq");
-  if (avx512 && __builtin_cpu_supports("avx512bf16")) {
+  if (CpuHasAvx512Bf16()) {
     info.best_core = "Cooperlake";
-  } else if (avx512) {
+  } else if (CpuHasAvx512()) {
     info.best_core = "SkylakeX";
-  } else if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma")) {
+  } else if (CpuHasAvx2()) {
     info.best_core = "Haswell";
   }
   return info;

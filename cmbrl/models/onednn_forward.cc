@@ -8,22 +8,13 @@
 #include <mutex>
 
 #include "cmbrl/core/check.h"
+#include "cmbrl/core/cpu_features.h"
 
 #ifdef CMBRL_HAVE_ONEDNN
 #include <oneapi/dnnl/dnnl.hpp>
 #endif
 
 namespace cmbrl {
-
-namespace {
-
-bool CpuHasAvx512() {
-  __builtin_cpu_init();
-  return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512bw") &&
-         __builtin_cpu_supports("avx512vl") && __builtin_cpu_supports("avx512dq");
-}
-
-}  // namespace
 
 bool OnednnForwardAvailable(bool bf16, std::string* why_not) {
 #ifdef CMBRL_HAVE_ONEDNN
@@ -48,12 +39,6 @@ std::string OnednnVersion() {
 #else
   return "";
 #endif
-}
-
-bool OnednnForwardPreferred(bool bf16) {
-  // Measured faster than LibTorch's path wherever it runs: 1.2-1.6x per planning step on an
-  // AVX2 core (docs/PERFORMANCE.md), and oneDNN's AVX-512 kernels beat OpenBLAS's by more.
-  return OnednnForwardAvailable(bf16);
 }
 
 #ifdef CMBRL_HAVE_ONEDNN

@@ -20,10 +20,6 @@ namespace cmbrl {
 // CPU has AVX-512. When not, `why_not` (if given) says which is missing.
 bool OnednnForwardAvailable(bool bf16, std::string* why_not = nullptr);
 
-// Whether `backend: auto` picks oneDNN here: wherever it is available, as it was measured
-// faster than LibTorch's path on every CPU tried (docs/PERFORMANCE.md).
-bool OnednnForwardPreferred(bool bf16);
-
 // The version of the oneDNN this build runs ("2.6.3"); "" without oneDNN.
 std::string OnednnVersion();
 

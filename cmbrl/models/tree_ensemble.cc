@@ -10,6 +10,7 @@
 #include <utility>
 
 #include "cmbrl/core/check.h"
+#include "cmbrl/core/cpu_features.h"
 #include "cmbrl/core/parallel.h"
 
 namespace cmbrl {
@@ -250,30 +251,6 @@ __attribute__((target("avx2"))) void BlockAvx2(const BitvectorView& t, const flo
 }
 #pragma GCC diagnostic pop
 #endif
-
-bool CpuHasAvx2() {
-#ifdef CMBRL_HAVE_AVX512_TREES
-  static const bool has = [] {
-    __builtin_cpu_init();
-    return __builtin_cpu_supports("avx2") != 0;
-  }();
-  return has;
-#else
-  return false;
-#endif
-}
-
-bool CpuHasAvx512() {
-#ifdef CMBRL_HAVE_AVX512_TREES
-  static const bool has = [] {
-    __builtin_cpu_init();
-    return __builtin_cpu_supports("avx512f") != 0;
-  }();
-  return has;
-#else
-  return false;
-#endif
-}
 
 }  // namespace
 

@@ -9,6 +9,7 @@
 #include <fstream>
 
 #include "cmbrl/core/build_info.h"
+#include "cmbrl/core/cpu_features.h"
 #include "cmbrl/core/process_setup.h"
 #include "cmbrl/models/onednn_forward.h"
 
@@ -28,22 +29,13 @@ std::string CpuModelName() {
   return "";
 }
 
-std::string CpuIsa() {
-  __builtin_cpu_init();
-  const bool avx512 = __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512bw") &&
-                      __builtin_cpu_supports("avx512vl") && __builtin_cpu_supports("avx512dq");
-  if (avx512) return __builtin_cpu_supports("avx512bf16") ? "avx512-bf16" : "avx512";
-  if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma")) return "avx2";
-  return "";
-}
-
 }  // namespace
 
 NumericsSetup CurrentNumericsSetup(const std::string& device) {
   NumericsSetup setup;
   setup.cmbrl = fmt::format("{} ({})", CmbrlVersion(), CmbrlCommit());
   setup.cpu = CpuModelName();
-  setup.cpu_isa = CpuIsa();
+  setup.cpu_isa = CpuIsaName();
   const BlasKernelInfo blas = DetectBlasKernels();
   setup.blas_core = blas.core;
   setup.blas_threads = blas.threads;

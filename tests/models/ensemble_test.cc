@@ -340,7 +340,7 @@ TEST(EnsembleTest, BackendIsCheckedByName) {
   options.device = "cpu";
   options.backend = "auto";
   EXPECT_EQ(EnsembleDynamics(2, 1, options, 1).backend(),
-            OnednnForwardPreferred(false) ? "onednn" : "libtorch");
+            OnednnForwardAvailable(false) ? "onednn" : "libtorch");
 }
 
 TEST(EnsembleTest, CpuAndCudaAgree) {
