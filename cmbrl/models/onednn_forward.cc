@@ -11,6 +11,7 @@
 #include "cmbrl/core/cpu_features.h"
 
 #ifdef CMBRL_HAVE_ONEDNN
+#include <omp.h>
 #include <oneapi/dnnl/dnnl.hpp>
 #endif
 
@@ -57,6 +58,22 @@ std::uint16_t ToBf16(float value) {
   return static_cast<std::uint16_t>(bits >> 16);
 }
 
+// Sets the calling thread's OpenMP thread count for its lifetime, then puts the caller's back.
+class ScopedOmpThreads {
+ public:
+  explicit ScopedOmpThreads(int threads) : before_(omp_get_max_threads()) {
+    if (threads != before_) omp_set_num_threads(threads);
+  }
+  ~ScopedOmpThreads() {
+    if (omp_get_max_threads() != before_) omp_set_num_threads(before_);
+  }
+  ScopedOmpThreads(const ScopedOmpThreads&) = delete;
+  ScopedOmpThreads& operator=(const ScopedOmpThreads&) = delete;
+
+ private:
+  int before_;
+};
+
 }  // namespace
 
 struct OnednnEnsembleForward::Impl {
@@ -76,6 +93,10 @@ struct OnednnEnsembleForward::Impl {
   };
 
   dnnl::engine engine{dnnl::engine::kind::cpu, 0};
+  // oneDNN (OpenMP build) splits a product over the calling thread's OpenMP thread count, and
+  // the split changes the sums' order: every call uses the count of the thread that built the
+  // backend, so that a prediction's bits do not depend on which thread asks.
+  int threads = omp_get_max_threads();
   std::vector<Layer> layers;
   std::vector<float> input_mean, input_std;
   std::int64_t members = 0, state_dim = 0, action_dim = 0;
@@ -218,6 +239,7 @@ torch::Tensor OnednnEnsembleForward::Predict(const torch::Tensor& states_in,
     }
   }
 
+  const ScopedOmpThreads same_split(impl.threads);
   dnnl::stream stream(impl.engine);
   torch::Tensor scratchpad =
       torch::empty({static_cast<std::int64_t>(plan->scratchpad_bytes)}, torch::kByte);
