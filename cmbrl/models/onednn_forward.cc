@@ -2,13 +2,16 @@
 
 #include <torch/torch.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <cstring>
 #include <map>
 #include <mutex>
+#include <vector>
 
 #include "cmbrl/core/check.h"
 #include "cmbrl/core/cpu_features.h"
+#include "cmbrl/core/parallel.h"
 
 #ifdef CMBRL_HAVE_ONEDNN
 #include <omp.h>
@@ -74,6 +77,13 @@ class ScopedOmpThreads {
   int before_;
 };
 
+// Rows per task of a prediction: large enough for a single-threaded product to run at speed,
+// small enough that the planner's batches (a few hundred rows per member) give every core work.
+// Part of the results: another block size sums in another order.
+constexpr std::int64_t kBlockRows = 256;
+// Below this many multiply-adds a call stays on the calling thread.
+constexpr std::int64_t kParallelMultiplyAdds = std::int64_t{1} << 20;
+
 }  // namespace
 
 struct OnednnEnsembleForward::Impl {
@@ -93,10 +103,6 @@ struct OnednnEnsembleForward::Impl {
   };
 
   dnnl::engine engine{dnnl::engine::kind::cpu, 0};
-  // oneDNN (OpenMP build) splits a product over the calling thread's OpenMP thread count, and
-  // the split changes the sums' order: every call uses the count of the thread that built the
-  // backend, so that a prediction's bits do not depend on which thread asks.
-  int threads = omp_get_max_threads();
   std::vector<Layer> layers;
   std::vector<float> input_mean, input_std;
   std::int64_t members = 0, state_dim = 0, action_dim = 0;
@@ -111,6 +117,8 @@ std::shared_ptr<const OnednnEnsembleForward::Impl::Plan> OnednnEnsembleForward::
     std::int64_t rows, bool bf16) const {
   const std::lock_guard<std::mutex> lock(plans_mutex);
   if (auto found = plans.find(rows); found != plans.end()) return found->second;
+  // Made single-threaded, as every call runs: a primitive may fix its blocking by the count.
+  const ScopedOmpThreads one_thread(1);
   auto plan = std::make_shared<Plan>();
   const memory::data_type hidden = bf16 ? memory::data_type::bf16 : memory::data_type::f32;
   dnnl::stream stream(engine);
@@ -211,60 +219,92 @@ torch::Tensor OnednnEnsembleForward::Predict(const torch::Tensor& states_in,
   torch::Tensor next =
       impl.predict_delta ? states.clone() : torch::empty({members, rows, s_dim}, torch::kFloat);
   if (rows == 0) return next;
-  const std::shared_ptr<const Impl::Plan> plan = impl.PlanFor(rows, bf16_);
 
-  // Normalised [state, action] rows, in the first product's type.
-  const torch::ScalarType hidden = bf16_ ? torch::kBFloat16 : torch::kFloat;
-  torch::Tensor input = torch::empty({members, rows, width}, torch::TensorOptions(hidden));
-  const float* s = states.data_ptr<float>();
-  const float* a = actions.data_ptr<float>();
+  // The work is cut into (member, block of rows) tasks of fixed shape, each one single-threaded
+  // product chain, so that a prediction's bits depend on neither the thread count nor the
+  // calling thread. The last block of a member may be shorter and has a primitive of its own.
+  const std::int64_t block = std::min(rows, kBlockRows);
+  const std::int64_t full_blocks = rows / block, tail = rows % block;
+  const std::int64_t blocks = full_blocks + (tail > 0 ? 1 : 0);
+  const std::shared_ptr<const Impl::Plan> full_plan = impl.PlanFor(block, bf16_);
+  const std::shared_ptr<const Impl::Plan> tail_plan =
+      tail > 0 ? impl.PlanFor(tail, bf16_) : nullptr;
+  std::int64_t widest = width, multiply_adds = 0;
+  for (const Impl::Layer& layer : impl.layers) {
+    widest = std::max(widest, layer.out);
+    multiply_adds += layer.in * layer.out;
+  }
+  multiply_adds *= members * rows;
+  const std::size_t scratchpad_bytes =
+      std::max(full_plan->scratchpad_bytes, tail_plan ? tail_plan->scratchpad_bytes : 0);
+  const std::size_t element = bf16_ ? sizeof(std::uint16_t) : sizeof(float);
+  const std::int64_t tasks = members * blocks;
+  // Threads are started per call (tens of microseconds): only for products worth it.
+  const int workers = multiply_adds >= kParallelMultiplyAdds
+                          ? static_cast<int>(std::min<std::int64_t>(CoreCount(), tasks))
+                          : 1;
   const float* mean = impl.input_mean.data();
   const float* std = impl.input_std.data();
-  const std::int64_t total = members * rows;
-  if (bf16_) {
-    auto* out = reinterpret_cast<std::uint16_t*>(input.data_ptr());
-    for (std::int64_t r = 0; r < total; ++r, out += width, s += s_dim, a += a_dim) {
-      for (std::int64_t j = 0; j < s_dim; ++j) out[j] = ToBf16((s[j] - mean[j]) / std[j]);
-      for (std::int64_t j = 0; j < a_dim; ++j) {
-        out[s_dim + j] = ToBf16((a[j] - mean[s_dim + j]) / std[s_dim + j]);
-      }
-    }
-  } else {
-    float* out = input.data_ptr<float>();
-    for (std::int64_t r = 0; r < total; ++r, out += width, s += s_dim, a += a_dim) {
-      for (std::int64_t j = 0; j < s_dim; ++j) out[j] = (s[j] - mean[j]) / std[j];
-      for (std::int64_t j = 0; j < a_dim; ++j) {
-        out[s_dim + j] = (a[j] - mean[s_dim + j]) / std[s_dim + j];
-      }
-    }
-  }
+  const float* all_states = states.data_ptr<float>();
+  const float* all_actions = actions.data_ptr<float>();
+  float* all_next = next.data_ptr<float>();
 
-  const ScopedOmpThreads same_split(impl.threads);
-  dnnl::stream stream(impl.engine);
-  torch::Tensor scratchpad =
-      torch::empty({static_cast<std::int64_t>(plan->scratchpad_bytes)}, torch::kByte);
-  const memory scratch({{static_cast<memory::dim>(plan->scratchpad_bytes)},
-                        memory::data_type::u8, memory::format_tag::a},
-                       impl.engine, scratchpad.data_ptr());
-  torch::Tensor source = input;
-  for (std::size_t l = 0; l < impl.layers.size(); ++l) {
-    const Impl::Layer& layer = impl.layers[l];
-    const bool last = l + 1 == impl.layers.size();
-    torch::Tensor destination =
-        last ? next : torch::empty({members, rows, layer.out}, torch::TensorOptions(hidden));
-    for (std::int64_t m = 0; m < members; ++m) {
-      const memory src(plan->sources[l], impl.engine, source[m].data_ptr());
-      const memory dst(plan->destinations[l], impl.engine, destination[m].data_ptr());
-      const memory bias(plan->biases[l], impl.engine, layer.bias[m].data_ptr());
-      plan->primitives[l].execute(stream, {{DNNL_ARG_SRC, src},
-                                           {DNNL_ARG_WEIGHTS, plan->weights[l][m]},
-                                           {DNNL_ARG_BIAS, bias},
-                                           {DNNL_ARG_DST, dst},
-                                           {DNNL_ARG_SCRATCHPAD, scratch}});
+  ParallelRanges(tasks, workers, [&](std::int64_t first_task, std::int64_t end_task) {
+    const ScopedOmpThreads one_thread(1);
+    dnnl::stream stream(impl.engine);
+    // This worker's buffers: two for the hidden activations, one scratchpad.
+    std::vector<std::uint8_t> ping(static_cast<std::size_t>(block * widest) * element);
+    std::vector<std::uint8_t> pong(ping.size());
+    std::vector<std::uint8_t> scratchpad(std::max<std::size_t>(scratchpad_bytes, 1));
+    const memory scratch({{static_cast<memory::dim>(scratchpad.size())}, memory::data_type::u8,
+                          memory::format_tag::a},
+                         impl.engine, scratchpad.data());
+    for (std::int64_t task = first_task; task < end_task; ++task) {
+      const std::int64_t m = task / blocks, b = task % blocks;
+      const std::int64_t first_row = b * block;
+      const std::int64_t count = std::min(block, rows - first_row);
+      const Impl::Plan& plan = count == block ? *full_plan : *tail_plan;
+      // Normalised [state, action] rows, in the first product's type.
+      const std::int64_t offset = m * rows + first_row;
+      const float* s = all_states + offset * s_dim;
+      const float* a = all_actions + offset * a_dim;
+      if (bf16_) {
+        auto* out = reinterpret_cast<std::uint16_t*>(ping.data());
+        for (std::int64_t r = 0; r < count; ++r, out += width, s += s_dim, a += a_dim) {
+          for (std::int64_t j = 0; j < s_dim; ++j) out[j] = ToBf16((s[j] - mean[j]) / std[j]);
+          for (std::int64_t j = 0; j < a_dim; ++j) {
+            out[s_dim + j] = ToBf16((a[j] - mean[s_dim + j]) / std[s_dim + j]);
+          }
+        }
+      } else {
+        auto* out = reinterpret_cast<float*>(ping.data());
+        for (std::int64_t r = 0; r < count; ++r, out += width, s += s_dim, a += a_dim) {
+          for (std::int64_t j = 0; j < s_dim; ++j) out[j] = (s[j] - mean[j]) / std[j];
+          for (std::int64_t j = 0; j < a_dim; ++j) {
+            out[s_dim + j] = (a[j] - mean[s_dim + j]) / std[s_dim + j];
+          }
+        }
+      }
+      std::uint8_t* source = ping.data();
+      std::uint8_t* spare = pong.data();
+      for (std::size_t l = 0; l < impl.layers.size(); ++l) {
+        const bool last = l + 1 == impl.layers.size();
+        void* destination = last ? static_cast<void*>(all_next + offset * s_dim) : spare;
+        const memory src(plan.sources[l], impl.engine, source);
+        const memory dst(plan.destinations[l], impl.engine, destination);
+        const Impl::Layer& layer = impl.layers[l];
+        const memory bias(plan.biases[l], impl.engine,
+                          layer.bias.data_ptr<float>() + m * layer.out);
+        plan.primitives[l].execute(stream, {{DNNL_ARG_SRC, src},
+                                            {DNNL_ARG_WEIGHTS, plan.weights[l][m]},
+                                            {DNNL_ARG_BIAS, bias},
+                                            {DNNL_ARG_DST, dst},
+                                            {DNNL_ARG_SCRATCHPAD, scratch}});
+        std::swap(source, spare);
+      }
+      stream.wait();
     }
-    source = destination;
-  }
-  stream.wait();
+  });
   return next;
 }
 

@@ -5,7 +5,9 @@
 // fused into it, the output normaliser is folded into the last layer's weights, and the change
 // of state (predict_delta) is added by the last product itself. Primitives and the weights in
 // the layout each primitive wants are made once per batch size after every SetWeights (once per
-// fit), never per call. oneDNN stays inside the .cc file.
+// fit), never per call. A call is cut into (member, block of rows) tasks of fixed shape, each a
+// single-threaded chain of products, spread over the process's cores: the bits depend on neither
+// the number of cores nor the calling thread. oneDNN stays inside the .cc file.
 #pragma once
 
 #include <memory>

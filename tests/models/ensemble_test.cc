@@ -9,6 +9,7 @@
 #include <thread>
 #include <vector>
 
+#include "cmbrl/core/parallel.h"
 #include "cmbrl/models/onednn_forward.h"
 
 #include "tests/error_message.h"
@@ -325,6 +326,30 @@ TEST(EnsembleTest, OnednnPredictsConcurrently) {
     EXPECT_TRUE(torch::equal(parallel[i], pair.other->Predict(batches[i].states,
                                                               batches[i].actions)));
   }
+}
+
+// A prediction is cut into tasks of fixed shape: its bits are the same on one core as on all,
+// and whichever thread asks (the OpenMP thread count differs from thread to thread).
+TEST(EnsembleTest, OnednnBitsDoNotDependOnTheCores) {
+  SKIP_WITHOUT_ONEDNN(false);
+  const std::vector<int> cpus = AllowedCpus();
+  if (cpus.size() < 2) GTEST_SKIP() << "one CPU allowed: nothing to compare";
+  const BackendPair pair = FittedPair("onednn", "fp32", false);
+  const Batch batch = PendulumBatch(4, 700, 12);  // two full blocks and a shorter one per member
+  const torch::Tensor on_all = pair.other->Predict(batch.states, batch.actions);
+  torch::Tensor on_one, on_another_thread;
+  std::thread([&] {
+    cpu_set_t one;
+    CPU_ZERO(&one);
+    CPU_SET(cpus.front(), &one);
+    ASSERT_EQ(sched_setaffinity(0, sizeof one, &one), 0);
+    ASSERT_EQ(CoreCount(), 1);
+    on_one = pair.other->Predict(batch.states, batch.actions);
+  }).join();
+  std::thread([&] { on_another_thread = pair.other->Predict(batch.states, batch.actions); })
+      .join();
+  EXPECT_TRUE(torch::equal(on_one, on_all));
+  EXPECT_TRUE(torch::equal(on_another_thread, on_all));
 }
 
 TEST(EnsembleTest, BackendIsCheckedByName) {
