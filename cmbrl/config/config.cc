@@ -15,10 +15,9 @@
 #include <vector>
 
 #include "cmbrl/core/check.h"
-#include "cmbrl/core/torch_util.h"
+#include "cmbrl/core/device_name.h"
 #include "cmbrl/env/tasks/goal_spec.h"
 #include "cmbrl/env/variant.h"
-#include "cmbrl/planning/planning_checks.h"
 
 namespace cmbrl {
 namespace {
@@ -439,10 +438,10 @@ void ValidateTrainConfig(const TrainConfig& c, const std::string& source) {
           fmt::join(algorithms, ", "));
   InSection(source, "policy_optimisation",
             [&] { ValidatePolicyOptimisationOptions(c.policy_optimisation); });
-  Require(FindPlannerOrNull(c.planner) != nullptr,
+  Require(FindPlannerInfoOrNull(c.planner) != nullptr,
           "config '{}': key 'planner' is '{}': expected one of {}", source, c.planner,
           fmt::join(PlannerNames(), ", "));
-  AtKey(source, "device", [&] { ParseDevice(c.device); });
+  AtKey(source, "device", [&] { CheckDeviceName(c.device); });
   const TrainingLoopOptions& t = c.training;
   InSection(source, "training", [&] {
     Require(t.pretrain_episodes >= 0 && t.pretrain_episodes <= 10'000'000,

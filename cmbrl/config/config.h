@@ -8,10 +8,8 @@
 #include <vector>
 
 #include "cmbrl/env/variant.h"
-#include "cmbrl/models/ensemble.h"
-#include "cmbrl/models/xgboost_cost_model.h"
-#include "cmbrl/planning/planner_registry.h"
-#include "cmbrl/planning/trajectory_objective.h"
+#include "cmbrl/models/model_options.h"
+#include "cmbrl/planning/planning_options.h"
 #include "cmbrl/policy_opt/policy_opt_options.h"
 #include "cmbrl/run/algorithms.h"
 

@@ -6,6 +6,7 @@
 #include <ATen/detail/CUDAHooksInterface.h>
 
 #include "cmbrl/core/check.h"
+#include "cmbrl/core/device_name.h"
 
 namespace cmbrl {
 
@@ -22,6 +23,7 @@ at::Generator MakeGenerator(const torch::Device& device, std::uint64_t seed) {
 }
 
 torch::Device ParseDevice(const std::string& name, const char* key) {
+  CheckDeviceName(name, key);
   torch::Device device(torch::kCPU);
   try {
     device = torch::Device(name);

@@ -5,8 +5,6 @@
 
 namespace cmbrl {
 
-std::vector<std::string> EnvNames() { return GoalTaskNames(); }
-
 std::unique_ptr<Env> MakeEnv(const std::string& task, Variant variant, Spawn spawn) {
   const GoalTaskSpec spec = GoalTaskSpecByName(task, variant);
   RobotDescription robot = TaskRobot(spec);

@@ -29,48 +29,6 @@ struct EnsembleDynamics::State {
   int fits = 0;
 };
 
-void ValidateEnsembleOptions(const EnsembleOptions& o) {
-  // Upper bounds keep a typing slip from allocating the machine away or running for ever.
-  Require(o.ensemble_size >= 1 && o.ensemble_size <= 64,
-          "ensemble_size is {}: expected 1 to 64 members", o.ensemble_size);
-  // No hidden layer would make a linear model, which is not the paper's and never meant.
-  Require(!o.hidden_sizes.empty() && o.hidden_sizes.size() <= 16,
-          "hidden_sizes has {} layers: expected 1 to 16", o.hidden_sizes.size());
-  for (size_t i = 0; i < o.hidden_sizes.size(); ++i) {
-    Require(o.hidden_sizes[i] >= 1 && o.hidden_sizes[i] <= 65536,
-            "hidden_sizes[{}] is {}: expected a width from 1 to 65536", i, o.hidden_sizes[i]);
-  }
-  Require(o.learning_rate > 0 && std::isfinite(o.learning_rate),
-          "learning_rate is {}: expected a positive number", o.learning_rate);
-  Require(o.batch_size >= 1 && o.batch_size <= 10'000'000,
-          "batch_size is {}: expected 1 to 10000000", o.batch_size);
-  Require(o.max_epochs >= 1 && o.max_epochs <= 100'000,
-          "max_epochs is {}: expected 1 to 100000", o.max_epochs);
-  Require(o.validation_fraction >= 0 && o.validation_fraction < 1,
-          "validation_fraction is {}: expected a number in [0, 1)", o.validation_fraction);
-  Require(o.member_subset_fraction > 0 && o.member_subset_fraction <= 1,
-          "member_subset_fraction is {}: expected a number in (0, 1]", o.member_subset_fraction);
-  Require(o.validate_every >= 1 && o.validate_every <= 100'000,
-          "validate_every is {}: expected 1 to 100000 epochs", o.validate_every);
-  Require(o.patience >= 1 && o.patience <= 100'000, "patience is {}: expected 1 to 100000",
-          o.patience);
-  Require(o.init_std > 0 && std::isfinite(o.init_std), "init_std is {}: expected a positive number",
-          o.init_std);
-  Require(o.min_std >= 0, "min_std is {}: expected a non-negative number", o.min_std);
-  Require(o.precision == "fp32" || o.precision == "tf32" || o.precision == "bf16",
-          "precision is '{}': expected fp32, tf32 or bf16", o.precision);
-  Require(o.precision != "tf32" || o.device.rfind("cuda", 0) == 0,
-          "precision is tf32 but device is '{}': TF32 is a CUDA tensor-core format; use fp32 or "
-          "bf16 on the CPU",
-          o.device);
-  Require(o.backend == "auto" || o.backend == "libtorch" || o.backend == "onednn",
-          "backend is '{}': expected auto, libtorch or onednn", o.backend);
-  Require(o.backend != "onednn" || o.device == "cpu",
-          "backend is onednn but device is '{}': oneDNN predicts on the CPU; use libtorch or auto "
-          "on CUDA",
-          o.device);
-}
-
 namespace {
 
 std::string ResolveBackend(const EnsembleOptions& o) {

@@ -8,41 +8,10 @@
 #include <vector>
 
 #include "cmbrl/models/dynamics_model.h"
+#include "cmbrl/models/model_options.h"
 #include "cmbrl/models/transition_buffer.h"
 
 namespace cmbrl {
-
-struct EnsembleOptions {
-  int ensemble_size = 4;                               // E: 4 for Point, 5 for Car in the paper
-  std::vector<int> hidden_sizes = {1024, 1024, 1024};  // ReLU hidden layers
-  bool predict_delta = false;           // false: absolute next state (paper); true: the change
-  double learning_rate = 1e-3;          // Adam
-  int batch_size = 256;                 // per member per step
-  int max_epochs = 70;                  // per fit
-  double validation_fraction = 0.15;    // held out by a fresh random split at every fit
-  double member_subset_fraction = 0.8;  // each member's fresh share of the train split per epoch
-  int validate_every = 5;               // epochs between validation checks
-  int patience = 5;                     // checks without improvement before stopping
-  double init_std = 0.02;               // weights start as N(0, init_std); biases as PyTorch's
-  double min_std = 1e-3;                // normaliser: smaller standard deviations become 1
-  std::string device = "cpu";           // "cpu", "cuda" or "cuda:i"
-  // Arithmetic of the predictions' matrix products; never reduced unless asked for:
-  //   fp32: float32 throughout;
-  //   tf32: CUDA only; cuBLAS's TF32 tensor cores for every float32 product of the process,
-  //         training included (10-bit mantissa inputs, float32 sums);
-  //   bf16: predictions with bfloat16 copies of the weights and activations (8-bit mantissa),
-  //         refreshed after every fit; training stays float32.
-  std::string precision = "fp32";
-  // Who computes the predictions (training always runs on LibTorch):
-  //   auto: onednn where it is available (a build with oneDNN, device cpu, fp32, or bf16 on a
-  //         CPU with AVX-512), libtorch elsewhere;
-  //   libtorch: LibTorch's batched products (OpenBLAS for fp32 on the CPU; cuBLAS on CUDA);
-  //   onednn: oneDNN's matrix-product primitives (onednn_forward.h); an error where unavailable.
-  std::string backend = "auto";
-};
-
-// Throws cmbrl::Error naming the first field with a bad value.
-void ValidateEnsembleOptions(const EnsembleOptions& options);
 
 // What one fit did. MSEs are in normalised target units, averaged over members.
 struct EnsembleFitReport {

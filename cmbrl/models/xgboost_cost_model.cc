@@ -62,33 +62,6 @@ class XgbCostModel::DeviceTrees {
   TreeEnsembleTensors tensors;
 };
 
-void ValidateXgbCostModelOptions(const XgbCostModelOptions& o) {
-  Require(o.rounds >= 1 && o.rounds <= 100'000, "rounds is {}: expected 1 to 100000", o.rounds);
-  Require(o.learning_rate > 0 && std::isfinite(o.learning_rate),
-          "learning_rate is {}: expected a positive number", o.learning_rate);
-  Require(o.max_depth >= 1 && o.max_depth <= 64, "max_depth is {}: expected 1 to 64",
-          o.max_depth);
-  Require(o.max_leaves >= 2 && o.max_leaves <= 1'000'000,
-          "max_leaves is {}: expected 2 to 1000000", o.max_leaves);
-  Require(o.grow_policy == "lossguide" || o.grow_policy == "depthwise",
-          "grow_policy is '{}': expected 'lossguide' or 'depthwise'", o.grow_policy);
-  Require(o.tree_method == "hist" || o.tree_method == "approx" || o.tree_method == "exact",
-          "tree_method is '{}': expected 'hist', 'approx' or 'exact'", o.tree_method);
-  Require(o.l2_regularization >= 0, "l2_regularization is {}: expected a non-negative number",
-          o.l2_regularization);
-  Require(o.min_child_weight >= 0, "min_child_weight is {}: expected a non-negative number",
-          o.min_child_weight);
-  Require(o.threshold > 0 && o.threshold < 1, "threshold is {}: expected a probability in (0, 1)",
-          o.threshold);
-  Require(o.safe_per_unsafe >= 0 && o.safe_per_unsafe <= 1000,
-          "safe_per_unsafe is {}: expected 0 to 1000", o.safe_per_unsafe);
-  Require(o.safe_selection == "storage_order" || o.safe_selection == "newest",
-          "safe_selection is '{}': expected 'storage_order' or 'newest'", o.safe_selection);
-  Require(o.threads >= 1 && o.threads <= 1024, "threads is {}: expected 1 to 1024", o.threads);
-  Require(o.predict_threads >= 0 && o.predict_threads <= 1024,
-          "predict_threads is {}: expected 0 (one per core) to 1024", o.predict_threads);
-}
-
 XgbCostModel::XgbCostModel(int state_dim, XgbCostModelOptions options, std::uint64_t seed)
     : state_dim_(state_dim), options_(std::move(options)), seed_(seed) {
   Require(state_dim >= 1, "state_dim is {}: expected a positive number", state_dim);

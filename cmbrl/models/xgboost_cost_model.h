@@ -9,32 +9,10 @@
 
 #include "cmbrl/models/cost_model.h"
 #include "cmbrl/models/labeled_state_buffer.h"
+#include "cmbrl/models/model_options.h"
 #include "cmbrl/models/tree_ensemble.h"
 
 namespace cmbrl {
-
-struct XgbCostModelOptions {
-  int rounds = 400;            // trees (LightGBM n_estimators)
-  double learning_rate = 0.3;  // eta
-  int max_depth = 8;
-  int max_leaves = 12;                    // LightGBM num_leaves
-  std::string grow_policy = "lossguide";  // leaf-wise growth, as LightGBM
-  std::string tree_method = "hist";
-  double l2_regularization = 0.0;  // XGBoost lambda; LightGBM's lambda_l2 default is 0
-  double min_child_weight = 1e-3;  // LightGBM's min_sum_hessian_in_leaf
-  bool boost_from_average = true;  // start from the unsafe fraction (LightGBM's default)
-  double threshold = 0.5;          // violation when the probability exceeds this
-  int safe_per_unsafe = 3;         // a fit uses at most safe_per_unsafe * n_unsafe + 1 safe
-  // Which safe states a fit takes: "storage_order", the last slots of the safe ring as the
-  // original does (old states once the ring has wrapped), or "newest".
-  std::string safe_selection = "storage_order";
-  int threads = 1;                 // XGBoost threads while fitting (the paper's n_jobs 1)
-  int predict_threads = 0;         // threads of the host tree walk; 0: one per core
-  std::string device = "cpu";      // where PredictViolation evaluates tensors
-};
-
-// Throws cmbrl::Error naming the first field with a bad value.
-void ValidateXgbCostModelOptions(const XgbCostModelOptions& options);
 
 // What one fit did. Accuracies are over the states the fit used.
 struct CostFitReport {

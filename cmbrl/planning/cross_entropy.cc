@@ -10,25 +10,6 @@
 
 namespace cmbrl {
 
-void ValidateCrossEntropyOptions(const CrossEntropyOptions& o) {
-  Require(o.population >= 1 && o.population <= 1'000'000,
-          "population is {}: expected 1 to 1000000", o.population);
-  Require(o.elites >= 1 && o.elites <= o.population,
-          "elites is {}: expected between 1 and population ({})", o.elites, o.population);
-  Require(o.min_feasible_elites >= 1 && o.min_feasible_elites <= o.elites,
-          "min_feasible_elites is {}: expected between 1 and elites ({})", o.min_feasible_elites,
-          o.elites);
-  Require(o.max_iterations >= 1 && o.max_iterations <= 1000,
-          "max_iterations is {}: expected 1 to 1000", o.max_iterations);
-  Require(o.epsilon >= 0 && std::isfinite(o.epsilon),
-          "epsilon is {}: expected a non-negative number", o.epsilon);
-  Require(o.alpha >= 0 && o.alpha < 1, "alpha is {}: expected a number in [0, 1)", o.alpha);
-  Require(o.initial_variance > 0 && std::isfinite(o.initial_variance),
-          "initial_variance is {}: expected a positive number", o.initial_variance);
-  Require(o.penalty >= 0 && std::isfinite(o.penalty),
-          "penalty is {}: expected a non-negative number", o.penalty);
-}
-
 CrossEntropyPlanner::CrossEntropyPlanner(PlanningProblem problem, CrossEntropyOptions options,
                                          EliteRule rule, std::uint64_t seed)
     : problem_(std::move(problem)),

@@ -8,21 +8,6 @@
 
 namespace cmbrl {
 
-struct CrossEntropyOptions {
-  int population = 500;         // samples per iteration
-  int elites = 12;              // samples that update the distribution
-  int min_feasible_elites = 5;  // RCE: with fewer feasible samples, pad with least violating
-  int max_iterations = 8;
-  double epsilon = 0.01;          // stop once the largest variance is at most this
-  double alpha = 0.1;             // new = alpha * old + (1 - alpha) * elite statistic
-  double initial_variance = 1.0;  // the mean starts at 0
-  double penalty = 500.0;         // CEM: elites by reward_cost + penalty * constraint_cost
-  bool warm_start = false;        // start from the previous plan shifted one step (paper: off)
-};
-
-// Throws cmbrl::Error naming the first bad field (more elites than samples, ...).
-void ValidateCrossEntropyOptions(const CrossEntropyOptions& options);
-
 enum class EliteRule {
   kPenalty,  // CEM: the `elites` lowest reward_cost + penalty * constraint_cost
   kRobust,   // RCE: the `elites` feasible samples with the lowest reward cost; with fewer than

@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include "cmbrl/planning/planning_options.h"
+
 namespace cmbrl {
 
 // Scores of N action sequences, each (N) on the planner's device. Lower is better for both.
@@ -40,15 +42,6 @@ struct PlanResult {
   torch::Tensor action;    // (A): the first action to execute
   torch::Tensor sequence;  // (H, A): the whole plan (final mean, or best sample)
   PlanDiagnostics diagnostics;
-};
-
-// Box bounds and sizes shared by every planner.
-struct PlanningProblem {
-  int horizon = 8;     // H
-  int action_dim = 2;  // A
-  double action_low = -1.0;
-  double action_high = 1.0;
-  std::string device = "cpu";
 };
 
 // A planner. Not thread-safe: it owns its generator and, with warm start, the previous plan.

@@ -22,17 +22,17 @@ PlanWork CrossEntropyWork(const PlannerSettings& s) {
 
 const std::vector<PlannerEntry>& Planners() {
   static const std::vector<PlannerEntry> entries = {
-      {"rce", "MPC-RCE", Propagation::kPerMember, /*is_papers_method=*/true,
+      {FindPlannerInfo("rce"),
        [](const PlannerSettings& s, std::uint64_t seed) {
          return MakeCrossEntropy(s, EliteRule::kRobust, seed);
        },
        CrossEntropyWork},
-      {"cem", "MPC-CEM", Propagation::kEnsembleMean, false,
+      {FindPlannerInfo("cem"),
        [](const PlannerSettings& s, std::uint64_t seed) {
          return MakeCrossEntropy(s, EliteRule::kPenalty, seed);
        },
        CrossEntropyWork},
-      {"random", "MPC-random", Propagation::kEnsembleMean, false,
+      {FindPlannerInfo("random"),
        [](const PlannerSettings& s, std::uint64_t seed) -> std::unique_ptr<Planner> {
          RandomShootingOptions options = s.random;
          options.penalty = s.penalty;
@@ -41,12 +41,6 @@ const std::vector<PlannerEntry>& Planners() {
        [](const PlannerSettings& s) { return PlanWork{s.random.samples, 1}; }},
   };
   return entries;
-}
-
-std::vector<std::string> PlannerNames() {
-  std::vector<std::string> names;
-  for (const PlannerEntry& entry : Planners()) names.push_back(entry.name);
-  return names;
 }
 
 const PlannerEntry* FindPlannerOrNull(const std::string& name) {
@@ -59,11 +53,6 @@ const PlannerEntry* FindPlannerOrNull(const std::string& name) {
 const PlannerEntry& FindPlanner(const std::string& name) {
   if (const PlannerEntry* entry = FindPlannerOrNull(name)) return *entry;
   Fail("unknown planner '{}': expected one of {}", name, fmt::join(PlannerNames(), ", "));
-}
-
-std::string PlannerLabel(const std::string& name) {
-  const PlannerEntry* entry = FindPlannerOrNull(name);
-  return entry != nullptr ? entry->label : name;
 }
 
 std::unique_ptr<Planner> MakePlanner(const std::string& name, const PlannerSettings& settings,

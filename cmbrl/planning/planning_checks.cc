@@ -6,16 +6,6 @@
 
 namespace cmbrl {
 
-void ValidatePlanningProblem(const PlanningProblem& p) {
-  Require(p.horizon >= 1 && p.horizon <= 1000, "horizon is {}: expected 1 to 1000 steps",
-          p.horizon);
-  Require(p.action_dim >= 1, "action_dim is {}: expected at least 1", p.action_dim);
-  Require(
-      std::isfinite(p.action_low) && std::isfinite(p.action_high) && p.action_low < p.action_high,
-      "action bounds [{}, {}]: expected finite numbers with low < high", p.action_low,
-      p.action_high);
-}
-
 void CheckObjectiveValues(const ObjectiveValues& values, std::int64_t count,
                           const torch::Device& device) {
   for (const torch::Tensor* t : {&values.reward_cost, &values.constraint_cost}) {

@@ -7,9 +7,6 @@
 
 namespace cmbrl {
 
-// Throws cmbrl::Error naming a bad horizon, action size or bounds.
-void ValidatePlanningProblem(const PlanningProblem& problem);
-
 // Throws cmbrl::Error unless both scores are float32 (count) on `device`.
 void CheckObjectiveValues(const ObjectiveValues& values, std::int64_t count,
                           const torch::Device& device);

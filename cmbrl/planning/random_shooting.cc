@@ -8,13 +8,6 @@
 
 namespace cmbrl {
 
-void ValidateRandomShootingOptions(const RandomShootingOptions& o) {
-  Require(o.samples >= 1 && o.samples <= 10'000'000, "samples is {}: expected 1 to 10000000",
-          o.samples);
-  Require(o.penalty >= 0 && std::isfinite(o.penalty),
-          "penalty is {}: expected a non-negative number", o.penalty);
-}
-
 RandomShootingPlanner::RandomShootingPlanner(PlanningProblem problem, RandomShootingOptions options,
                                              std::uint64_t seed)
     : problem_(std::move(problem)),

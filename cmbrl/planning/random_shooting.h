@@ -7,14 +7,6 @@
 
 namespace cmbrl {
 
-struct RandomShootingOptions {
-  int samples = 5000;      // uniform action sequences
-  double penalty = 500.0;  // best by reward_cost + penalty * constraint_cost
-};
-
-// Throws cmbrl::Error naming the first bad field.
-void ValidateRandomShootingOptions(const RandomShootingOptions& options);
-
 // Draws uniform sequences in the action box and acts with the first action of the best one.
 // Not thread-safe.
 class RandomShootingPlanner final : public Planner {

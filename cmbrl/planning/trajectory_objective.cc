@@ -7,16 +7,6 @@
 
 namespace cmbrl {
 
-void ValidateTrajectoryObjectiveOptions(const TrajectoryObjectiveOptions& o, int state_dim) {
-  Require(o.goal_index >= 0 && o.goal_index + 1 < state_dim,
-          "goal_index is {}: expected 0 to {} for a state of {} dimensions", o.goal_index,
-          state_dim - 2, state_dim);
-  Require(o.gamma > 0 && o.gamma <= 1, "gamma is {}: expected a number in (0, 1]", o.gamma);
-  Require(o.beta > 0 && o.beta <= 1, "beta is {}: expected a number in (0, 1]", o.beta);
-  Require(o.near_goal_radius >= 0 && o.at_goal_radius >= 0,
-          "goal radii must be non-negative, got {} and {}", o.near_goal_radius, o.at_goal_radius);
-}
-
 TrajectoryObjective::TrajectoryObjective(const DynamicsModel& dynamics, const CostModel& cost,
                                          Propagation propagation,
                                          TrajectoryObjectiveOptions options)

@@ -11,33 +11,6 @@
 
 namespace cmbrl {
 
-struct TrajectoryObjectiveOptions {
-  int goal_index = 6;             // state[goal_index], state[goal_index + 1]: goal in ego XY
-  double gamma = 0.98;            // discount of the reward cost (and of CEM's constraint cost)
-  double beta = 0.4;              // RCE: discount of the constraint count
-  double near_goal_radius = 0.2;  // m: a predicted state this close earns near_goal_bonus
-  double near_goal_bonus = 5.0;
-  double at_goal_radius = 0.1;  // m: and this close a further at_goal_bonus
-  double at_goal_bonus = 8.0;
-  // The original's code tests at_goal_radius on the distance already lowered by
-  // near_goal_bonus, so every d < near_goal_radius earns both bonuses (facts B2: d - 13 below
-  // 0.2, which is what produced Table I). false: the written rule, at_goal_bonus only below
-  // at_goal_radius.
-  bool at_goal_test_after_near_bonus = true;
-};
-
-// Throws cmbrl::Error naming the first bad field.
-void ValidateTrajectoryObjectiveOptions(const TrajectoryObjectiveOptions& options, int state_dim);
-
-enum class Propagation {
-  // CEM and random: one trajectory from the ensemble-mean prediction; reward cost
-  // sum_t gamma^t d_t, constraint cost sum_t gamma^t unsafe_t (the planner adds the penalty).
-  kEnsembleMean,
-  // RCE: every member rolls its own trajectory (TS-infinity); reward cost is the members' mean of
-  // sum_t gamma^t d_t, constraint cost the members' max of sum_t beta^t unsafe_t.
-  kPerMember,
-};
-
 // Scores (N, H, A) action sequences from the current state. d_t is the goal distance of the
 // predicted state minus the bonuses. Borrows the models, which must outlive it; not thread-safe.
 class TrajectoryObjective final : public Objective {

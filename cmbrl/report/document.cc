@@ -10,6 +10,7 @@
 
 #include "cmbrl/core/build_info.h"
 #include "cmbrl/core/check.h"
+#include "cmbrl/learners/mpc/mpc_progress_columns.h"
 #include "cmbrl/report/reference.h"
 #include "cmbrl/viz/plot.h"
 
@@ -41,7 +42,7 @@ std::vector<PlotPanel> CurvePanels(const std::vector<RunRecord>& runs,
     PlotPanel panel;
     panel.title = task;
     panel.x_label = x_label;
-    panel.y_label = metric == CurveMetric::kReturn ? "EpRet" : "EpCost";
+    panel.y_label = metric == CurveMetric::kReturn ? kEpRetColumn : kEpCostColumn;
     if (metric == CurveMetric::kCost) panel.y_floor = 0.0;  // violations are counts
     for (const LearningCurve& curve :
          LearningCurves(runs, task, metric, args.grid_step, args.smoothing)) {

@@ -16,9 +16,9 @@
 
 #include "cmbrl/core/check.h"
 #include "cmbrl/env/registry.h"
-#include "cmbrl/learners/mpc/mpc_learner.h"
+#include "cmbrl/learners/mpc/mpc_progress_columns.h"
 #include "cmbrl/report/reference.h"
-#include "cmbrl/planning/planner_registry.h"
+#include "cmbrl/planning/planning_options.h"
 #include "cmbrl/run/progress_table.h"
 #include "cmbrl/run/run_directory.h"
 
@@ -96,8 +96,8 @@ FirstEpochTexts DescribeFirstEpochs(const std::vector<FirstEpoch>& epochs) {
 }
 
 bool IsPapersMethod(const std::string& planner) {
-  const PlannerEntry* entry = FindPlannerOrNull(planner);
-  return entry != nullptr && entry->is_papers_method;
+  const PlannerInfo* info = FindPlannerInfoOrNull(planner);
+  return info != nullptr && info->is_papers_method;
 }
 
 }  // namespace

@@ -14,7 +14,6 @@
 #include "cmbrl/config/config.h"
 #include "cmbrl/report/report.h"
 #include "cmbrl/run/run_directory.h"
-#include "cmbrl/planning/planner_registry.h"
 
 namespace cmbrl {
 namespace fs = std::filesystem;

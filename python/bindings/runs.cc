@@ -13,11 +13,12 @@
 #include <string>
 #include <vector>
 
-#include "cmbrl/learners/mpc/mpc_agent.h"
-#include "cmbrl/core/check.h"
 #include "cmbrl/config/config.h"
+#include "cmbrl/core/check.h"
 #include "cmbrl/eval/evaluation.h"
 #include "cmbrl/eval/loaded_run.h"
+#include "cmbrl/learners/mpc/mpc_agent.h"
+#include "cmbrl/models/ensemble.h"
 #include "cmbrl/train/trainer.h"
 #include "python/bindings/arrays.h"
 #include "python/bindings/bindings.h"

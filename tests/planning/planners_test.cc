@@ -46,6 +46,12 @@ TEST(PlannerRegistryTest, EveryEntryIsCompleteAndOneIsThePapersMethod) {
     EXPECT_EQ(entry.make(settings, 1)->Plan(objective).action.numel(), 2);
   }
   EXPECT_EQ(papers, 1);
+  // The registry builds every planner that planning_options.h names, in its order, and no other.
+  ASSERT_EQ(Planners().size(), PlannerInfos().size());
+  for (size_t i = 0; i < Planners().size(); ++i) {
+    EXPECT_EQ(Planners()[i].name, PlannerInfos()[i].name);
+    EXPECT_EQ(&FindPlannerInfo(Planners()[i].name), &PlannerInfos()[i]);
+  }
   EXPECT_EQ(FindPlanner("rce").propagation, Propagation::kPerMember);
   EXPECT_EQ(FindPlanner("cem").propagation, Propagation::kEnsembleMean);
   EXPECT_EQ(PlannerLabel("mppi"), "mppi");  // a planner of another build keeps its name

@@ -13,6 +13,7 @@
 
 #include "cmbrl/config/config.h"
 #include "cmbrl/learners/mpc/mpc_parts.h"
+#include "cmbrl/learners/mpc/mpc_progress_columns.h"
 #include "cmbrl/models/labeled_state_buffer.h"
 #include "cmbrl/models/transition_buffer.h"
 #include "cmbrl/run/learner.h"
@@ -42,15 +43,6 @@ struct ProgressRow {
   int hazard_steps = 0;
   int vase_steps = 0;
 };
-
-// Names of the columns that reports read (and the original's logs share).
-inline constexpr const char* kEpRetColumn = "EpRet";
-inline constexpr const char* kEpCostColumn = "EpCost";
-inline constexpr const char* kTotalEnvInteractsColumn = "TotalEnvInteracts";
-inline constexpr const char* kStepsColumn = "Steps";
-inline constexpr const char* kFeasibleFractionColumn = "FeasibleFraction";
-inline constexpr const char* kHazardStepsColumn = "HazardSteps";
-inline constexpr const char* kVaseStepsColumn = "VaseSteps";
 
 // The columns of an MPC run's progress.csv, the one definition of their names and formats.
 const std::vector<ProgressColumn<ProgressRow>>& MpcProgressColumns();

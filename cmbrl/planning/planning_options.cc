@@ -1,0 +1,90 @@
+#include "cmbrl/planning/planning_options.h"
+
+#include <fmt/ranges.h>
+
+#include <cmath>
+#include <limits>
+
+#include "cmbrl/core/check.h"
+
+namespace cmbrl {
+
+void ValidatePlanningProblem(const PlanningProblem& p) {
+  Require(p.horizon >= 1 && p.horizon <= 1000, "horizon is {}: expected 1 to 1000 steps",
+          p.horizon);
+  Require(p.action_dim >= 1, "action_dim is {}: expected at least 1", p.action_dim);
+  Require(
+      std::isfinite(p.action_low) && std::isfinite(p.action_high) && p.action_low < p.action_high,
+      "action bounds [{}, {}]: expected finite numbers with low < high", p.action_low,
+      p.action_high);
+}
+
+void ValidateCrossEntropyOptions(const CrossEntropyOptions& o) {
+  Require(o.population >= 1 && o.population <= 1'000'000,
+          "population is {}: expected 1 to 1000000", o.population);
+  Require(o.elites >= 1 && o.elites <= o.population,
+          "elites is {}: expected between 1 and population ({})", o.elites, o.population);
+  Require(o.min_feasible_elites >= 1 && o.min_feasible_elites <= o.elites,
+          "min_feasible_elites is {}: expected between 1 and elites ({})", o.min_feasible_elites,
+          o.elites);
+  Require(o.max_iterations >= 1 && o.max_iterations <= 1000,
+          "max_iterations is {}: expected 1 to 1000", o.max_iterations);
+  Require(o.epsilon >= 0 && std::isfinite(o.epsilon),
+          "epsilon is {}: expected a non-negative number", o.epsilon);
+  Require(o.alpha >= 0 && o.alpha < 1, "alpha is {}: expected a number in [0, 1)", o.alpha);
+  Require(o.initial_variance > 0 && std::isfinite(o.initial_variance),
+          "initial_variance is {}: expected a positive number", o.initial_variance);
+  Require(o.penalty >= 0 && std::isfinite(o.penalty),
+          "penalty is {}: expected a non-negative number", o.penalty);
+}
+
+void ValidateRandomShootingOptions(const RandomShootingOptions& o) {
+  Require(o.samples >= 1 && o.samples <= 10'000'000, "samples is {}: expected 1 to 10000000",
+          o.samples);
+  Require(o.penalty >= 0 && std::isfinite(o.penalty),
+          "penalty is {}: expected a non-negative number", o.penalty);
+}
+
+void ValidateTrajectoryObjectiveOptions(const TrajectoryObjectiveOptions& o, int state_dim) {
+  Require(o.goal_index >= 0 && o.goal_index + 1 < state_dim,
+          "goal_index is {}: expected 0 to {} for a state of {} dimensions", o.goal_index,
+          state_dim - 2, state_dim);
+  Require(o.gamma > 0 && o.gamma <= 1, "gamma is {}: expected a number in (0, 1]", o.gamma);
+  Require(o.beta > 0 && o.beta <= 1, "beta is {}: expected a number in (0, 1]", o.beta);
+  Require(o.near_goal_radius >= 0 && o.at_goal_radius >= 0,
+          "goal radii must be non-negative, got {} and {}", o.near_goal_radius, o.at_goal_radius);
+}
+
+const std::vector<PlannerInfo>& PlannerInfos() {
+  static const std::vector<PlannerInfo> infos = {
+      {"rce", "MPC-RCE", Propagation::kPerMember, /*is_papers_method=*/true},
+      {"cem", "MPC-CEM", Propagation::kEnsembleMean, false},
+      {"random", "MPC-random", Propagation::kEnsembleMean, false},
+  };
+  return infos;
+}
+
+std::vector<std::string> PlannerNames() {
+  std::vector<std::string> names;
+  for (const PlannerInfo& info : PlannerInfos()) names.push_back(info.name);
+  return names;
+}
+
+const PlannerInfo* FindPlannerInfoOrNull(const std::string& name) {
+  for (const PlannerInfo& info : PlannerInfos()) {
+    if (info.name == name) return &info;
+  }
+  return nullptr;
+}
+
+const PlannerInfo& FindPlannerInfo(const std::string& name) {
+  if (const PlannerInfo* info = FindPlannerInfoOrNull(name)) return *info;
+  Fail("unknown planner '{}': expected one of {}", name, fmt::join(PlannerNames(), ", "));
+}
+
+std::string PlannerLabel(const std::string& name) {
+  const PlannerInfo* info = FindPlannerInfoOrNull(name);
+  return info != nullptr ? info->label : name;
+}
+
+}  // namespace cmbrl

@@ -1,0 +1,110 @@
+// What a planner is asked to do, as plain data: the planners' names and labels, their options and
+// the objective's, and the checks of each. Free of LibTorch, so that configuration, sweeps and
+// reports can read and check settings without linking the planners; the planners themselves are
+// in planner_registry.h. Adding a planner is one line in PlannerInfos() and one in the registry.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace cmbrl {
+
+// Box bounds and sizes shared by every planner.
+struct PlanningProblem {
+  int horizon = 8;     // H
+  int action_dim = 2;  // A
+  double action_low = -1.0;
+  double action_high = 1.0;
+  std::string device = "cpu";
+};
+
+// Throws cmbrl::Error naming a bad horizon, action size or bounds.
+void ValidatePlanningProblem(const PlanningProblem& problem);
+
+struct CrossEntropyOptions {
+  int population = 500;         // samples per iteration
+  int elites = 12;              // samples that update the distribution
+  int min_feasible_elites = 5;  // RCE: with fewer feasible samples, pad with least violating
+  int max_iterations = 8;
+  double epsilon = 0.01;          // stop once the largest variance is at most this
+  double alpha = 0.1;             // new = alpha * old + (1 - alpha) * elite statistic
+  double initial_variance = 1.0;  // the mean starts at 0
+  double penalty = 500.0;         // CEM: elites by reward_cost + penalty * constraint_cost
+  bool warm_start = false;        // start from the previous plan shifted one step (paper: off)
+};
+
+// Throws cmbrl::Error naming the first bad field (more elites than samples, ...).
+void ValidateCrossEntropyOptions(const CrossEntropyOptions& options);
+
+struct RandomShootingOptions {
+  int samples = 5000;      // uniform action sequences
+  double penalty = 500.0;  // best by reward_cost + penalty * constraint_cost
+};
+
+// Throws cmbrl::Error naming the first bad field.
+void ValidateRandomShootingOptions(const RandomShootingOptions& options);
+
+struct TrajectoryObjectiveOptions {
+  int goal_index = 6;             // state[goal_index], state[goal_index + 1]: goal in ego XY
+  double gamma = 0.98;            // discount of the reward cost (and of CEM's constraint cost)
+  double beta = 0.4;              // RCE: discount of the constraint count
+  double near_goal_radius = 0.2;  // m: a predicted state this close earns near_goal_bonus
+  double near_goal_bonus = 5.0;
+  double at_goal_radius = 0.1;  // m: and this close a further at_goal_bonus
+  double at_goal_bonus = 8.0;
+  // The original's code tests at_goal_radius on the distance already lowered by
+  // near_goal_bonus, so every d < near_goal_radius earns both bonuses (facts B2: d - 13 below
+  // 0.2, which is what produced Table I). false: the written rule, at_goal_bonus only below
+  // at_goal_radius.
+  bool at_goal_test_after_near_bonus = true;
+};
+
+// Throws cmbrl::Error naming the first bad field.
+void ValidateTrajectoryObjectiveOptions(const TrajectoryObjectiveOptions& options, int state_dim);
+
+enum class Propagation {
+  // CEM and random: one trajectory from the ensemble-mean prediction; reward cost
+  // sum_t gamma^t d_t, constraint cost sum_t gamma^t unsafe_t (the planner adds the penalty).
+  kEnsembleMean,
+  // RCE: every member rolls its own trajectory (TS-infinity); reward cost is the members' mean of
+  // sum_t gamma^t d_t, constraint cost the members' max of sum_t beta^t unsafe_t.
+  kPerMember,
+};
+
+// Settings of every planner; each planner reads its own part.
+struct PlannerSettings {
+  PlanningProblem problem;
+  CrossEntropyOptions cross_entropy;  // "cem", "rce"
+  RandomShootingOptions random;       // "random"
+  // CEM and random: a sample's score is reward_cost + penalty * constraint_cost (facts B2). One
+  // value for both, which their factories hand to the planner's own options.
+  double penalty = 500.0;
+};
+
+// What the rest of the program may know of a planner without building one.
+struct PlannerInfo {
+  std::string name;         // "rce": configs and the command line
+  std::string label;        // "MPC-RCE": the paper's name, for reports
+  Propagation propagation;  // how its samples go through the ensemble (facts B2)
+  // The paper's method, whose claim ("violates least at comparable reward") reports check
+  // against every other planner.
+  bool is_papers_method = false;
+};
+
+// Every planner, the paper's order: rce, cem, random.
+const std::vector<PlannerInfo>& PlannerInfos();
+
+// "rce", "cem", "random".
+std::vector<std::string> PlannerNames();
+
+// The planner called `name`, or nullptr for a name this build does not know.
+const PlannerInfo* FindPlannerInfoOrNull(const std::string& name);
+
+// The planner called `name`; throws cmbrl::Error naming it and the known ones otherwise.
+const PlannerInfo& FindPlannerInfo(const std::string& name);
+
+// The planner's label, or the name itself for a planner this build does not know (reports of
+// sweeps made by other builds).
+std::string PlannerLabel(const std::string& name);
+
+}  // namespace cmbrl
