@@ -16,10 +16,8 @@ struct LoadedRun::Mpc {
   MpcParts parts;
 };
 
+// A model-free run: its policy alone, and an environment to act in.
 struct LoadedRun::ModelFree {
-  explicit ModelFree(const TrainConfig& config)
-      : learner(config), env(MakeEnv(config.task, config.variant, config.spawn)) {}
-  PolicyOptLearner learner;
   std::unique_ptr<Env> env;
   std::unique_ptr<GaussianMeanPolicy> policy;
 };
@@ -68,10 +66,11 @@ LoadedRun::LoadedRun(const std::string& run_dir, std::uint64_t seed,
         AssembleMpc(config_, MpcPartSeeds{seed, seed, DeriveSeed(seed, kPlannerSeedStream)});
     LoadMpcModels(run.checkpoint_dir(), mpc_->parts);
   } else {
-    model_free_ = std::make_unique<ModelFree>(config_);
-    model_free_->learner.Load(run.checkpoint_dir());
-    model_free_->policy = std::make_unique<GaussianMeanPolicy>(model_free_->learner.policy(),
-                                                               model_free_->env->action_spec());
+    model_free_ = std::make_unique<ModelFree>();
+    model_free_->env = MakeEnv(config_.task, config_.variant, config_.spawn);
+    model_free_->policy = LoadPolicyOptMeanPolicy(config_, run.checkpoint_dir(),
+                                                  model_free_->env->observation_spec().size(),
+                                                  model_free_->env->action_spec());
   }
 }
 

@@ -72,6 +72,18 @@ void ReadParameters(torch::serialize::InputArchive& archive, const std::string& 
   }
 }
 
+// The archive of a checkpoint's networks.pt.
+torch::serialize::InputArchive ReadNetworks(const fs::path& file) {
+  torch::serialize::InputArchive networks;
+  try {
+    networks.load_from(file.string());
+  } catch (const c10::Error& error) {
+    Fail("could not read the networks from '{}': {}", file.string(),
+         error.what_without_backtrace());
+  }
+  return networks;
+}
+
 }  // namespace
 
 const std::vector<ProgressColumn<EpochRow>>& PolicyOptProgressColumns() {
@@ -101,6 +113,12 @@ const std::vector<ProgressColumn<EpochRow>>& PolicyOptProgressColumns() {
 
 GaussianMeanPolicy::GaussianMeanPolicy(const GaussianPolicy& policy, BoxSpec action_spec)
     : policy_(policy), action_spec_(std::move(action_spec)) {}
+
+GaussianMeanPolicy::GaussianMeanPolicy(std::unique_ptr<GaussianPolicy> policy,
+                                       BoxSpec action_spec)
+    : owned_(std::move(policy)), policy_(*owned_), action_spec_(std::move(action_spec)) {}
+
+GaussianMeanPolicy::~GaussianMeanPolicy() = default;
 
 std::vector<double> GaussianMeanPolicy::Act(const std::vector<double>& observation) {
   RequireFinite(observation, "observation");
@@ -504,13 +522,7 @@ void PolicyOptLearner::Load(const fs::path& folder) {
     lagrange_.set_state(penalty);
   });
   const fs::path file = folder / kNetworksFile;
-  torch::serialize::InputArchive networks;
-  try {
-    networks.load_from(file.string());
-  } catch (const c10::Error& error) {
-    Fail("could not read the networks from '{}': {}", file.string(),
-         error.what_without_backtrace());
-  }
+  torch::serialize::InputArchive networks = ReadNetworks(file);
   ReadParameters(networks, "policy", policy_->parameters(), file);
   ReadParameters(networks, "value", value_->parameters(), file);
   ReadParameters(networks, "cost_value", cost_value_->parameters(), file);
@@ -526,6 +538,21 @@ void PolicyOptLearner::Load(const fs::path& folder) {
   Require(networks.try_read("generator", generator), "'{}' holds no generator state",
           file.string());
   generator_.set_state(generator);
+}
+
+std::unique_ptr<GaussianMeanPolicy> LoadPolicyOptMeanPolicy(const TrainConfig& config,
+                                                            const fs::path& checkpoint_dir,
+                                                            int observation_dim,
+                                                            const BoxSpec& action_spec) {
+  const PolicyOptimisationOptions& o = config.policy_optimisation;
+  // The initial weights are overwritten: any generator will do.
+  at::Generator generator = MakeCpuGenerator(0);
+  auto policy = std::make_unique<GaussianPolicy>(observation_dim, action_spec.size(),
+                                                 o.policy_hidden, o.initial_log_std, generator);
+  const fs::path file = checkpoint_dir / kNetworksFile;
+  torch::serialize::InputArchive networks = ReadNetworks(file);
+  ReadParameters(networks, "policy", policy->parameters(), file);
+  return std::make_unique<GaussianMeanPolicy>(std::move(policy), action_spec);
 }
 
 }  // namespace cmbrl

@@ -43,16 +43,30 @@ struct EpochRow {
 const std::vector<ProgressColumn<EpochRow>>& PolicyOptProgressColumns();
 
 // A trained Gaussian policy acting with its mean, clipped to the action box (for evaluation:
-// the environment would clip it too). Borrows the policy. Not thread-safe.
+// the environment would clip it too). Not thread-safe.
 class GaussianMeanPolicy final : public Policy {
  public:
+  // Borrows `policy`, which must outlive this.
   GaussianMeanPolicy(const GaussianPolicy& policy, BoxSpec action_spec);
+  // Owns `policy`.
+  GaussianMeanPolicy(std::unique_ptr<GaussianPolicy> policy, BoxSpec action_spec);
+  ~GaussianMeanPolicy() override;
   std::vector<double> Act(const std::vector<double>& observation) override;
 
  private:
+  std::unique_ptr<GaussianPolicy> owned_;
   const GaussianPolicy& policy_;
   BoxSpec action_spec_;
 };
+
+// The policy of a model-free run's checkpoint (`checkpoint_dir`, written by PolicyOptLearner),
+// acting with its mean in environments of `observation_dim` and `action_spec`: reads the policy's
+// parameters alone, building neither the learner's environments nor its value functions and
+// optimisers. Throws cmbrl::Error when the file is missing or holds networks of other shapes.
+std::unique_ptr<GaussianMeanPolicy> LoadPolicyOptMeanPolicy(const TrainConfig& config,
+                                                            const std::filesystem::path& checkpoint_dir,
+                                                            int observation_dim,
+                                                            const BoxSpec& action_spec);
 
 // Checkpoint files: networks.pt (policy, value functions, the value optimisers' moments, the
 // sampler's generator) and state.json (counters, the penalty, the environments' generators). Not
