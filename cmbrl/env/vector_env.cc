@@ -8,8 +8,8 @@
 namespace cmbrl {
 
 VectorEnv::VectorEnv(std::vector<std::unique_ptr<Env>> envs, int threads,
-                     std::chrono::microseconds spin)
-    : envs_(std::move(envs)) {
+                     std::chrono::microseconds spin, Autoreset autoreset)
+    : envs_(std::move(envs)), autoreset_(autoreset) {
   Require(!envs_.empty(), "a vector of 0 environments: expected at least one");
   Require(threads >= 1, "threads is {}: expected at least 1", threads);
   Require(spin.count() >= 0 && spin.count() <= 1'000'000,
@@ -23,6 +23,7 @@ VectorEnv::VectorEnv(std::vector<std::unique_ptr<Env>> envs, int threads,
             envs_[0]->action_spec().size(), env->action_spec().size());
   }
   pool_ = std::make_unique<WorkerPool>(std::min(threads, size()), spin);
+  needs_reset_.assign(envs_.size(), 1);
 }
 
 std::vector<double> VectorEnv::Reset(std::optional<std::uint64_t> seed) {
@@ -37,22 +38,60 @@ std::vector<double> VectorEnv::Reset(std::optional<std::uint64_t> seed) {
       std::copy(first.begin(), first.end(), observations.begin() + k * width);
     }
   });
+  needs_reset_.assign(envs_.size(), 0);
   return observations;
 }
 
-VectorStep VectorEnv::Step(const std::vector<double>& actions) {
+std::vector<double> VectorEnv::ResetWhere(const std::vector<std::uint8_t>& mask,
+                                          const std::vector<std::uint64_t>& seeds) {
+  const int n = size();
+  Require(mask.size() == static_cast<size_t>(n),
+          "reset mask of {} entries for {} environments: expected one per environment",
+          mask.size(), n);
+  Require(seeds.empty() || seeds.size() == static_cast<size_t>(n),
+          "{} seeds for {} environments: expected none or one per environment", seeds.size(), n);
+  const size_t width = static_cast<size_t>(envs_[0]->observation_spec().size());
+  std::vector<double> observations(n * width, 0.0);
+  pool_->Run(n, [&](std::int64_t begin, std::int64_t end) {
+    for (std::int64_t k = begin; k < end; ++k) {
+      if (mask[k] == 0) continue;
+      const std::vector<double> first = envs_[static_cast<size_t>(k)]->Reset(
+          seeds.empty() ? std::nullopt : std::optional<std::uint64_t>(seeds[k]));
+      std::copy(first.begin(), first.end(), observations.begin() + k * width);
+    }
+  });
+  for (int k = 0; k < n; ++k) {
+    if (mask[k] != 0) needs_reset_[k] = 0;
+  }
+  return observations;
+}
+
+VectorStep VectorEnv::Step(const std::vector<double>& actions,
+                           const std::vector<std::uint8_t>& active) {
   const int n = size();
   const size_t width = static_cast<size_t>(envs_[0]->observation_spec().size());
   const size_t action_dim = static_cast<size_t>(envs_[0]->action_spec().size());
   Require(actions.size() == n * action_dim,
           "actions of {} values for {} environments of {} actions: expected {}", actions.size(), n,
           action_dim, n * action_dim);
+  Require(active.empty() || active.size() == static_cast<size_t>(n),
+          "active mask of {} entries for {} environments: expected none or one per environment",
+          active.size(), n);
+  const auto steps = [&](size_t k) { return active.empty() || active[k] != 0; };
   for (size_t i = 0; i < actions.size(); ++i) {
+    if (!steps(i / action_dim)) continue;
     Require(std::isfinite(actions[i]), "action {} of environment {} is {}: expected a finite value",
             i % action_dim, i / action_dim, actions[i]);
   }
+  if (autoreset_ == Autoreset::kDisabled) {
+    for (size_t k = 0; k < envs_.size(); ++k) {
+      Require(!steps(k) || needs_reset_[k] == 0,
+              "environment {} is stepped before a reset (its episode ended or never began): "
+              "with autoreset disabled, reset it first (ResetWhere)",
+              k);
+    }
+  }
   VectorStep out;
-  out.observations.resize(n * width);
   out.final_observations.assign(n * width, 0.0);
   out.rewards.resize(n);
   out.costs.resize(n);
@@ -62,8 +101,10 @@ VectorStep VectorEnv::Step(const std::vector<double>& actions) {
   out.cost_hazards.resize(n);
   out.cost_vases_contact.resize(n);
   out.cost_vases_velocity.resize(n);
+  out.observations.assign(n * width, 0.0);
   pool_->Run(n, [&](std::int64_t begin, std::int64_t end) {
     for (std::int64_t k = begin; k < end; ++k) {
+      if (!steps(static_cast<size_t>(k))) continue;
       Env& env = *envs_[static_cast<size_t>(k)];
       StepResult step = env.Step(std::vector<double>(actions.begin() + k * action_dim,
                                                      actions.begin() + (k + 1) * action_dim));
@@ -75,7 +116,7 @@ VectorStep VectorEnv::Step(const std::vector<double>& actions) {
       out.cost_hazards[k] = step.info.cost_hazards;
       out.cost_vases_contact[k] = step.info.cost_vases_contact;
       out.cost_vases_velocity[k] = step.info.cost_vases_velocity;
-      if (step.terminated || step.truncated) {
+      if ((step.terminated || step.truncated) && autoreset_ == Autoreset::kSameStep) {
         std::copy(step.observation.begin(), step.observation.end(),
                   out.final_observations.begin() + k * width);
         step.observation = env.Reset();
@@ -84,6 +125,11 @@ VectorStep VectorEnv::Step(const std::vector<double>& actions) {
                 out.observations.begin() + k * width);
     }
   });
+  if (autoreset_ == Autoreset::kDisabled) {
+    for (int k = 0; k < n; ++k) {
+      if (out.terminated[k] != 0 || out.truncated[k] != 0) needs_reset_[k] = 1;
+    }
+  }
   return out;
 }
 

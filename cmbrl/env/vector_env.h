@@ -1,7 +1,8 @@
 // Several environments stepped together: batched actions in, batched results out, each
-// environment on a thread of its own share, and automatic resets (Gymnasium's vector API, its
-// "same-step" mode: an environment whose episode ended this step returns the first observation
-// of its next episode, and its last observation aside).
+// environment on a thread of its own share (Gymnasium's vector API). Resets follow one of
+// Gymnasium 1.x's autoreset modes: "same-step" (an environment whose episode ended this step
+// returns the first observation of its next episode, and its last observation aside) or
+// "disabled" (the caller resets the ended environments, with a mask).
 #pragma once
 
 #include <chrono>
@@ -17,12 +18,19 @@ namespace cmbrl {
 
 // One batched step, row k for environment k.
 struct VectorStep {
-  std::vector<double> observations;    // (N x O): after an episode's end, its next first one
+  // (N x O): after an episode's end, its next first one (kSameStep) or its last (kDisabled)
+  std::vector<double> observations;
   std::vector<double> rewards, costs;  // (N)
   std::vector<std::uint8_t> terminated, truncated;  // (N) 0/1
-  std::vector<double> final_observations;  // (N x O): the ended episodes' last observations
+  std::vector<double> final_observations;  // (N x O): kSameStep: the ended episodes' last ones
   std::vector<std::uint8_t> goal_met;      // (N) 0/1
   std::vector<double> cost_hazards, cost_vases_contact, cost_vases_velocity;  // (N)
+};
+
+// Gymnasium 1.x's AutoresetMode, less NEXT_STEP.
+enum class Autoreset {
+  kSameStep,  // an ended episode is followed at once by the next one's first observation
+  kDisabled,  // an ended environment waits for ResetWhere; stepping it first is an error
 };
 
 // Not thread-safe; it runs its environments on a pool of threads of its own (WorkerPool: they
@@ -33,24 +41,41 @@ class VectorEnv {
   // Throws cmbrl::Error for no environments, environments with different specs, fewer than one
   // thread, or a spin outside 0 to 1 s.
   VectorEnv(std::vector<std::unique_ptr<Env>> envs, int threads,
-            std::chrono::microseconds spin = kDefaultSpin);
+            std::chrono::microseconds spin = kDefaultSpin,
+            Autoreset autoreset = Autoreset::kSameStep);
 
   static constexpr std::chrono::microseconds kDefaultSpin{2000};
 
   int size() const { return static_cast<int>(envs_.size()); }
   const Env& env(int k) const { return *envs_[static_cast<size_t>(k)]; }
+  // Environment k itself, for what the vector does not batch (its generator's state, for
+  // checkpoints). Stepping or resetting it behind the vector's back breaks kDisabled's checks.
+  Env& env(int k) { return *envs_[static_cast<size_t>(k)]; }
 
   // Resets every environment: with a seed, environment k gets seed + k (Gymnasium's convention);
   // without one each continues its generator. Returns the (N x O) first observations.
   std::vector<double> Reset(std::optional<std::uint64_t> seed = std::nullopt);
 
-  // actions: (N x A) row after row. Throws cmbrl::Error for a wrong size or a non-finite action,
-  // naming the environment, before any environment steps.
-  VectorStep Step(const std::vector<double>& actions);
+  // Gymnasium 1.x's reset with a `reset_mask`: resets environment k where mask[k] is 1, with
+  // seeds[k] when `seeds` is not empty (then one per environment; entries of environments not
+  // reset are ignored), else continuing its generator. Returns (N x O): the reset environments'
+  // first observations, zeros in the other rows. Throws cmbrl::Error for masks or seed lists of
+  // another length.
+  std::vector<double> ResetWhere(const std::vector<std::uint8_t>& mask,
+                                 const std::vector<std::uint64_t>& seeds = {});
+
+  // actions: (N x A) row after row. With `active` (one 0/1 per environment), only the
+  // environments marked 1 step; the others keep their state, their action rows are not read and
+  // their result rows are zero (an epoch whose steps do not divide evenly between the
+  // environments). Throws cmbrl::Error, naming the environment, before any environment steps:
+  // for a wrong size, a non-finite action, or (kDisabled) an ended environment not reset since.
+  VectorStep Step(const std::vector<double>& actions, const std::vector<std::uint8_t>& active = {});
 
  private:
   std::vector<std::unique_ptr<Env>> envs_;
   std::unique_ptr<WorkerPool> pool_;
+  Autoreset autoreset_;
+  std::vector<std::uint8_t> needs_reset_;  // kDisabled: ended and not reset since (or never reset)
 };
 
 }  // namespace cmbrl

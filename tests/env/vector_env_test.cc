@@ -53,6 +53,61 @@ TEST(VectorEnvTest, RowsAreTheEnvironmentsOwnStepsWithAutomaticResets) {
   EXPECT_EQ(resets, n);
 }
 
+// Autoreset disabled (Gymnasium 1.x's DISABLED): an ended environment keeps its last
+// observation and refuses to step until ResetWhere resets it, with or without a seed; an
+// inactive environment does not step at all.
+TEST(VectorEnvTest, DisabledAutoresetWaitsForAMaskedResetAndInactiveEnvironmentsStayPut) {
+  const int n = 2;
+  VectorEnv vector(Envs("PointGoal1", n), 2, VectorEnv::kDefaultSpin, Autoreset::kDisabled);
+  std::vector<std::unique_ptr<Env>> alone = Envs("PointGoal1", n);
+  const int width = alone[0]->observation_spec().size();
+  const auto row = [&](const std::vector<double>& all, int k) {
+    return std::vector<double>(all.begin() + k * width, all.begin() + (k + 1) * width);
+  };
+  EXPECT_THROW(vector.Step({0.1, 0.1, 0.1, 0.1}), Error);  // never reset
+  const std::vector<double> first = vector.ResetWhere({1, 1}, {7, 90});
+  EXPECT_EQ(row(first, 0), alone[0]->Reset(7));
+  EXPECT_EQ(row(first, 1), alone[1]->Reset(90));
+  // Environment 1 sits out three steps; then both step until environment 0's episode ends.
+  for (int t = 0; t < 3; ++t) {
+    const VectorStep step = vector.Step({0.3, -0.2, 99.0, std::nan("")}, {1, 0});
+    const StepResult expected = alone[0]->Step({0.3, -0.2});
+    EXPECT_EQ(row(step.observations, 0), expected.observation);
+    EXPECT_EQ(row(step.observations, 1), std::vector<double>(width, 0.0));
+    EXPECT_EQ(step.rewards[1], 0.0);
+  }
+  bool ended = false;
+  for (int t = 0; t < alone[0]->max_episode_steps() && !ended; ++t) {
+    const VectorStep step = vector.Step({0.5, 0.1, 0.5, 0.1});
+    const StepResult expected0 = alone[0]->Step({0.5, 0.1});
+    const StepResult expected1 = alone[1]->Step({0.5, 0.1});
+    EXPECT_EQ(row(step.observations, 0), expected0.observation);  // the last one, not reset
+    EXPECT_EQ(row(step.observations, 1), expected1.observation);
+    ended = step.truncated[0] != 0 || step.terminated[0] != 0;
+    EXPECT_EQ(ended, expected0.truncated || expected0.terminated);
+  }
+  ASSERT_TRUE(ended);
+  try {
+    vector.Step({0.0, 0.0, 0.0, 0.0});
+    FAIL() << "an ended environment stepped without a reset";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("environment 0 is stepped before a reset"),
+              std::string::npos)
+        << e.what();
+  }
+  vector.Step({0.0, 0.0, 0.2, 0.2}, {0, 1});  // the other may go on alone
+  alone[1]->Step({0.2, 0.2});
+  const std::vector<double> next = vector.ResetWhere({1, 0});  // continues the generator
+  EXPECT_EQ(row(next, 0), alone[0]->Reset());
+  EXPECT_EQ(row(next, 1), std::vector<double>(width, 0.0));
+  const VectorStep step = vector.Step({0.1, 0.1, 0.1, 0.1});
+  EXPECT_EQ(row(step.observations, 0), alone[0]->Step({0.1, 0.1}).observation);
+  EXPECT_EQ(row(step.observations, 1), alone[1]->Step({0.1, 0.1}).observation);
+  EXPECT_THROW(vector.ResetWhere({1}), Error);
+  EXPECT_THROW(vector.ResetWhere({1, 1}, {3}), Error);
+  EXPECT_THROW(vector.Step({0.1, 0.1, 0.1, 0.1}, {1}), Error);
+}
+
 TEST(VectorEnvTest, BadActionsAreNamedBeforeAnyEnvironmentSteps) {
   VectorEnv vector(Envs("CarGoal1", 2), 2);
   vector.Reset(0);

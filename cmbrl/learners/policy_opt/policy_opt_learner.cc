@@ -148,11 +148,16 @@ PolicyOptLearner::PolicyOptLearner(TrainConfig config)
                                 config_.policy_optimisation.penalty_learning_rate}) {
   ValidatePolicyOptimisationOptions(config_.policy_optimisation);
   const PolicyOptimisationOptions& o = config_.policy_optimisation;
+  std::vector<std::unique_ptr<Env>> envs;
   for (int k = 0; k < o.envs; ++k) {
-    envs_.push_back(MakeEnv(config_.task, config_.variant, config_.spawn));
+    envs.push_back(MakeEnv(config_.task, config_.variant, config_.spawn));
   }
-  const int observation_dim = envs_[0]->observation_spec().size();
-  const int action_dim = envs_[0]->action_spec().size();
+  // Stepped on their own threads, which sleep at once after each round: the policy's forward
+  // pass runs between rounds, and spinning threads would only take its cores.
+  envs_ = std::make_unique<VectorEnv>(std::move(envs), std::min(CoreCount(), o.env_threads),
+                                      std::chrono::microseconds(0), Autoreset::kDisabled);
+  const int observation_dim = envs_->env(0).observation_spec().size();
+  const int action_dim = envs_->env(0).action_spec().size();
   policy_ = std::make_unique<GaussianPolicy>(observation_dim, action_dim, o.policy_hidden,
                                              o.initial_log_std, generator_);
   value_ = std::make_unique<TanhMlp>(observation_dim, o.value_hidden, 1, generator_);
@@ -205,8 +210,10 @@ torch::Tensor Rows(const std::vector<float>& values, std::int64_t width) {
 
 PolicyOptLearner::Epoch PolicyOptLearner::Collect() {
   const PolicyOptimisationOptions& o = config_.policy_optimisation;
-  const int env_count = static_cast<int>(envs_.size());
-  const std::int64_t observation_dim = envs_[0]->observation_spec().size();
+  VectorEnv& envs = *envs_;
+  const int env_count = envs.size();
+  const std::int64_t observation_dim = envs.env(0).observation_spec().size();
+  const std::int64_t action_dim = envs.env(0).action_spec().size();
   const std::int64_t epoch_steps =
       std::min<std::int64_t>(o.steps_per_epoch, config_.training.total_steps - total_steps_);
   // Each environment's steps; a last, shorter epoch is shared out as evenly as it goes.
@@ -214,65 +221,73 @@ PolicyOptLearner::Epoch PolicyOptLearner::Collect() {
   for (std::int64_t k = 0; k < epoch_steps % env_count; ++k) ++quota[k];
   Epoch epoch;
   std::vector<EnvTrace> traces(env_count);
-  for (int k = 0; k < env_count; ++k) {
-    // Environment 0 continues the single-environment seed stream; the others have their own.
-    traces[k].observation =
-        epochs_ == 0 ? envs_[k]->Reset(DeriveSeed(config_.seed, kEnvSeedStream + 100 * k))
-                     : envs_[k]->Reset();
+  // Every epoch starts new episodes. Environment 0 continues the single-environment seed stream;
+  // the others have their own.
+  std::vector<std::uint64_t> seeds;
+  if (epochs_ == 0) {
+    for (int k = 0; k < env_count; ++k) {
+      seeds.push_back(DeriveSeed(config_.seed, kEnvSeedStream + 100 * k));
+    }
   }
+  const auto take_first_observations = [&](const std::vector<std::uint8_t>& mask) {
+    const std::vector<double> first = envs.ResetWhere(mask, seeds);
+    for (int k = 0; k < env_count; ++k) {
+      if (mask[k] == 0) continue;
+      traces[k].observation.assign(first.begin() + k * observation_dim,
+                                   first.begin() + (k + 1) * observation_dim);
+    }
+  };
+  take_first_observations(std::vector<std::uint8_t>(env_count, 1));
+  seeds.clear();
   const torch::NoGradGuard no_grad;
   // The rollout: per round only the actions need the networks (one batched policy forward);
   // the values and log-probabilities follow in one pass over the epoch's rows.
   const std::int64_t longest = *std::max_element(quota.begin(), quota.end());
-  std::vector<StepResult> results(env_count);
-  std::vector<int> active;
+  std::vector<std::uint8_t> active(env_count), reset(env_count);
+  std::vector<int> stepping;
   std::vector<float> round_observations;
+  std::vector<double> step_actions(env_count * action_dim, 0.0);
   for (std::int64_t t = 0; t < longest; ++t) {
     // The environments still stepping this round, their observations in one batch.
-    active.clear();
+    stepping.clear();
     round_observations.clear();
     for (int k = 0; k < env_count; ++k) {
-      if (t < quota[k]) {
-        active.push_back(k);
-        round_observations.insert(round_observations.end(), traces[k].observation.begin(),
-                                  traces[k].observation.end());
-      }
+      active[k] = t < quota[k];
+      if (active[k] == 0) continue;
+      stepping.push_back(k);
+      round_observations.insert(round_observations.end(), traces[k].observation.begin(),
+                                traces[k].observation.end());
     }
-    const torch::Tensor actions =
-        policy_->Sample(Rows(round_observations, observation_dim), generator_);  // env order
-    const torch::Tensor host = actions.contiguous();
-    const int action_dim = static_cast<int>(actions.size(1));
-    const float* action_rows = host.data_ptr<float>();
-    // Environments are independent: step them on the cores this process has.
-    ParallelRanges(static_cast<std::int64_t>(active.size()),
-                   std::min({CoreCount(), o.env_threads, static_cast<int>(active.size())}),
-                   [&](std::int64_t begin, std::int64_t end) {
-                     for (std::int64_t i = begin; i < end; ++i) {
-                       const float* a = action_rows + i * action_dim;
-                       results[active[i]] =
-                           envs_[active[i]]->Step(std::vector<double>(a, a + action_dim));
-                     }
-                   });
-    for (size_t i = 0; i < active.size(); ++i) {
-      const int k = active[i];
+    const torch::Tensor sampled =
+        policy_->Sample(Rows(round_observations, observation_dim), generator_).contiguous();
+    const float* action_rows = sampled.data_ptr<float>();
+    for (size_t i = 0; i < stepping.size(); ++i) {
+      std::copy(action_rows + i * action_dim, action_rows + (i + 1) * action_dim,
+                step_actions.begin() + stepping[i] * action_dim);
+    }
+    const VectorStep step = envs.Step(step_actions, active);
+    std::fill(reset.begin(), reset.end(), 0);
+    for (size_t i = 0; i < stepping.size(); ++i) {
+      const int k = stepping[i];
       EnvTrace& trace = traces[k];
-      StepResult& step = results[k];
       trace.observations.insert(trace.observations.end(),
                                 round_observations.begin() + i * observation_dim,
                                 round_observations.begin() + (i + 1) * observation_dim);
       trace.actions.insert(trace.actions.end(), action_rows + i * action_dim,
                            action_rows + (i + 1) * action_dim);
-      trace.rewards.push_back(step.reward);
-      trace.costs.push_back(step.cost);
-      trace.episode_return += step.reward;
-      trace.episode_cost += step.cost;
-      epoch.step_cost += step.cost;
-      trace.observation = std::move(step.observation);
-      const bool terminal = step.terminated || step.truncated;
+      trace.rewards.push_back(step.rewards[k]);
+      trace.costs.push_back(step.costs[k]);
+      trace.episode_return += step.rewards[k];
+      trace.episode_cost += step.costs[k];
+      epoch.step_cost += step.costs[k];
+      trace.observation.assign(step.observations.begin() + k * observation_dim,
+                               step.observations.begin() + (k + 1) * observation_dim);
+      const bool terminated = step.terminated[k] != 0;
+      const bool terminal = terminated || step.truncated[k] != 0;
       if (terminal || t == quota[k] - 1) {
         trace.path_ends.push_back(t + 1);
         // A time limit or the epoch's end bootstraps from the value of the state reached.
-        if (step.terminated) {
+        if (terminated) {
           trace.bootstrap_rows.push_back(-1);
         } else {
           trace.bootstrap_rows.push_back(static_cast<std::int64_t>(
@@ -289,9 +304,10 @@ PolicyOptLearner::Epoch PolicyOptLearner::Collect() {
           epoch.episode_lengths.push_back(static_cast<double>(t + 1 - start));
         }
         trace.episode_return = trace.episode_cost = 0.0;
-        if (t + 1 < quota[k]) trace.observation = envs_[k]->Reset();
+        reset[k] = terminal && t + 1 < quota[k];
       }
     }
+    if (std::find(reset.begin(), reset.end(), 1) != reset.end()) take_first_observations(reset);
   }
   // The batch in environment order, each environment's steps in time order; the values of its
   // states and of the states the paths bootstrap from, each in one forward pass.
@@ -308,7 +324,7 @@ PolicyOptLearner::Epoch PolicyOptLearner::Collect() {
   }
   PolicyBatch& b = epoch.batch;
   b.observations = Rows(observations, observation_dim);
-  b.actions = Rows(actions, envs_[0]->action_spec().size());
+  b.actions = Rows(actions, action_dim);
   b.log_probs = policy_->LogProb(b.observations, b.actions);
   const auto values_of = [](const TanhMlp& value, const torch::Tensor& rows) {
     if (rows.size(0) == 0) return std::vector<double>();
@@ -366,7 +382,7 @@ PolicyOptLearner::Epoch PolicyOptLearner::Collect() {
 double PolicyOptLearner::ValueFitFlops(std::int64_t samples) const {
   const PolicyOptimisationOptions& o = config_.policy_optimisation;
   double macs = 0.0;
-  int in = envs_[0]->observation_spec().size();
+  int in = envs_->env(0).observation_spec().size();
   for (const int width : o.value_hidden) {
     macs += static_cast<double>(in) * width;
     in = width;
@@ -471,7 +487,7 @@ LearnerStep PolicyOptLearner::Advance(const std::function<double()>& elapsed_sec
 
 std::vector<std::string> PolicyOptLearner::EnvGenerators() const {
   std::vector<std::string> states;
-  for (const std::unique_ptr<Env>& env : envs_) states.push_back(env->GeneratorState());
+  for (int k = 0; k < envs_->size(); ++k) states.push_back(envs_->env(k).GeneratorState());
   return states;
 }
 
@@ -510,10 +526,10 @@ void PolicyOptLearner::Load(const fs::path& folder) {
     cumulative_cost_ = StateNumber(state, "cumulative_cost");
     const std::vector<std::string> generators =
         state.at("env_generators").get<std::vector<std::string>>();
-    Require(generators.size() == envs_.size(),
+    Require(generators.size() == static_cast<size_t>(envs_->size()),
             "the checkpoint holds {} environment generators, this run steps {} environments",
-            generators.size(), envs_.size());
-    for (size_t k = 0; k < envs_.size(); ++k) envs_[k]->SetGeneratorState(generators[k]);
+            generators.size(), envs_->size());
+    for (int k = 0; k < envs_->size(); ++k) envs_->env(k).SetGeneratorState(generators[k]);
     LagrangeMultiplier::State penalty;
     penalty.parameter = StateNumber(state, "penalty_parameter");
     penalty.first_moment = StateNumber(state, "penalty_first_moment");

@@ -9,6 +9,7 @@
 
 #include "cmbrl/agent/policy.h"
 #include "cmbrl/env/env.h"
+#include "cmbrl/env/vector_env.h"
 #include "cmbrl/config/config.h"
 #include "cmbrl/policy_opt/lagrange.h"
 #include "cmbrl/policy_opt/networks.h"
@@ -109,7 +110,7 @@ class PolicyOptLearner final : public Learner {
 
   TrainConfig config_;
   ConstraintHandling handling_;
-  std::vector<std::unique_ptr<Env>> envs_;
+  std::unique_ptr<VectorEnv> envs_;  // autoreset disabled: every epoch starts new episodes
   at::Generator generator_;  // initialisation, then action sampling
   std::unique_ptr<GaussianPolicy> policy_;
   std::unique_ptr<TanhMlp> value_, cost_value_;
