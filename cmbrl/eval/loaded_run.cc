@@ -3,24 +3,10 @@
 #include <fmt/ranges.h>
 
 #include "cmbrl/core/check.h"
-#include "cmbrl/core/rng.h"
-#include "cmbrl/env/registry.h"
-#include "cmbrl/learners/mpc/mpc_learner.h"
 #include "cmbrl/learners/mpc/mpc_parts.h"
-#include "cmbrl/learners/policy_opt/policy_opt_learner.h"
 #include "cmbrl/run/run_directory.h"
 
 namespace cmbrl {
-
-struct LoadedRun::Mpc {
-  MpcParts parts;
-};
-
-// A model-free run: its policy alone, and an environment to act in.
-struct LoadedRun::ModelFree {
-  std::unique_ptr<Env> env;
-  std::unique_ptr<GaussianMeanPolicy> policy;
-};
 
 namespace {
 
@@ -60,44 +46,33 @@ LoadedRun::LoadedRun(const std::string& run_dir, std::uint64_t seed,
             item, fmt::join(PlanningOverrideKeys(), ", "));
   }
   if (!overrides.empty()) config_ = ApplyConfigOverrides(config_, overrides, "overrides");
-  if (IsMpcAlgorithm(config_.algorithm)) {
-    mpc_ = std::make_unique<Mpc>();
-    mpc_->parts =
-        AssembleMpc(config_, MpcPartSeeds{seed, seed, DeriveSeed(seed, kPlannerSeedStream)});
-    LoadMpcModels(run.checkpoint_dir(), mpc_->parts);
-  } else {
-    model_free_ = std::make_unique<ModelFree>();
-    model_free_->env = MakeEnv(config_.task, config_.variant, config_.spawn);
-    model_free_->policy = LoadPolicyOptMeanPolicy(config_, run.checkpoint_dir(),
-                                                  model_free_->env->observation_spec().size(),
-                                                  model_free_->env->action_spec());
-  }
+  agent_ = RegistrationOf(FindAlgorithm(config_.algorithm).family)
+               .load_agent(config_, run.checkpoint_dir(), seed);
 }
 
 LoadedRun::~LoadedRun() = default;
 
-Env& LoadedRun::env() { return mpc_ ? *mpc_->parts.env : *model_free_->env; }
+Env& LoadedRun::env() { return *agent_.env; }
 
-Policy& LoadedRun::policy() {
-  if (mpc_) return *mpc_->parts.agent;
-  return *model_free_->policy;
-}
+Policy& LoadedRun::policy() { return *agent_.policy; }
 
 MpcAgent& LoadedRun::mpc_agent() {
-  Require(mpc_ != nullptr, "the run is '{}', not an MPC run: it has no planner", config_.algorithm);
-  return *mpc_->parts.agent;
+  Require(agent_.mpc != nullptr, "the run is '{}', not an MPC run: it has no planner",
+          config_.algorithm);
+  return *agent_.mpc->agent;
 }
 
 const EnsembleDynamics& LoadedRun::dynamics() const {
-  Require(mpc_ != nullptr, "the run is '{}', not an MPC run: it has no dynamics model",
+  Require(agent_.mpc != nullptr, "the run is '{}', not an MPC run: it has no dynamics model",
           config_.algorithm);
-  return *mpc_->parts.ensemble;
+  return *agent_.mpc->ensemble;
 }
 
 const XgbCostModel& LoadedRun::classifier() const {
-  Require(mpc_ != nullptr, "the run is '{}', not an MPC run: it has no constraint classifier",
+  Require(agent_.mpc != nullptr,
+          "the run is '{}', not an MPC run: it has no constraint classifier",
           config_.algorithm);
-  return *mpc_->parts.classifier;
+  return *agent_.mpc->classifier;
 }
 
 }  // namespace cmbrl

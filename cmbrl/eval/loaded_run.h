@@ -11,6 +11,7 @@
 #include "cmbrl/agent/policy.h"
 #include "cmbrl/env/env.h"
 #include "cmbrl/config/config.h"
+#include "cmbrl/learners/registry.h"
 
 namespace cmbrl {
 
@@ -35,7 +36,7 @@ class LoadedRun {
   ~LoadedRun();
 
   const TrainConfig& config() const { return config_; }
-  bool is_mpc() const { return mpc_ != nullptr; }
+  bool is_mpc() const { return agent_.mpc != nullptr; }
   // The environment built with the agent (an MPC run's models are shaped by it).
   Env& env();
 
@@ -48,11 +49,8 @@ class LoadedRun {
   const XgbCostModel& classifier() const;
 
  private:
-  struct Mpc;
-  struct ModelFree;
   TrainConfig config_;
-  std::unique_ptr<Mpc> mpc_;
-  std::unique_ptr<ModelFree> model_free_;
+  TrainedAgent agent_;  // its family's registration loaded it
 };
 
 }  // namespace cmbrl

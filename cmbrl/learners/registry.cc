@@ -3,11 +3,46 @@
 #include <vector>
 
 #include "cmbrl/core/check.h"
+#include "cmbrl/core/rng.h"
+#include "cmbrl/env/registry.h"
+#include "cmbrl/learners/mpc/mpc_agent.h"
 #include "cmbrl/learners/mpc/mpc_learner.h"
+#include "cmbrl/learners/mpc/mpc_parts.h"
 #include "cmbrl/learners/policy_opt/policy_opt_learner.h"
+#include "cmbrl/models/ensemble.h"
+#include "cmbrl/models/xgboost_cost_model.h"
 
 namespace cmbrl {
+
+TrainedAgent::TrainedAgent() = default;
+TrainedAgent::~TrainedAgent() = default;
+TrainedAgent::TrainedAgent(TrainedAgent&&) noexcept = default;
+TrainedAgent& TrainedAgent::operator=(TrainedAgent&&) noexcept = default;
+
 namespace {
+
+TrainedAgent LoadMpcAgent(const TrainConfig& config, const std::filesystem::path& checkpoint,
+                          std::uint64_t seed) {
+  TrainedAgent loaded;
+  loaded.mpc = std::make_unique<MpcParts>(
+      AssembleMpc(config, MpcPartSeeds{seed, seed, DeriveSeed(seed, kPlannerSeedStream)}));
+  LoadMpcModels(checkpoint, *loaded.mpc);
+  loaded.env = loaded.mpc->env.get();
+  loaded.policy = loaded.mpc->agent.get();
+  return loaded;
+}
+
+TrainedAgent LoadPolicyOptAgent(const TrainConfig& config,
+                                const std::filesystem::path& checkpoint, std::uint64_t) {
+  TrainedAgent loaded;
+  loaded.owned_env = MakeEnv(config.task, config.variant, config.spawn);
+  loaded.owned_policy = LoadPolicyOptMeanPolicy(config, checkpoint,
+                                                loaded.owned_env->observation_spec().size(),
+                                                loaded.owned_env->action_spec());
+  loaded.env = loaded.owned_env.get();
+  loaded.policy = loaded.owned_policy.get();
+  return loaded;
+}
 
 const std::vector<LearnerRegistration>& Registrations() {
   static const std::vector<LearnerRegistration> registrations = {
@@ -15,12 +50,12 @@ const std::vector<LearnerRegistration>& Registrations() {
        [](const TrainConfig& config) -> std::unique_ptr<Learner> {
          return std::make_unique<MpcLearner>(config);
        },
-       [] { return ProgressCsvHeader(); }},
+       [] { return ProgressCsvHeader(); }, LoadMpcAgent},
       {LearnerFamily::kPolicyOptimisation,
        [](const TrainConfig& config) -> std::unique_ptr<Learner> {
          return std::make_unique<PolicyOptLearner>(config);
        },
-       [] { return ProgressHeader(PolicyOptProgressColumns()); }},
+       [] { return ProgressHeader(PolicyOptProgressColumns()); }, LoadPolicyOptAgent},
   };
   return registrations;
 }

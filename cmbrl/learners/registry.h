@@ -5,6 +5,8 @@
 // entry here; the registry test builds every algorithm's learner.
 #pragma once
 
+#include <cstdint>
+#include <filesystem>
 #include <functional>
 #include <memory>
 #include <string>
@@ -15,12 +17,38 @@
 
 namespace cmbrl {
 
+class Env;
+class Policy;
+struct MpcParts;
+
+// A trained run's acting parts, loaded from its checkpoint: an environment of its task and the
+// policy that acts in it; for an MPC run also the models behind its agent (`mpc`, whose env and
+// agent `env` and `policy` then point into).
+struct TrainedAgent {
+  TrainedAgent();
+  ~TrainedAgent();
+  TrainedAgent(TrainedAgent&&) noexcept;
+  TrainedAgent& operator=(TrainedAgent&&) noexcept;
+
+  Env* env = nullptr;
+  Policy* policy = nullptr;
+  std::unique_ptr<MpcParts> mpc;  // MPC runs only
+  std::unique_ptr<Env> owned_env;  // model-free runs: what env and policy point to
+  std::unique_ptr<Policy> owned_policy;
+};
+
 struct LearnerRegistration {
   LearnerFamily family;
   // Builds a fresh learner for a validated config (a run's start, or its resume before Load).
   std::function<std::unique_ptr<Learner>(const TrainConfig&)> make;
   // The header line of its progress.csv (its columns, in order).
   std::function<std::string()> progress_header;
+  // Loads what acts for a trained run from its checkpoint folder, building only that (a
+  // model-free run's policy network, not its learner); `seed` seeds the environment and, for
+  // MPC, the planner. Throws cmbrl::Error naming a missing or damaged file.
+  std::function<TrainedAgent(const TrainConfig&, const std::filesystem::path& checkpoint_dir,
+                             std::uint64_t seed)>
+      load_agent;
 };
 
 // The registration of a family; every family has one.

@@ -27,6 +27,7 @@ TEST(LearnerRegistryTest, EveryAlgorithmBuildsItsFamilysLearner) {
     const std::unique_ptr<Learner> learner = MakeLearner(config);
     ASSERT_NE(learner, nullptr);
     EXPECT_EQ(learner->ProgressHeader(), RegistrationOf(entry.family).progress_header());
+    EXPECT_TRUE(RegistrationOf(entry.family).load_agent) << "no way to load its trained agent";
     ++built;
   }
   EXPECT_EQ(built, 6);  // mpc, trpo, trpo-lagrangian, cpo, ppo, ppo-lagrangian
