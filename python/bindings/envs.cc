@@ -194,16 +194,37 @@ class PyEnv {
 class PyVectorEnv {
  public:
   PyVectorEnv(const std::string& task, int num_envs, const std::string& variant,
-              const std::string& spawn, int threads, std::int64_t spin_us)
+              const std::string& spawn, int threads, std::int64_t spin_us,
+              const std::string& autoreset_mode)
       : task_(task) {
     Require(num_envs >= 1, "num_envs is {}: expected at least 1", num_envs);
+    Require(autoreset_mode == "same-step" || autoreset_mode == "disabled",
+            "autoreset_mode is '{}': expected 'same-step' or 'disabled'", autoreset_mode);
+    disabled_ = autoreset_mode == "disabled";
     std::vector<std::unique_ptr<Env>> envs;
     for (int k = 0; k < num_envs; ++k) {
       envs.push_back(MakeEnv(task, ParseVariant(variant), ParseSpawn(spawn)));
     }
     // 0: one thread per core this process may use (VectorEnv keeps at most one per env).
-    vector_ = std::make_unique<VectorEnv>(std::move(envs), threads == 0 ? CoreCount() : threads,
-                                          std::chrono::microseconds(spin_us));
+    vector_ = std::make_unique<VectorEnv>(
+        std::move(envs), threads == 0 ? CoreCount() : threads, std::chrono::microseconds(spin_us),
+        disabled_ ? Autoreset::kDisabled : Autoreset::kSameStep);
+  }
+
+  // Gymnasium's reset_mask: resets environment k where mask[k], with seeds[k] when given.
+  // Returns the (num_envs, obs) first observations, zero rows where not reset.
+  py::array_t<double> ResetWhere(const std::vector<bool>& mask,
+                                 const std::vector<std::uint64_t>& seeds) {
+    const ObjectLock lock(mutex_);
+    Open();
+    const std::vector<std::uint8_t> flags(mask.begin(), mask.end());
+    std::vector<double> observations;
+    {
+      py::gil_scoped_release release;
+      observations = vector_->ResetWhere(flags, seeds);
+    }
+    started_ = true;
+    return Own<double>(std::move(observations), {vector_->size(), Width()});
   }
 
   py::tuple Reset(std::optional<std::uint64_t> seed) {
@@ -239,8 +260,10 @@ class PyVectorEnv {
     info["cost_hazards"] = Own(std::move(step.cost_hazards));
     info["cost_vases_contact"] = Own(std::move(step.cost_vases_contact));
     info["cost_vases_velocity"] = Own(std::move(step.cost_vases_velocity));
-    info["final_observation"] = Own<double>(std::move(step.final_observations), {n, Width()});
-    info["_final_observation"] = Flags(ended);
+    if (!disabled_) {  // with autoreset disabled the observation is the last one itself
+      info["final_observation"] = Own<double>(std::move(step.final_observations), {n, Width()});
+      info["_final_observation"] = Flags(ended);
+    }
     return py::make_tuple(Own<double>(std::move(step.observations), {n, Width()}),
                           Own(std::move(step.rewards)), Own(std::move(step.costs)),
                           Flags(step.terminated), Flags(step.truncated), info);
@@ -264,6 +287,7 @@ class PyVectorEnv {
   std::string task_;
   bool closed_ = false;
   bool started_ = false;
+  bool disabled_ = false;  // autoreset_mode "disabled"
 };
 
 // `cmbrl bench env` for one task and variant, in this process: its JSON line.
@@ -303,10 +327,11 @@ void BindEnvs(py::module_& m) {
 
   py::class_<PyVectorEnv>(m, "VectorEnv")
       .def(py::init<const std::string&, int, const std::string&, const std::string&, int,
-                    std::int64_t>(),
+                    std::int64_t, const std::string&>(),
            py::arg("task"), py::arg("num_envs"), py::arg("variant"), py::arg("spawn"),
-           py::arg("threads"), py::arg("spin_us"))
+           py::arg("threads"), py::arg("spin_us"), py::arg("autoreset_mode"))
       .def("reset", &PyVectorEnv::Reset, py::arg("seed") = py::none())
+      .def("reset_where", &PyVectorEnv::ResetWhere, py::arg("mask"), py::arg("seeds"))
       .def("step", &PyVectorEnv::Step, py::arg("actions"))
       .def("observation_spec", &PyVectorEnv::ObservationSpec)
       .def("action_spec", &PyVectorEnv::ActionSpec)

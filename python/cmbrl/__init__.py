@@ -143,17 +143,20 @@ class Env(_Closable):
 
 class VectorEnv(_Closable):
     """num_envs environments stepped together in C++ threads, in Gymnasium's vector API:
-    batched (num_envs, ...) arrays in and out, and automatic resets in the same step (an
-    environment whose episode ended returns its next episode's first observation; the last one
-    is info["final_observation"][k], with info["_final_observation"][k] True)."""
-
-    metadata = {"autoreset_mode": "same-step"}
+    batched (num_envs, ...) arrays in and out. Resets follow Gymnasium 1.x's autoreset modes:
+    "same-step" (the default: an environment whose episode ended returns its next episode's first
+    observation; the last one is info["final_observation"][k], with info["_final_observation"][k]
+    True) or "disabled" (an ended environment returns its last observation and must be reset with
+    reset(options={"reset_mask": mask}) before it steps again)."""
 
     def __init__(self, task, num_envs, variant="paper", spawn="standing", threads=None,
-                 spin_us=2000):
+                 spin_us=2000, autoreset_mode="same-step"):
+        mode = _autoreset_mode(autoreset_mode)
         # 0: one thread per core this process may use (its affinity mask), at most one per env.
         self._env = _cmbrl.VectorEnv(task, int(num_envs), variant, spawn,
-                                     0 if threads is None else int(threads), int(spin_us))
+                                     0 if threads is None else int(threads), int(spin_us), mode)
+        self.metadata = {"autoreset_mode": mode}
+        self._observations = None
         self.task, self.variant, self.num_envs = task, variant, int(num_envs)
         obs_spec, act_spec = self._env.observation_spec(), self._env.action_spec()
         self.single_observation_space = _box(obs_spec)
@@ -168,7 +171,15 @@ class VectorEnv(_Closable):
     def reset(self, seed=None, options=None):
         """Resets all; with a seed, environment k gets seed + k, and a list of seeds may give
         them as [s, s + 1, ...]. A first reset without a seed draws one from the operating
-        system's entropy, so unseeded environments differ from each other and from run to run."""
+        system's entropy, so unseeded environments differ from each other and from run to run.
+        With autoreset "disabled", options={"reset_mask": mask} (num_envs booleans) resets only
+        the environments marked True (with seed + k, or seeds[k], when a seed is given); the
+        others keep their current observation."""
+        options = {} if options is None else options
+        if not isinstance(options, dict) or set(options) - {"reset_mask"}:
+            raise Error(f"options {options!r}: expected None or a dict with only 'reset_mask'")
+        if "reset_mask" in options:
+            return self._reset_where(options["reset_mask"], seed)
         if isinstance(seed, (list, tuple, np.ndarray)):
             seeds = [_as_seed(item, "a seed of the list") for item in seed]
             if len(seeds) != self.num_envs:
@@ -184,10 +195,42 @@ class VectorEnv(_Closable):
             seed = _as_seed(seed)
             self.action_space.seed(seed)
         self._seeded = True
-        return self._env.reset(seed)
+        observations, info = self._env.reset(seed)
+        self._observations = observations.copy()
+        return observations, info
+
+    def _reset_where(self, mask, seed):
+        if self.metadata["autoreset_mode"] != "disabled":
+            raise Error("options['reset_mask'] needs autoreset_mode 'disabled': with 'same-step' "
+                        "the environments reset themselves")
+        mask = np.asarray(mask)
+        if mask.shape != (self.num_envs,) or mask.dtype != np.bool_:
+            raise Error(f"reset_mask has shape {mask.shape} and dtype {mask.dtype}: expected "
+                        f"({self.num_envs},) booleans")
+        if self._observations is None and not mask.all():
+            raise Error("the first reset must reset every environment: reset_mask has False")
+        if isinstance(seed, (list, tuple, np.ndarray)):
+            seeds = [_as_seed(item, "a seed of the list") for item in seed]
+            if len(seeds) != self.num_envs:
+                raise Error(f"{len(seeds)} seeds for {self.num_envs} environments: expected one "
+                            "each")
+        elif seed is not None:
+            first = _as_seed(seed)
+            seeds = [first + k for k in range(self.num_envs)]
+        else:
+            seeds = []
+        first_observations = self._env.reset_where(mask.tolist(), seeds)
+        if self._observations is None:
+            self._observations = first_observations
+        else:
+            self._observations[mask] = first_observations[mask]
+        self._seeded = True
+        return self._observations.copy(), {}
 
     def step(self, actions):
-        return self._env.step(actions)
+        result = self._env.step(actions)
+        self._observations = result[0].copy()
+        return result
 
 
 def make(task, variant="paper", spawn="standing", render_mode=None, render_size=400):
@@ -198,13 +241,25 @@ def make(task, variant="paper", spawn="standing", render_mode=None, render_size=
                render_size=render_size)
 
 
-def make_vec(task, num_envs, variant="paper", spawn="standing", threads=None, spin_us=2000):
+def _autoreset_mode(mode):
+    """'same-step' or 'disabled', also from Gymnasium's AutoresetMode (SAME_STEP, DISABLED)."""
+    value = getattr(mode, "value", mode)
+    names = {"same-step": "same-step", "SameStep": "same-step", "disabled": "disabled",
+             "Disabled": "disabled"}
+    if not isinstance(value, str) or value not in names:
+        raise Error(f"autoreset_mode is {mode!r}: expected 'same-step' or 'disabled' "
+                    "(NEXT_STEP is not offered)")
+    return names[value]
+
+
+def make_vec(task, num_envs, variant="paper", spawn="standing", threads=None, spin_us=2000,
+             autoreset_mode="same-step"):
     """A VectorEnv of num_envs environments on `threads` threads (default: one per core this
     process may use, at most one per environment). Between steps the threads spin for up to
     spin_us microseconds before they sleep: the default suits a loop that steps at once again;
     0 spares the cores of a loop that does much else between steps."""
     return VectorEnv(task, num_envs, variant=variant, spawn=spawn, threads=threads,
-                     spin_us=spin_us)
+                     spin_us=spin_us, autoreset_mode=autoreset_mode)
 
 
 def train(config=None, out=None, steps=None, seed=None, device=None, resume=None, progress=None):

@@ -53,3 +53,47 @@ def test_bad_actions_for_a_vector_are_named():
         cmbrl.make_vec("CarGoal1", num_envs=0)
     with pytest.raises(cmbrl.Error, match="spin is -1 microseconds"):
         cmbrl.make_vec("CarGoal1", num_envs=2, spin_us=-1)
+
+
+def test_disabled_autoreset_waits_for_a_masked_reset():
+    n = 2
+    envs = cmbrl.make_vec("PointGoal1", num_envs=n, threads=2, autoreset_mode="disabled")
+    assert envs.metadata["autoreset_mode"] == "disabled"
+    singles = [cmbrl.make("PointGoal1") for _ in range(n)]
+    with pytest.raises(cmbrl.Error, match="first reset must reset every environment"):
+        envs.reset(seed=3, options={"reset_mask": np.array([True, False])})
+    obs, info = envs.reset(seed=3, options={"reset_mask": np.array([True, True])})
+    assert info == {}
+    for k, env in enumerate(singles):
+        assert np.array_equal(obs[k], env.reset(seed=3 + k)[0])
+    ended = np.zeros(n, dtype=bool)
+    for _ in range(singles[0].max_episode_steps):
+        obs, _, _, terminated, truncated, info = envs.step(np.full((n, 2), 0.3))
+        assert "final_observation" not in info
+        for k, env in enumerate(singles):
+            o, _, _, te, tr, _ = env.step(np.full(2, 0.3))
+            assert np.array_equal(obs[k], o)  # the last observation itself, not reset
+        ended = terminated | truncated
+        if ended.any():
+            break
+    assert ended.any() and not ended.all()  # the goal ends one episode before the time limit
+    k = int(np.argmax(ended))
+    with pytest.raises(cmbrl.Error, match=f"environment {k} is stepped before a reset"):
+        envs.step(np.zeros((n, 2)))
+    kept = obs[~ended].copy()
+    obs, _ = envs.reset(options={"reset_mask": ended})
+    assert np.array_equal(obs[k], singles[k].reset()[0])  # continues its generator
+    assert np.array_equal(obs[~ended], kept)               # untouched, as Gymnasium keeps them
+    obs, *_ = envs.step(np.full((n, 2), 0.1))
+    for j, env in enumerate(singles):
+        assert np.array_equal(obs[j], env.step(np.full(2, 0.1))[0])
+    with pytest.raises(cmbrl.Error, match="reset_mask has shape"):
+        envs.reset(options={"reset_mask": [True]})
+    with pytest.raises(cmbrl.Error, match="only 'reset_mask'"):
+        envs.reset(options={"mask": [True, True]})
+    with pytest.raises(cmbrl.Error, match="autoreset_mode is 'next-step'"):
+        cmbrl.make_vec("PointGoal1", num_envs=1, autoreset_mode="next-step")
+    same_step = cmbrl.make_vec("PointGoal1", num_envs=1)
+    same_step.reset(seed=0)
+    with pytest.raises(cmbrl.Error, match="needs autoreset_mode 'disabled'"):
+        same_step.reset(options={"reset_mask": np.array([True])})
