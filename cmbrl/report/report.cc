@@ -164,9 +164,9 @@ RunRecord ReadRunRecord(const fs::path& dir) {
   run.name = dir.filename().string();
   run.source = dir;
   run.config = LoadTrainConfig(run_dir.config_file().string());
-  run.epoch_log = !IsMpcAlgorithm(run.config.algorithm);
-  run.episodes = run.epoch_log ? ReadEpochLog(run_dir.progress_file().string())
-                               : ReadProgressEpisodes(run_dir.progress_file().string());
+  const LearnerFamily family = FindAlgorithm(run.config.algorithm).family;
+  run.epoch_log = family != LearnerFamily::kMpc;
+  run.episodes = EpisodeReaderOf(family)(run_dir.progress_file().string());
   run.sessions = ReadRunSessions(run_dir);
   return run;
 }
@@ -321,6 +321,16 @@ double ViolationsWithin(const RunRecord& run, std::int64_t window) {
     before_step = epoch.end_step;
   }
   return before;
+}
+
+EpisodeReader EpisodeReaderOf(LearnerFamily family) {
+  switch (family) {
+    case LearnerFamily::kMpc:
+      return ReadProgressEpisodes;
+    case LearnerFamily::kPolicyOptimisation:
+      return ReadEpochLog;
+  }
+  Fail("no episode reader for this learner family");
 }
 
 std::vector<EpisodePoint> ReadEpochLog(const std::string& file) {

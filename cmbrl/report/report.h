@@ -73,6 +73,11 @@ std::vector<EpisodePoint> ReadEpochLog(const std::string& path);
 // is not a number.
 std::vector<EpisodePoint> ReadProgressEpisodes(const std::string& path);
 
+// Each learner family's reader of its progress.csv, the one place that pairs them: MPC runs log
+// a row per episode (ReadProgressEpisodes), model-free runs a row per epoch (ReadEpochLog).
+using EpisodeReader = std::vector<EpisodePoint> (*)(const std::string& path);
+EpisodeReader EpisodeReaderOf(LearnerFamily family);
+
 // The same from any CSV with the columns EpRet, EpCost and TotalEnvInteracts, and Steps when
 // `has_steps` (without it an episode's steps are the difference of TotalEnvInteracts, as in the
 // original's logs).

@@ -138,9 +138,8 @@ RunStatus StatusOf(const SweepRun& run, std::optional<std::int64_t> budget) {
   const TrainConfig config = LoadTrainConfig(dir.config_file().string());
   std::vector<EpisodePoint> episodes;
   try {
-    // An MPC run has a row per episode, a model-free one a row per epoch.
-    episodes = IsMpcAlgorithm(config.algorithm) ? ReadProgressEpisodes(dir.progress_file().string())
-                                         : ReadEpochLog(dir.progress_file().string());
+    episodes = EpisodeReaderOf(FindAlgorithm(config.algorithm).family)(
+        dir.progress_file().string());
   } catch (const Error&) {
     // A process killed while writing a row leaves it half written; resuming repairs that.
     return RunStatus::kStarted;

@@ -364,6 +364,17 @@ TEST_F(ReportTest, CellsCompareWithTheOriginalsSeedsOverTheSameWindow) {
 
 // The test: within 0.7 x the original's lowest seed to 1.3 x its highest; for RCE, the
 // paper's method, fewer is never a miss.
+// Every algorithm's family has a reader of its progress.csv, and the two families read
+// differently (a row per episode, a row per epoch).
+TEST(ReportEpisodesTest, EveryLearnerFamilyHasItsEpisodeReader) {
+  for (const AlgorithmEntry& entry : Algorithms()) {
+    SCOPED_TRACE(entry.name);
+    EXPECT_NE(EpisodeReaderOf(entry.family), nullptr);
+  }
+  EXPECT_EQ(EpisodeReaderOf(LearnerFamily::kMpc), &ReadProgressEpisodes);
+  EXPECT_EQ(EpisodeReaderOf(LearnerFamily::kPolicyOptimisation), &ReadEpochLog);
+}
+
 TEST(ReportTableTest, ACellReproducesWithinTheOriginalsRangeWidenedByThirtyPercent) {
   TableCell cell;
   cell.task = "PointGoal2";
