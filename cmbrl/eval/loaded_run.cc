@@ -47,7 +47,7 @@ LoadedRun::LoadedRun(const std::string& run_dir, std::uint64_t seed,
   }
   if (!overrides.empty()) config_ = ApplyConfigOverrides(config_, overrides, "overrides");
   agent_ = RegistrationOf(FindAlgorithm(config_.algorithm).family)
-               .load_agent(config_, run.checkpoint_dir(), seed);
+               .load_agent(config_, LastCheckpointDir(run), seed);
 }
 
 LoadedRun::~LoadedRun() = default;

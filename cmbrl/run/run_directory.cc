@@ -198,10 +198,16 @@ void RecoverInterruptedCheckpoint(const RunDirectory& run) {
   fs::remove_all(TmpCheckpoint(run));
 }
 
-std::optional<CheckpointManifest> VerifiedCheckpoint(const RunDirectory& run, bool files) {
+fs::path LastCheckpointDir(const RunDirectory& run) {
   // A stop between the two renames of WriteCheckpoint leaves only checkpoint.old.
-  fs::path folder = run.checkpoint_dir();
-  if (!fs::exists(folder) && fs::exists(OldCheckpoint(run))) folder = OldCheckpoint(run);
+  if (!fs::exists(run.checkpoint_dir()) && fs::exists(OldCheckpoint(run))) {
+    return OldCheckpoint(run);
+  }
+  return run.checkpoint_dir();
+}
+
+std::optional<CheckpointManifest> VerifiedCheckpoint(const RunDirectory& run, bool files) {
+  const fs::path folder = LastCheckpointDir(run);
   if (!fs::exists(folder)) {
     const std::int64_t rows = ReadProgressPrefix(run, 0).rows_in_file;
     Require(rows == 0,

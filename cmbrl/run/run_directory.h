@@ -83,6 +83,11 @@ void WriteCheckpoint(
 // run's lock.
 void RecoverInterruptedCheckpoint(const RunDirectory& run);
 
+// The folder of the run's last checkpoint: checkpoint/, or checkpoint.old where a stop between
+// WriteCheckpoint's two renames left only that (what RecoverInterruptedCheckpoint would put
+// back). For readers that must not change the run (eval, load_run): they read it in place.
+std::filesystem::path LastCheckpointDir(const RunDirectory& run);
+
 // The run's last checkpoint (checkpoint/, or checkpoint.old after a stop between the renames),
 // checked against its manifest and progress.csv: every file present
 // with its size and checksum, and progress.csv's first `rows` rows those it covered (rows after
