@@ -469,7 +469,19 @@ void ValidateTrainConfig(const TrainConfig& c, const std::string& source) {
     ValidatePlanningProblem(c.planning.problem);
   });
   const GoalTaskSpec spec = GoalTaskSpecByName(c.task, c.variant);
-  if (!IsMpcAlgorithm(c.algorithm)) return;  // the rest concerns the MPC learner's parts
+  const auto check_memory = [&](const RunMemory& memory) {
+    // What the run will hold in memory, before it takes any: sizes each within its bound can
+    // still add up to more than the machine has.
+    const double available = static_cast<double>(PhysicalMemoryBytes());
+    Require(available <= 0 || memory.total() <= 0.8 * available,
+            "config '{}': the run would need about {:.1f} GiB ({}), more than 80% of this "
+            "machine's {:.1f} GiB: lower the sizes named",
+            source, memory.total() / kGiB, memory.Describe(), available / kGiB);
+  };
+  if (!IsMpcAlgorithm(c.algorithm)) {
+    check_memory(EstimateRunMemory(c, ObservationSize(spec), 2));
+    return;  // the rest concerns the MPC learner's parts
+  }
   // The planning objective reads the goal from the paper's ego-state vector.
   Require(spec.observation == ObservationKind::kEgoState,
           "config '{}': key 'variant' is '{}': training plans on the paper variant's ego-state "
@@ -477,24 +489,24 @@ void ValidateTrainConfig(const TrainConfig& c, const std::string& source) {
           source, VariantName(c.variant));
   InSection(source, "objective",
             [&] { ValidateTrajectoryObjectiveOptions(c.objective, ObservationSize(spec)); });
-  // What the run will hold in memory, before it takes any: sizes each within its bound can
-  // still add up to more than the machine has.
-  const RunMemory memory = EstimateRunMemory(c, ObservationSize(spec), 2);
-  const double available = static_cast<double>(PhysicalMemoryBytes());
-  Require(available <= 0 || memory.total() <= 0.8 * available,
-          "config '{}': the run would need about {:.1f} GiB ({}), more than 80% of this "
-          "machine's {:.1f} GiB: lower the sizes named",
-          source, memory.total() / kGiB, memory.Describe(), available / kGiB);
+  check_memory(EstimateRunMemory(c, ObservationSize(spec), 2));
 }
 
 double RunMemory::total() const {
-  return transitions + labeled_states + ensemble + planning + classifier_fit;
+  return transitions + labeled_states + ensemble + planning + classifier_fit + policy_networks +
+         epoch_batch;
 }
 
 std::string RunMemory::Describe() const {
   const auto part = [](const char* name, double bytes) {
     return fmt::format("{} {:.2f} GiB", name, bytes / kGiB);
   };
+  if (policy_networks > 0 || epoch_batch > 0) {
+    return fmt::format(
+        "{}, {}",
+        part("policy_optimisation.policy_hidden and value_hidden", policy_networks),
+        part("policy_optimisation.steps_per_epoch (rows x widest layer)", epoch_batch));
+  }
   return fmt::format("{}, {}, {}, {}, {}", part("training.transition_capacity", transitions),
                      part("training.safe_capacity and unsafe_capacity", labeled_states),
                      part("ensemble", ensemble),
@@ -507,6 +519,30 @@ RunMemory EstimateRunMemory(const TrainConfig& c, int state_dim, int action_dim)
   const double s = state_dim, a = action_dim;
   const TrainingLoopOptions& t = c.training;
   RunMemory m;
+  if (!IsMpcAlgorithm(c.algorithm)) {
+    // Each network's weights, gradients and Adam's two moments, and a few flat copies of the
+    // policy's for the trust-region step (counted as 4 more); the epoch's rows (observations,
+    // actions, targets), and the activations of a pass over all of them with its gradients
+    // (3 copies of each hidden layer's output).
+    const PolicyOptimisationOptions& o = c.policy_optimisation;
+    const auto parameters = [&](const std::vector<int>& hidden, double out) {
+      double count = 0.0, in = s;
+      for (const int width : hidden) {
+        count += (in + 1) * width;
+        in = width;
+      }
+      return count + (in + 1) * out;
+    };
+    const double policy = parameters(o.policy_hidden, a) + a;  // and the log std
+    const double value = parameters(o.value_hidden, 1);
+    m.policy_networks = (8 * policy + 2 * 4 * value) * kFloat;
+    double activations = 0.0;
+    for (const int width : o.policy_hidden) activations += width;
+    for (const int width : o.value_hidden) activations += 2.0 * width;
+    const double rows = o.steps_per_epoch;
+    m.epoch_batch = rows * (s + a + 8) * kFloat + 3 * rows * activations * kFloat;
+    return m;
+  }
   m.transitions = static_cast<double>(t.transition_capacity) * (2 * s + a) * kFloat;
   m.labeled_states = (static_cast<double>(t.safe_capacity) + t.unsafe_capacity) * s * kFloat;
   // Weights, gradients and Adam's two moments of every member, and one batch's activations.

@@ -72,15 +72,18 @@ std::string MethodLabel(const std::string& method);
 // The largest budget of agent steps a run may have.
 inline constexpr std::int64_t kMaxTotalSteps = 10'000'000'000;
 
-// Bytes a run will hold in memory, part by part (an estimate from the configuration).
+// Bytes a run will hold in memory, part by part (an estimate from the configuration). An MPC
+// run has the first five parts, a model-free run the last two.
 struct RunMemory {
   double transitions = 0.0;
   double labeled_states = 0.0;
   double ensemble = 0.0;
   double planning = 0.0;
   double classifier_fit = 0.0;
+  double policy_networks = 0.0;  // policy and the two value functions, with gradients and Adam
+  double epoch_batch = 0.0;      // an epoch's rows and the activations of a pass over them
   double total() const;
-  std::string Describe() const;  // each part with its config keys and GiB
+  std::string Describe() const;  // each part of the run with its config keys and GiB
 };
 
 RunMemory EstimateRunMemory(const TrainConfig& config, int state_dim, int action_dim);

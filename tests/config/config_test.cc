@@ -196,6 +196,33 @@ TEST(ConfigTest, TheMemoryEstimateCountsTheBuffersExactly) {
   EXPECT_GT(PhysicalMemoryBytes(), 0u);
 }
 
+// A model-free run is bounded too: its networks and its epoch's batch.
+TEST(ConfigTest, AModelFreeRunTooLargeForTheMachineIsRefusedByItsKeys) {
+  const std::string base = "task: PointGoal1\nvariant: paper-lidar\nalgorithm: trpo\n";
+  EXPECT_THAT(ErrorMessage([&] {
+                ParseTrainConfig(base + "policy_optimisation: {policy_hidden: [65536, 65536]}",
+                                 "c");
+              }),
+              ::testing::AllOf(::testing::HasSubstr("config 'c': the run would need about"),
+                               ::testing::HasSubstr("policy_optimisation.policy_hidden"),
+                               ::testing::HasSubstr("lower the sizes named")));
+  EXPECT_THAT(ErrorMessage([&] {
+                ParseTrainConfig(base + "policy_optimisation: {steps_per_epoch: 100000000, "
+                                        "value_hidden: [4096, 4096]}",
+                                 "c");
+              }),
+              ::testing::HasSubstr("policy_optimisation.steps_per_epoch"));
+  const TrainConfig small = ParseTrainConfig(
+      base + "policy_optimisation: {steps_per_epoch: 1000, envs: 1, policy_hidden: [10], "
+             "value_hidden: [10]}",
+      "c");
+  const RunMemory memory = EstimateRunMemory(small, 60, 2);
+  const double policy = (61.0 * 10 + 11 * 2 + 2), value = 61.0 * 10 + 11;
+  EXPECT_DOUBLE_EQ(memory.policy_networks, (8 * policy + 8 * value) * 4);
+  EXPECT_DOUBLE_EQ(memory.epoch_batch, 1000.0 * (60 + 2 + 8) * 4 + 3 * 1000.0 * 30 * 4);
+  EXPECT_EQ(memory.transitions + memory.ensemble + memory.planning, 0.0);
+}
+
 TEST(ConfigTest, EveryPresetInConfigsLoads) {
   int mpc = 0, model_free = 0;
   for (const auto& entry : std::filesystem::directory_iterator(CMBRL_SOURCE_DIR "/configs")) {
