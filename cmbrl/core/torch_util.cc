@@ -30,8 +30,6 @@ torch::Device ParseDevice(const std::string& name, const char* key) {
   } catch (const c10::Error&) {
     Fail("{} '{}' is not a device: expected 'cpu', 'cuda' or 'cuda:N'", key, name);
   }
-  Require(device.is_cpu() || device.is_cuda(), "{} '{}': expected 'cpu', 'cuda' or 'cuda:N'", key,
-          name);
   if (device.is_cuda()) {
     Require(torch::cuda::is_available(),
             "{} '{}' asks for CUDA, but this LibTorch has no CUDA or sees no GPU: use 'cpu'", key,

@@ -252,13 +252,19 @@ torch::Tensor OnednnEnsembleForward::Predict(const torch::Tensor& states_in,
   ParallelRanges(tasks, workers, [&](std::int64_t first_task, std::int64_t end_task) {
     const ScopedOmpThreads one_thread(1);
     dnnl::stream stream(impl.engine);
-    // This worker's buffers: two for the hidden activations, one scratchpad.
-    std::vector<std::uint8_t> ping(static_cast<std::size_t>(block * widest) * element);
-    std::vector<std::uint8_t> pong(ping.size());
-    std::vector<std::uint8_t> scratchpad(std::max<std::size_t>(scratchpad_bytes, 1));
-    const memory scratch({{static_cast<memory::dim>(scratchpad.size())}, memory::data_type::u8,
+    // This worker's buffers, left uninitialised (every byte read is written first): two for
+    // the hidden activations, one scratchpad.
+    // Each part starts a multiple of 64 bytes in, as separate allocations would.
+    const std::size_t activation_bytes =
+        (static_cast<std::size_t>(block * widest) * element + 63) / 64 * 64;
+    const std::size_t scratch_bytes = std::max<std::size_t>(scratchpad_bytes, 1);
+    const std::unique_ptr<std::uint8_t[]> buffers(
+        new std::uint8_t[2 * activation_bytes + scratch_bytes]);
+    std::uint8_t* const ping = buffers.get();
+    std::uint8_t* const pong = ping + activation_bytes;
+    const memory scratch({{static_cast<memory::dim>(scratch_bytes)}, memory::data_type::u8,
                           memory::format_tag::a},
-                         impl.engine, scratchpad.data());
+                         impl.engine, pong + activation_bytes);
     for (std::int64_t task = first_task; task < end_task; ++task) {
       const std::int64_t m = task / blocks, b = task % blocks;
       const std::int64_t first_row = b * block;
@@ -269,7 +275,7 @@ torch::Tensor OnednnEnsembleForward::Predict(const torch::Tensor& states_in,
       const float* s = all_states + offset * s_dim;
       const float* a = all_actions + offset * a_dim;
       if (bf16_) {
-        auto* out = reinterpret_cast<std::uint16_t*>(ping.data());
+        auto* out = reinterpret_cast<std::uint16_t*>(ping);
         for (std::int64_t r = 0; r < count; ++r, out += width, s += s_dim, a += a_dim) {
           for (std::int64_t j = 0; j < s_dim; ++j) out[j] = ToBf16((s[j] - mean[j]) / std[j]);
           for (std::int64_t j = 0; j < a_dim; ++j) {
@@ -277,7 +283,7 @@ torch::Tensor OnednnEnsembleForward::Predict(const torch::Tensor& states_in,
           }
         }
       } else {
-        auto* out = reinterpret_cast<float*>(ping.data());
+        auto* out = reinterpret_cast<float*>(ping);
         for (std::int64_t r = 0; r < count; ++r, out += width, s += s_dim, a += a_dim) {
           for (std::int64_t j = 0; j < s_dim; ++j) out[j] = (s[j] - mean[j]) / std[j];
           for (std::int64_t j = 0; j < a_dim; ++j) {
@@ -285,8 +291,8 @@ torch::Tensor OnednnEnsembleForward::Predict(const torch::Tensor& states_in,
           }
         }
       }
-      std::uint8_t* source = ping.data();
-      std::uint8_t* spare = pong.data();
+      std::uint8_t* source = ping;
+      std::uint8_t* spare = pong;
       for (std::size_t l = 0; l < impl.layers.size(); ++l) {
         const bool last = l + 1 == impl.layers.size();
         void* destination = last ? static_cast<void*>(all_next + offset * s_dim) : spare;

@@ -1,7 +1,5 @@
 #include "cmbrl/planning/planner_registry.h"
 
-#include <fmt/ranges.h>
-
 #include "cmbrl/core/check.h"
 
 namespace cmbrl {
@@ -40,19 +38,35 @@ const std::vector<PlannerEntry>& Planners() {
        },
        [](const PlannerSettings& s) { return PlanWork{s.random.samples, 1}; }},
   };
+  // One entry per PlannerInfos() entry, in its order: FindPlanner relies on it.
+  static const bool aligned = [] {
+    bool same = entries.size() == PlannerInfos().size();
+    for (size_t i = 0; same && i < entries.size(); ++i) {
+      same = entries[i].name == PlannerInfos()[i].name;
+    }
+    return same;
+  }();
+  Require(aligned, "the planner registry does not follow PlannerInfos() one for one");
   return entries;
 }
 
+namespace {
+
+// The entries follow PlannerInfos() one for one (Planners() checks it), so a planner's entry is
+// found through its info: one lookup, one error message.
+const PlannerEntry& EntryOf(const PlannerInfo& info) {
+  return Planners()[static_cast<size_t>(&info - PlannerInfos().data())];
+}
+
+}  // namespace
+
 const PlannerEntry* FindPlannerOrNull(const std::string& name) {
-  for (const PlannerEntry& entry : Planners()) {
-    if (entry.name == name) return &entry;
-  }
-  return nullptr;
+  const PlannerInfo* info = FindPlannerInfoOrNull(name);
+  return info != nullptr ? &EntryOf(*info) : nullptr;
 }
 
 const PlannerEntry& FindPlanner(const std::string& name) {
-  if (const PlannerEntry* entry = FindPlannerOrNull(name)) return *entry;
-  Fail("unknown planner '{}': expected one of {}", name, fmt::join(PlannerNames(), ", "));
+  return EntryOf(FindPlannerInfo(name));
 }
 
 std::unique_ptr<Planner> MakePlanner(const std::string& name, const PlannerSettings& settings,
