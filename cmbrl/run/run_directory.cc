@@ -112,14 +112,15 @@ RunDirectory RunDirectory::Create(const fs::path& root, const std::string& confi
   RunDirectory run(root);
   run.RefuseExistingRun();
   std::error_code error;
-  const bool existed = fs::exists(root, error);
+  if (root.has_parent_path()) fs::create_directories(root.parent_path(), error);
+  // Whether this process made the directory: mkdir is atomic, an earlier exists() is not.
+  const bool made_root = fs::create_directory(root, error);
+  Require(!error, "cannot create the run directory '{}': {}", root.string(), error.message());
+  // A process refused the run's lock touches nothing: the directory may be another's live run.
+  claim();
+  run.RefuseExistingRun();  // another process may have made one before this one locked it
   std::vector<fs::path> made;
   try {
-    fs::create_directories(root, error);
-    Require(!error, "cannot create the run directory '{}': {}", root.string(), error.message());
-    made.push_back(root / "lock");
-    claim();
-    run.RefuseExistingRun();  // another process may have made one meanwhile
     made.push_back(run.progress_file());
     {
       std::ofstream progress(run.progress_file(), std::ios::trunc);
@@ -131,7 +132,9 @@ RunDirectory RunDirectory::Create(const fs::path& root, const std::string& confi
     made.push_back(run.config_file());
     run.ReplaceConfig(config_yaml);
   } catch (...) {
-    if (!existed) {
+    // The lock file stays unless the whole directory goes: removing it while a process may
+    // have it open would let two processes lock two different files.
+    if (made_root) {
       fs::remove_all(root, error);
     } else {
       for (const fs::path& path : made) fs::remove(path, error);

@@ -36,8 +36,9 @@ class RunDirectory {
   // Creates the run directory and runs `claim` (which takes the run's lock) before writing any
   // file; then checks again that no other process made a run there meanwhile, and writes a
   // progress.csv of `progress_header` alone and config.yaml (written whole, then renamed into
-  // place: its presence marks the run). If anything throws, whatever this call created is
-  // removed again, the directory itself included when it did not exist before. Throws
+  // place: its presence marks the run). When `claim` or that check throws, nothing is touched
+  // (the directory may hold another process's run). When writing fails, whatever this call
+  // wrote is removed again, the directory itself included when this call made it. Throws
   // cmbrl::Error when the directory already holds a run or cannot be written.
   static RunDirectory Create(const std::filesystem::path& root, const std::string& config_yaml,
                              const std::string& progress_header,

@@ -457,7 +457,25 @@ TEST(TrainerTest, ARunDirectoryServesOneProcessAtATime) {
   const std::string dir = TempRunDir("locked");
   const std::unique_ptr<Trainer> first = Trainer::Start(TinyConfig("rce"), dir);
   EXPECT_THAT(testing::ErrorMessage([&] { Trainer::Resume(dir); }),
+              ::testing::HasSubstr("is in use by another cmbrl process (pid "));
+}
+
+// Deleting the lock file does not free a live run: the run's directory is locked too.
+TEST(TrainerTest, ALockFileDeletedUnderALiveRunStillKeepsOthersOut) {
+  const std::string dir = TempRunDir("lock-deleted");
+  const std::unique_ptr<Trainer> first = Trainer::Start(TinyConfig("rce"), dir);
+  ASSERT_TRUE(fs::remove(fs::path(dir) / "lock"));
+  EXPECT_THAT(testing::ErrorMessage([&] { Trainer::Resume(dir); }),
               ::testing::HasSubstr("is in use by another cmbrl process"));
+  EXPECT_FALSE(fs::exists(fs::path(dir) / "lock"));  // the refused process touched nothing
+}
+
+// A lock whose holder has ended is free, with no file to delete first.
+TEST(TrainerTest, ALockWhoseHolderEndedIsFree) {
+  const std::string dir = TempRunDir("lock-ended");
+  Trainer::Start(TinyConfig("rce"), dir).reset();
+  ASSERT_TRUE(fs::exists(fs::path(dir) / "lock"));
+  EXPECT_NO_THROW(Trainer::Resume(dir));
 }
 
 }  // namespace
