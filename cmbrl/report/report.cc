@@ -102,12 +102,45 @@ bool IsPapersMethod(const std::string& planner) {
 
 }  // namespace
 
-std::vector<EpisodePoint> ReadProgressEpisodes(const std::string& file) {
-  return ReadEpisodeColumns(file, /*has_steps=*/true);
+namespace {
+
+// A row's value of a column that must lie in [low, high] (finite), named in the error.
+double InDomain(const ProgressTable& table, const std::string& file, size_t row, size_t column,
+                double low, double high, const char* expected) {
+  const double value = table.Number(row, column);
+  Require(std::isfinite(value) && value >= low && value <= high,
+          "{} line {}: {} is {}: expected {}", file, table.line(row), table.header().at(column),
+          table.Text(row, column), expected);
+  return value;
 }
 
-std::vector<EpisodePoint> ReadEpisodeColumns(const std::string& file, bool has_steps) {
-  const ProgressTable table = ProgressTable::Read(file);
+// The same for a count of steps in an episode of `steps` steps: a whole number in [0, steps].
+double StepCount(const ProgressTable& table, const std::string& file, size_t row, size_t column,
+                 double steps) {
+  const double value = InDomain(table, file, row, column, 0.0, steps,
+                                "a whole count from 0 to the episode's steps");
+  Require(value == std::round(value), "{} line {}: {} is {}: expected a whole count",
+          file, table.line(row), table.header().at(column), table.Text(row, column));
+  return value;
+}
+
+std::optional<size_t> RowLimit(std::optional<std::int64_t> rows) {
+  if (!rows) return std::nullopt;
+  return static_cast<size_t>(std::max<std::int64_t>(*rows, 0));
+}
+
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
+
+}  // namespace
+
+std::vector<EpisodePoint> ReadProgressEpisodes(const std::string& file,
+                                               std::optional<std::int64_t> rows) {
+  return ReadEpisodeColumns(file, /*has_steps=*/true, rows);
+}
+
+std::vector<EpisodePoint> ReadEpisodeColumns(const std::string& file, bool has_steps,
+                                             std::optional<std::int64_t> rows) {
+  const ProgressTable table = ProgressTable::Read(file, RowLimit(rows));
   const std::string expected =
       fmt::format("a progress log with {}, {}, {}{}", kEpRetColumn, kEpCostColumn,
                   kTotalEnvInteractsColumn, has_steps ? fmt::format(" and {}", kStepsColumn) : "");
@@ -124,22 +157,32 @@ std::vector<EpisodePoint> ReadEpisodeColumns(const std::string& file, bool has_s
   std::vector<EpisodePoint> episodes;
   for (size_t row = 0; row < table.rows(); ++row) {
     EpisodePoint point;
-    point.episode_return = table.Number(row, ret);
-    point.episode_cost = table.Number(row, cost);
-    point.end_step = static_cast<std::int64_t>(table.Number(row, total));
-    if (has_feasible) point.feasible_fraction = table.Number(row, feasible);
+    const std::int64_t previous = episodes.empty() ? 0 : episodes.back().end_step;
+    point.end_step = static_cast<std::int64_t>(
+        InDomain(table, file, row, total, static_cast<double>(previous), kInfinity,
+                 "a count of steps that never falls"));
+    point.steps = has_steps
+                      ? static_cast<int>(InDomain(table, file, row, steps, 0.0,
+                                                  static_cast<double>(point.end_step - previous),
+                                                  "the episode's steps, at most the rise of "
+                                                  "TotalEnvInteracts"))
+                      : static_cast<int>(point.end_step - previous);
+    point.episode_return =
+        InDomain(table, file, row, ret, -kInfinity, kInfinity, "a finite return");
+    point.episode_cost = StepCount(table, file, row, cost, point.steps);
+    if (has_feasible) {
+      point.feasible_fraction = table.Number(row, feasible);
+      Require(std::isnan(point.feasible_fraction) ||
+                  (point.feasible_fraction >= 0.0 && point.feasible_fraction <= 1.0),
+              "{} line {}: {} is {}: expected a fraction from 0 to 1", file, table.line(row),
+              kFeasibleFractionColumn, table.Text(row, feasible));
+    }
     if (has_causes) {
-      point.hazard_steps = table.Number(row, hazards);
-      point.vase_steps = table.Number(row, vases);
+      point.hazard_steps = StepCount(table, file, row, hazards, point.steps);
+      point.vase_steps = StepCount(table, file, row, vases, point.steps);
     }
     point.cumulative_violations =
         (episodes.empty() ? 0.0 : episodes.back().cumulative_violations) + point.episode_cost;
-    const std::int64_t previous = episodes.empty() ? 0 : episodes.back().end_step;
-    point.steps = has_steps ? static_cast<int>(table.Number(row, steps))
-                            : static_cast<int>(point.end_step - previous);
-    Require(point.end_step >= previous && point.steps >= 0,
-            "{} line {}: TotalEnvInteracts {} after {}: expected a count that never falls", file,
-            table.line(row), point.end_step, previous);
     episodes.push_back(point);
   }
   return episodes;
@@ -158,7 +201,8 @@ std::vector<fs::path> RunFolders(const fs::path& parent) {
   return dirs;
 }
 
-RunRecord ReadRunRecord(const fs::path& dir) {
+// A run's record; `rows` limits it to the progress rows its checkpoint covers.
+RunRecord ReadRunRecord(const fs::path& dir, std::optional<std::int64_t> rows) {
   const RunDirectory run_dir(dir);
   RunRecord run;
   run.name = dir.filename().string();
@@ -166,7 +210,7 @@ RunRecord ReadRunRecord(const fs::path& dir) {
   run.config = LoadTrainConfig(run_dir.config_file().string());
   const LearnerFamily family = FindAlgorithm(run.config.algorithm).family;
   run.epoch_log = family != LearnerFamily::kMpc;
-  run.episodes = EpisodeReaderOf(family)(run_dir.progress_file().string());
+  run.episodes = EpisodeReaderOf(family)(run_dir.progress_file().string(), rows);
   run.sessions = ReadRunSessions(run_dir);
   return run;
 }
@@ -224,19 +268,34 @@ std::vector<RunRecord> ReadSweeps(const std::vector<std::string>& sweep_dirs) {
       // file; rows written after the last checkpoint (a run in progress, or stopped) are kept.
       // A run in progress may swap its checkpoint while this reads it: a second look settles it.
       const RunDirectory run_dir(dir);
+      std::optional<CheckpointManifest> checkpoint;
       try {
-        VerifiedCheckpoint(run_dir, /*files=*/false);
+        checkpoint = VerifiedCheckpoint(run_dir, /*files=*/false);
       } catch (const Error&) {
         std::this_thread::sleep_for(std::chrono::milliseconds(500));
-        VerifiedCheckpoint(run_dir, /*files=*/false);
+        checkpoint = VerifiedCheckpoint(run_dir, /*files=*/false);
       }
-      add(ReadRunRecord(dir), /*is_log=*/false);
+      // Only what the checkpoint covers: rows after it are not part of the run's record.
+      add(ReadRunRecord(dir, checkpoint ? checkpoint->rows : 0), /*is_log=*/false);
     }
     // A report's logs have no checkpoint to check them against: they are what was reported.
-    for (const fs::path& dir : RunFolders(logs_dir)) add(ReadRunRecord(dir), /*is_log=*/true);
+    for (const fs::path& dir : RunFolders(logs_dir)) {
+      add(ReadRunRecord(dir, std::nullopt), /*is_log=*/true);
+    }
   }
   std::vector<RunRecord> runs;
-  for (auto& [name, entry] : found) runs.push_back(std::move(entry.first));
+  std::map<std::string, fs::path> by_id;  // run id -> the folder it was read from
+  for (auto& [name, entry] : found) {
+    const std::string id = RunIdOf(entry.first.sessions);
+    if (!id.empty()) {
+      const auto [it, first] = by_id.emplace(id, entry.first.source);
+      Require(first,
+              "'{}' and '{}' hold one run (run id {} in their sessions.jsonl): a run folder "
+              "copied or moved counts once; remove the copy",
+              it->second.string(), entry.first.source.string(), id);
+    }
+    runs.push_back(std::move(entry.first));
+  }
   return runs;
 }
 
@@ -333,8 +392,9 @@ EpisodeReader EpisodeReaderOf(LearnerFamily family) {
   Fail("no episode reader for this learner family");
 }
 
-std::vector<EpisodePoint> ReadEpochLog(const std::string& file) {
-  const ProgressTable table = ProgressTable::Read(file);
+std::vector<EpisodePoint> ReadEpochLog(const std::string& file,
+                                       std::optional<std::int64_t> rows) {
+  const ProgressTable table = ProgressTable::Read(file, RowLimit(rows));
   const std::string expected =
       "a model-free progress log with AverageEpRet, AverageEpCost, CumulativeCost and "
       "TotalEnvInteracts";
@@ -345,15 +405,20 @@ std::vector<EpisodePoint> ReadEpochLog(const std::string& file) {
   std::vector<EpisodePoint> epochs;
   for (size_t row = 0; row < table.rows(); ++row) {
     EpisodePoint point;
-    point.episode_return = table.Number(row, ret);
-    point.episode_cost = table.Number(row, cost);
-    point.cumulative_violations = table.Number(row, cumulative);
-    point.end_step = static_cast<std::int64_t>(table.Number(row, total));
     const std::int64_t previous = epochs.empty() ? 0 : epochs.back().end_step;
+    const double before = epochs.empty() ? 0.0 : epochs.back().cumulative_violations;
+    point.end_step = static_cast<std::int64_t>(table.Number(row, total));
     Require(point.end_step > previous,
             "{} line {}: TotalEnvInteracts {} after {}: expected a count that rises", file,
             table.line(row), point.end_step, previous);
     point.steps = static_cast<int>(point.end_step - previous);
+    point.episode_return =
+        InDomain(table, file, row, ret, -kInfinity, kInfinity, "a finite mean return");
+    point.episode_cost =
+        InDomain(table, file, row, cost, 0.0, kInfinity, "a finite mean cost of 0 or more");
+    point.cumulative_violations =
+        InDomain(table, file, row, cumulative, before, before + point.steps,
+                 "a running count that rises by at most the epoch's steps");
     epochs.push_back(point);
   }
   return epochs;

@@ -65,30 +65,43 @@ struct ViolationCauses {
 // them (a run of an older version, the original's logs, a model-free run).
 std::optional<ViolationCauses> ViolationCausesWithin(const RunRecord& run, std::int64_t window);
 
-// The epochs of a model-free run's progress.csv as points (see RunRecord). Throws
-// cmbrl::Error naming a missing column or a value that is not a number.
-std::vector<EpisodePoint> ReadEpochLog(const std::string& path);
+// The epochs of a model-free run's progress.csv as points (see RunRecord), its first `rows`
+// rows only when given (those its checkpoint covers). Throws cmbrl::Error naming the file, the
+// line and the column of a missing column, a value that is not a number, or one outside its
+// domain: a return that is not finite, a cost that is negative or not finite, a
+// CumulativeCost that falls, steps that do not rise.
+std::vector<EpisodePoint> ReadEpochLog(const std::string& path,
+                                       std::optional<std::int64_t> rows = std::nullopt);
 
-// The episodes of one progress.csv. Throws cmbrl::Error naming a missing column or a value that
-// is not a number.
-std::vector<EpisodePoint> ReadProgressEpisodes(const std::string& path);
+// The episodes of one progress.csv, its first `rows` rows only when given. Throws
+// cmbrl::Error naming the file, the line and the column of a missing column, a value that is
+// not a number, or one outside its domain: a return that is not finite, an EpCost,
+// HazardSteps or VaseSteps that is not a whole count from 0 to the episode's steps, a
+// FeasibleFraction outside 0 to 1, steps that fall.
+std::vector<EpisodePoint> ReadProgressEpisodes(const std::string& path,
+                                               std::optional<std::int64_t> rows = std::nullopt);
 
 // Each learner family's reader of its progress.csv, the one place that pairs them: MPC runs log
 // a row per episode (ReadProgressEpisodes), model-free runs a row per epoch (ReadEpochLog).
-using EpisodeReader = std::vector<EpisodePoint> (*)(const std::string& path);
+using EpisodeReader = std::vector<EpisodePoint> (*)(const std::string& path,
+                                                    std::optional<std::int64_t> rows);
 EpisodeReader EpisodeReaderOf(LearnerFamily family);
 
 // The same from any CSV with the columns EpRet, EpCost and TotalEnvInteracts, and Steps when
 // `has_steps` (without it an episode's steps are the difference of TotalEnvInteracts, as in the
 // original's logs).
-std::vector<EpisodePoint> ReadEpisodeColumns(const std::string& path, bool has_steps);
+std::vector<EpisodePoint> ReadEpisodeColumns(const std::string& path, bool has_steps,
+                                             std::optional<std::int64_t> rows = std::nullopt);
 
 // Every run under sweep_dir/runs (a folder with config.yaml, its progress checked against its
 // checkpoint) and every run log a report kept under sweep_dir/run-logs (KeepRunLogs), in name
-// order: a report's folder can be reported again. A run both logged and in runs/ is read from
-// runs/ when its log is a prefix of the run's progress (the run went on after the report).
-// Throws cmbrl::Error naming a progress.csv that lacks a column or holds a value that is not a
-// number, a folder that holds neither, or a run found twice otherwise.
+// order: a report's folder can be reported again. A run in runs/ is read as far as its last
+// checkpoint covers (rows after it are a run in progress, or were added by hand). A run both
+// logged and in runs/ is read from runs/ when its log is a prefix of the run's progress (the
+// run went on after the report). Throws cmbrl::Error naming a progress.csv that lacks a column
+// or holds a value that is not a number or lies outside its domain, a folder that holds
+// neither, a run found twice otherwise, or two folders that hold one run (the same run id in
+// sessions.jsonl: a copied run folder).
 std::vector<RunRecord> ReadSweep(const std::string& sweep_dir);
 
 // ReadSweep over several folders, in name order. Throws cmbrl::Error naming a run found in two

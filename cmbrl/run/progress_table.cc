@@ -52,7 +52,8 @@ std::string ProgressNumber(double value) {
   return std::isfinite(value) ? fmt::format("{}", value) : "nan";
 }
 
-ProgressTable ProgressTable::Read(const std::filesystem::path& path) {
+ProgressTable ProgressTable::Read(const std::filesystem::path& path,
+                                  std::optional<size_t> max_rows) {
   std::ifstream in(path);
   Require(static_cast<bool>(in), "cannot read '{}'", path.string());
   ProgressTable table;
@@ -60,7 +61,8 @@ ProgressTable ProgressTable::Read(const std::filesystem::path& path) {
   std::string line;
   std::getline(in, line);
   table.header_ = SplitCsv(line);
-  for (int number = 2; std::getline(in, line); ++number) {
+  for (int number = 2; (!max_rows || table.rows_.size() < *max_rows) && std::getline(in, line);
+       ++number) {
     if (line.empty()) continue;
     std::vector<std::string> fields = SplitCsv(line);
     Require(fields.size() == table.header_.size(), "{} line {}: {} fields, the header has {}",

@@ -6,6 +6,7 @@
 #include <cstddef>
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -52,8 +53,10 @@ std::string ProgressNumber(double value);
 class ProgressTable {
  public:
   // Throws cmbrl::Error naming the file when it cannot be read or a row's field count differs
-  // from the header's. Empty lines are skipped.
-  static ProgressTable Read(const std::filesystem::path& path);
+  // from the header's. Empty lines are skipped. With `max_rows`, only the first rows up to that
+  // many are read (those a checkpoint covers); rows after them are not looked at.
+  static ProgressTable Read(const std::filesystem::path& path,
+                            std::optional<size_t> max_rows = std::nullopt);
 
   const std::vector<std::string>& header() const { return header_; }
   size_t rows() const { return rows_.size(); }

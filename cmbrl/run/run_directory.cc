@@ -2,7 +2,9 @@
 
 #include <zlib.h>
 
+#include <algorithm>
 #include <fstream>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
@@ -13,7 +15,10 @@ namespace fs = std::filesystem;
 namespace {
 
 constexpr const char* kManifest = "manifest.json";
-constexpr const char* kManifestFormat = "cmbrl-checkpoint-v1";
+// v1 covers progress.csv and the checkpoint's files; v2 (v0.7) also config.yaml, sessions.jsonl
+// and itself.
+constexpr const char* kManifestFormatV1 = "cmbrl-checkpoint-v1";
+constexpr const char* kManifestFormat = "cmbrl-checkpoint-v2";
 
 fs::path TmpCheckpoint(const RunDirectory& run) { return run.root() / "checkpoint.tmp"; }
 fs::path OldCheckpoint(const RunDirectory& run) { return run.root() / "checkpoint.old"; }
@@ -41,16 +46,52 @@ ProgressPrefix ReadProgressPrefix(const RunDirectory& run, std::int64_t rows) {
   return prefix;
 }
 
+std::uint32_t TextCrc(const std::string& text) {
+  return Crc(Crc(0, nullptr, 0), text.data(), text.size());
+}
+
+// The first `lines` whole lines of sessions.jsonl, and how many whole lines it holds in all
+// (a stop mid-write may leave a last line unfinished: it is not counted).
+struct SessionsPrefix {
+  std::string text;
+  std::int64_t lines_in_file = 0;
+  bool exists = false;
+};
+
+SessionsPrefix ReadSessionsPrefix(const RunDirectory& run, std::int64_t lines) {
+  SessionsPrefix prefix;
+  std::ifstream in(run.sessions_file(), std::ios::binary);
+  if (!in) return prefix;
+  prefix.exists = true;
+  std::string line;
+  while (std::getline(in, line)) {
+    if (in.eof()) break;  // no newline after it: unfinished
+    if (prefix.lines_in_file < lines) prefix.text += line + "\n";
+    ++prefix.lines_in_file;
+  }
+  return prefix;
+}
+
+// A manifest's JSON without its own checksum, as the checksum is taken over it.
+std::uint32_t ManifestCrc(nlohmann::ordered_json json) {
+  json.erase("manifest_crc32");
+  return TextCrc(json.dump());
+}
+
 void WriteManifest(const fs::path& folder, const CheckpointManifest& m) {
   nlohmann::ordered_json files = nlohmann::ordered_json::array();
   for (const CheckpointManifest::File& f : m.files) {
     files.push_back({{"name", f.name}, {"size", f.size}, {"crc32", f.crc}});
   }
-  const nlohmann::ordered_json json = {{"format", kManifestFormat},
-                                       {"rows", m.rows},
-                                       {"elapsed_seconds", m.elapsed_seconds},
-                                       {"progress_crc32", m.progress_crc},
-                                       {"files", files}};
+  nlohmann::ordered_json json = {{"format", kManifestFormat},
+                                 {"rows", m.rows},
+                                 {"elapsed_seconds", m.elapsed_seconds},
+                                 {"progress_crc32", m.progress_crc},
+                                 {"config_crc32", m.config_crc},
+                                 {"sessions", m.sessions},
+                                 {"sessions_crc32", m.sessions_crc},
+                                 {"files", files}};
+  json["manifest_crc32"] = ManifestCrc(json);
   std::ofstream out(folder / kManifest);
   out << json.dump(2) << "\n";
   out.close();
@@ -61,13 +102,22 @@ CheckpointManifest ReadManifest(const fs::path& path) {
   CheckpointManifest m;
   try {
     std::ifstream in(path);
-    const nlohmann::json json = nlohmann::json::parse(in);
-    Require(json.at("format") == kManifestFormat, "format is {}: expected \"{}\"",
-            json.at("format").dump(), kManifestFormat);
+    const nlohmann::ordered_json json = nlohmann::ordered_json::parse(in);
+    const nlohmann::ordered_json format = json.at("format");
+    m.covers_run = format == kManifestFormat;
+    Require(m.covers_run || format == kManifestFormatV1, "format is {}: expected \"{}\"",
+            format.dump(), kManifestFormat);
+    if (m.covers_run) {
+      Require(json.at("manifest_crc32").get<std::uint32_t>() == ManifestCrc(json),
+              "its checksum does not match its content: it was edited");
+      m.config_crc = json.at("config_crc32").get<std::uint32_t>();
+      m.sessions = json.at("sessions").get<std::int64_t>();
+      m.sessions_crc = json.at("sessions_crc32").get<std::uint32_t>();
+    }
     m.rows = json.at("rows").get<std::int64_t>();
     m.elapsed_seconds = json.at("elapsed_seconds").get<double>();
     m.progress_crc = json.at("progress_crc32").get<std::uint32_t>();
-    for (const nlohmann::json& f : json.at("files")) {
+    for (const nlohmann::ordered_json& f : json.at("files")) {
       m.files.push_back({f.at("name").get<std::string>(), f.at("size").get<std::uintmax_t>(),
                          f.at("crc32").get<std::uint32_t>()});
     }
@@ -86,6 +136,11 @@ CheckpointManifest LegacyManifest(const fs::path& state_path) {
   try {
     std::ifstream in(state_path);
     const nlohmann::json state = nlohmann::json::parse(in);
+    // A state.json of v0.3 or later keeps no rows: its checkpoint's manifest.json was deleted.
+    Require(state.contains("rows"),
+            "'{}' is missing: the checkpoint was written by a version that writes one (its "
+            "state.json keeps no rows), so it was deleted; the run cannot be checked",
+            (state_path.parent_path() / kManifest).string());
     m.rows = state.at("rows").get<std::int64_t>();
     m.elapsed_seconds = state.at("elapsed_seconds").get<double>();
   } catch (const nlohmann::json::exception& error) {
@@ -168,9 +223,39 @@ std::uint32_t FileCrc(const fs::path& path) {
   return crc;
 }
 
+namespace {
+
+// What a manifest records of the run's own files as they are now: config.yaml whole, and the
+// first `sessions` lines of sessions.jsonl (all its whole lines when nullopt).
+void CoverRunFiles(const RunDirectory& run, CheckpointManifest& manifest,
+                   const fs::path& config_file) {
+  manifest.covers_run = true;
+  manifest.config_crc = FileCrc(config_file);
+  const SessionsPrefix sessions =
+      ReadSessionsPrefix(run, std::numeric_limits<std::int64_t>::max());
+  manifest.sessions = sessions.lines_in_file;
+  manifest.sessions_crc = TextCrc(sessions.text);
+}
+
+// Adds the manifest to a filled checkpoint.tmp, then swaps it in for checkpoint/ (and a new
+// config.yaml in from config.yaml.tmp when `new_config`), so that a stop at any moment leaves a
+// whole old or a whole new checkpoint (RecoverInterruptedCheckpoint finishes the rest).
+void SwapInCheckpoint(const RunDirectory& run, const fs::path& tmp,
+                      const CheckpointManifest& manifest, bool new_config) {
+  WriteManifest(tmp, manifest);
+  const fs::path old = OldCheckpoint(run), final_dir = run.checkpoint_dir();
+  fs::remove_all(old);
+  if (fs::exists(final_dir)) fs::rename(final_dir, old);
+  fs::rename(tmp, final_dir);
+  if (new_config) fs::rename(run.root() / "config.yaml.tmp", run.config_file());
+  fs::remove_all(old);
+}
+
+}  // namespace
+
 void WriteCheckpoint(const RunDirectory& run, std::int64_t rows, double elapsed_seconds,
                      const std::function<void(const fs::path&, const fs::path&)>& write) {
-  const fs::path tmp = TmpCheckpoint(run), old = OldCheckpoint(run);
+  const fs::path tmp = TmpCheckpoint(run);
   const fs::path final_dir = run.checkpoint_dir();
   fs::remove_all(tmp);
   fs::create_directories(tmp);
@@ -178,8 +263,8 @@ void WriteCheckpoint(const RunDirectory& run, std::int64_t rows, double elapsed_
   CheckpointManifest manifest;
   manifest.rows = rows;
   manifest.elapsed_seconds = elapsed_seconds;
-  const std::string prefix = ReadProgressPrefix(run, rows).text;
-  manifest.progress_crc = Crc(Crc(0, nullptr, 0), prefix.data(), prefix.size());
+  manifest.progress_crc = TextCrc(ReadProgressPrefix(run, rows).text);
+  CoverRunFiles(run, manifest, run.config_file());
   std::vector<fs::path> files;
   for (const fs::directory_entry& entry : fs::directory_iterator(tmp)) files.push_back(entry.path());
   std::sort(files.begin(), files.end());
@@ -187,11 +272,37 @@ void WriteCheckpoint(const RunDirectory& run, std::int64_t rows, double elapsed_
     manifest.files.push_back(
         {file.filename().string(), fs::file_size(file), FileCrc(file)});
   }
-  WriteManifest(tmp, manifest);
-  fs::remove_all(old);
-  if (fs::exists(final_dir)) fs::rename(final_dir, old);
-  fs::rename(tmp, final_dir);
-  fs::remove_all(old);
+  SwapInCheckpoint(run, tmp, manifest, /*new_config=*/false);
+}
+
+void ReplaceCheckpointedConfig(const RunDirectory& run, const std::string& config_yaml) {
+  const std::optional<CheckpointManifest> checkpoint = VerifiedCheckpoint(run, /*files=*/false);
+  if (!checkpoint || !checkpoint->covers_run) {
+    run.ReplaceConfig(config_yaml);  // nothing (or a v1 manifest) records the config
+    return;
+  }
+  const fs::path config_tmp = run.root() / "config.yaml.tmp";
+  {
+    std::ofstream out(config_tmp, std::ios::trunc);
+    out << config_yaml;
+    out.close();
+    Require(!out.fail(), "cannot write '{}'", config_tmp.string());
+  }
+  // The same checkpoint, its files hard-linked (never rewritten), under a manifest that records
+  // the new config.yaml.
+  const fs::path tmp = TmpCheckpoint(run);
+  fs::remove_all(tmp);
+  fs::create_directories(tmp);
+  CheckpointManifest manifest = *checkpoint;
+  for (const CheckpointManifest::File& file : manifest.files) {
+    std::error_code error;
+    fs::create_hard_link(run.checkpoint_dir() / file.name, tmp / file.name, error);
+    if (error) fs::copy_file(run.checkpoint_dir() / file.name, tmp / file.name);
+  }
+  CoverRunFiles(run, manifest, config_tmp);
+  manifest.sessions = checkpoint->sessions;  // sessions after the checkpoint stay uncovered
+  manifest.sessions_crc = checkpoint->sessions_crc;
+  SwapInCheckpoint(run, tmp, manifest, /*new_config=*/true);
 }
 
 void RecoverInterruptedCheckpoint(const RunDirectory& run) {
@@ -199,6 +310,20 @@ void RecoverInterruptedCheckpoint(const RunDirectory& run) {
     fs::rename(OldCheckpoint(run), run.checkpoint_dir());
   }
   fs::remove_all(TmpCheckpoint(run));
+  // A stop inside ReplaceCheckpointedConfig: its config.yaml.tmp goes in when the checkpoint in
+  // place already records it, and is dropped otherwise (as Create's would be).
+  const fs::path config_tmp = run.root() / "config.yaml.tmp";
+  if (!fs::exists(config_tmp)) return;
+  const fs::path manifest_file = run.checkpoint_dir() / kManifest;
+  if (fs::exists(manifest_file)) {
+    const CheckpointManifest manifest = ReadManifest(manifest_file);
+    if (manifest.covers_run && manifest.config_crc == FileCrc(config_tmp) &&
+        manifest.config_crc != FileCrc(run.config_file())) {
+      fs::rename(config_tmp, run.config_file());
+      return;
+    }
+  }
+  fs::remove(config_tmp);
 }
 
 fs::path LastCheckpointDir(const RunDirectory& run) {
@@ -240,14 +365,33 @@ std::optional<CheckpointManifest> VerifiedCheckpoint(const RunDirectory& run, bo
     manifest = LegacyManifest(state);  // written by v0.2: nothing to check the files against
     return manifest;
   }
+  if (manifest.covers_run) {
+    Require(FileCrc(run.config_file()) == manifest.config_crc,
+            "'{}' differs from the configuration the run's checkpoint recorded: it was edited "
+            "(a run's configuration changes only through --resume --steps){}",
+            run.config_file().string(),
+            fs::exists(run.root() / "config.yaml.tmp")
+                ? "; or a budget change was interrupted: resume the run to finish it"
+                : "");
+  }
   const ProgressPrefix prefix = ReadProgressPrefix(run, manifest.rows);
   Require(prefix.rows_in_file >= manifest.rows,
           "'{}' has {} rows but the checkpoint covers {}: it was shortened",
           run.progress_file().string(), prefix.rows_in_file, manifest.rows);
-  Require(Crc(Crc(0, nullptr, 0), prefix.text.data(), prefix.text.size()) ==
-              manifest.progress_crc,
+  Require(TextCrc(prefix.text) == manifest.progress_crc,
           "'{}' differs in its first {} rows from what the checkpoint recorded: it was edited",
           run.progress_file().string(), manifest.rows);
+  if (manifest.covers_run) {
+    const SessionsPrefix sessions = ReadSessionsPrefix(run, manifest.sessions);
+    Require(sessions.exists || manifest.sessions == 0,
+            "'{}' is missing: the run's checkpoint covers its first {} session(s)",
+            run.sessions_file().string(), manifest.sessions);
+    Require(sessions.lines_in_file >= manifest.sessions &&
+                TextCrc(sessions.text) == manifest.sessions_crc,
+            "'{}' differs in its first {} line(s) from what the checkpoint recorded: it was "
+            "edited or shortened",
+            run.sessions_file().string(), manifest.sessions);
+  }
   return manifest;
 }
 

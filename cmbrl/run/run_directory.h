@@ -56,7 +56,9 @@ class RunDirectory {
 };
 
 // What a checkpoint covers, from its manifest.json: the rows of progress.csv written before it,
-// the seconds the run had trained, and every file of the checkpoint with its size and CRC-32.
+// the seconds the run had trained, every file of the checkpoint with its size and CRC-32, and
+// (since v0.7) config.yaml and the sessions of sessions.jsonl begun before it. The manifest
+// carries a checksum of its own content, so an edited manifest is named as such.
 struct CheckpointManifest {
   std::int64_t rows = 0;
   double elapsed_seconds = 0.0;
@@ -67,6 +69,11 @@ struct CheckpointManifest {
     std::uint32_t crc = 0;
   };
   std::vector<File> files;
+  // False for a manifest of v0.3-v0.6, which covers neither config.yaml nor sessions.jsonl.
+  bool covers_run = false;
+  std::uint32_t config_crc = 0;    // of config.yaml
+  std::int64_t sessions = 0;       // whole lines of sessions.jsonl written before it
+  std::uint32_t sessions_crc = 0;  // of those lines
 };
 
 // Writes a checkpoint: `write` fills an empty folder with the learner's files; a manifest for
@@ -79,9 +86,15 @@ void WriteCheckpoint(
     const std::function<void(const std::filesystem::path& folder,
                              const std::filesystem::path& previous)>& write);
 
+// Replaces config.yaml of a run that has a checkpoint (a resume given a new budget) together
+// with the manifest that records it: both, or (after a stop, once RecoverInterruptedCheckpoint
+// has run) neither. The caller holds the run's lock. Throws cmbrl::Error when a file cannot be
+// written.
+void ReplaceCheckpointedConfig(const RunDirectory& run, const std::string& config_yaml);
+
 // Puts back the checkpoint that a stop between WriteCheckpoint's two renames left as
-// checkpoint.old, and removes a half-written checkpoint.tmp. Only for the process holding the
-// run's lock.
+// checkpoint.old, removes a half-written checkpoint.tmp, and finishes or drops a config.yaml.tmp
+// that ReplaceCheckpointedConfig left. Only for the process holding the run's lock.
 void RecoverInterruptedCheckpoint(const RunDirectory& run);
 
 // The folder of the run's last checkpoint: checkpoint/, or checkpoint.old where a stop between
@@ -93,9 +106,10 @@ std::filesystem::path LastCheckpointDir(const RunDirectory& run);
 // checked against its manifest and progress.csv: every file present
 // with its size and checksum, and progress.csv's first `rows` rows those it covered (rows after
 // them were written after it and are dropped on resume). nullopt when the run has no checkpoint
-// yet and progress.csv has no rows. Throws cmbrl::Error naming the file that disagrees: a
-// missing or changed file, a progress.csv shorter than or different from what the checkpoint
-// covered, rows without a checkpoint.
+// yet and progress.csv has no rows. Throws cmbrl::Error naming the file that disagrees: an
+// edited or deleted manifest.json, a missing or changed file, a config.yaml other than the one
+// the checkpoint recorded, a progress.csv or sessions.jsonl shorter than or different from
+// what the checkpoint covered, rows without a checkpoint.
 // `files` false checks only what the manifest says of progress.csv, not the checkpoint's own
 // files (for readers of progress such as reports: a run's model files can be large).
 std::optional<CheckpointManifest> VerifiedCheckpoint(const RunDirectory& run, bool files = true);

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <random>
 #include <sstream>
 #include <vector>
 
@@ -42,8 +43,8 @@ std::string UtcNow() {
 }
 
 nlohmann::ordered_json SessionJson(const RunSession& session) {
-  nlohmann::ordered_json line = {
-      {"session", session.number}, {"began", session.began}, {"steps_done", session.steps_done}};
+  nlohmann::ordered_json line = {{"session", session.number}, {"run", session.run_id},
+                                 {"began", session.began}, {"steps_done", session.steps_done}};
   line.update(SetupJson(session.setup));
   return line;
 }
@@ -76,6 +77,7 @@ RunSession ParseSession(const std::string& text, const std::string& where) {
   Require(line.is_object(), "{}: {} is not an object: expected one session per line", where, text);
   RunSession session;
   session.number = Field<int>(line, "session", where);
+  session.run_id = OptionalText(line, "run", where);
   session.began = Field<std::string>(line, "began", where);
   session.steps_done = Field<std::int64_t>(line, "steps_done", where);
   NumericsSetup& setup = session.setup;
@@ -112,9 +114,23 @@ std::vector<RunSession> ParseSessions(const std::string& whole_lines, const fs::
   std::istringstream lines(whole_lines);
   std::string line;
   for (int number = 1; std::getline(lines, line); ++number) {
-    sessions.push_back(ParseSession(line, fmt::format("'{}' line {}", file.string(), number)));
+    const std::string where = fmt::format("'{}' line {}", file.string(), number);
+    sessions.push_back(ParseSession(line, where));
+    const std::string id = RunIdOf(sessions);
+    Require(sessions.back().run_id.empty() || sessions.back().run_id == id,
+            "{}: run '{}' where the earlier lines have run '{}': expected the sessions of one "
+            "run (the file was edited or joined from two runs)",
+            where, sessions.back().run_id, id);
   }
   return sessions;
+}
+
+// 128 bits from the OS's entropy as 32 hex digits: an identity, never a seed of any result.
+std::string NewRunId() {
+  std::random_device entropy;
+  std::string id;
+  for (int i = 0; i < 4; ++i) id += fmt::format("{:08x}", static_cast<std::uint32_t>(entropy()));
+  return id;
 }
 
 std::string ValueText(const nlohmann::ordered_json& value) {
@@ -148,6 +164,13 @@ std::string DescribeSetup(const NumericsSetup& setup) {
       setup.xgboost, setup.onednn.empty() ? "none" : setup.onednn, setup.device);
 }
 
+std::string RunIdOf(const std::vector<RunSession>& sessions) {
+  for (const RunSession& session : sessions) {
+    if (!session.run_id.empty()) return session.run_id;
+  }
+  return "";
+}
+
 std::vector<RunSession> ReadRunSessions(const RunDirectory& run) {
   const fs::path file = run.sessions_file();
   return ParseSessions(WholeLines(file), file);
@@ -166,6 +189,8 @@ std::vector<std::string> RecordRunSession(const RunDirectory& run, std::int64_t 
   }
   RunSession session;
   session.number = before.empty() ? 1 : before.back().number + 1;
+  session.run_id = RunIdOf(before);
+  if (session.run_id.empty()) session.run_id = NewRunId();
   session.began = UtcNow();
   session.steps_done = steps_done;
   session.setup = setup;

@@ -46,6 +46,10 @@ std::string DescribeSetup(const NumericsSetup& setup);
 // One session of a run: its start (number 1) or a resume.
 struct RunSession {
   int number = 0;
+  // The run's identity, drawn from the OS's entropy when the run began and repeated by every
+  // session: a run folder copied or moved keeps it, so a report can tell a copy from another
+  // seed. 32 hex digits; "" in sessions of versions before v0.7 (not part of any result).
+  std::string run_id;
   std::string began;            // UTC, "2026-11-25T06:25:46Z"
   std::int64_t steps_done = 0;  // the run's agent (or environment) steps when it began
   NumericsSetup setup;
@@ -53,11 +57,16 @@ struct RunSession {
 
 // The sessions in run's sessions.jsonl, in order; empty when the file is absent (a run begun by
 // a version that kept none). A last line left unfinished by a stop mid-write is not a session.
-// Throws cmbrl::Error naming the file, the line and the key for any other malformed line.
+// Throws cmbrl::Error naming the file, the line and the key for any other malformed line, and
+// for a line whose run id differs from an earlier line's.
 std::vector<RunSession> ReadRunSessions(const RunDirectory& run);
 
+// The run id its sessions carry ("" when none does: a run of a version before v0.7).
+std::string RunIdOf(const std::vector<RunSession>& sessions);
+
 // Appends a session that begins now at `steps_done` on `setup` (removing an unfinished last
-// line first) and returns how its setup differs from the previous session's (empty for the
+// line first), with the run's id (a new one for the first session, or for a run whose earlier
+// sessions kept none) and returns how its setup differs from the previous session's (empty for the
 // first session, or when the run kept no sessions before). The caller holds the run's lock.
 // Throws cmbrl::Error when the file cannot be read or written.
 std::vector<std::string> RecordRunSession(const RunDirectory& run, std::int64_t steps_done,

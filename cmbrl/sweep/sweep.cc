@@ -139,7 +139,7 @@ RunStatus StatusOf(const SweepRun& run, std::optional<std::int64_t> budget) {
   std::vector<EpisodePoint> episodes;
   try {
     episodes = EpisodeReaderOf(FindAlgorithm(config.algorithm).family)(
-        dir.progress_file().string());
+        dir.progress_file().string(), std::nullopt);
   } catch (const Error&) {
     // A process killed while writing a row leaves it half written; resuming repairs that.
     return RunStatus::kStarted;

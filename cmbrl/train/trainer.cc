@@ -65,9 +65,9 @@ std::unique_ptr<Trainer> Trainer::Resume(const std::string& run_dir,
   Require(run.HoldsRun(), "'{}' holds no run (no {}): start one with --config", run_dir,
           run.config_file().filename().string());
   auto lock = std::make_unique<RunLock>(run_dir);
+  RecoverInterruptedCheckpoint(run);  // may put in the config.yaml of an interrupted budget change
   auto state = std::make_unique<State>(LoadTrainConfig(run.config_file().string()), run);
   state->lock = std::move(lock);
-  RecoverInterruptedCheckpoint(run);
   const std::optional<CheckpointManifest> checkpoint = VerifiedCheckpoint(run);
   const std::int64_t old_budget = state->config.training.total_steps;
   if (new_budget) {
@@ -86,7 +86,7 @@ std::unique_ptr<Trainer> Trainer::Resume(const std::string& run_dir,
             "cannot continue '{}' to {} steps: it has done {} already (its budget was {})",
             run_dir, *new_budget, done, old_budget);
     state->learner->CheckNewBudget(*new_budget);
-    run.ReplaceConfig(TrainConfigToYaml(state->config));
+    ReplaceCheckpointedConfig(run, TrainConfigToYaml(state->config));
   }
   TruncateProgress(run, state->rows);
   std::string header;

@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <fstream>
 #include <optional>
+#include <set>
 
 #include "cmbrl/learners/mpc/mpc_learner.h"
 #include "cmbrl/learners/policy_opt/policy_opt_learner.h"
@@ -463,7 +464,8 @@ TEST_F(ReportTest, BadReferenceLogsAreNamed) {
   std::ofstream(dir / "mbrl" / "PointGoal1-rce-s100.csv")
       << "Epoch,Episode,EpRet,EpCost,TotalEnvInteracts,Time\n0,0,1,1,100,1\n0,1,1,1,50,1\n";
   EXPECT_THAT(testing::ErrorMessage([&] { ReadReferenceRuns(dir.string()); }),
-              HasSubstr("PointGoal1-rce-s100.csv line 3: TotalEnvInteracts 50 after 100"));
+              HasSubstr("PointGoal1-rce-s100.csv line 3: TotalEnvInteracts is 50: expected a count of "
+                        "steps that never falls"));
   std::ofstream(dir / "mbrl" / "PointGoal1-rce-s100.csv") << "Epoch,EpRet\n";
   EXPECT_THAT(testing::ErrorMessage([&] { ReadReferenceRuns(dir.string()); }),
               HasSubstr("has no column EpCost"));
@@ -829,6 +831,86 @@ TEST_F(ReportTest, RunsShortOfTheWindowAreLeftOutByName) {
               ::testing::ElementsAre("CarGoal2-cem-s1 (0 steps)", "PointGoal1-cem-s1 (300 steps)"));
   ASSERT_EQ(runs.size(), 5u);
   for (const RunRecord& run : runs) EXPECT_GE(StepsReached(run), 400);
+}
+
+// A report reads what the run's checkpoint covers: a row added after it (by hand, or by a run
+// still going) is not counted.
+TEST_F(ReportTest, RowsTheCheckpointDoesNotCoverAreNotCounted) {
+  const fs::path progress = sweep_ / "runs" / "PointGoal1-rce-s0" / "progress.csv";
+  ProgressRow row;
+  row.epoch = 1;
+  row.episode = 5;
+  row.episode_cost = 99;
+  row.steps = 100;
+  row.total_env_interacts = 500;
+  std::ofstream(progress, std::ios::app) << ProgressCsvLine(row) << "\n";
+  const std::vector<RunRecord> runs = ReadSweep(sweep_.string());
+  const auto run = std::find_if(runs.begin(), runs.end(),
+                                [](const RunRecord& r) { return r.name == "PointGoal1-rce-s0"; });
+  ASSERT_NE(run, runs.end());
+  ASSERT_EQ(run->episodes.size(), 4u);
+  EXPECT_DOUBLE_EQ(run->episodes.back().cumulative_violations, 12.0);  // 1 + 0 + 2 + 9
+}
+
+// A run folder copied (or moved and copied back) keeps its run id: a report counts it once and
+// refuses the second, naming both folders.
+TEST_F(ReportTest, ACopiedRunIsRefusedNamingBothFolders) {
+  const fs::path runs = sweep_ / "runs";
+  RecordRunSession(RunDirectory(runs / "PointGoal1-rce-s0"), 0, NumericsSetup{});  // run ids
+  RecordRunSession(RunDirectory(runs / "PointGoal1-rce-s1"), 0, NumericsSetup{});
+  fs::copy(runs / "PointGoal1-rce-s1", runs / "PointGoal1-rce-s7", fs::copy_options::recursive);
+  const std::string message = testing::ErrorMessage([&] { ReadSweep(sweep_.string()); });
+  EXPECT_THAT(message, HasSubstr("PointGoal1-rce-s1' and '"));
+  EXPECT_THAT(message, HasSubstr("PointGoal1-rce-s7' hold one run (run id "));
+  // Distinct runs have distinct ids.
+  fs::remove_all(runs / "PointGoal1-rce-s7");
+  std::set<std::string> ids;
+  for (const RunRecord& run : ReadSweep(sweep_.string())) {
+    if (!run.sessions.empty()) ids.insert(RunIdOf(run.sessions));
+  }
+  EXPECT_EQ(ids.size(), 2u);
+  EXPECT_EQ(ids.begin()->size(), 32u);
+}
+
+// Values outside their domain are refused naming the file, the line and the column, whatever
+// the manifest says of them.
+TEST_F(ReportTest, ValuesOutsideTheirDomainAreNamed) {
+  const fs::path progress = sweep_ / "bad-progress.csv";
+  const auto write_row = [&](double cost, double episode_return, int steps) {
+    ProgressRow row;
+    row.epoch = 1;
+    row.episode = 1;
+    row.episode_cost = cost;
+    row.episode_return = episode_return;
+    row.steps = steps;
+    row.total_env_interacts = 100;
+    std::ofstream(progress, std::ios::trunc) << ProgressCsvHeader() << "\n"
+                                             << ProgressCsvLine(row) << "\n";
+  };
+  const auto row_with = [&](double cost, double episode_return, int steps) {
+    write_row(cost, episode_return, steps);
+    return testing::ErrorMessage([&] { ReadProgressEpisodes(progress.string()); });
+  };
+  const std::string count = "expected a whole count from 0 to the episode's steps";
+  EXPECT_THAT(row_with(std::nan(""), 0, 100), HasSubstr("line 2: EpCost is nan: " + count));
+  EXPECT_THAT(row_with(-7, 0, 100), HasSubstr("line 2: EpCost is -7: " + count));
+  EXPECT_THAT(row_with(1e300, 0, 100), HasSubstr("line 2: EpCost is 1e+300: " + count));
+  EXPECT_THAT(row_with(101, 0, 100), HasSubstr("line 2: EpCost is 101: " + count));
+  EXPECT_THAT(row_with(2.5, 0, 100), HasSubstr("line 2: EpCost is 2.5: expected a whole count"));
+  EXPECT_THAT(row_with(1, std::nan(""), 100),
+              HasSubstr("line 2: EpRet is nan: expected a finite return"));
+  EXPECT_THAT(row_with(1, 0, 150), HasSubstr("line 2: Steps is 150: expected the episode's "
+                                             "steps, at most the rise of TotalEnvInteracts"));
+  write_row(100, -3.5, 100);  // the edges are in the domain
+  EXPECT_NO_THROW(ReadProgressEpisodes(progress.string()));
+
+  const fs::path epochs = sweep_ / "bad-epochs.csv";
+  std::ofstream(epochs) << "AverageEpRet,AverageEpCost,CumulativeCost,TotalEnvInteracts\n"
+                        << "1,2,40,300\n1,2,30,600\n";
+  EXPECT_THAT(testing::ErrorMessage([&] { ReadEpochLog(epochs.string()); }),
+              HasSubstr("bad-epochs.csv line 3: CumulativeCost is 30: expected a running count "
+                        "that rises by at most the epoch's steps"));
+  EXPECT_EQ(ReadEpochLog(epochs.string(), 1).size(), 1u);  // the rows a checkpoint covers
 }
 
 TEST_F(ReportTest, BadProgressIsNamed) {

@@ -128,6 +128,43 @@ TEST(RunSessionsTest, EachSessionIsALineAndAResumeElsewhereIsNamed) {
   EXPECT_EQ(sessions[0].began.back(), 'Z');
 }
 
+// A run's id is drawn once and repeated by each session; another run draws another; a run of a
+// version that kept none gets one from its next session; a line of another run is refused.
+TEST(RunSessionsTest, EverySessionCarriesTheRunsOneId) {
+  const RunDirectory run = TempRun("id");
+  RecordRunSession(run, 0, SomeSetup());
+  RecordRunSession(run, 100, SomeSetup());
+  const std::vector<RunSession> sessions = ReadRunSessions(run);
+  ASSERT_EQ(sessions.size(), 2u);
+  EXPECT_EQ(sessions[0].run_id.size(), 32u);
+  EXPECT_EQ(sessions[1].run_id, sessions[0].run_id);
+  EXPECT_EQ(RunIdOf(sessions), sessions[0].run_id);
+
+  const RunDirectory other = TempRun("id_other");
+  RecordRunSession(other, 0, SomeSetup());
+  EXPECT_NE(RunIdOf(ReadRunSessions(other)), RunIdOf(sessions));
+
+  const RunDirectory older = TempRun("id_older");  // a v0.6 line: no "run"
+  Append(older.sessions_file(),
+         R"({"session":1,"began":"2026-11-25T06:25:46Z","steps_done":0,"cmbrl":"0.1.0",)"
+         R"("cpu":"c","blas_core":"b","blas_threads":1,"torch_threads":1,"libtorch":"l",)"
+         R"("mujoco":"m","xgboost":"x","device":"cpu"})"
+         "\n");
+  EXPECT_EQ(RunIdOf(ReadRunSessions(older)), "");
+  RecordRunSession(older, 100, SomeSetup());
+  EXPECT_EQ(RunIdOf(ReadRunSessions(older)).size(), 32u);
+
+  std::string joined;
+  {
+    std::ifstream in(other.sessions_file());
+    std::getline(in, joined);
+  }
+  Append(run.sessions_file(), joined + "\n");
+  EXPECT_THAT(ErrorMessage([&] { ReadRunSessions(run); }),
+              HasSubstr("sessions.jsonl' line 3: run '" + RunIdOf(ReadRunSessions(other)) +
+                        "' where the earlier lines have run '" + RunIdOf(sessions) + "'"));
+}
+
 // A stop while a line was written leaves it unfinished: it is no session, and the next one
 // takes its place.
 TEST(RunSessionsTest, AnUnfinishedLastLineIsDropped) {

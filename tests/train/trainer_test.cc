@@ -191,6 +191,22 @@ TEST(TrainerTest, ResumingAfterACrashGivesTheSameRows) {
 
 // A run resumed on another machine goes on, and says so: its rows from then on are not the
 // uninterrupted run's.
+// Writes the run's checkpoint again over its files as they are now (the same learner files,
+// rows and seconds): what a run whose files were written so by an older version or on another
+// machine would hold. Through WriteCheckpoint, so that the manifest is one the run would write.
+void RewriteCheckpoint(const std::string& dir) {
+  const fs::path manifest = fs::path(dir) / "checkpoint" / "manifest.json";
+  const nlohmann::json json = nlohmann::json::parse(std::ifstream(manifest));
+  WriteCheckpoint(RunDirectory(dir), json.at("rows").get<std::int64_t>(),
+                  json.at("elapsed_seconds").get<double>(),
+                  [](const fs::path& folder, const fs::path& previous) {
+                    for (const fs::directory_entry& file : fs::directory_iterator(previous)) {
+                      if (file.path().filename() == "manifest.json") continue;
+                      fs::copy_file(file.path(), folder / file.path().filename());
+                    }
+                  });
+}
+
 TEST(TrainerTest, AResumeOnAnotherSetupIsNamed) {
   const std::string dir = TempRunDir("elsewhere");
   CrashAfterRows(TinyConfig("cem"), dir, 2);
@@ -200,6 +216,7 @@ TEST(TrainerTest, AResumeOnAnotherSetupIsNamed) {
   in.close();
   first["cpu"] = "Another CPU";
   std::ofstream(sessions) << first.dump() << "\n";
+  RewriteCheckpoint(dir);  // as if the first session had run there
   {
     const std::unique_ptr<Trainer> resumed = Trainer::Resume(dir);
     EXPECT_THAT(resumed->setup_changes(),
@@ -225,21 +242,13 @@ TEST(TrainerTest, ARunBegunWithFewerColumnsKeepsThemOnResume) {
     for (std::string line; std::getline(in, line);) lines.push_back(FirstProgressFields(line, 14));
   }
   // Rewrite the log as the older version would have, and its checkpoint's record of it.
-  std::string covered;
   {
     std::ofstream out(progress, std::ios::trunc);
     for (size_t i = 0; i < lines.size(); ++i) {
       out << lines[i] << "\n";
-      if (i < 3) covered += lines[i] + "\n";  // the header and the two checkpointed rows
     }
   }
-  const fs::path prefix = fs::path(old) / "covered.csv";
-  std::ofstream(prefix) << covered;
-  const fs::path manifest_path = fs::path(old) / "checkpoint" / "manifest.json";
-  nlohmann::json manifest = nlohmann::json::parse(std::ifstream(manifest_path));
-  manifest["progress_crc32"] = FileCrc(prefix);
-  std::ofstream(manifest_path) << manifest.dump(2);
-  fs::remove(prefix);
+  RewriteCheckpoint(old);
 
   Trainer::Resume(old)->Run();
   std::vector<std::string> expected = RowsWithoutTimes(whole);
@@ -340,8 +349,69 @@ TEST(TrainerTest, ARunWhosePartsDisagreeIsRefusedByName) {
     EXPECT_THAT(ErrorMessage([&] { Trainer::Resume(dir.string()); }),
                 ::testing::HasSubstr("ensemble.pt' differs from the file the checkpoint wrote"));
   }
+  {
+    const fs::path dir = copy("edited_config");
+    std::ofstream(dir / "config.yaml", std::ios::app) << "# a comment changes the bytes\n";
+    EXPECT_THAT(ErrorMessage([&] { Trainer::Resume(dir.string()); }),
+                ::testing::HasSubstr("config.yaml' differs from the configuration the run's "
+                                     "checkpoint recorded: it was edited"));
+  }
+  {
+    const fs::path dir = copy("edited_manifest");
+    const fs::path manifest = dir / "checkpoint" / "manifest.json";
+    std::stringstream text;
+    text << std::ifstream(manifest).rdbuf();
+    std::string edited = text.str();
+    const size_t at = edited.find(fmt::format("\"rows\": {}", n));
+    ASSERT_NE(at, std::string::npos);
+    edited.replace(at, fmt::format("\"rows\": {}", n).size(), fmt::format("\"rows\": {}", n - 1));
+    std::ofstream(manifest, std::ios::trunc) << edited;
+    EXPECT_THAT(ErrorMessage([&] { Trainer::Resume(dir.string()); }),
+                ::testing::HasSubstr("manifest.json' is damaged: its checksum does not match "
+                                     "its content: it was edited"));
+  }
+  {
+    const fs::path dir = copy("no_manifest");
+    fs::remove(dir / "checkpoint" / "manifest.json");
+    EXPECT_THAT(ErrorMessage([&] { Trainer::Resume(dir.string()); }),
+                ::testing::HasSubstr("manifest.json' is missing: the checkpoint was written by "
+                                     "a version that writes one"));
+  }
+  {
+    const fs::path dir = copy("no_sessions");
+    fs::remove(dir / "sessions.jsonl");
+    EXPECT_THAT(ErrorMessage([&] { Trainer::Resume(dir.string()); }),
+                ::testing::HasSubstr("sessions.jsonl' is missing: the run's checkpoint covers "
+                                     "its first 1 session(s)"));
+  }
   // The untouched copy resumes (nothing left to do: its budget is spent).
   EXPECT_NO_THROW(Trainer::Resume(copy("untouched").string())->Run());
+}
+
+// A resume given a new budget changes config.yaml and the manifest that records it together; a
+// stop between the two is finished by the next resume and named by readers meanwhile.
+TEST(TrainerTest, ABudgetChangeKeepsTheConfigCoveredEvenWhenInterrupted) {
+  const std::string dir = TempRunDir("rebudget");
+  TrainConfig config = TinyConfig("cem");
+  const std::int64_t first_budget = config.training.total_steps;
+  Trainer::Start(config, dir)->Run();
+  const std::string before = [&] {
+    std::stringstream text;
+    text << std::ifstream(fs::path(dir) / "config.yaml").rdbuf();
+    return text.str();
+  }();
+  Trainer::Resume(dir, first_budget + 300);  // changes the budget, then stops before any step
+  EXPECT_NO_THROW(VerifiedCheckpoint(RunDirectory(dir)));
+  // A stop after the new manifest went in but before config.yaml did.
+  fs::rename(fs::path(dir) / "config.yaml", fs::path(dir) / "config.yaml.tmp");
+  std::ofstream(fs::path(dir) / "config.yaml") << before;
+  EXPECT_THAT(ErrorMessage([&] { VerifiedCheckpoint(RunDirectory(dir)); }),
+              ::testing::HasSubstr("a budget change was interrupted: resume the run to finish"));
+  const std::unique_ptr<Trainer> resumed = Trainer::Resume(dir);
+  EXPECT_EQ(resumed->config().training.total_steps, first_budget + 300);
+  EXPECT_FALSE(fs::exists(fs::path(dir) / "config.yaml.tmp"));
+  resumed->Run();
+  EXPECT_GE(resumed->steps_done(), first_budget + 300);
 }
 
 // A model-free learner behind the same run machinery: rows per epoch, and a resume after a
