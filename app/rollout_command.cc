@@ -13,6 +13,7 @@
 #include "app/commands.h"
 #include "cmbrl/agent/policy.h"
 #include "cmbrl/core/check.h"
+#include "cmbrl/core/files.h"
 #include "cmbrl/core/rng.h"
 #include "cmbrl/env/registry.h"
 #include "cmbrl/eval/rollout.h"
@@ -127,8 +128,11 @@ void RunRollout(const RolloutArgs& args) {
       WriteScenePng(picture, picture_path);
       line["picture"] = picture_path;
     }
+    // A trace cut short by a full disk stops the rollout at this episode, naming the file.
+    if (tracing && trace_file.fail()) CloseChecked(trace_file, args.trace);
     std::cout << line.dump() << std::endl;
   }
+  if (tracing) CloseChecked(trace_file, args.trace);
 }
 
 }  // namespace

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "cmbrl/core/check.h"
+#include "cmbrl/core/files.h"
 
 namespace cmbrl {
 
@@ -32,11 +33,8 @@ class BinaryWriter {
     out_.write(reinterpret_cast<const char*>(values.data()),
                static_cast<std::streamsize>(values.size() * sizeof(T)));
   }
-  // Flushes and reports a failed write.
-  void Close() {
-    out_.close();
-    Require(!out_.fail(), "writing '{}' failed", path_);
-  }
+  // Flushes and reports a failed write, naming the file and the cause.
+  void Close() { CloseChecked(out_, path_); }
 
  private:
   std::string path_;

@@ -2,11 +2,14 @@
 
 #include <dlfcn.h>
 
+#include <sstream>
+
 #include <ATen/CPUGeneratorImpl.h>
 #include <ATen/detail/CUDAHooksInterface.h>
 
 #include "cmbrl/core/check.h"
 #include "cmbrl/core/device_name.h"
+#include "cmbrl/core/files.h"
 
 namespace cmbrl {
 
@@ -77,6 +80,26 @@ ScopedSingleThreadedMath::ScopedSingleThreadedMath() : torch_threads_(at::get_nu
 ScopedSingleThreadedMath::~ScopedSingleThreadedMath() {
   at::set_num_threads(torch_threads_);
   if (blas_threads_ > 0) blas_set_threads_(blas_threads_);
+}
+
+void SaveArchive(torch::serialize::OutputArchive& archive, const std::string& path) {
+  std::ostringstream bytes;
+  try {
+    archive.save_to(bytes);
+  } catch (const c10::Error& error) {
+    Fail("could not write '{}': {}", path, error.what_without_backtrace());
+  }
+  WriteFile(path, bytes.str());
+}
+
+void SaveTensor(const torch::Tensor& tensor, const std::string& path) {
+  std::ostringstream bytes;
+  try {
+    torch::save(tensor, bytes);
+  } catch (const c10::Error& error) {
+    Fail("could not write '{}': {}", path, error.what_without_backtrace());
+  }
+  WriteFile(path, bytes.str());
 }
 
 }  // namespace cmbrl

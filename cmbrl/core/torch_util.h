@@ -28,6 +28,12 @@ void CheckFloatTensor(const torch::Tensor& t, const char* what, std::int64_t las
 // One host synchronisation.
 void CheckFinite(const torch::Tensor& t, const char* what);
 
+// Saves an archive (or a tensor) to `path` through memory and core/files.h: LibTorch writing a
+// file itself ends the process (an exception from a destructor) when the disk fills. Throws
+// cmbrl::Error naming the file and the cause.
+void SaveArchive(torch::serialize::OutputArchive& archive, const std::string& path);
+void SaveTensor(const torch::Tensor& tensor, const std::string& path);
+
 // While alive, LibTorch's CPU operations and OpenBLAS (when the process has it) run on the
 // calling thread alone; the thread counts before are restored at destruction. For independent
 // pieces of math run side by side on threads of their own: each gives the numbers it gives on

@@ -286,11 +286,7 @@ void EnsembleDynamics::Save(const std::string& path) const {
   torch::serialize::OutputArchive optimizer;
   s.optimizer->Save(optimizer);
   archive.write("adam", optimizer);
-  try {
-    archive.save_to(path);
-  } catch (const c10::Error& error) {
-    Fail("could not write the ensemble to '{}': {}", path, error.what_without_backtrace());
-  }
+  SaveArchive(archive, path);
 }
 
 void EnsembleDynamics::Load(const std::string& path) {

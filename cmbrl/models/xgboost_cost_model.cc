@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "cmbrl/core/check.h"
+#include "cmbrl/core/files.h"
 #include "cmbrl/core/torch_util.h"
 #include "cmbrl/models/tree_ensemble_tensor.h"
 
@@ -233,9 +234,7 @@ void XgbCostModel::Save(const std::string& path) const {
                          {"threshold", options_.threshold},
                          {"trained", trained_}};
   if (trained_) file["booster"] = nlohmann::json::parse(booster_->SaveJson());
-  std::ofstream out(path);
-  out << file.dump();
-  Require(static_cast<bool>(out), "could not write the cost model to '{}'", path);
+  WriteFile(path, file.dump());
 }
 
 void XgbCostModel::Load(const std::string& path) {

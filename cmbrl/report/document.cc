@@ -10,6 +10,7 @@
 
 #include "cmbrl/core/build_info.h"
 #include "cmbrl/core/check.h"
+#include "cmbrl/core/files.h"
 #include "cmbrl/learners/mpc/mpc_progress_columns.h"
 #include "cmbrl/report/reference.h"
 #include "cmbrl/viz/plot.h"
@@ -24,12 +25,6 @@ std::string Now() {
   char text[64];
   std::strftime(text, sizeof(text), "%Y-%m-%d %H:%M UTC", std::gmtime(&now));
   return text;
-}
-
-void WriteFile(const fs::path& path, const std::string& text) {
-  std::ofstream out(path);
-  out << text;
-  Require(static_cast<bool>(out), "could not write '{}'", path.string());
 }
 
 std::vector<PlotPanel> CurvePanels(const std::vector<RunRecord>& runs,

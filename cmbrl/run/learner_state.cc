@@ -5,14 +5,12 @@
 #include <string>
 
 #include "cmbrl/core/check.h"
+#include "cmbrl/core/files.h"
 
 namespace cmbrl {
 
 void WriteLearnerState(const std::filesystem::path& path, const nlohmann::json& state) {
-  std::ofstream out(path);
-  out << state.dump(2);
-  out.close();
-  Require(!out.fail(), "could not write '{}'", path.string());
+  WriteFile(path, state.dump(2));
 }
 
 void ReadLearnerState(const std::filesystem::path& path,

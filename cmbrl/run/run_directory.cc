@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "cmbrl/core/check.h"
+#include "cmbrl/core/files.h"
 
 namespace cmbrl {
 namespace fs = std::filesystem;
@@ -92,10 +93,7 @@ void WriteManifest(const fs::path& folder, const CheckpointManifest& m) {
                                  {"sessions_crc32", m.sessions_crc},
                                  {"files", files}};
   json["manifest_crc32"] = ManifestCrc(json);
-  std::ofstream out(folder / kManifest);
-  out << json.dump(2) << "\n";
-  out.close();
-  Require(!out.fail(), "could not write '{}'", (folder / kManifest).string());
+  WriteFile(folder / kManifest, json.dump(2) + "\n");
 }
 
 CheckpointManifest ReadManifest(const fs::path& path) {
@@ -177,12 +175,7 @@ RunDirectory RunDirectory::Create(const fs::path& root, const std::string& confi
   std::vector<fs::path> made;
   try {
     made.push_back(run.progress_file());
-    {
-      std::ofstream progress(run.progress_file(), std::ios::trunc);
-      progress << progress_header << "\n";
-      progress.close();
-      Require(!progress.fail(), "cannot write '{}'", run.progress_file().string());
-    }
+    WriteFile(run.progress_file(), progress_header + "\n");
     made.push_back(run.config_tmp_file());
     made.push_back(run.config_file());
     run.ReplaceConfig(config_yaml);
@@ -201,10 +194,7 @@ RunDirectory RunDirectory::Create(const fs::path& root, const std::string& confi
 
 void RunDirectory::ReplaceConfig(const std::string& config_yaml) const {
   const fs::path tmp = config_tmp_file();
-  std::ofstream out(tmp, std::ios::trunc);
-  out << config_yaml;
-  out.close();
-  Require(!out.fail(), "cannot write '{}'", tmp.string());
+  WriteFile(tmp, config_yaml);
   std::error_code error;
   fs::rename(tmp, config_file(), error);
   Require(!error, "cannot replace '{}': {}", config_file().string(), error.message());
@@ -259,20 +249,29 @@ void WriteCheckpoint(const RunDirectory& run, std::int64_t rows, double elapsed_
   const fs::path final_dir = run.checkpoint_dir();
   fs::remove_all(tmp);
   fs::create_directories(tmp);
-  write(tmp, fs::exists(final_dir) ? final_dir : fs::path());
-  CheckpointManifest manifest;
-  manifest.rows = rows;
-  manifest.elapsed_seconds = elapsed_seconds;
-  manifest.progress_crc = TextCrc(ReadProgressPrefix(run, rows).text);
-  CoverRunFiles(run, manifest, run.config_file());
-  std::vector<fs::path> files;
-  for (const fs::directory_entry& entry : fs::directory_iterator(tmp)) files.push_back(entry.path());
-  std::sort(files.begin(), files.end());
-  for (const fs::path& file : files) {
-    manifest.files.push_back(
-        {file.filename().string(), fs::file_size(file), FileCrc(file)});
+  try {
+    write(tmp, fs::exists(final_dir) ? final_dir : fs::path());
+    CheckpointManifest manifest;
+    manifest.rows = rows;
+    manifest.elapsed_seconds = elapsed_seconds;
+    manifest.progress_crc = TextCrc(ReadProgressPrefix(run, rows).text);
+    CoverRunFiles(run, manifest, run.config_file());
+    std::vector<fs::path> files;
+    for (const fs::directory_entry& entry : fs::directory_iterator(tmp)) {
+      files.push_back(entry.path());
+    }
+    std::sort(files.begin(), files.end());
+    for (const fs::path& file : files) {
+      manifest.files.push_back({file.filename().string(), fs::file_size(file), FileCrc(file)});
+    }
+    SwapInCheckpoint(run, tmp, manifest, /*new_config=*/false);
+  } catch (const Error& error) {
+    // A full disk: the last whole checkpoint stays, and the half-written one frees its space.
+    std::error_code ignored;
+    fs::remove_all(tmp, ignored);
+    Fail("{} (the run's last whole checkpoint is kept: free space, then resume it)",
+         error.what());
   }
-  SwapInCheckpoint(run, tmp, manifest, /*new_config=*/false);
 }
 
 void ReplaceCheckpointedConfig(const RunDirectory& run, const std::string& config_yaml) {
@@ -282,12 +281,7 @@ void ReplaceCheckpointedConfig(const RunDirectory& run, const std::string& confi
     return;
   }
   const fs::path config_tmp = run.root() / "config.yaml.tmp";
-  {
-    std::ofstream out(config_tmp, std::ios::trunc);
-    out << config_yaml;
-    out.close();
-    Require(!out.fail(), "cannot write '{}'", config_tmp.string());
-  }
+  WriteFile(config_tmp, config_yaml);
   // The same checkpoint, its files hard-linked (never rewritten), under a manifest that records
   // the new config.yaml.
   const fs::path tmp = TmpCheckpoint(run);
@@ -397,10 +391,7 @@ std::optional<CheckpointManifest> VerifiedCheckpoint(const RunDirectory& run, bo
 
 void TruncateProgress(const RunDirectory& run, std::int64_t rows) {
   const std::string kept = ReadProgressPrefix(run, rows).text;
-  std::ofstream out(run.progress_file(), std::ios::trunc);
-  out << kept;
-  out.close();
-  Require(!out.fail(), "could not rewrite '{}'", run.progress_file().string());
+  WriteFile(run.progress_file(), kept);
 }
 
 }  // namespace cmbrl

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "cmbrl/core/check.h"
+#include "cmbrl/core/files.h"
 
 namespace cmbrl {
 namespace {
@@ -194,10 +195,7 @@ std::vector<std::string> RecordRunSession(const RunDirectory& run, std::int64_t 
   session.began = UtcNow();
   session.steps_done = steps_done;
   session.setup = setup;
-  std::ofstream out(file, std::ios::app);
-  out << SessionJson(session).dump() << "\n";
-  out.close();
-  Require(!out.fail(), "could not append to '{}'", file.string());
+  AppendToFile(file, SessionJson(session).dump() + "\n");
   return before.empty() ? std::vector<std::string>() : SetupChanges(before.back().setup, setup);
 }
 

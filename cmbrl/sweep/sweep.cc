@@ -10,6 +10,7 @@
 #include <set>
 
 #include "cmbrl/core/check.h"
+#include "cmbrl/core/files.h"
 #include "cmbrl/env/registry.h"
 #include "cmbrl/config/config.h"
 #include "cmbrl/report/report.h"
@@ -193,7 +194,7 @@ void RecordOrCheckSweep(const SweepGrid& grid, const std::string& sweep_dir) {
   }
   fs::create_directories(sweep_dir);
   const fs::path tmp = path.string() + ".tmp";
-  std::ofstream(tmp) << settings.dump(2) << "\n";
+  WriteFile(tmp, settings.dump(2) + "\n");
   fs::rename(tmp, path);
 }
 

@@ -18,6 +18,7 @@ extern char** environ;
 #include <map>
 
 #include "cmbrl/core/check.h"
+#include "cmbrl/core/files.h"
 #include "cmbrl/core/parallel.h"
 
 namespace cmbrl {
@@ -76,7 +77,7 @@ SweepOutcome RunSweep(const SweepGrid& grid, const std::string& sweep_dir, int j
   fs::create_directories(fs::path(sweep_dir) / "runs");
   {
     const fs::path script = fs::path(sweep_dir) / "slurm.sh";
-    std::ofstream(script) << SlurmScript(runs, grid, sweep_dir, program);
+    WriteFile(script, SlurmScript(runs, grid, sweep_dir, program));
     fs::permissions(script, fs::perms::owner_exec | fs::perms::group_exec, fs::perm_options::add);
   }
 

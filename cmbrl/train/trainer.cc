@@ -7,6 +7,7 @@
 #include <string>
 
 #include "cmbrl/core/check.h"
+#include "cmbrl/core/files.h"
 #include "cmbrl/core/run_lock.h"
 #include "cmbrl/learners/registry.h"
 #include "cmbrl/run/run_sessions.h"
@@ -39,10 +40,8 @@ struct Trainer::State {
   }
 
   void AppendRow(const std::string& line) {
-    std::ofstream out(run.progress_file(), std::ios::app);
-    out << (columns_kept ? FirstProgressFields(line, *columns_kept) : line) << "\n";
-    out.close();
-    Require(!out.fail(), "could not append to '{}'", run.progress_file().string());
+    AppendToFile(run.progress_file(),
+                 (columns_kept ? FirstProgressFields(line, *columns_kept) : line) + "\n");
     ++rows;
   }
 };

@@ -11,6 +11,7 @@
 #include <string>
 
 #include "cmbrl/core/check.h"
+#include "cmbrl/viz/cairo_output.h"
 
 namespace cmbrl {
 namespace {
@@ -272,13 +273,18 @@ std::vector<PanelArea> WritePlots(const std::vector<PlotPanel>& panels, const st
     cairo_t* cr = cairo_create(surface);
     areas = Draw(cr, panels, o, styles, legend);
     cairo_destroy(cr);
-    const cairo_status_t status = cairo_surface_write_to_png(surface, png_path.c_str());
+    try {
+      WriteSurfacePng(surface, png_path);
+    } catch (...) {
+      cairo_surface_destroy(surface);
+      throw;
+    }
     cairo_surface_destroy(surface);
-    Require(status == CAIRO_STATUS_SUCCESS, "could not write '{}': {}", png_path,
-            cairo_status_to_string(status));
   }
   if (!svg_path.empty()) {
-    cairo_surface_t* surface = cairo_svg_surface_create(svg_path.c_str(), width, height);
+    std::string bytes;
+    cairo_surface_t* surface =
+        cairo_svg_surface_create_for_stream(AppendToString, &bytes, width, height);
     cairo_t* cr = cairo_create(surface);
     areas = Draw(cr, panels, o, styles, legend);
     cairo_destroy(cr);
@@ -287,6 +293,7 @@ std::vector<PanelArea> WritePlots(const std::vector<PlotPanel>& panels, const st
     cairo_surface_destroy(surface);
     Require(status == CAIRO_STATUS_SUCCESS, "could not write '{}': {}", svg_path,
             cairo_status_to_string(status));
+    WriteFile(svg_path, bytes);
   }
   return areas;
 }

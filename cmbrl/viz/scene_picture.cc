@@ -9,6 +9,7 @@
 #include <memory>
 
 #include "cmbrl/core/check.h"
+#include "cmbrl/viz/cairo_output.h"
 
 namespace cmbrl {
 namespace {
@@ -321,9 +322,7 @@ PictureGeometry WriteScenePng(const ScenePicture& picture, const std::string& pa
                               const ScenePictureOptions& options) {
   PictureGeometry g;
   const Surface surface = DrawScenePicture(picture, options, g);
-  const cairo_status_t status = cairo_surface_write_to_png(surface.get(), path.c_str());
-  Require(status == CAIRO_STATUS_SUCCESS, "could not write the picture to '{}': {}", path,
-          cairo_status_to_string(status));
+  WriteSurfacePng(surface.get(), path);
   return g;
 }
 

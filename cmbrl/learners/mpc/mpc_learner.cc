@@ -10,6 +10,7 @@
 #include <limits>
 #include <nlohmann/json.hpp>
 
+#include "cmbrl/core/torch_util.h"
 #include "cmbrl/agent/policy.h"
 #include "cmbrl/core/check.h"
 #include "cmbrl/core/rng.h"
@@ -240,8 +241,8 @@ void MpcLearner::Save(const fs::path& folder, const fs::path& previous,
       if (linked) fs::copy_file(previous / name, folder / name);
     }
   }
-  torch::save(parts_.agent->planner().GeneratorState(),
-              (folder / kPlannerGeneratorFile).string());
+  SaveTensor(parts_.agent->planner().GeneratorState(),
+             (folder / kPlannerGeneratorFile).string());
   const nlohmann::json state = {
       {"pretrained", pretrained_},
       {"models_due", models_due_},

@@ -504,7 +504,7 @@ void PolicyOptLearner::Save(const fs::path& folder, const fs::path&, bool) const
   networks.write("value_optimizer", value_optimizer);
   networks.write("cost_value_optimizer", cost_value_optimizer);
   networks.write("generator", generator_.get_state());
-  networks.save_to((folder / kNetworksFile).string());
+  SaveArchive(networks, (folder / kNetworksFile).string());
   const LagrangeMultiplier::State penalty = lagrange_.state();
   const nlohmann::json state = {
       {"epochs", epochs_},

@@ -1,0 +1,58 @@
+#include "cmbrl/core/files.h"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+
+#include "cmbrl/core/check.h"
+
+namespace cmbrl {
+namespace {
+
+void WriteAll(const std::filesystem::path& path, std::string_view bytes, int flags) {
+  const int fd = open(path.c_str(), flags | O_WRONLY | O_CREAT | O_CLOEXEC, 0644);
+  if (fd < 0) FailToWrite(path);
+  size_t done = 0;
+  while (done < bytes.size()) {
+    const ssize_t n = write(fd, bytes.data() + done, bytes.size() - done);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) {
+      const int cause = n < 0 ? errno : ENOSPC;  // a write of nothing: the disk is full
+      close(fd);
+      errno = cause;
+      FailToWrite(path);
+    }
+    done += static_cast<size_t>(n);
+  }
+  if (close(fd) != 0) FailToWrite(path);  // NFS and quotas report late, at close
+}
+
+}  // namespace
+
+void FailToWrite(const std::filesystem::path& path) {
+  Fail("could not write '{}': {}", path.string(), std::strerror(errno));
+}
+
+void WriteFile(const std::filesystem::path& path, std::string_view bytes) {
+  WriteAll(path, bytes, O_TRUNC);
+}
+
+void AppendToFile(const std::filesystem::path& path, std::string_view bytes) {
+  WriteAll(path, bytes, O_APPEND);
+}
+
+void CloseChecked(std::ofstream& out, const std::filesystem::path& path) {
+  // A write that failed earlier left its cause in errno (nothing since has touched the stream).
+  int cause = out.fail() ? errno : 0;
+  if (!out.fail()) errno = 0;
+  out.close();
+  if (out.fail()) {
+    if (cause == 0) cause = errno != 0 ? errno : EIO;
+    errno = cause;
+    FailToWrite(path);
+  }
+}
+
+}  // namespace cmbrl

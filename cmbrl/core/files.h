@@ -1,0 +1,27 @@
+// Writing files so that a full disk, a quota or a vanished folder is an error that names the
+// file and the cause ("No space left on device"), never a crash or a file silently cut short.
+// Every file cmbrl writes goes through here, or is checked as here (Cairo's, XGBoost's).
+#pragma once
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <string_view>
+
+namespace cmbrl {
+
+// Writes `bytes` as the whole of `path` (created, or cut to nothing first) and closes it,
+// checking every write and the close. Throws cmbrl::Error naming the file and the cause.
+void WriteFile(const std::filesystem::path& path, std::string_view bytes);
+
+// Appends `bytes` to `path` (created if missing), checked as WriteFile.
+void AppendToFile(const std::filesystem::path& path, std::string_view bytes);
+
+// Closes a stream written piece by piece and throws cmbrl::Error naming `path` and the cause
+// when any write or the close failed.
+void CloseChecked(std::ofstream& out, const std::filesystem::path& path);
+
+// "could not write '<path>': <cause>", the cause from errno (the last failed call's).
+[[noreturn]] void FailToWrite(const std::filesystem::path& path);
+
+}  // namespace cmbrl

@@ -1,0 +1,76 @@
+#!/usr/bin/env bash
+# A full disk is an error that names the file and the cause, never a crash or a silent loss:
+# a tmpfs of a few hundred kB fills while a checkpoint, a report, a rollout trace and a sweep's
+# slurm.sh are written. Each command must exit 1 naming the file and "No space left on device";
+# the run keeps its last whole checkpoint and, once space is freed, resumes to the rows of a run
+# made in one go. Needs root (mount); exits 77 (skipped) without it.
+# Usage: full_disk_test.sh CMBRL CONFIG WORK_DIR
+set -euo pipefail
+cmbrl=$1 config=$2 work=$3
+if [ "$(id -u)" != 0 ]; then echo "skipped: mounting a tmpfs needs root"; exit 77; fi
+rm -rf "$work" && mkdir -p "$work/disk"
+if ! mount -t tmpfs -o size=300k tmpfs "$work/disk" 2> /dev/null; then
+  echo "skipped: cannot mount a tmpfs here (no CAP_SYS_ADMIN)"; exit 77
+fi
+trap 'umount "$work/disk" 2> /dev/null || true' EXIT
+disk=$work/disk
+expect_full() {  # what, log, file it must name
+  if ! grep -q "could not write '[^']*$3': No space left on device" "$2"; then
+    echo "FAILED: $1 did not name '$3' and the cause:"; cat "$2"; exit 1
+  fi
+  if grep -qiE 'terminate called|Aborted|c10::Error|Traceback' "$2"; then
+    echo "FAILED: $1 crashed:"; cat "$2"; exit 1
+  fi
+}
+
+# 1. A checkpoint that does not fit (the second one needs the first's space again).
+"$cmbrl" train --config "$config" --steps 600 --out "$work/whole" > /dev/null
+set +e
+"$cmbrl" train --config "$config" --steps 600 --out "$disk/run" > "$work/train.log" 2>&1
+code=$?
+set -e
+[ "$code" = 1 ] || { echo "FAILED: train exited $code on a full disk"; cat "$work/train.log"; exit 1; }
+expect_full train "$work/train.log" "checkpoint.tmp/[a-z_]*\.[a-z]*"
+[ -f "$disk/run/checkpoint/manifest.json" ] || { echo "FAILED: the last checkpoint is gone"; exit 1; }
+[ ! -e "$disk/run/checkpoint.tmp" ] || { echo "FAILED: the half-written checkpoint stayed"; exit 1; }
+# Space freed (the run moved to a disk with room): it resumes to the uninterrupted run's rows.
+cp -r "$disk/run" "$work/moved" && rm -f "$work/moved/lock" && rm -rf "$disk/run"
+"$cmbrl" train --resume "$work/moved" > /dev/null
+if ! diff <(cut -d, -f1-6,8-11,13- "$work/whole/progress.csv") \
+          <(cut -d, -f1-6,8-11,13- "$work/moved/progress.csv"); then
+  echo "FAILED: the resumed run's rows differ from the uninterrupted run's"; exit 1
+fi
+
+# 2. A report whose pictures do not fit.
+mkdir -p "$work/sweep/runs" && cp -r "$work/whole" "$work/sweep/runs/whole" && rm -f "$work/sweep/runs/whole/lock"
+head -c $((280 * 1024)) /dev/zero > "$disk/filler" 2> /dev/null || true
+set +e
+"$cmbrl" report "$work/sweep" --out "$disk/report" --window 300 > "$work/report.log" 2>&1
+code=$?
+set -e
+[ "$code" = 1 ] || { echo "FAILED: report exited $code on a full disk"; cat "$work/report.log"; exit 1; }
+expect_full report "$work/report.log" "report/[^']*"
+rm -f "$disk/filler"
+
+# 3. A rollout trace.
+head -c $((290 * 1024)) /dev/zero > "$disk/filler" 2> /dev/null || true
+set +e
+"$cmbrl" rollout --episodes 3 --trace "$disk/trace.jsonl" > "$work/rollout.log" 2>&1
+code=$?
+set -e
+[ "$code" = 1 ] || { echo "FAILED: rollout exited $code on a full disk"; cat "$work/rollout.log"; exit 1; }
+expect_full rollout "$work/rollout.log" "trace.jsonl"
+rm -f "$disk/filler" "$disk/trace.jsonl"
+
+# 4. A sweep's own files (sweep.json, written first, then slurm.sh), before any run starts.
+mkdir -p "$disk/sweep"
+head -c $((298 * 1024)) /dev/zero > "$disk/filler" 2> /dev/null || true
+set +e
+"$cmbrl" sweep --config-dir "$(dirname "$config")" --tasks PointGoal1 --planners random \
+  --seeds 0 --steps 100 --out "$disk/sweep" > "$work/sweep.log" 2>&1
+code=$?
+set -e
+[ "$code" = 1 ] || { echo "FAILED: sweep exited $code on a full disk"; cat "$work/sweep.log"; exit 1; }
+expect_full sweep "$work/sweep.log" "\(slurm.sh\|sweep.json.tmp\)"
+[ ! -e "$disk/sweep/runs/pointgoal1-random-s0/config.yaml" ] || { echo "FAILED: a run started"; exit 1; }
+echo "full disk: train, report, rollout trace and sweep named the file and the cause; resumed exactly"
