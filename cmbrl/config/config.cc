@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "cmbrl/core/check.h"
+#include "cmbrl/core/memory.h"
 #include "cmbrl/core/device_name.h"
 #include "cmbrl/env/tasks/goal_spec.h"
 #include "cmbrl/env/variant.h"
@@ -22,7 +23,6 @@
 namespace cmbrl {
 namespace {
 
-constexpr double kGiB = 1024.0 * 1024.0 * 1024.0;
 
 template <typename T>
 const char* TypeName() {
@@ -473,7 +473,7 @@ void ValidateTrainConfig(const TrainConfig& c, const std::string& source) {
     // What the run will hold in memory, before it takes any: sizes each within its bound can
     // still add up to more than the machine has.
     const double available = static_cast<double>(PhysicalMemoryBytes());
-    Require(available <= 0 || memory.total() <= 0.8 * available,
+    Require(available <= 0 || memory.total() <= kPlannedMemoryShare * available,
             "config '{}': the run would need about {:.1f} GiB ({}), more than 80% of this "
             "machine's {:.1f} GiB: lower the sizes named",
             source, memory.total() / kGiB, memory.Describe(), available / kGiB);
@@ -546,18 +546,12 @@ RunMemory EstimateRunMemory(const TrainConfig& c, int state_dim, int action_dim)
   m.transitions = static_cast<double>(t.transition_capacity) * (2 * s + a) * kFloat;
   m.labeled_states = (static_cast<double>(t.safe_capacity) + t.unsafe_capacity) * s * kFloat;
   // Weights, gradients and Adam's two moments of every member, and one batch's activations.
-  double parameters = 0.0, widest = s;
-  double in = s + a;
-  for (const int width : c.ensemble.hidden_sizes) {
-    parameters += (in + 1) * width;
-    in = width;
-    widest = std::max(widest, static_cast<double>(width));
-  }
-  parameters += (in + 1) * s;
+  double widest = s;
+  for (const int width : c.ensemble.hidden_sizes) widest = std::max(widest, static_cast<double>(width));
   const double members = c.ensemble.ensemble_size;
-  m.ensemble =
-      members * (4 * parameters * kFloat + static_cast<double>(c.ensemble.batch_size) * widest *
-                                               kFloat * (c.ensemble.hidden_sizes.size() + 1));
+  m.ensemble = EnsembleParameterBytes(c.ensemble, state_dim, action_dim) +
+               members * static_cast<double>(c.ensemble.batch_size) * widest * kFloat *
+                   (c.ensemble.hidden_sizes.size() + 1);
   // The planner keeps every step's predicted states of the population (E, N, H, S) and the
   // widest layer's activations; random shooting scores its samples the same way.
   const double samples =
@@ -571,14 +565,6 @@ RunMemory EstimateRunMemory(const TrainConfig& c, int state_dim, int action_dim)
                                       (c.classifier.safe_per_unsafe + 1.0) * t.unsafe_capacity) *
                      s * kFloat;
   return m;
-}
-
-std::uint64_t PhysicalMemoryBytes() {
-  const long pages = sysconf(_SC_PHYS_PAGES);
-  const long page_size = sysconf(_SC_PAGE_SIZE);
-  return pages > 0 && page_size > 0
-             ? static_cast<std::uint64_t>(pages) * static_cast<std::uint64_t>(page_size)
-             : 0;
 }
 
 std::string TrainConfigToYaml(const TrainConfig& c) {

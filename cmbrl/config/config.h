@@ -88,9 +88,6 @@ struct RunMemory {
 
 RunMemory EstimateRunMemory(const TrainConfig& config, int state_dim, int action_dim);
 
-// This machine's physical memory in bytes (0 when unknown).
-std::uint64_t PhysicalMemoryBytes();
-
 // Reads a YAML file. Throws cmbrl::Error naming the file, the key (as section.key) and the value
 // for a missing file, invalid YAML, an unknown key, a value of the wrong type or a bad setting.
 TrainConfig LoadTrainConfig(const std::string& path);

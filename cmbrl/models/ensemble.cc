@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "cmbrl/core/check.h"
+#include "cmbrl/core/memory.h"
 #include "cmbrl/core/torch_util.h"
 #include "cmbrl/models/fused_adam.h"
 #include "cmbrl/models/normalizer.h"
@@ -51,6 +52,11 @@ EnsembleDynamics::EnsembleDynamics(int state_dim, int action_dim, EnsembleOption
   Require(state_dim >= 1, "state_dim is {}: expected a positive number", state_dim);
   Require(action_dim >= 1, "action_dim is {}: expected a positive number", action_dim);
   ValidateEnsembleOptions(options_);
+  RequireMemory(EnsembleParameterBytes(options_, state_dim, action_dim),
+                fmt::format("an ensemble of {} members with hidden layers [{}] (weights, "
+                            "gradients and Adam's moments)",
+                            options_.ensemble_size, fmt::join(options_.hidden_sizes, ", ")),
+                "use narrower or fewer hidden layers (hidden_sizes) or fewer members");
   // Whether oneDNN runs here is this machine's matter, not the options': checked on building.
   if (options_.backend == "onednn") {
     std::string why_not;

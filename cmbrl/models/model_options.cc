@@ -75,4 +75,15 @@ void ValidateXgbCostModelOptions(const XgbCostModelOptions& o) {
           "predict_threads is {}: expected 0 (one per core) to 1024", o.predict_threads);
 }
 
+double EnsembleParameterBytes(const EnsembleOptions& options, int state_dim, int action_dim) {
+  double parameters = 0.0;
+  double in = static_cast<double>(state_dim) + action_dim;
+  for (const int width : options.hidden_sizes) {
+    parameters += (in + 1) * width;
+    in = width;
+  }
+  parameters += (in + 1) * state_dim;
+  return static_cast<double>(options.ensemble_size) * 4.0 * parameters * sizeof(float);
+}
+
 }  // namespace cmbrl

@@ -40,6 +40,10 @@ struct EnsembleOptions {
 // Throws cmbrl::Error naming the first field with a bad value.
 void ValidateEnsembleOptions(const EnsembleOptions& options);
 
+// Bytes the ensemble's parameters take while it trains: every member's weights, their gradients
+// and Adam's two moments (float32), for states of `state_dim` and actions of `action_dim`.
+double EnsembleParameterBytes(const EnsembleOptions& options, int state_dim, int action_dim);
+
 struct XgbCostModelOptions {
   int rounds = 400;            // trees (LightGBM n_estimators)
   double learning_rate = 0.3;  // eta

@@ -197,14 +197,11 @@ class PyVectorEnv {
               const std::string& spawn, int threads, std::int64_t spin_us,
               const std::string& autoreset_mode)
       : task_(task) {
-    Require(num_envs >= 1, "num_envs is {}: expected at least 1", num_envs);
     Require(autoreset_mode == "same-step" || autoreset_mode == "disabled",
             "autoreset_mode is '{}': expected 'same-step' or 'disabled'", autoreset_mode);
     disabled_ = autoreset_mode == "disabled";
-    std::vector<std::unique_ptr<Env>> envs;
-    for (int k = 0; k < num_envs; ++k) {
-      envs.push_back(MakeEnv(task, ParseVariant(variant), ParseSpawn(spawn)));
-    }
+    std::vector<std::unique_ptr<Env>> envs =
+        MakeEnvs(task, ParseVariant(variant), ParseSpawn(spawn), num_envs);
     // 0: one thread per core this process may use (VectorEnv keeps at most one per env).
     vector_ = std::make_unique<VectorEnv>(
         std::move(envs), threads == 0 ? CoreCount() : threads, std::chrono::microseconds(spin_us),

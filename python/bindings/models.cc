@@ -1,6 +1,7 @@
 // The learned models in Python, without a run: the dynamics ensemble (Ensemble) and the
 // constraint classifier (CostClassifier) on numpy arrays; also the predictions a trained run's
 // agent gives from its own models.
+#include <fmt/format.h>
 #include <pybind11/pybind11.h>
 #include <torch/torch.h>
 
@@ -9,6 +10,7 @@
 #include <vector>
 
 #include "cmbrl/core/check.h"
+#include "cmbrl/core/memory.h"
 #include "cmbrl/models/ensemble.h"
 #include "cmbrl/models/transition_buffer.h"
 #include "cmbrl/models/xgboost_cost_model.h"
@@ -71,6 +73,13 @@ class PyEnsemble {
     const ObjectLock lock(mutex_);
     const py::ssize_t n = RowsOf(states, "states");
     const int s = dynamics_.state_dim(), a = dynamics_.action_dim();
+    // The arrays' double copies, the buffer's float rows (old and new) and the fit's tensors.
+    const double values = 2.0 * s + a;
+    RequireMemory(static_cast<double>(n) * values * 8.0 +
+                      (static_cast<double>(buffer_.size()) + n) * values * 4.0 * 4.0,
+                  fmt::format("fitting the ensemble on {} more transitions (it holds {})", n,
+                              buffer_.size()),
+                  "fit on fewer transitions");
     const std::vector<double> sv = Matrix(states, n, s, "states");
     const std::vector<double> av = Matrix(actions, n, a, "actions");
     const std::vector<double> nv = Matrix(next_states, n, s, "next_states");
@@ -133,6 +142,10 @@ class PyCostClassifier {
     const ObjectLock lock(mutex_);
     const int s = classifier_.state_dim();
     const py::ssize_t n = RowsOf(states, "states");
+    // The array's double copy, the float rows, and XGBoost's matrix and histogram index.
+    RequireMemory(static_cast<double>(n) * s * 20.0,
+                  fmt::format("fitting the classifier on {} states of {} values", n, s),
+                  "fit on fewer states");
     const std::vector<double> sv = Matrix(states, n, s, "states");
     const std::vector<double> labels = RealValues(unsafe, {n}, "unsafe");
     std::vector<float> safe_rows, unsafe_rows;

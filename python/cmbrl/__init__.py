@@ -70,14 +70,25 @@ def _entropy_seed():
     return int.from_bytes(os.urandom(8), "little") >> 1
 
 
+_INT_MAX = 2**31 - 1  # the C++ side's int
+
+
+def _as_int(value, what, low=1, high=_INT_MAX):
+    """value as an int from low to high; refuses floats (2.5 is not silently 2), bools, strings
+    and out-of-range values with cmbrl.Error naming the argument."""
+    upper = "2**64 - 1" if high == 2**64 - 1 else ("2**31 - 1" if high == _INT_MAX else high)
+    expected = f"expected an integer from {low} to {upper}"
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer)):
+        raise Error(f"{what} is {value!r}: {expected}")
+    value = int(value)
+    if not low <= value <= high:
+        raise Error(f"{what} is {value}: {expected}")
+    return value
+
+
 def _as_seed(seed, what="seed"):
     """seed as an int from 0 to 2**64 - 1; refuses floats, bools and anything else by name."""
-    if isinstance(seed, (bool, np.bool_)) or not isinstance(seed, (int, np.integer)):
-        raise Error(f"{what} is {seed!r}: expected an integer from 0 to 2**64 - 1")
-    seed = int(seed)
-    if not 0 <= seed < 2**64:
-        raise Error(f"{what} is {seed}: expected an integer from 0 to 2**64 - 1")
-    return seed
+    return _as_int(seed, what, 0, 2**64 - 1)
 
 
 class Env(_Closable):
@@ -96,7 +107,7 @@ class Env(_Closable):
         self._env = _cmbrl.Env(task, variant, spawn)
         self.task, self.variant, self.spawn = task, variant, spawn
         self.render_mode = render_mode
-        self.render_size = int(render_size)
+        self.render_size = _as_int(render_size, "render_size", 1, 16384)
         obs_spec, act_spec = self._env.observation_spec(), self._env.action_spec()
         self.observation_names = list(obs_spec["names"])
         self.action_names = list(act_spec["names"])
@@ -153,11 +164,13 @@ class VectorEnv(_Closable):
                  spin_us=2000, autoreset_mode="same-step"):
         mode = _autoreset_mode(autoreset_mode)
         # 0: one thread per core this process may use (its affinity mask), at most one per env.
-        self._env = _cmbrl.VectorEnv(task, int(num_envs), variant, spawn,
-                                     0 if threads is None else int(threads), int(spin_us), mode)
+        num_envs = _as_int(num_envs, "num_envs")
+        threads = 0 if threads is None else _as_int(threads, "threads", 1, 4096)
+        self._env = _cmbrl.VectorEnv(task, num_envs, variant, spawn, threads,
+                                     _as_int(spin_us, "spin_us", 0, 10**9), mode)
         self.metadata = {"autoreset_mode": mode}
         self._observations = None
-        self.task, self.variant, self.num_envs = task, variant, int(num_envs)
+        self.task, self.variant, self.num_envs = task, variant, num_envs
         obs_spec, act_spec = self._env.observation_spec(), self._env.action_spec()
         self.single_observation_space = _box(obs_spec)
         self.single_action_space = _box(act_spec)
@@ -287,8 +300,8 @@ def train(config=None, out=None, steps=None, seed=None, device=None, resume=None
     out = os.fspath(out) if out is not None else None
     resume = os.fspath(resume) if resume is not None else None
     return _cmbrl.train(config_path, config_text, out, resume,
-                        None if steps is None else int(steps),
-                        None if seed is None else int(seed), device, progress)
+                        None if steps is None else _as_int(steps, "steps", 1, 10**10),
+                        None if seed is None else _as_seed(seed), device, progress)
 
 
 class Agent:
@@ -296,7 +309,7 @@ class Agent:
     offers its planner's last plan and predictions and its learned models on numpy arrays."""
 
     def __init__(self, run_dir, seed=0, overrides=()):
-        self._agent = _cmbrl.Agent(os.fspath(run_dir), int(seed), list(overrides))
+        self._agent = _cmbrl.Agent(os.fspath(run_dir), _as_seed(seed), list(overrides))
         self.run_dir = os.fspath(run_dir)
         self.observation_space = _box(self._agent.observation_spec())
         self.action_space = _box(self._agent.action_spec())
@@ -332,7 +345,7 @@ class Agent:
         """MPC only: the last plan's predicted robot paths in world coordinates, for plotting:
         dicts of points (H + 1, 2), feasible and chosen (the executed plan). `env` is the
         environment the plan was made in (its ground truth places the paths)."""
-        return self._agent.predictions(env.ground_truth(), int(samples))
+        return self._agent.predictions(env.ground_truth(), _as_int(samples, "samples"))
 
     def predict_next(self, states, actions):
         """MPC only: every ensemble member's next state, (E, N, S) for (N, S) and (N, A)."""
@@ -374,9 +387,11 @@ class Ensemble:
 
     def __init__(self, state_dim, action_dim, ensemble_size=4, hidden_sizes=(1024, 1024, 1024),
                  max_epochs=70, seed=0, predict_delta=False):
-        self._model = _cmbrl.Ensemble(int(state_dim), int(action_dim), int(ensemble_size),
-                                      [int(h) for h in hidden_sizes], int(max_epochs),
-                                      bool(predict_delta), int(seed))
+        self._model = _cmbrl.Ensemble(
+            _as_int(state_dim, "state_dim"), _as_int(action_dim, "action_dim"),
+            _as_int(ensemble_size, "ensemble_size"),
+            [_as_int(h, f"hidden_sizes[{i}]") for i, h in enumerate(hidden_sizes)],
+            _as_int(max_epochs, "max_epochs"), bool(predict_delta), _as_seed(seed))
 
     def fit(self, states, actions, next_states):
         """(N, S), (N, A), (N, S) -> a dict: epochs, train and validation MSE, seconds."""
@@ -397,8 +412,9 @@ class CostClassifier:
     constraint. fit() trains from scratch on every given state; predict() gives (N) bool."""
 
     def __init__(self, state_dim, rounds=400, threshold=0.5, seed=0):
-        self._model = _cmbrl.CostClassifier(int(state_dim), int(rounds), float(threshold),
-                                            int(seed))
+        self._model = _cmbrl.CostClassifier(_as_int(state_dim, "state_dim"),
+                                            _as_int(rounds, "rounds"), float(threshold),
+                                            _as_seed(seed))
 
     def fit(self, states, unsafe):
         """states (N, S), unsafe (N) of 0/1 or bool -> a dict: trees, accuracies, seconds."""

@@ -53,3 +53,29 @@ def test_the_classifier_learns_a_hazard():
     assert np.mean(verdict == (np.hypot(test[:, 0], test[:, 1]) < 0.4)) > 0.95
     with pytest.raises(cmbrl.Error, match="unsafe"):
         classifier.fit(states, np.full(4000, 2.0))
+
+
+def test_sizes_too_large_for_the_machine_are_refused_by_name():
+    # Before anything is allocated: these ended in LibTorch's allocator stack trace.
+    with pytest.raises(cmbrl.Error, match=r"an ensemble of 4 members with hidden layers "
+                                          r"\[65536, 65536, 65536\].*more than 80%"):
+        cmbrl.Ensemble(state_dim=4, action_dim=2, hidden_sizes=[65536] * 3)
+    # A view of a billion rows that takes no memory itself: the copies a fit makes would.
+    huge = np.broadcast_to(np.zeros(8), (10**9, 8))
+    with pytest.raises(cmbrl.Error, match="fitting the classifier on 1000000000 states"):
+        cmbrl.CostClassifier(state_dim=8, rounds=5).fit(huge, np.broadcast_to(np.zeros(1), (10**9,)))
+    model = cmbrl.Ensemble(state_dim=8, action_dim=2, hidden_sizes=[8], max_epochs=1)
+    with pytest.raises(cmbrl.Error, match="fitting the ensemble on 1000000000 more transitions"):
+        model.fit(huge, np.broadcast_to(np.zeros(2), (10**9, 2)), huge)
+
+
+@pytest.mark.parametrize("bad", [2.5, "3", True, -1, 2**40])
+def test_integer_arguments_refuse_floats_and_out_of_range_values(bad):
+    with pytest.raises(cmbrl.Error, match="state_dim is"):
+        cmbrl.Ensemble(state_dim=bad, action_dim=2)
+    with pytest.raises(cmbrl.Error, match=r"hidden_sizes\[1\] is"):
+        cmbrl.Ensemble(state_dim=4, action_dim=2, hidden_sizes=[8, bad])
+    with pytest.raises(cmbrl.Error, match="rounds is"):
+        cmbrl.CostClassifier(state_dim=4, rounds=bad)
+    with pytest.raises(cmbrl.Error, match="num_envs is"):
+        cmbrl.make_vec("PointGoal1", num_envs=bad)

@@ -51,7 +51,7 @@ def test_bad_actions_for_a_vector_are_named():
         envs.step(np.zeros((2, 2)))
     with pytest.raises(cmbrl.Error, match="num_envs"):
         cmbrl.make_vec("CarGoal1", num_envs=0)
-    with pytest.raises(cmbrl.Error, match="spin is -1 microseconds"):
+    with pytest.raises(cmbrl.Error, match="spin_us is -1: expected an integer from 0"):
         cmbrl.make_vec("CarGoal1", num_envs=2, spin_us=-1)
 
 
@@ -97,3 +97,9 @@ def test_disabled_autoreset_waits_for_a_masked_reset():
     same_step.reset(seed=0)
     with pytest.raises(cmbrl.Error, match="needs autoreset_mode 'disabled'"):
         same_step.reset(options={"reset_mask": np.array([True])})
+
+
+def test_a_vector_too_large_for_the_memory_is_refused_by_name():
+    # The first environment is made and measured; 100 million of them are not attempted.
+    with pytest.raises(cmbrl.Error, match=r"num_envs 100000000: .* MiB each\) would need"):
+        cmbrl.make_vec("PointGoal1", num_envs=100_000_000)

@@ -9,6 +9,7 @@
 #include <functional>
 #include <yaml-cpp/yaml.h>
 
+#include "cmbrl/core/memory.h"
 #include "cmbrl/env/registry.h"
 #include "cmbrl/env/tasks/goal_spec.h"
 #include "tests/error_message.h"

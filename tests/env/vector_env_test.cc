@@ -1,10 +1,12 @@
 #include "cmbrl/env/vector_env.h"
 
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
 
 #include "cmbrl/env/registry.h"
+#include "tests/error_message.h"
 
 namespace cmbrl {
 namespace {
@@ -17,6 +19,21 @@ std::vector<std::unique_ptr<Env>> Envs(const std::string& task, int n) {
 
 // Each row is what that environment alone does; an ended episode starts the next in the same
 // step, its last observation kept aside.
+// Environments for a vector are made only when they all fit the machine's memory: the first is
+// measured, the count refused by name otherwise (100,000 of them had no bound).
+TEST(VectorEnvTest, MakeEnvsRefusesACountThatDoesNotFitTheMemory) {
+  EXPECT_EQ(MakeEnvs("PointGoal1", Variant::kPaper, Spawn::kStanding, 3).size(), 3u);
+  EXPECT_THAT(testing::ErrorMessage(
+                  [] { MakeEnvs("PointGoal1", Variant::kPaper, Spawn::kStanding, 0); }),
+              ::testing::HasSubstr("num_envs is 0: expected at least 1"));
+  const std::string message = testing::ErrorMessage(
+      [] { MakeEnvs("CarGoal2", Variant::kPaper, Spawn::kStanding, 100'000'000); });
+  EXPECT_THAT(message, ::testing::HasSubstr("num_envs 100000000: 100000000 environments of "
+                                            "CarGoal2 ("));
+  EXPECT_THAT(message, ::testing::HasSubstr("MiB each) would need about"));
+  EXPECT_THAT(message, ::testing::HasSubstr("use fewer environments"));
+}
+
 TEST(VectorEnvTest, RowsAreTheEnvironmentsOwnStepsWithAutomaticResets) {
   const int n = 3;
   VectorEnv vector(Envs("PointGoal1", n), 2);

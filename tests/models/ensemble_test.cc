@@ -44,6 +44,22 @@ Batch PendulumBatch(int members, int count, std::uint64_t seed) {
           rows(data.next_states(), 2)};
 }
 
+// An ensemble too large for the machine is refused by its sizes before anything is allocated
+// (it ended in LibTorch's allocator stack trace).
+TEST(EnsembleTest, AnEnsembleTooLargeForTheMachineIsRefusedBySize) {
+  EnsembleOptions options;
+  options.hidden_sizes = {65536, 65536, 65536};
+  const std::string message = ErrorMessage([&] { EnsembleDynamics(4, 2, options, 0); });
+  EXPECT_THAT(message, ::testing::HasSubstr("an ensemble of 4 members with hidden layers "
+                                            "[65536, 65536, 65536]"));
+  EXPECT_THAT(message, ::testing::HasSubstr("more than 80% of this machine's"));
+  EXPECT_THAT(message, ::testing::HasSubstr("hidden_sizes"));
+  // The count is of weights, gradients and Adam's two moments: 4 floats per parameter.
+  options.hidden_sizes = {8};
+  options.ensemble_size = 2;
+  EXPECT_DOUBLE_EQ(EnsembleParameterBytes(options, 3, 1), 2 * 4 * ((4 + 1) * 8 + (8 + 1) * 3) * 4.0);
+}
+
 TEST(EnsembleTest, FitsADampedPendulumStep) {
   EnsembleDynamics ensemble(2, 1, SmallOptions(), 7);
   const EnsembleFitReport report = ensemble.Fit(testing::PendulumData(4000, 1));
