@@ -1,0 +1,334 @@
+#!/usr/bin/env python3
+"""The bad-input and fault probe: each case does what a careless user or an unlucky machine does
+(an odd config, an edited or copied run, a second writer, a full disk, a bad Python argument)
+and gets a verdict from what cmbrl did:
+
+  clear error   exit 1 (or cmbrl.Error), a message naming what the case expects, no stack trace
+  ok            a case whose input is fine (or only looks odd) did the right thing
+  unclear error exit 1, but the message does not name it
+  accepted      exit 0 where an error was due (or an error where the input was fine: "refused")
+  crash         a signal, "terminate called", a LibTorch frame or a Python traceback
+  hang          no answer within the case's time
+  skipped       the case needs what this machine lacks (root for a tmpfs)
+
+Usage: scripts/fault-probe.py [--cmbrl build/bin/cmbrl] [--work /tmp/cmbrl-probe] [--python-path build/python]
+Prints one line per case and the counts per verdict; exits 1 when any case is not clear (or
+accepted where it should be).
+"""
+import argparse
+import json
+import os
+import re
+import shutil
+import subprocess
+import sys
+import time
+from collections import Counter
+
+CRASH = re.compile(r"terminate called|frame #\d|Traceback \(most recent call last\)|"
+                   r"Segmentation fault|core dumped|Aborted|c10::Error|std::bad_alloc")
+
+TINY = """task: PointGoal1
+planner: rce
+seed: 0
+training: {pretrain_episodes: 6, pretrain_steps: 20, episodes_per_epoch: 2, total_steps: 300}
+ensemble: {hidden_sizes: [16], max_epochs: 5}
+classifier: {rounds: 10}
+planning: {horizon: 3, population: 24, elites: 6, min_feasible_elites: 3, max_iterations: 2,
+           random_samples: 50}
+"""
+
+
+class Probe:
+    def __init__(self, cmbrl, work, python_path):
+        self.cmbrl, self.work, self.python_path = cmbrl, work, python_path
+        self.results = []
+
+    def path(self, *parts):
+        return os.path.join(self.work, *parts)
+
+    def write(self, name, text):
+        path = self.path(name)
+        with open(path, "w") as out:
+            out.write(text)
+        return path
+
+    def run(self, args, timeout=120, env=None):
+        start = time.time()
+        try:
+            done = subprocess.run(args, capture_output=True, text=True, timeout=timeout, env=env)
+            return done.returncode, done.stdout + done.stderr, time.time() - start
+        except subprocess.TimeoutExpired:
+            return None, "", timeout
+
+    def verdict(self, code, output, must_name, want_error=True):
+        if code is None:
+            return "hang"
+        if code < 0 or code >= 128 or CRASH.search(output):
+            return "crash"
+        if not want_error:
+            return "ok" if code == 0 else "refused"
+        if code == 0:
+            return "accepted"
+        return "clear error" if re.search(must_name, output) else "unclear error"
+
+    def case(self, cls, name, args, must_name, want_error=True, timeout=120, check=None):
+        code, output, _ = self.run(args, timeout)
+        verdict = self.verdict(code, output, must_name, want_error)
+        if verdict in ("clear error", "ok") and check is not None and not check():
+            verdict = "accepted"  # ran without error but did the wrong thing
+        last = output.strip().splitlines()[-1] if output.strip() else ""
+        self.results.append((cls, name, verdict, last[:160]))
+        print(f"{verdict:13s} {cls:8s} {name}: {last[:140]}", flush=True)
+
+    def python_case(self, cls, name, code_text, must_name, want_error=True):
+        env = dict(os.environ, PYTHONPATH=self.python_path)
+        script = "import numpy as np, cmbrl\n" + code_text
+        code, output, _ = self.run([sys.executable, "-c", script], 120, env)
+        if code == 1 and "cmbrl._cmbrl.Error" in output and re.search(must_name, output):
+            verdict = "clear error"  # the expected cmbrl.Error, its traceback is Python's own
+        elif code == 0:
+            verdict = "accepted" if want_error else "ok"
+        elif code is None:
+            verdict = "hang"
+        elif code < 0 or "Segmentation" in output or "terminate called" in output:
+            verdict = "crash"
+        else:
+            verdict = "unclear error"
+        last = output.strip().splitlines()[-1] if output.strip() else ""
+        self.results.append((cls, name, verdict, last[:160]))
+        print(f"{verdict:13s} {cls:8s} {name}: {last[:140]}", flush=True)
+
+    def skip(self, cls, name, why):
+        self.results.append((cls, name, "skipped", why))
+        print(f"{'skipped':13s} {cls:8s} {name}: {why}", flush=True)
+
+
+def config_cases(p):
+    c = p.cmbrl
+    out = lambda name: p.path("runs", name)  # noqa: E731
+    cases = {
+        "empty file": ("", r"empty"),
+        "comment only": ("# nothing\n", r"empty"),
+        "two documents": (TINY + "---\n" + TINY, r"document"),
+        "not a mapping": ("- task\n- PointGoal1\n", r"mapping"),
+        "repeated top key": (TINY + "seed: 3\n", r"seed.*(twice|again|repeated)"),
+        "repeated nested key": (TINY.replace("max_epochs: 5}", "max_epochs: 5, max_epochs: 6}"),
+                                r"max_epochs"),
+        "unknown key": (TINY + "colour: blue\n", r"colour"),
+        "bad type": (TINY.replace("population: 24", "population: many"), r"population"),
+        "NaN value": (TINY + "objective: {gamma: .nan}\n", r"gamma"),
+        "negative population": (TINY.replace("population: 24", "population: -4"), r"population"),
+        "elites above population": (TINY.replace("elites: 6", "elites: 60"), r"elites"),
+        "empty hidden layers": (TINY.replace("hidden_sizes: [16]", "hidden_sizes: []"),
+                                r"hidden_sizes"),
+        "no task": (TINY.replace("task: PointGoal1\n", ""), r"task"),
+        "unknown task": (TINY.replace("PointGoal1", "PointGoal9"), r"PointGoal9"),
+        "huge networks": (TINY.replace("hidden_sizes: [16]", "hidden_sizes: [65536, 65536]"),
+                          r"GiB"),
+        "huge model-free networks": (
+            "task: PointGoal1\nalgorithm: cpo\nvariant: paper-lidar\n"
+            "policy_optimisation: {policy_hidden: [65536, 65536]}\n", r"policy_hidden"),
+    }
+    for i, (name, (text, must)) in enumerate(cases.items()):
+        path = p.write(f"config-{i}.yaml", text)
+        p.case("config", name, [c, "train", "--config", path, "--out", out(f"c{i}")], must)
+    base = p.write("tiny.yaml", TINY)
+    p.case("config", "--set malformed", [c, "train", "--config", base, "--set", "planning",
+                                         "--out", out("s1")], r"section\.key=value")
+    p.case("config", "--set unknown key", [c, "train", "--config", base, "--set",
+                                           "planning.colour=3", "--out", out("s2")], r"colour")
+    merged = out("s3")
+    p.case("config", "--set mapping merges", [c, "train", "--config", base, "--set",
+                                              "planning={population: 30}", "--steps", "100",
+                                              "--out", merged], "", want_error=False,
+           check=lambda: "population: 30" in open(os.path.join(merged, "config.yaml")).read()
+           and "horizon: 3" in open(os.path.join(merged, "config.yaml")).read())
+    p.case("cli", "missing config file", [c, "train", "--config", p.path("nope.yaml"),
+                                          "--out", out("m")], r"nope\.yaml")
+    p.case("cli", "steps 0", [c, "train", "--config", base, "--steps", "0", "--out", out("z")],
+           r"steps")
+    p.case("cli", "unknown command", [c, "trian"], r"trian")
+
+
+def run_cases(p):
+    c = p.cmbrl
+    base = p.write("tiny.yaml", TINY)
+    whole = p.path("whole")
+    code, output, _ = p.run([c, "train", "--config", base, "--out", whole])
+    if code != 0:
+        raise SystemExit(f"the probe's base run failed: {output}")
+
+    def copy(name, edit):
+        sweep = p.path(f"sweep-{name}")
+        dest = os.path.join(sweep, "runs", "run")
+        shutil.copytree(whole, dest)
+        os.remove(os.path.join(dest, "lock"))
+        edit(dest)
+        return sweep, dest
+
+    def append(path, text):
+        with open(path, "a") as out:
+            out.write(text)
+
+    def replace(path, old, new):
+        text = open(path).read()
+        with open(path, "w") as out:
+            out.write(text.replace(old, new, 1))
+
+    edits = {
+        "config.yaml edited (task)": (lambda d: replace(os.path.join(d, "config.yaml"),
+                                                        "PointGoal1", "PointGoal2"),
+                                      r"config\.yaml' differs"),
+        "config.yaml edited (population)": (lambda d: replace(os.path.join(d, "config.yaml"),
+                                                              "population: 24", "population: 30"),
+                                            r"config\.yaml' differs"),
+        "progress row edited": (lambda d: replace(os.path.join(d, "progress.csv"), "\n1,",
+                                                  "\n7,"), r"progress\.csv' differs"),
+        "progress shortened": (lambda d: open(os.path.join(d, "progress.csv"), "w").write(
+            open(os.path.join(d, "progress.csv")).read().split("\n")[0] + "\n"),
+            r"progress\.csv' has 0 rows"),
+        "manifest deleted": (lambda d: os.remove(os.path.join(d, "checkpoint", "manifest.json")),
+                             r"manifest\.json' is missing"),
+        "manifest edited": (lambda d: replace(os.path.join(d, "checkpoint", "manifest.json"),
+                                              '"rows": ', '"rows": 1'),
+                            r"manifest\.json' is damaged"),
+        "sessions deleted": (lambda d: os.remove(os.path.join(d, "sessions.jsonl")),
+                             r"sessions\.jsonl' is missing"),
+        "sessions edited": (lambda d: replace(os.path.join(d, "sessions.jsonl"), '"cpu":"',
+                                              '"cpu":"X'), r"sessions\.jsonl' differs"),
+        "model file damaged": (lambda d: open(os.path.join(d, "checkpoint", "ensemble.pt"),
+                                              "w").write("x"), r"ensemble\.pt' differs"),
+    }
+    for name, (edit, must) in edits.items():
+        sweep, run = copy(name.replace(" ", "-").replace("(", "").replace(")", ""), edit)
+        p.case("run", f"resume: {name}", [c, "train", "--resume", run, "--steps", "400"], must)
+        p.case("run", f"eval: {name}", [c, "eval", "--run", run], must)
+        # A report reads no model file (its figures are progress.csv's, which is checked): a
+        # damaged model leaves them true, so the report goes ahead.
+        model_only = name == "model file damaged"
+        p.case("run", f"report: {name}", [c, "report", sweep, "--out",
+                                          os.path.join(sweep, "report"), "--window", "100"], must,
+               want_error=not model_only)
+
+    # Rows and values a checkpoint does not cover, or that lie outside their domain.
+    def added_row(d):
+        append(os.path.join(d, "progress.csv"), "9,9,1.0,999,100,400,1.0,0,0,0,0,0,0,0,0,0\n")
+    sweep, run = copy("added-row", added_row)
+    report = os.path.join(sweep, "report")
+    p.case("run", "report: a row added after the last checkpoint is not counted",
+           [c, "report", sweep, "--out", report, "--window", "100"], "", want_error=False,
+           check=lambda: "999" not in open(os.path.join(report, "table-1.csv")).read())
+
+    # A copied run counts once.
+    sweep, run = copy("copied", lambda d: None)
+    shutil.copytree(run, os.path.join(sweep, "runs", "run-copy"))
+    p.case("run", "report: a copied run folder", [c, "report", sweep, "--out",
+                                                  os.path.join(sweep, "report"), "--window", "100"],
+           r"hold one run \(run id")
+
+    # checkpoint.old alone (a stop between the two renames).
+    sweep, run = copy("old-only", lambda d: os.rename(os.path.join(d, "checkpoint"),
+                                                      os.path.join(d, "checkpoint.old")))
+    p.case("run", "eval: checkpoint.old alone", [c, "eval", "--run", run], "", want_error=False)
+    p.case("run", "resume: checkpoint.old alone", [c, "train", "--resume", run, "--steps", "400"],
+           "", want_error=False)
+
+    # A second writer: the lock file deleted under a live run.
+    live = p.path("live")
+    proc = subprocess.Popen([c, "train", "--config", base, "--steps", "3000", "--out", live],
+                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    for _ in range(300):
+        if os.path.exists(os.path.join(live, "config.yaml")):
+            break
+        time.sleep(0.1)
+    os.remove(os.path.join(live, "lock"))
+    p.case("writer", "resume beside a live run whose lock file was deleted",
+           [c, "train", "--resume", live], r"in use by another cmbrl process")
+    p.case("writer", "a second start of a live run", [c, "train", "--config", base, "--out", live],
+           r"already holds a run|in use")
+    proc.kill()
+    proc.wait()
+
+
+def disk_cases(p):
+    c = p.cmbrl
+    if os.geteuid() != 0:
+        for name in ("checkpoint", "report", "trace"):
+            p.skip("disk", name, "mounting a tmpfs needs root")
+        return
+    disk = p.path("disk")
+    os.makedirs(disk)
+    if subprocess.run(["mount", "-t", "tmpfs", "-o", "size=300k", "tmpfs", disk]).returncode:
+        for name in ("checkpoint", "report", "trace"):
+            p.skip("disk", name, "cannot mount a tmpfs here")
+        return
+    try:
+        base = p.write("tiny.yaml", TINY)
+        p.case("disk", "a checkpoint that does not fit",
+               [c, "train", "--config", base, "--steps", "600", "--out",
+                os.path.join(disk, "run")], r"No space left on device")
+        shutil.rmtree(os.path.join(disk, "run"), ignore_errors=True)
+        sweep = p.path("disk-sweep")
+        shutil.copytree(p.path("whole"), os.path.join(sweep, "runs", "run"))
+        os.remove(os.path.join(sweep, "runs", "run", "lock"))
+        with open(os.path.join(disk, "filler"), "wb") as out:
+            try:
+                out.write(b"\0" * 280 * 1024)
+            except OSError:
+                pass
+        p.case("disk", "a report that does not fit", [c, "report", sweep, "--out",
+                                                      os.path.join(disk, "report"), "--window",
+                                                      "100"], r"No space left on device")
+        p.case("disk", "a trace that does not fit", [c, "rollout", "--episodes", "3", "--trace",
+                                                     os.path.join(disk, "trace.jsonl")],
+               r"No space left on device")
+    finally:
+        subprocess.run(["umount", disk])
+
+
+def python_cases(p):
+    cases = [
+        ("Ensemble too large", "cmbrl.Ensemble(4, 2, hidden_sizes=[65536] * 3)", r"GiB"),
+        ("make_vec of 10^8 envs", "cmbrl.make_vec('PointGoal1', 100_000_000)", r"num_envs"),
+        ("make_vec num_envs=2.5", "cmbrl.make_vec('PointGoal1', 2.5)", r"num_envs is 2\.5"),
+        ("reset(seed=1.7)", "cmbrl.make('PointGoal1').reset(seed=1.7)", r"seed is 1\.7"),
+        ("reset(seed=-1)", "cmbrl.make('PointGoal1').reset(seed=-1)", r"seed is -1"),
+        ("unknown task", "cmbrl.make('PointGoal7')", r"PointGoal7"),
+        ("step with NaN", "e = cmbrl.make('PointGoal1'); e.reset(seed=0); e.step([np.nan, 0])",
+         r"NaN|finite"),
+        ("step with a wrong shape", "e = cmbrl.make('PointGoal1'); e.reset(seed=0); "
+                                    "e.step([0, 0, 0])", r"shape|2"),
+        ("step before reset", "cmbrl.make('PointGoal1').step([0, 0])", r"reset"),
+        ("train a config dict without task", "cmbrl.train(config={}, out='/tmp/probe-x')",
+         r"no task"),
+        ("classifier fit of 10^9 rows",
+         "cmbrl.CostClassifier(8).fit(np.broadcast_to(np.zeros(8), (10**9, 8)), "
+         "np.broadcast_to(np.zeros(1), (10**9,)))", r"GiB"),
+        ("Ensemble hidden size 3.5", "cmbrl.Ensemble(4, 2, hidden_sizes=[3.5])",
+         r"hidden_sizes\[0\] is 3\.5"),
+    ]
+    for name, code_text, must in cases:
+        p.python_case("python", name, code_text, must)
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--cmbrl", default="build/bin/cmbrl")
+    parser.add_argument("--work", default="/tmp/cmbrl-probe")
+    parser.add_argument("--python-path", default="build/python")
+    args = parser.parse_args()
+    shutil.rmtree(args.work, ignore_errors=True)
+    os.makedirs(os.path.join(args.work, "runs"))
+    p = Probe(os.path.abspath(args.cmbrl), args.work, os.path.abspath(args.python_path))
+    config_cases(p)
+    run_cases(p)
+    disk_cases(p)
+    python_cases(p)
+    counts = Counter(verdict for _, _, verdict, _ in p.results)
+    print(json.dumps({"cases": len(p.results), "verdicts": dict(sorted(counts.items()))}))
+    return 0 if set(counts) <= {"clear error", "ok", "skipped"} else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())
