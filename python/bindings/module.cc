@@ -4,13 +4,17 @@
 // GIL; cmbrl::Error becomes cmbrl.Error (a ValueError) with the same message.
 #include <pybind11/pybind11.h>
 
+#include "cmbrl/core/build_info.h"
 #include "cmbrl/core/check.h"
 #include "python/bindings/bindings.h"
 
 PYBIND11_MODULE(_cmbrl, m) {
   namespace py = pybind11;
   m.doc() = "cmbrl's compiled core; use the cmbrl package";
-  py::register_exception<cmbrl::Error>(m, "Error", PyExc_ValueError);
+  m.attr("__version__") = cmbrl::CmbrlVersion();
+  m.attr("__commit__") = cmbrl::CmbrlCommit();
+  py::register_exception<cmbrl::Error>(m, "Error", PyExc_ValueError)
+      .doc() = "An error of cmbrl's core: its message names the bad value and what was expected.";
   cmbrl::python::BindEnvs(m);
   cmbrl::python::BindModels(m);
   cmbrl::python::BindRuns(m);

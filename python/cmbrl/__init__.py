@@ -22,6 +22,10 @@ from . import _cmbrl
 from .spaces import Box
 
 Error = _cmbrl.Error
+# The version of the C++ core this module was built from, and its source commit ("744c47e1a2b3",
+# with "+dirty" for uncommitted changes): what a run's sessions.jsonl records as "cmbrl".
+__version__ = _cmbrl.__version__
+__commit__ = _cmbrl.__commit__
 
 __all__ = ["Error", "Box", "Env", "VectorEnv", "Agent", "Ensemble", "CostClassifier", "make",
            "make_vec", "tasks", "train", "load_run"]
@@ -133,6 +137,8 @@ class Env(_Closable):
         return self._env.step(action)
 
     def ground_truth(self):
+        """What the agent does not observe, in world coordinates: a dict of the robot's position
+        and heading, the goal and its radius, and the hazards' and vases' positions."""
         return self._env.ground_truth()
 
     def render(self):
@@ -146,6 +152,7 @@ class Env(_Closable):
 
     @property
     def unwrapped(self):
+        """The environment itself (no wrappers inside): Gymnasium's convention."""
         return self
 
     def __repr__(self):
@@ -241,6 +248,8 @@ class VectorEnv(_Closable):
         return self._observations.copy(), {}
 
     def step(self, actions):
+        """(num_envs, A) actions -> (observations, rewards, costs, terminations, truncations,
+        infos), each batched over the environments; ended ones reset as the autoreset mode says."""
         result = self._env.step(actions)
         self._observations = result[0].copy()
         return result
@@ -333,6 +342,8 @@ class Agent:
         self._agent.begin_episode()
 
     def act(self, observation):
+        """The trained agent's action for one observation: the MPC plan's first action, or the
+        model-free policy's mean action."""
         return self._agent.act(observation)
 
     def last_plan(self):
@@ -403,6 +414,7 @@ class Ensemble:
 
     @property
     def transitions(self):
+        """How many transitions the ensemble holds (at most 500,000; the oldest go first)."""
         return self._model.transitions
 
 
@@ -424,4 +436,5 @@ class CostClassifier:
         return self._model.fit(states, unsafe)
 
     def predict(self, states):
+        """states (N, S) -> (N) bool: True where the classifier says a constraint is violated."""
         return self._model.predict(states)

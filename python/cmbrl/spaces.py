@@ -9,6 +9,8 @@ except ImportError:  # pragma: no cover - depends on the machine
 
 
 class _Box:
+    """A box of real vectors, low <= x <= high elementwise (gymnasium.spaces.Box's look-alike)."""
+
     def __init__(self, low, high, dtype=np.float64):
         self.dtype = np.dtype(dtype)
         self.low = np.asarray(low, dtype=self.dtype)
@@ -45,6 +47,8 @@ class _Box:
 
 
 def Box(low, high, dtype=np.float64):  # noqa: N802 (a class-like factory)
+    """A box space from low to high: gymnasium.spaces.Box where gymnasium is importable, the
+    look-alike otherwise."""
     if _GymBox is not None:
         return _GymBox(low=np.asarray(low, dtype=dtype), high=np.asarray(high, dtype=dtype),
                        dtype=dtype)

@@ -159,3 +159,24 @@ def test_unseeded_vector_envs_differ_and_a_list_of_seeds_is_consecutive():
         envs.reset(seed=[7, 8])
     with pytest.raises(cmbrl.Error, match="expected an integer"):
         envs.reset(seed=2.5)
+
+
+def test_the_package_says_its_version_and_documents_its_public_api():
+    import inspect
+    import re
+
+    assert re.fullmatch(r"\d+\.\d+\.\d+", cmbrl.__version__)
+    assert cmbrl.__commit__
+    undocumented = []
+    for name in cmbrl.__all__:
+        obj = getattr(cmbrl, name)
+        if not (obj.__doc__ or "").strip():
+            undocumented.append(name)
+        if inspect.isclass(obj):
+            for attr, member in vars(obj).items():
+                if attr.startswith("_"):
+                    continue
+                target = member.fget if isinstance(member, property) else member
+                if callable(target) and not (getattr(target, "__doc__", "") or "").strip():
+                    undocumented.append(f"{name}.{attr}")
+    assert undocumented == []
