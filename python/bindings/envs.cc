@@ -258,8 +258,14 @@ class PyVectorEnv {
     info["cost_vases_contact"] = Own(std::move(step.cost_vases_contact));
     info["cost_vases_velocity"] = Own(std::move(step.cost_vases_velocity));
     if (!disabled_) {  // with autoreset disabled the observation is the last one itself
-      info["final_observation"] = Own<double>(std::move(step.final_observations), {n, Width()});
-      info["_final_observation"] = Flags(ended);
+      // Gymnasium 1.x's same-step names: the ended episodes' last observations and the info of
+      // their last step (this step's, as the reset adds none), each with its mask.
+      py::dict final_info;
+      for (const auto& [key, value] : info) final_info[key] = value;
+      info["final_obs"] = Own<double>(std::move(step.final_observations), {n, Width()});
+      info["_final_obs"] = Flags(ended);
+      info["final_info"] = final_info;
+      info["_final_info"] = Flags(ended);
     }
     return py::make_tuple(Own<double>(std::move(step.observations), {n, Width()}),
                           Own(std::move(step.rewards)), Own(std::move(step.costs)),

@@ -14,7 +14,9 @@
 Errors from the C++ core are raised as cmbrl.Error (a ValueError) with its message.
 """
 import json
+import math
 import os
+import re
 
 import numpy as np
 
@@ -27,7 +29,7 @@ Error = _cmbrl.Error
 __version__ = _cmbrl.__version__
 __commit__ = _cmbrl.__commit__
 
-__all__ = ["Error", "Box", "Env", "VectorEnv", "Agent", "Ensemble", "CostClassifier", "make",
+__all__ = ["Error", "Box", "Env", "EnvSpec", "VectorEnv", "Agent", "Ensemble", "CostClassifier", "make",
            "make_vec", "tasks", "train", "load_run"]
 
 
@@ -103,11 +105,13 @@ class Env(_Closable):
     and vases in world coordinates. render() draws the arena from above with the episode's path.
     """
 
-    metadata = {"render_modes": ["rgb_array"]}
+    reward_range = (-math.inf, math.inf)
 
-    def __init__(self, task, variant="paper", spawn="standing", render_mode=None, render_size=400):
+    def __init__(self, task, variant=None, spawn="standing", render_mode=None, render_size=400):
         if render_mode not in (None, "rgb_array"):
             raise Error(f"render_mode '{render_mode}': expected None or 'rgb_array'")
+        env_id = task
+        task, variant = _task_and_variant(task, variant)
         self._env = _cmbrl.Env(task, variant, spawn)
         self.task, self.variant, self.spawn = task, variant, spawn
         self.render_mode = render_mode
@@ -119,6 +123,12 @@ class Env(_Closable):
         self.action_space = _box(act_spec)
         self.max_episode_steps = self._env.max_episode_steps
         self.agent_step_seconds = self._env.agent_step_seconds
+        # Per instance: Gymnasium's wrappers read render_fps, and it follows the agent's step.
+        self.metadata = {"render_modes": ["rgb_array"],
+                         "render_fps": round(1.0 / self.agent_step_seconds)}
+        self.spec = EnvSpec(env_id, self.max_episode_steps,
+                            {"variant": variant, "spawn": spawn})
+        self._np_random = None
 
     def reset(self, seed=None, options=None):
         """Starts an episode: (observation, info). A seed re-seeds the layouts' generator;
@@ -129,8 +139,22 @@ class Env(_Closable):
         if seed is not None:
             seed = _as_seed(seed)
             self.action_space.seed(seed)
+            self._np_random = np.random.default_rng(seed)
         self._seeded = True
         return self._env.reset(seed)
+
+    @property
+    def np_random(self):
+        """A numpy Generator seeded with the last reset's seed (Gymnasium's env.np_random, for
+        wrappers' own draws). The environment's layouts draw from its C++ generator, seeded with
+        the same seed, not from this one."""
+        if self._np_random is None:
+            self._np_random = np.random.default_rng(_entropy_seed())
+        return self._np_random
+
+    @np_random.setter
+    def np_random(self, generator):
+        self._np_random = generator
 
     def step(self, action):
         """(observation, reward, cost, terminated, truncated, info) for one agent step."""
@@ -163,13 +187,14 @@ class VectorEnv(_Closable):
     """num_envs environments stepped together in C++ threads, in Gymnasium's vector API:
     batched (num_envs, ...) arrays in and out. Resets follow Gymnasium 1.x's autoreset modes:
     "same-step" (the default: an environment whose episode ended returns its next episode's first
-    observation; the last one is info["final_observation"][k], with info["_final_observation"][k]
-    True) or "disabled" (an ended environment returns its last observation and must be reset with
+    observation; the last one is info["final_obs"][k] and its step's info info["final_info"],
+    with info["_final_obs"][k] and info["_final_info"][k] True, Gymnasium 1.x's names) or "disabled" (an ended environment returns its last observation and must be reset with
     reset(options={"reset_mask": mask}) before it steps again)."""
 
-    def __init__(self, task, num_envs, variant="paper", spawn="standing", threads=None,
+    def __init__(self, task, num_envs, variant=None, spawn="standing", threads=None,
                  spin_us=2000, autoreset_mode="same-step"):
         mode = _autoreset_mode(autoreset_mode)
+        task, variant = _task_and_variant(task, variant)
         # 0: one thread per core this process may use (its affinity mask), at most one per env.
         num_envs = _as_int(num_envs, "num_envs")
         threads = 0 if threads is None else _as_int(threads, "threads", 1, 4096)
@@ -255,10 +280,38 @@ class VectorEnv(_Closable):
         return result
 
 
-def make(task, variant="paper", spawn="standing", render_mode=None, render_size=400):
-    """An environment: task is one of tasks(); variant 'paper' (the paper's modified suite),
-    'standard' (Safety-Gymnasium's stock tasks) or 'paper-lidar' (the paper's world as its
-    model-free baselines observed it); spawn 'standing' or 'model-origin'."""
+class EnvSpec:
+    """What made an environment, as gymnasium.envs.registration.EnvSpec names it: id (the name
+    given to make), max_episode_steps and kwargs (variant, spawn)."""
+
+    def __init__(self, id, max_episode_steps, kwargs):  # noqa: A002 (Gymnasium's name)
+        self.id, self.max_episode_steps, self.kwargs = id, max_episode_steps, dict(kwargs)
+
+    def __repr__(self):
+        return f"EnvSpec(id={self.id!r}, max_episode_steps={self.max_episode_steps})"
+
+
+_SAFETY_GYMNASIUM_ID = re.compile(r"Safety((?:Point|Car)Goal[12])-v0")
+
+
+def _task_and_variant(task, variant):
+    """A task name or a Safety-Gymnasium id ("SafetyPointGoal1-v0": that task's stock variant,
+    'standard'), and the variant: the one given, else 'standard' for such an id and 'paper'."""
+    if not isinstance(task, str):
+        raise Error(f"task is {task!r}: expected a task name ({', '.join(tasks())}) or a "
+                    "Safety-Gymnasium id such as 'SafetyPointGoal1-v0'")
+    match = _SAFETY_GYMNASIUM_ID.fullmatch(task)
+    if match:
+        return match.group(1), "standard" if variant is None else variant
+    return task, "paper" if variant is None else variant
+
+
+def make(task, variant=None, spawn="standing", render_mode=None, render_size=400):
+    """An environment: task is one of tasks() or a Safety-Gymnasium id ('SafetyPointGoal1-v0',
+    which gives that task's stock variant); variant 'paper' (the default for a task name: the
+    paper's modified suite), 'standard' (Safety-Gymnasium's stock tasks) or 'paper-lidar' (the
+    paper's world as its model-free baselines observed it); spawn 'standing' or
+    'model-origin'."""
     return Env(task, variant=variant, spawn=spawn, render_mode=render_mode,
                render_size=render_size)
 
@@ -274,7 +327,7 @@ def _autoreset_mode(mode):
     return names[value]
 
 
-def make_vec(task, num_envs, variant="paper", spawn="standing", threads=None, spin_us=2000,
+def make_vec(task, num_envs, variant=None, spawn="standing", threads=None, spin_us=2000,
              autoreset_mode="same-step"):
     """A VectorEnv of num_envs environments on `threads` threads (default: one per core this
     process may use, at most one per environment). Between steps the threads spin for up to

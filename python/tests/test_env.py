@@ -180,3 +180,25 @@ def test_the_package_says_its_version_and_documents_its_public_api():
                 if callable(target) and not (getattr(target, "__doc__", "") or "").strip():
                     undocumented.append(f"{name}.{attr}")
     assert undocumented == []
+
+
+def test_gymnasium_attributes_and_safety_gymnasium_ids():
+    env = cmbrl.make("SafetyPointGoal1-v0")
+    assert (env.task, env.variant) == ("PointGoal1", "standard")
+    assert env.spec.id == "SafetyPointGoal1-v0"
+    assert env.spec.max_episode_steps == env.max_episode_steps
+    assert env.spec.kwargs["variant"] == "standard"
+    assert cmbrl.make("SafetyCarGoal2-v0", variant="paper").variant == "paper"
+    assert cmbrl.make("PointGoal1").variant == "paper"
+    assert env.reward_range == (-math.inf, math.inf)
+    assert env.metadata["render_fps"] == round(1 / env.agent_step_seconds)
+    env.reset(seed=5)
+    first = env.np_random.integers(1 << 30)
+    env.reset(seed=5)
+    assert env.np_random.integers(1 << 30) == first
+    vec = cmbrl.make_vec("SafetyCarGoal1-v0", num_envs=2)
+    assert (vec.task, vec.variant) == ("CarGoal1", "standard")
+    with pytest.raises(cmbrl.Error, match="SafetyPointGoal3-v0"):
+        cmbrl.make("SafetyPointGoal3-v0")
+    with pytest.raises(cmbrl.Error, match="task is 3"):
+        cmbrl.make(3)

@@ -27,12 +27,13 @@ def test_a_vector_steps_as_its_environments_do_one_by_one_with_auto_reset(spin_u
             assert rewards[k] == r and costs[k] == c
             assert (terminated[k], truncated[k]) == (te, tr)
             if te or tr:
-                assert info["_final_observation"][k]
-                assert np.array_equal(info["final_observation"][k], o)
+                assert info["_final_obs"][k] and info["_final_info"][k]
+                assert np.array_equal(info["final_obs"][k], o)
+                assert info["final_info"]["goal_met"][k] == info["goal_met"][k]
                 o, _ = env.reset()
                 ended[k] = True
             else:
-                assert not info["_final_observation"][k]
+                assert not info["_final_obs"][k] and not info["_final_info"][k]
             assert np.array_equal(obs[k], o)
     assert ended.all()
 
@@ -69,7 +70,7 @@ def test_disabled_autoreset_waits_for_a_masked_reset():
     ended = np.zeros(n, dtype=bool)
     for _ in range(singles[0].max_episode_steps):
         obs, _, _, terminated, truncated, info = envs.step(np.full((n, 2), 0.3))
-        assert "final_observation" not in info
+        assert "final_obs" not in info and "final_info" not in info
         for k, env in enumerate(singles):
             o, _, _, te, tr, _ = env.step(np.full(2, 0.3))
             assert np.array_equal(obs[k], o)  # the last observation itself, not reset
