@@ -114,6 +114,22 @@ class PyEnsemble {
 
   int transitions() const { return buffer_.size(); }
 
+  // The networks, optimiser and generator (ensemble.pt) and the transitions held
+  // (transitions.bin) into `folder`, which must exist: what a later fit continues from.
+  void Save(const std::string& folder) const {
+    const ObjectLock lock(mutex_);
+    py::gil_scoped_release release;
+    dynamics_.Save(folder + "/ensemble.pt");
+    buffer_.Save(folder + "/transitions.bin");
+  }
+
+  void Load(const std::string& folder) {
+    const ObjectLock lock(mutex_);
+    py::gil_scoped_release release;
+    dynamics_.Load(folder + "/ensemble.pt");
+    buffer_.Load(folder + "/transitions.bin");
+  }
+
  private:
   mutable std::mutex mutex_;  // ObjectLock: one call at a time
   static EnsembleOptions Options(int ensemble_size, const std::vector<int>& hidden,
@@ -176,6 +192,16 @@ class PyCostClassifier {
     return PredictViolations(classifier_, states);
   }
 
+  void Save(const std::string& path) const {
+    const ObjectLock lock(mutex_);
+    classifier_.Save(path);
+  }
+
+  void Load(const std::string& path) {
+    const ObjectLock lock(mutex_);
+    classifier_.Load(path);
+  }
+
  private:
   mutable std::mutex mutex_;  // ObjectLock: one call at a time
   static XgbCostModelOptions Options(int rounds, double threshold) {
@@ -198,13 +224,17 @@ void BindModels(py::module_& m) {
            py::arg("seed"))
       .def("fit", &PyEnsemble::Fit, py::arg("states"), py::arg("actions"), py::arg("next_states"))
       .def("predict", &PyEnsemble::Predict, py::arg("states"), py::arg("actions"))
-      .def_property_readonly("transitions", &PyEnsemble::transitions);
+      .def_property_readonly("transitions", &PyEnsemble::transitions)
+      .def("save", &PyEnsemble::Save, py::arg("folder"))
+      .def("load", &PyEnsemble::Load, py::arg("folder"));
 
   py::class_<PyCostClassifier>(m, "CostClassifier")
       .def(py::init<int, int, double, std::uint64_t>(), py::arg("state_dim"), py::arg("rounds"),
            py::arg("threshold"), py::arg("seed"))
       .def("fit", &PyCostClassifier::Fit, py::arg("states"), py::arg("unsafe"))
-      .def("predict", &PyCostClassifier::Predict, py::arg("states"));
+      .def("predict", &PyCostClassifier::Predict, py::arg("states"))
+      .def("save", &PyCostClassifier::Save, py::arg("path"))
+      .def("load", &PyCostClassifier::Load, py::arg("path"));
 }
 
 }  // namespace cmbrl::python

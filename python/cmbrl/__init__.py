@@ -17,6 +17,7 @@ import json
 import math
 import os
 import re
+import tempfile
 
 import numpy as np
 
@@ -42,7 +43,28 @@ def _box(spec, dtype=np.float64):
     return Box(low=spec["low"], high=spec["high"], dtype=dtype)
 
 
-class _Closable:
+class _NotCopyable:
+    """Objects that hold a running simulation or a loaded run: copying one would share its C++
+    object (copy.copy did), and pickling cannot carry a simulation mid-episode. Both are refused
+    by name, saying what to do instead."""
+
+    _instead = "make another one"
+
+    def _refuse(self, what):
+        raise Error(f"a cmbrl.{type(self).__name__} cannot be {what}: it holds a running C++ "
+                    f"object; {self._instead}")
+
+    def __copy__(self):
+        self._refuse("copied")
+
+    def __deepcopy__(self, memo):
+        self._refuse("copied")
+
+    def __reduce_ex__(self, protocol):
+        self._refuse("pickled")
+
+
+class _Closable(_NotCopyable):
     """What Env and VectorEnv share: the C++ object in self._env, close() and `with`."""
 
     def close(self):
@@ -106,6 +128,7 @@ class Env(_Closable):
     """
 
     reward_range = (-math.inf, math.inf)
+    _instead = "make another with cmbrl.make(env.spec.id, **env.spec.kwargs)"
 
     def __init__(self, task, variant=None, spawn="standing", render_mode=None, render_size=400):
         if render_mode not in (None, "rgb_array"):
@@ -190,6 +213,8 @@ class VectorEnv(_Closable):
     observation; the last one is info["final_obs"][k] and its step's info info["final_info"],
     with info["_final_obs"][k] and info["_final_info"][k] True, Gymnasium 1.x's names) or "disabled" (an ended environment returns its last observation and must be reset with
     reset(options={"reset_mask": mask}) before it steps again)."""
+
+    _instead = "make another with cmbrl.make_vec(...)"
 
     def __init__(self, task, num_envs, variant=None, spawn="standing", threads=None,
                  spin_us=2000, autoreset_mode="same-step"):
@@ -366,9 +391,12 @@ def train(config=None, out=None, steps=None, seed=None, device=None, resume=None
                         None if seed is None else _as_seed(seed), device, progress)
 
 
-class Agent:
+class Agent(_NotCopyable):
     """A trained run's agent (load_run): act(observation) gives its action. An MPC run also
-    offers its planner's last plan and predictions and its learned models on numpy arrays."""
+    offers its planner's last plan and predictions and its learned models on numpy arrays.
+    Not copyable or picklable: load the run again (cmbrl.load_run) where another is needed."""
+
+    _instead = "load the run again with cmbrl.load_run(run_dir)"
 
     def __init__(self, run_dir, seed=0, overrides=()):
         self._agent = _cmbrl.Agent(os.fspath(run_dir), _as_seed(seed), list(overrides))
@@ -442,15 +470,91 @@ def _yaml_value(value):
     return repr(value) if isinstance(value, float) else str(value)
 
 
-class Ensemble:
+class _StandaloneModel:
+    """Saving, loading, pickling and copying the standalone models (Ensemble, CostClassifier):
+    a folder of the constructor's arguments (settings.json) and the C++ model's own files.
+    Pickles carry that folder's files as bytes; copy.copy and copy.deepcopy give an independent
+    model (a shallow copy would share the C++ one)."""
+
+    _kind = ""  # "ensemble" or "classifier"
+    _SETTINGS = "settings.json"
+
+    def _write_files(self, folder):
+        with open(os.path.join(folder, self._SETTINGS), "w") as out:
+            json.dump({"kind": self._kind, "args": self._args}, out, default=_json_number)
+        if self._kind == "ensemble":
+            self._model.save(folder)
+        else:
+            self._model.save(os.path.join(folder, "classifier.json"))
+
+    def save(self, path):
+        """Writes the model to the folder `path` (made if missing): its settings and its state
+        (an Ensemble: networks, optimiser, generator and the transitions it holds, so that a
+        loaded copy predicts the same and a later fit continues as this one's would; a
+        CostClassifier: its trees)."""
+        folder = os.fspath(path)
+        os.makedirs(folder, exist_ok=True)
+        self._write_files(folder)
+
+    @classmethod
+    def load(cls, path):
+        """The model as save() wrote it to the folder `path`."""
+        settings_path = os.path.join(os.fspath(path), cls._SETTINGS)
+        try:
+            with open(settings_path) as inp:
+                settings = json.load(inp)
+        except (OSError, ValueError) as error:
+            raise Error(f"'{settings_path}': cannot read it ({error}): expected a folder "
+                        f"written by {cls.__name__}.save") from None
+        kind = settings.get("kind") if isinstance(settings, dict) else None
+        if kind != cls._kind:
+            raise Error(f"'{settings_path}' is not a saved {cls.__name__}: its kind is {kind!r}")
+        model = cls(**settings["args"])
+        if cls._kind == "ensemble":
+            model._model.load(os.fspath(path))
+        else:
+            model._model.load(os.path.join(os.fspath(path), "classifier.json"))
+        return model
+
+    def __getstate__(self):
+        with tempfile.TemporaryDirectory() as folder:
+            self._write_files(folder)
+            files = {}
+            for name in sorted(os.listdir(folder)):
+                with open(os.path.join(folder, name), "rb") as inp:
+                    files[name] = inp.read()
+        return {"files": files}
+
+    def __setstate__(self, state):
+        with tempfile.TemporaryDirectory() as folder:
+            for name, data in state["files"].items():
+                with open(os.path.join(folder, name), "wb") as out:
+                    out.write(data)
+            self.__dict__.update(type(self).load(folder).__dict__)
+
+    def __copy__(self):
+        clone = type(self).__new__(type(self))
+        clone.__setstate__(self.__getstate__())
+        return clone
+
+    def __deepcopy__(self, memo):
+        return self.__copy__()
+
+
+class Ensemble(_StandaloneModel):
     """The paper's dynamics model on numpy arrays: ensemble_size MLPs (ReLU, hidden_sizes) that
     each predict the absolute next state (or, with predict_delta, the change of state: not the
     paper's way), trained by MSE with the paper's settings (facts B3). fit() adds the
     transitions to a ring of 500,000 and trains on all of it, warm-started after the first fit,
     as training does; predict() gives every member's next state."""
 
+    _kind = "ensemble"
+
     def __init__(self, state_dim, action_dim, ensemble_size=4, hidden_sizes=(1024, 1024, 1024),
                  max_epochs=70, seed=0, predict_delta=False):
+        self._args = {"state_dim": state_dim, "action_dim": action_dim,
+                      "ensemble_size": ensemble_size, "hidden_sizes": list(hidden_sizes),
+                      "max_epochs": max_epochs, "seed": seed, "predict_delta": predict_delta}
         self._model = _cmbrl.Ensemble(
             _as_int(state_dim, "state_dim"), _as_int(action_dim, "action_dim"),
             _as_int(ensemble_size, "ensemble_size"),
@@ -471,12 +575,16 @@ class Ensemble:
         return self._model.transitions
 
 
-class CostClassifier:
+class CostClassifier(_StandaloneModel):
     """The paper's constraint classifier on numpy arrays: gradient-boosted trees (XGBoost, set
     up as the original's LightGBM) that learn from 0/1 labels where states violate a
     constraint. fit() trains from scratch on every given state; predict() gives (N) bool."""
 
+    _kind = "classifier"
+
     def __init__(self, state_dim, rounds=400, threshold=0.5, seed=0):
+        self._args = {"state_dim": state_dim, "rounds": rounds, "threshold": threshold,
+                      "seed": seed}
         self._model = _cmbrl.CostClassifier(_as_int(state_dim, "state_dim"),
                                             _as_int(rounds, "rounds"), float(threshold),
                                             _as_seed(seed))

@@ -79,3 +79,65 @@ def test_integer_arguments_refuse_floats_and_out_of_range_values(bad):
         cmbrl.CostClassifier(state_dim=4, rounds=bad)
     with pytest.raises(cmbrl.Error, match="num_envs is"):
         cmbrl.make_vec("PointGoal1", num_envs=bad)
+
+
+def _pendulum_data(seed, n=600):
+    rng = np.random.default_rng(seed)
+    states = rng.uniform(-1, 1, size=(n, 4))
+    actions = rng.uniform(-1, 1, size=(n, 2))
+    return states, actions, states + 0.1 * np.concatenate([actions, -actions], axis=1)
+
+
+def test_an_ensemble_saved_loaded_pickled_or_deep_copied_predicts_and_continues_the_same(tmp_path):
+    import copy
+    import pickle
+
+    model = cmbrl.Ensemble(state_dim=4, action_dim=2, ensemble_size=2, hidden_sizes=[16],
+                           max_epochs=3, seed=5)
+    model.fit(*_pendulum_data(0))
+    model.save(tmp_path / "saved")
+    copies = [cmbrl.Ensemble.load(tmp_path / "saved"), pickle.loads(pickle.dumps(model)),
+              copy.deepcopy(model), copy.copy(model)]
+    s, a, _ = _pendulum_data(1, 50)
+    for other in copies:
+        assert other.transitions == model.transitions
+        assert np.array_equal(other.predict(s, a), model.predict(s, a))
+    more = _pendulum_data(2)
+    model.fit(*more)
+    for other in copies:  # each is its own model: fitting one leaves the others alone
+        assert not np.array_equal(other.predict(s, a), model.predict(s, a))
+        other.fit(*more)
+        assert np.array_equal(other.predict(s, a), model.predict(s, a))
+    with pytest.raises(cmbrl.Error, match="settings.json"):
+        cmbrl.Ensemble.load(tmp_path / "nothing")
+
+
+def test_a_classifier_saved_loaded_or_pickled_predicts_the_same(tmp_path):
+    import pickle
+
+    rng = np.random.default_rng(0)
+    states = rng.uniform(-1, 1, size=(800, 3))
+    unsafe = states[:, 0] > 0.3
+    model = cmbrl.CostClassifier(state_dim=3, rounds=10, seed=2)
+    model.fit(states, unsafe)
+    model.save(tmp_path / "saved")
+    for other in (cmbrl.CostClassifier.load(tmp_path / "saved"), pickle.loads(pickle.dumps(model))):
+        assert np.array_equal(other.predict(states), model.predict(states))
+    ensemble_dir = tmp_path / "ensemble"
+    cmbrl.Ensemble(state_dim=3, action_dim=1, hidden_sizes=[4]).save(ensemble_dir)
+    with pytest.raises(cmbrl.Error, match="not a saved CostClassifier: its kind is 'ensemble'"):
+        cmbrl.CostClassifier.load(ensemble_dir)
+
+
+def test_live_objects_refuse_copies_and_pickles_by_name():
+    import copy
+    import pickle
+
+    env = cmbrl.make("PointGoal1")
+    vec = cmbrl.make_vec("PointGoal1", num_envs=2)
+    for obj, instead in ((env, r"cmbrl\.make\(env\.spec\.id"), (vec, r"cmbrl\.make_vec")):
+        name = type(obj).__name__
+        for attempt, what in ((copy.copy, "copied"), (copy.deepcopy, "copied"),
+                              (pickle.dumps, "pickled")):
+            with pytest.raises(cmbrl.Error, match=rf"a cmbrl\.{name} cannot be {what}.*{instead}"):
+                attempt(obj)
