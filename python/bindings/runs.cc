@@ -56,6 +56,7 @@ class PyAgent {
   // The last plan in world coordinates: a list of dicts (points (H+1, 2), feasible, chosen).
   py::list Predictions(const py::dict& scene_of_plan, int samples) {
     const ObjectLock lock(mutex_);
+    RequirePlan("predictions");
     SceneState scene;
     const auto xy = [](const py::handle& a) {
       const Doubles v = Doubles::ensure(a);
@@ -85,6 +86,7 @@ class PyAgent {
 
   py::dict LastPlan() {
     const ObjectLock lock(mutex_);
+    RequirePlan("last_plan");
     MpcAgent& agent = run_.mpc_agent();
     py::dict d;
     d["milliseconds"] = agent.last_plan().milliseconds;
@@ -128,6 +130,14 @@ class PyAgent {
   py::dict ActionSpec() { return BoxDict(run_.env().action_spec()); }
 
  private:
+  // A plan exists once act() has run (the MPC agent's planner has a result to read).
+  void RequirePlan(const char* call) {
+    const torch::Tensor& sequence = run_.mpc_agent().last_result().sequence;
+    Require(sequence.defined() && sequence.numel() > 0,
+            "{}() before act(): the agent has made no plan yet; call act(observation) first",
+            call);
+  }
+
   mutable std::mutex mutex_;  // ObjectLock: one call at a time
   LoadedRun run_;
 };

@@ -21,8 +21,37 @@ class _Box:
         self._rng = np.random.default_rng()
 
     def seed(self, seed=None):
+        """Seeds the space's own generator (sample()); returns [seed] as gymnasium does."""
         self._rng = np.random.default_rng(seed)
         return [seed]
+
+    @property
+    def np_random(self):
+        """The generator sample() draws from (gymnasium's Space.np_random)."""
+        return self._rng
+
+    @property
+    def bounded_below(self):
+        return np.isfinite(self.low)
+
+    @property
+    def bounded_above(self):
+        return np.isfinite(self.high)
+
+    def is_bounded(self, manner="both"):
+        """Whether every entry is bounded: manner 'both', 'below' or 'above' (gymnasium's)."""
+        below, above = bool(np.all(self.bounded_below)), bool(np.all(self.bounded_above))
+        if manner == "both":
+            return below and above
+        if manner == "below":
+            return below
+        if manner == "above":
+            return above
+        raise ValueError(f"manner is {manner!r}: expected 'both', 'below' or 'above'")
+
+    @property
+    def is_np_flattenable(self):
+        return True
 
     def sample(self):
         """Uniform where bounded on both sides, normal where unbounded, as gymnasium does."""
@@ -37,10 +66,24 @@ class _Box:
         return out.astype(self.dtype)
 
     def contains(self, x):
-        x = np.asarray(x)
-        return x.shape == self.shape and bool(np.all(x >= self.low) and np.all(x <= self.high))
+        """Whether x is an array of this shape, of a dtype that casts to the space's without
+        loss, within the bounds (gymnasium's rule: a float64 point is not in a float32 box)."""
+        if not isinstance(x, np.ndarray):
+            try:
+                x = np.asarray(x, dtype=self.dtype)
+            except (ValueError, TypeError):
+                return False
+        return bool(np.can_cast(x.dtype, self.dtype) and x.shape == self.shape
+                    and np.all(x >= self.low) and np.all(x <= self.high))
 
     __contains__ = contains
+
+    def __eq__(self, other):
+        return (isinstance(other, _Box) and self.shape == other.shape
+                and self.dtype == other.dtype and np.array_equal(self.low, other.low)
+                and np.array_equal(self.high, other.high))
+
+    __hash__ = None  # mutable arrays inside, as gymnasium's
 
     def __repr__(self):
         return f"Box({self.low.min()}, {self.high.max()}, {self.shape}, {self.dtype})"

@@ -202,3 +202,26 @@ def test_gymnasium_attributes_and_safety_gymnasium_ids():
         cmbrl.make("SafetyPointGoal3-v0")
     with pytest.raises(cmbrl.Error, match="task is 3"):
         cmbrl.make(3)
+
+
+def test_the_look_alike_box_has_gymnasiums_attributes_and_rules():
+    from cmbrl.spaces import _Box
+
+    box = _Box(low=[-1.0, 0.0], high=[1.0, np.inf], dtype=np.float32)
+    assert box.is_bounded("below") and not box.is_bounded("above") and not box.is_bounded()
+    assert list(box.bounded_above) == [True, False]
+    box.seed(4)
+    first = box.sample()
+    assert box.np_random is box._rng
+    box.seed(4)
+    assert np.array_equal(box.sample(), first) and first.dtype == np.float32
+    assert box.contains(np.array([0.5, 3.0], dtype=np.float32))
+    assert not box.contains(np.array([0.5, 3.0], dtype=np.float64))  # float64 is not float32
+    assert not box.contains(np.array([0.5, -1.0], dtype=np.float32))  # below the bound
+    assert not box.contains(np.array([0.5], dtype=np.float32))  # shape
+    assert not box.contains("a")
+    assert box == _Box(low=[-1.0, 0.0], high=[1.0, np.inf], dtype=np.float32)
+    assert box != _Box(low=[-1.0, 0.0], high=[1.0, np.inf], dtype=np.float64)
+    assert box != _Box(low=[-1.0, 0.0], high=[2.0, np.inf], dtype=np.float32)
+    with pytest.raises(ValueError, match="manner"):
+        box.is_bounded("sideways")

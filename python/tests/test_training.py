@@ -35,6 +35,9 @@ def test_train_resume_and_act(tmp_path, source_dir):
     env = agent.make_env()
     obs, _ = env.reset(seed=2)
     agent.begin_episode()
+    for call in (agent.last_plan, lambda: agent.predictions(env)):  # no plan yet: named
+        with pytest.raises(cmbrl.Error, match=r"before act\(\): the agent has made no plan yet"):
+            call()
     action = agent.act(obs)
     assert action.shape == (2,) and np.all(np.abs(action) <= 1)
     plan = agent.last_plan()
