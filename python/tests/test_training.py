@@ -132,3 +132,14 @@ def test_a_config_dict_must_name_its_task_and_may_hold_numpy_numbers(tmp_path):
     config["objective"] = {"gamma": np.float32(0.98)}
     result = cmbrl.train(config=config, out=str(tmp_path / "numpy"))
     assert result["steps"] >= 40
+
+
+def test_the_gymnasium_loop_example_runs(source_dir):
+    import os
+    import subprocess
+    import sys
+
+    done = subprocess.run([sys.executable, str(source_dir / "examples" / "gymnasium_loop.py"),
+                           "--num-envs", "2", "--steps", "1001"], check=True,
+                          env=dict(os.environ), stdout=subprocess.PIPE, text=True)
+    assert "(PointGoal1, standard): 2 episodes ended in 1001 steps" in done.stdout

@@ -1,0 +1,51 @@
+#!/usr/bin/env python3
+"""A Gymnasium-style loop over cmbrl's environments, as a Safety-Gymnasium user writes one: a
+vector of environments with same-step autoreset, seeded per environment, a random policy, and
+the violations and returns of the episodes that ended.
+
+    PYTHONPATH=build/python python3 examples/gymnasium_loop.py
+    PYTHONPATH=build/python python3 examples/gymnasium_loop.py --env SafetyCarGoal1-v0 --steps 3000
+
+A Safety-Gymnasium id ("SafetyPointGoal1-v0") gives that task's stock variant; a task name
+("PointGoal1") the paper's.
+"""
+import argparse
+
+import numpy as np
+
+import cmbrl
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--env", default="SafetyPointGoal1-v0", help="a task or Safety-Gymnasium id")
+    parser.add_argument("--num-envs", type=int, default=4)
+    parser.add_argument("--steps", type=int, default=1000, help="vector steps")
+    parser.add_argument("--seed", type=int, default=0)
+    args = parser.parse_args()
+
+    envs = cmbrl.make_vec(args.env, num_envs=args.num_envs)
+    envs.action_space.seed(args.seed)
+    obs, _ = envs.reset(seed=[args.seed + k for k in range(args.num_envs)])
+    returns, costs = np.zeros(args.num_envs), np.zeros(args.num_envs)
+    ended = []  # (return, violations) of each finished episode
+    for _ in range(args.steps):
+        obs, rewards, step_costs, terminated, truncated, info = envs.step(envs.action_space.sample())
+        returns += rewards
+        costs += step_costs
+        for k in np.flatnonzero(terminated | truncated):
+            # Same-step autoreset: obs[k] already starts the next episode; the last observation
+            # of the one that ended is info["final_obs"][k].
+            assert info["_final_obs"][k]
+            ended.append((returns[k], costs[k]))
+            returns[k] = costs[k] = 0.0
+    envs.close()
+    print(f"{args.env} ({envs.task}, {envs.variant}): {len(ended)} episodes ended in "
+          f"{args.steps} steps of {args.num_envs} environments")
+    if ended:
+        ended = np.array(ended)
+        print(f"  mean return {ended[:, 0].mean():.2f}, mean violations {ended[:, 1].mean():.1f}")
+
+
+if __name__ == "__main__":
+    main()
