@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
-"""A Gymnasium-style loop over cmbrl's environments, as a Safety-Gymnasium user writes one: a
-vector of environments with same-step autoreset, seeded per environment, a random policy, and
-the violations and returns of the episodes that ended.
+"""Gymnasium-style loops over cmbrl's environments, as a Safety-Gymnasium user writes them: one
+environment stepped by a random agent for an episode, then a vector of environments with
+same-step autoreset, seeded per environment, and the violations and returns of the episodes
+that ended.
 
     PYTHONPATH=build/python python3 examples/gymnasium_loop.py
     PYTHONPATH=build/python python3 examples/gymnasium_loop.py --env SafetyCarGoal1-v0 --steps 3000
@@ -24,6 +25,21 @@ def main():
     parser.add_argument("--seed", type=int, default=0)
     args = parser.parse_args()
 
+    # One environment, one episode: Safety-Gymnasium's step gives the cost beside the reward.
+    env = cmbrl.make(args.env)
+    env.action_space.seed(args.seed)
+    obs, info = env.reset(seed=args.seed)
+    episode_return, episode_cost, done = 0.0, 0.0, False
+    while not done:
+        obs, reward, cost, terminated, truncated, info = env.step(env.action_space.sample())
+        episode_return += reward
+        episode_cost += cost
+        done = terminated or truncated
+    env.close()
+    print(f"{env.spec.id}: one episode, return {episode_return:.2f}, violations "
+          f"{episode_cost:.0f}")
+
+    # A vector of them.
     envs = cmbrl.make_vec(args.env, num_envs=args.num_envs)
     envs.action_space.seed(args.seed)
     obs, _ = envs.reset(seed=[args.seed + k for k in range(args.num_envs)])

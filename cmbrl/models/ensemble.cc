@@ -164,7 +164,8 @@ torch::Tensor EnsembleDynamics::Predict(const torch::Tensor& states,
   return PredictUnchecked(states, actions);
 }
 
-EnsembleFitReport EnsembleDynamics::Fit(const TransitionBuffer& data) {
+EnsembleFitReport EnsembleDynamics::Fit(const TransitionBuffer& data,
+                                        const std::function<bool()>& keep_going) {
   const auto start = std::chrono::steady_clock::now();
   Require(data.state_dim() == state_dim_ && data.action_dim() == action_dim_,
           "transition buffer is ({}, {}) but the ensemble is ({}, {}) (state, action)",
@@ -227,6 +228,10 @@ EnsembleFitReport EnsembleDynamics::Fit(const TransitionBuffer& data) {
     }
     report.epochs = epoch;
     report.train_mse = epoch_loss.item<double>() / static_cast<double>(subset * members);
+    if (keep_going && !keep_going()) {
+      report.interrupted = true;
+      break;
+    }
     if (validation_size == 0 || epoch % options_.validate_every != 0) continue;
     const torch::NoGradGuard no_grad;
     report.validation_mse =

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -22,6 +23,7 @@ struct EnsembleFitReport {
   double validation_mse = 0.0;       // last check (NaN when nothing was held out)
   double best_validation_mse = 0.0;  // best check of this fit
   bool stopped_early = false;
+  bool interrupted = false;  // keep_going said stop
   double seconds = 0.0;
 };
 
@@ -50,7 +52,10 @@ class EnsembleDynamics final : public DynamicsModel {
 
   // Recomputes the normalisers over the whole buffer, then trains (facts B3). Throws
   // cmbrl::Error when the buffer has fewer than 2 transitions or other dimensions.
-  EnsembleFitReport Fit(const TransitionBuffer& data);
+  // `keep_going`, when given, is asked after each epoch: false stops the fit there, keeping the
+  // epochs done (report.interrupted; a Python caller's Ctrl-C).
+  EnsembleFitReport Fit(const TransitionBuffer& data,
+                        const std::function<bool()>& keep_going = nullptr);
 
   // Weights, normalisers, optimiser state and generator state, in one file. Load checks that
   // the file matches this ensemble's dimensions and throws cmbrl::Error naming the difference.

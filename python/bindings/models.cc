@@ -91,8 +91,14 @@ class PyEnsemble {
                     {av.begin() + i * a, av.begin() + (i + 1) * a},
                     {nv.begin() + i * s, nv.begin() + (i + 1) * s});
       }
-      report = dynamics_.Fit(buffer_);
+      // After each epoch, Python's signal handlers run (Ctrl-C): a KeyboardInterrupt stops the
+      // fit there, the epochs done kept, and is raised once the fit has returned.
+      report = dynamics_.Fit(buffer_, [] {
+        const py::gil_scoped_acquire acquire;
+        return PyErr_CheckSignals() == 0;
+      });
     }
+    if (report.interrupted && PyErr_Occurred() != nullptr) throw py::error_already_set();
     py::dict d;
     d["epochs"] = report.epochs;
     d["train_size"] = report.train_size;

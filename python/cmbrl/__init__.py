@@ -562,7 +562,9 @@ class Ensemble(_StandaloneModel):
             _as_int(max_epochs, "max_epochs"), bool(predict_delta), _as_seed(seed))
 
     def fit(self, states, actions, next_states):
-        """(N, S), (N, A), (N, S) -> a dict: epochs, train and validation MSE, seconds."""
+        """(N, S), (N, A), (N, S) -> a dict: epochs, train and validation MSE, seconds.
+        Ctrl-C (or another signal handler's exception) stops the fit after the epoch in
+        progress: the epochs done are kept, and the exception is raised."""
         return self._model.fit(states, actions, next_states)
 
     def predict(self, states, actions):

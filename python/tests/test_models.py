@@ -141,3 +141,24 @@ def test_live_objects_refuse_copies_and_pickles_by_name():
                               (pickle.dumps, "pickled")):
             with pytest.raises(cmbrl.Error, match=rf"a cmbrl\.{name} cannot be {what}.*{instead}"):
                 attempt(obj)
+
+
+def test_ctrl_c_stops_a_fit_after_its_epoch_and_keeps_what_was_learned():
+    import os
+    import signal
+    import threading
+
+    # A fit of many seconds (its early stop comes after about 1400 epochs of 20,000 rows).
+    states, actions, next_states = _pendulum_data(0, 20000)
+    model = cmbrl.Ensemble(state_dim=4, action_dim=2, ensemble_size=2, hidden_sizes=[32],
+                           max_epochs=100000, seed=1)
+    untrained = model.predict(states[:20], actions[:20])
+    timer = threading.Timer(0.5, lambda: os.kill(os.getpid(), signal.SIGINT))
+    timer.start()
+    with pytest.raises(KeyboardInterrupt):
+        model.fit(states, actions, next_states)
+    timer.join()
+    assert model.transitions == 20000
+    trained = model.predict(states[:20], actions[:20])
+    assert not np.array_equal(trained, untrained)  # the epochs done are kept
+    assert np.mean((trained - next_states[:20]) ** 2) < np.mean((untrained - next_states[:20]) ** 2)
