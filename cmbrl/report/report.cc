@@ -412,10 +412,16 @@ std::vector<EpisodePoint> ReadEpochLog(const std::string& file,
             "{} line {}: TotalEnvInteracts {} after {}: expected a count that rises", file,
             table.line(row), point.end_step, previous);
     point.steps = static_cast<int>(point.end_step - previous);
+    // An epoch in which no episode ended logs NaN for both means (nothing to average).
+    const auto mean_or_nan = [&](size_t column, double low, const char* expected) {
+      const double value = table.Number(row, column);
+      return std::isnan(value) ? value
+                               : InDomain(table, file, row, column, low, kInfinity, expected);
+    };
     point.episode_return =
-        InDomain(table, file, row, ret, -kInfinity, kInfinity, "a finite mean return");
+        mean_or_nan(ret, -kInfinity, "a finite mean return (or nan: no episode ended)");
     point.episode_cost =
-        InDomain(table, file, row, cost, 0.0, kInfinity, "a finite mean cost of 0 or more");
+        mean_or_nan(cost, 0.0, "a finite mean cost of 0 or more (or nan: no episode ended)");
     point.cumulative_violations =
         InDomain(table, file, row, cumulative, before, before + point.steps,
                  "a running count that rises by at most the epoch's steps");

@@ -911,6 +911,22 @@ TEST_F(ReportTest, ValuesOutsideTheirDomainAreNamed) {
               HasSubstr("bad-epochs.csv line 3: CumulativeCost is 30: expected a running count "
                         "that rises by at most the epoch's steps"));
   EXPECT_EQ(ReadEpochLog(epochs.string(), 1).size(), 1u);  // the rows a checkpoint covers
+  // An epoch in which no episode ended has no means (nan); infinities and negative costs are
+  // refused.
+  std::ofstream(epochs, std::ios::trunc)
+      << "AverageEpRet,AverageEpCost,CumulativeCost,TotalEnvInteracts\n"
+      << "nan,nan,0,300\n1,2,2,600\n";
+  EXPECT_EQ(ReadEpochLog(epochs.string()).size(), 2u);
+  std::ofstream(epochs, std::ios::trunc)
+      << "AverageEpRet,AverageEpCost,CumulativeCost,TotalEnvInteracts\n"
+      << "inf,1,0,300\n";
+  EXPECT_THAT(testing::ErrorMessage([&] { ReadEpochLog(epochs.string()); }),
+              HasSubstr("line 2: AverageEpRet is inf: expected a finite mean return"));
+  std::ofstream(epochs, std::ios::trunc)
+      << "AverageEpRet,AverageEpCost,CumulativeCost,TotalEnvInteracts\n"
+      << "1,-3,0,300\n";
+  EXPECT_THAT(testing::ErrorMessage([&] { ReadEpochLog(epochs.string()); }),
+              HasSubstr("line 2: AverageEpCost is -3: expected a finite mean cost of 0 or more"));
 }
 
 TEST_F(ReportTest, BadProgressIsNamed) {
