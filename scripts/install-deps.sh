@@ -25,7 +25,7 @@ packages=(
   # The fast CPU prediction backend: oneDNN's matrix products (AVX-512, bf16).
   libdnnl-dev
   # The Python module and its tests.
-  pybind11-dev python3-dev python3-numpy python3-pytest
+  pybind11-dev python3-dev python3-numpy python3-pytest python3-pip python3-setuptools python3-wheel python3-venv
 )
 
 export DEBIAN_FRONTEND=noninteractive
