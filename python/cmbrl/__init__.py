@@ -125,6 +125,9 @@ class Env(_Closable):
 
     ground_truth() gives what the agent does not observe: the robot's pose, the goal, hazards
     and vases in world coordinates. render() draws the arena from above with the episode's path.
+
+    Threads: calls on one object from several threads take turns (one lock per object, taken
+    with the GIL released); distinct objects run in parallel.
     """
 
     reward_range = (-math.inf, math.inf)
@@ -212,7 +215,11 @@ class VectorEnv(_Closable):
     "same-step" (the default: an environment whose episode ended returns its next episode's first
     observation; the last one is info["final_obs"][k] and its step's info info["final_info"],
     with info["_final_obs"][k] and info["_final_info"][k] True, Gymnasium 1.x's names) or "disabled" (an ended environment returns its last observation and must be reset with
-    reset(options={"reset_mask": mask}) before it steps again)."""
+    reset(options={"reset_mask": mask}) before it steps again).
+
+    Threads: calls on one object from several threads take turns (one lock per object, taken
+    with the GIL released); distinct objects run in parallel.
+    """
 
     _instead = "make another with cmbrl.make_vec(...)"
 
@@ -394,7 +401,11 @@ def train(config=None, out=None, steps=None, seed=None, device=None, resume=None
 class Agent(_NotCopyable):
     """A trained run's agent (load_run): act(observation) gives its action. An MPC run also
     offers its planner's last plan and predictions and its learned models on numpy arrays.
-    Not copyable or picklable: load the run again (cmbrl.load_run) where another is needed."""
+    Not copyable or picklable: load the run again (cmbrl.load_run) where another is needed.
+
+    Threads: calls on one object from several threads take turns (one lock per object, taken
+    with the GIL released); distinct objects run in parallel.
+    """
 
     _instead = "load the run again with cmbrl.load_run(run_dir)"
 
@@ -546,7 +557,11 @@ class Ensemble(_StandaloneModel):
     each predict the absolute next state (or, with predict_delta, the change of state: not the
     paper's way), trained by MSE with the paper's settings (facts B3). fit() adds the
     transitions to a ring of 500,000 and trains on all of it, warm-started after the first fit,
-    as training does; predict() gives every member's next state."""
+    as training does; predict() gives every member's next state.
+
+    Threads: calls on one object from several threads take turns (one lock per object, taken
+    with the GIL released); distinct objects run in parallel.
+    """
 
     _kind = "ensemble"
 
@@ -580,7 +595,11 @@ class Ensemble(_StandaloneModel):
 class CostClassifier(_StandaloneModel):
     """The paper's constraint classifier on numpy arrays: gradient-boosted trees (XGBoost, set
     up as the original's LightGBM) that learn from 0/1 labels where states violate a
-    constraint. fit() trains from scratch on every given state; predict() gives (N) bool."""
+    constraint. fit() trains from scratch on every given state; predict() gives (N) bool.
+
+    Threads: calls on one object from several threads take turns (one lock per object, taken
+    with the GIL released); distinct objects run in parallel.
+    """
 
     _kind = "classifier"
 

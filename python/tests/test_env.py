@@ -180,6 +180,8 @@ def test_the_package_says_its_version_and_documents_its_public_api():
                 if callable(target) and not (getattr(target, "__doc__", "") or "").strip():
                     undocumented.append(f"{name}.{attr}")
     assert undocumented == []
+    for cls in (cmbrl.Env, cmbrl.VectorEnv, cmbrl.Agent, cmbrl.Ensemble, cmbrl.CostClassifier):
+        assert "take turns" in cls.__doc__, f"{cls.__name__} does not say its thread rule"
 
 
 def test_gymnasium_attributes_and_safety_gymnasium_ids():
