@@ -7,10 +7,10 @@
 
 #include <cerrno>
 #include <cstring>
-#include <ctime>
 #include <fmt/format.h>
 
 #include "cmbrl/core/check.h"
+#include "cmbrl/core/utc_time.h"
 
 namespace cmbrl {
 namespace {
@@ -33,12 +33,7 @@ std::string HolderOf(int fd) {
 std::string ThisHolder() {
   char host[256] = {};
   gethostname(host, sizeof(host) - 1);
-  const std::time_t now = std::time(nullptr);
-  std::tm utc{};
-  gmtime_r(&now, &utc);
-  char since[32] = {};
-  std::strftime(since, sizeof(since), "%Y-%m-%dT%H:%M:%SZ", &utc);
-  return fmt::format("pid {} on {} since {}", getpid(), host, since);
+  return fmt::format("pid {} on {} since {}", getpid(), host, UtcTimestamp());
 }
 
 }  // namespace

@@ -25,7 +25,7 @@ std::vector<std::unique_ptr<Env>> MakeEnvs(const std::string& task, Variant vari
   Require(count >= 1, "num_envs is {}: expected at least 1", count);
   // The process's resident memory: what an environment's pages take once touched (MuJoCo
   // allocates a stack it rarely fills, so the heap's count is several times more).
-  const auto heap = [] {
+  const auto resident = [] {
     long pages = 0, resident = 0;
     if (std::FILE* statm = std::fopen("/proc/self/statm", "r")) {
       if (std::fscanf(statm, "%ld %ld", &pages, &resident) != 2) resident = 0;
@@ -37,10 +37,10 @@ std::vector<std::unique_ptr<Env>> MakeEnvs(const std::string& task, Variant vari
   envs.push_back(MakeEnv(task, variant, spawn));
   if (count == 1) return envs;
   // The second environment's share: the first also pays what the process makes once.
-  const double before = heap();
+  const double before = resident();
   envs.push_back(MakeEnv(task, variant, spawn));
   // At least a MiB, should the pages have been resident already (memory freed and reused).
-  const double each = std::max(heap() - before, 1024.0 * 1024.0);
+  const double each = std::max(resident() - before, 1024.0 * 1024.0);
   RequireMemory(each * count,
                 fmt::format("num_envs {}: {} environments of {} ({:.1f} MiB each)", count, count,
                             task, each / (1024.0 * 1024.0)),

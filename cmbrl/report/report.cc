@@ -124,6 +124,14 @@ double StepCount(const ProgressTable& table, const std::string& file, size_t row
   return value;
 }
 
+// The same for a column where NaN means "not measured" (a fraction not logged, the means of an
+// epoch in which no episode ended): NaN passes, any other value must lie in [low, high].
+double NanOrInDomain(const ProgressTable& table, const std::string& file, size_t row,
+                     size_t column, double low, double high, const char* expected) {
+  const double value = table.Number(row, column);
+  return std::isnan(value) ? value : InDomain(table, file, row, column, low, high, expected);
+}
+
 std::optional<size_t> RowLimit(std::optional<std::int64_t> rows) {
   if (!rows) return std::nullopt;
   return static_cast<size_t>(std::max<std::int64_t>(*rows, 0));
@@ -171,11 +179,8 @@ std::vector<EpisodePoint> ReadEpisodeColumns(const std::string& file, bool has_s
         InDomain(table, file, row, ret, -kInfinity, kInfinity, "a finite return");
     point.episode_cost = StepCount(table, file, row, cost, point.steps);
     if (has_feasible) {
-      point.feasible_fraction = table.Number(row, feasible);
-      Require(std::isnan(point.feasible_fraction) ||
-                  (point.feasible_fraction >= 0.0 && point.feasible_fraction <= 1.0),
-              "{} line {}: {} is {}: expected a fraction from 0 to 1", file, table.line(row),
-              kFeasibleFractionColumn, table.Text(row, feasible));
+      point.feasible_fraction =
+          NanOrInDomain(table, file, row, feasible, 0.0, 1.0, "a fraction from 0 to 1");
     }
     if (has_causes) {
       point.hazard_steps = StepCount(table, file, row, hazards, point.steps);
@@ -265,7 +270,8 @@ std::vector<RunRecord> ReadSweeps(const std::vector<std::string>& sweep_dirs) {
             sweep_dir);
     for (const fs::path& dir : RunFolders(runs_dir)) {
       // A run whose progress.csv disagrees with its checkpoint's manifest is refused, naming the
-      // file; rows written after the last checkpoint (a run in progress, or stopped) are kept.
+      // file; rows written after the last checkpoint (a run in progress, or added by hand) are
+      // left out.
       // A run in progress may swap its checkpoint while this reads it: a second look settles it.
       const RunDirectory run_dir(dir);
       std::optional<CheckpointManifest> checkpoint;
@@ -413,15 +419,10 @@ std::vector<EpisodePoint> ReadEpochLog(const std::string& file,
             table.line(row), point.end_step, previous);
     point.steps = static_cast<int>(point.end_step - previous);
     // An epoch in which no episode ended logs NaN for both means (nothing to average).
-    const auto mean_or_nan = [&](size_t column, double low, const char* expected) {
-      const double value = table.Number(row, column);
-      return std::isnan(value) ? value
-                               : InDomain(table, file, row, column, low, kInfinity, expected);
-    };
-    point.episode_return =
-        mean_or_nan(ret, -kInfinity, "a finite mean return (or nan: no episode ended)");
-    point.episode_cost =
-        mean_or_nan(cost, 0.0, "a finite mean cost of 0 or more (or nan: no episode ended)");
+    point.episode_return = NanOrInDomain(table, file, row, ret, -kInfinity, kInfinity,
+                                         "a finite mean return (or nan: no episode ended)");
+    point.episode_cost = NanOrInDomain(table, file, row, cost, 0.0, kInfinity,
+                                       "a finite mean cost of 0 or more (or nan: no episode ended)");
     point.cumulative_violations =
         InDomain(table, file, row, cumulative, before, before + point.steps,
                  "a running count that rises by at most the epoch's steps");

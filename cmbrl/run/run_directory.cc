@@ -215,12 +215,11 @@ std::uint32_t FileCrc(const fs::path& path) {
 
 namespace {
 
-// What a manifest records of the run's own files as they are now: config.yaml whole, and the
-// first `sessions` lines of sessions.jsonl (all its whole lines when nullopt).
-void CoverRunFiles(const RunDirectory& run, CheckpointManifest& manifest,
-                   const fs::path& config_file) {
+// What a manifest records of the run's own files as they are now: config.yaml whole, and every
+// whole line of sessions.jsonl.
+void CoverRunFiles(const RunDirectory& run, CheckpointManifest& manifest) {
   manifest.covers_run = true;
-  manifest.config_crc = FileCrc(config_file);
+  manifest.config_crc = FileCrc(run.config_file());
   const SessionsPrefix sessions =
       ReadSessionsPrefix(run, std::numeric_limits<std::int64_t>::max());
   manifest.sessions = sessions.lines_in_file;
@@ -237,7 +236,7 @@ void SwapInCheckpoint(const RunDirectory& run, const fs::path& tmp,
   fs::remove_all(old);
   if (fs::exists(final_dir)) fs::rename(final_dir, old);
   fs::rename(tmp, final_dir);
-  if (new_config) fs::rename(run.root() / "config.yaml.tmp", run.config_file());
+  if (new_config) fs::rename(run.config_tmp_file(), run.config_file());
   fs::remove_all(old);
 }
 
@@ -255,7 +254,7 @@ void WriteCheckpoint(const RunDirectory& run, std::int64_t rows, double elapsed_
     manifest.rows = rows;
     manifest.elapsed_seconds = elapsed_seconds;
     manifest.progress_crc = TextCrc(ReadProgressPrefix(run, rows).text);
-    CoverRunFiles(run, manifest, run.config_file());
+    CoverRunFiles(run, manifest);
     std::vector<fs::path> files;
     for (const fs::directory_entry& entry : fs::directory_iterator(tmp)) {
       files.push_back(entry.path());
@@ -280,8 +279,7 @@ void ReplaceCheckpointedConfig(const RunDirectory& run, const std::string& confi
     run.ReplaceConfig(config_yaml);  // nothing (or a v1 manifest) records the config
     return;
   }
-  const fs::path config_tmp = run.root() / "config.yaml.tmp";
-  WriteFile(config_tmp, config_yaml);
+  WriteFile(run.config_tmp_file(), config_yaml);
   // The same checkpoint, its files hard-linked (never rewritten), under a manifest that records
   // the new config.yaml.
   const fs::path tmp = TmpCheckpoint(run);
@@ -293,9 +291,7 @@ void ReplaceCheckpointedConfig(const RunDirectory& run, const std::string& confi
     fs::create_hard_link(run.checkpoint_dir() / file.name, tmp / file.name, error);
     if (error) fs::copy_file(run.checkpoint_dir() / file.name, tmp / file.name);
   }
-  CoverRunFiles(run, manifest, config_tmp);
-  manifest.sessions = checkpoint->sessions;  // sessions after the checkpoint stay uncovered
-  manifest.sessions_crc = checkpoint->sessions_crc;
+  manifest.config_crc = FileCrc(run.config_tmp_file());  // sessions stay as the checkpoint's
   SwapInCheckpoint(run, tmp, manifest, /*new_config=*/true);
 }
 
@@ -306,7 +302,7 @@ void RecoverInterruptedCheckpoint(const RunDirectory& run) {
   fs::remove_all(TmpCheckpoint(run));
   // A stop inside ReplaceCheckpointedConfig: its config.yaml.tmp goes in when the checkpoint in
   // place already records it, and is dropped otherwise (as Create's would be).
-  const fs::path config_tmp = run.root() / "config.yaml.tmp";
+  const fs::path config_tmp = run.config_tmp_file();
   if (!fs::exists(config_tmp)) return;
   const fs::path manifest_file = run.checkpoint_dir() / kManifest;
   if (fs::exists(manifest_file)) {
@@ -364,7 +360,7 @@ std::optional<CheckpointManifest> VerifiedCheckpoint(const RunDirectory& run, bo
             "'{}' differs from the configuration the run's checkpoint recorded: it was edited "
             "(a run's configuration changes only through --resume --steps){}",
             run.config_file().string(),
-            fs::exists(run.root() / "config.yaml.tmp")
+            fs::exists(run.config_tmp_file())
                 ? "; or a budget change was interrupted: resume the run to finish it"
                 : "");
   }

@@ -49,8 +49,11 @@ class RunDirectory {
   // written.
   void ReplaceConfig(const std::string& config_yaml) const;
 
- private:
+  // Where a new config.yaml is written whole before it is renamed into place; a stop may leave
+  // it behind (RecoverInterruptedCheckpoint settles it).
   std::filesystem::path config_tmp_file() const { return root_ / "config.yaml.tmp"; }
+
+ private:
 
   std::filesystem::path root_;
 };

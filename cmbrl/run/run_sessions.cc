@@ -2,8 +2,6 @@
 
 #include <fmt/format.h>
 
-#include <chrono>
-#include <ctime>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -13,6 +11,7 @@
 
 #include "cmbrl/core/check.h"
 #include "cmbrl/core/files.h"
+#include "cmbrl/core/utc_time.h"
 
 namespace cmbrl {
 namespace {
@@ -32,15 +31,6 @@ nlohmann::ordered_json SetupJson(const NumericsSetup& setup) {
           {"xgboost", setup.xgboost},
           {"onednn", setup.onednn},
           {"device", setup.device}};
-}
-
-std::string UtcNow() {
-  const std::time_t now = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
-  std::tm utc{};
-  gmtime_r(&now, &utc);
-  char text[32];
-  std::strftime(text, sizeof(text), "%Y-%m-%dT%H:%M:%SZ", &utc);
-  return text;
 }
 
 nlohmann::ordered_json SessionJson(const RunSession& session) {
@@ -192,7 +182,7 @@ std::vector<std::string> RecordRunSession(const RunDirectory& run, std::int64_t 
   session.number = before.empty() ? 1 : before.back().number + 1;
   session.run_id = RunIdOf(before);
   if (session.run_id.empty()) session.run_id = NewRunId();
-  session.began = UtcNow();
+  session.began = UtcTimestamp();
   session.steps_done = steps_done;
   session.setup = setup;
   AppendToFile(file, SessionJson(session).dump() + "\n");
