@@ -1,5 +1,6 @@
 // `cmbrl sweep`: the grid of training runs as separate processes, a few at a time, skipping
-// finished runs and resuming interrupted ones; also writes the grid as a Slurm job array.
+// finished runs and resuming interrupted ones (the local engine), or as a Slurm job array
+// submitted to a cluster and followed there (the Slurm engine).
 #include <fmt/ranges.h>
 
 #include <filesystem>
@@ -12,6 +13,7 @@
 #include "cmbrl/core/check.h"
 #include "cmbrl/env/registry.h"
 #include "cmbrl/sweep/experiment.h"
+#include "cmbrl/sweep/slurm_engine.h"
 #include "cmbrl/sweep/sweep_runner.h"
 #include "cmbrl/planning/planner_registry.h"
 
@@ -24,7 +26,20 @@ struct SweepArgs {
   std::string out;
   int jobs = 1;
   std::string experiment;  // experiments/<name>: its grid, into experiments/<name>/runs
+  std::string engine = "local";
+  SlurmOptions slurm;
 };
+
+void PrintEvent(const SweepEvent& event) {
+  nlohmann::ordered_json line{{"run", event.run}, {"status", event.status}};
+  if (!event.log.empty()) line["log"] = event.log;
+  if (!event.cpus.empty()) line["cpus"] = event.cpus;
+  if (!event.job.empty()) line["job"] = event.job;
+  if (!event.state.empty()) line["state"] = event.state;
+  if (event.exit_code) line["exit"] = *event.exit_code;
+  if (event.seconds) line["seconds"] = *event.seconds;
+  std::cout << line.dump() << std::endl;
+}
 
 std::string ProgramPath() { return fs::read_symlink("/proc/self/exe").string(); }
 
@@ -46,24 +61,35 @@ void RunSweepCommand(SweepArgs args, const CLI::App& command) {
               << std::endl;
   }
   Require(!args.out.empty(), "--out SWEEP_DIR is required (or give an experiment folder)");
+  const bool slurm = args.engine == "slurm";
+  if (slurm) {
+    if (command.count("--jobs") != 0) args.slurm.max_running = args.jobs;
+  } else {
+    for (const char* option : {"--wait", "--poll", "--sbatch"}) {
+      Require(command.count(option) == 0, "{} is for --engine slurm; the local engine is '{}'",
+              option, args.engine);
+    }
+  }
   const SweepOutcome outcome =
-      RunSweep(args.grid, args.out, args.jobs, ProgramPath(), [](const SweepEvent& event) {
-        nlohmann::ordered_json line{{"run", event.run}, {"status", event.status}};
-        if (!event.log.empty()) line["log"] = event.log;
-        if (!event.cpus.empty()) line["cpus"] = event.cpus;
-        if (event.exit_code) line["exit"] = *event.exit_code;
-        if (event.seconds) line["seconds"] = *event.seconds;
-        std::cout << line.dump() << std::endl;
-      });
-  std::cout << nlohmann::ordered_json{{"sweep", args.out},
-                                      {"runs", outcome.runs},
-                                      {"finished_now", outcome.finished_now},
-                                      {"already_finished", outcome.already_finished},
-                                      {"failed", outcome.failed}}
-                   .dump()
-            << std::endl;
-  Require(outcome.failed.empty(), "{} run(s) failed: {}; their logs are in {}/logs",
-          outcome.failed.size(), fmt::join(outcome.failed, ", "), args.out);
+      slurm ? SubmitSweep(args.grid, args.out, ProgramPath(), args.slurm, PrintEvent)
+            : RunSweep(args.grid, args.out, args.jobs, ProgramPath(), PrintEvent);
+  nlohmann::ordered_json summary{{"sweep", args.out},
+                                 {"engine", args.engine},
+                                 {"runs", outcome.runs},
+                                 {"already_finished", outcome.already_finished}};
+  if (slurm) {
+    summary["submitted"] = outcome.submitted;
+    if (!outcome.job.empty()) summary["job"] = outcome.job;
+  }
+  if (!slurm || args.slurm.wait) {
+    summary["finished_now"] = outcome.finished_now;
+    summary["failed"] = outcome.failed;
+  }
+  std::cout << summary.dump() << std::endl;
+  Require(outcome.failed.empty(),
+          "{} run(s) did not finish: {}; their logs are in {}/logs{}", outcome.failed.size(),
+          fmt::join(outcome.failed, ", "), args.out,
+          slurm ? "; run the same sweep again to resume them" : "");
 }
 
 }  // namespace
@@ -99,9 +125,28 @@ void AddSweepCommand(CLI::App& parent) {
                       "agent steps of every run (default: each config's training.total_steps)")
       ->check(IntegerIn(1, kMaxSteps));
   command->add_option("--out", args->out, "sweep directory (without an experiment)");
-  command->add_option("--jobs", args->jobs, "runs at a time")
+  command->add_option("--jobs", args->jobs,
+                      "runs at a time (slurm: the array's limit of tasks at a time, none unless "
+                      "given)")
       ->check(IntegerIn(1, 1024))
       ->capture_default_str();
+  command
+      ->add_option("--engine", args->engine,
+                   "local: train here, --jobs runs at a time; slurm: submit the unfinished runs "
+                   "as one job array (SWEEP_DIR/slurm.sh) with sbatch")
+      ->check(CLI::IsMember({"local", "slurm"}))
+      ->capture_default_str();
+  command->add_flag("--wait", args->slurm.wait,
+                    "slurm: follow the array with squeue until every task has left the queue, "
+                    "then say which runs finished");
+  command->add_option("--poll", args->slurm.poll_seconds, "slurm: seconds between squeue queries")
+      ->check(CLI::Range(0.1, 3600.0))
+      ->capture_default_str();
+  command
+      ->add_option("--sbatch", args->slurm.sbatch_args,
+                   "slurm: an sbatch option for the array, e.g. --sbatch=--partition=cpu "
+                   "(repeat it for several); it overrides slurm.sh's own")
+      ->allow_extra_args(false);
   command->callback([args, command] { RunSweepCommand(*args, *command); });
 }
 

@@ -24,6 +24,8 @@ packages=(
   libtorch-dev libopenblas-dev libxgboost-dev xgboost
   # The fast CPU prediction backend: oneDNN's matrix products (AVX-512, bf16).
   libdnnl-dev
+  # A single-node Slurm for the test of `cmbrl sweep --engine slurm`.
+  slurm-wlm munge
   # The Python module and its tests.
   pybind11-dev python3-dev python3-numpy python3-pytest python3-pip python3-setuptools python3-wheel python3-venv
 )

@@ -234,19 +234,36 @@ std::vector<std::vector<int>> CpuShares(const std::vector<int>& cpus, int jobs) 
   return shares;
 }
 
+std::vector<SweepRun> PrepareSweep(const SweepGrid& grid, const std::string& sweep_dir,
+                                   const std::string& program) {
+  std::vector<SweepRun> runs = PlanSweep(grid, sweep_dir);
+  RecordOrCheckSweep(grid, sweep_dir);
+  fs::create_directories(fs::path(sweep_dir) / "logs");
+  fs::create_directories(fs::path(sweep_dir) / "runs");
+  const fs::path script = fs::path(sweep_dir) / "slurm.sh";
+  WriteFile(script, SlurmScript(runs, grid, sweep_dir, program));
+  fs::permissions(script, fs::perms::owner_exec | fs::perms::group_exec, fs::perm_options::add);
+  return runs;
+}
+
 std::string SlurmScript(const std::vector<SweepRun>& runs, const SweepGrid& grid,
                         const std::string& sweep_dir, const std::string& program) {
   const std::string dir = fs::absolute(sweep_dir).lexically_normal().string();
   std::string script = fmt::format(
       "#!/bin/bash\n"
       "# The sweep's grid as a Slurm job array, one task per run: sbatch {0}/slurm.sh\n"
-      "# Each task resumes its run if it has started, so resubmitting finishes an interrupted\n"
-      "# sweep. Written by `cmbrl sweep`; edit partitions and limits for your cluster.\n"
+      "# Each task resumes its run if it has started, so a requeued task, or a resubmitted sweep,\n"
+      "# finishes what was interrupted. Written by `cmbrl sweep` (which submits it with\n"
+      "# --engine slurm); give partitions and limits as sbatch options, or edit them here.\n"
       "#SBATCH --job-name=cmbrl-sweep\n"
       "#SBATCH --array=0-{1}\n"
       "#SBATCH --cpus-per-task=2\n"
       "#SBATCH --output={0}/logs/slurm-%a.log\n"
+      "#SBATCH --open-mode=append\n"
+      "#SBATCH --requeue\n"
       "set -euo pipefail\n"
+      "# As many BLAS threads as the task has CPUs, unless the caller chose.\n"
+      "export OPENBLAS_NUM_THREADS=\"${{OPENBLAS_NUM_THREADS:-${{SLURM_CPUS_PER_TASK:-1}}}}\"\n"
       "cmbrl={2}\n"
       "case \"$SLURM_ARRAY_TASK_ID\" in\n",
       dir, runs.size() - 1, Quote(program));

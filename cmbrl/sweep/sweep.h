@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -70,8 +71,40 @@ std::vector<std::string> NewRunArguments(const SweepRun& run);
 // only its own cores. Empty when there are fewer CPUs than jobs: the runs then share them all.
 std::vector<std::vector<int>> CpuShares(const std::vector<int>& cpus, int jobs);
 
+// What happened to one run, as a sweep goes (on this machine or on Slurm).
+struct SweepEvent {
+  std::string run;                // its name
+  // "already finished", "started", "resumed", "submitted", "finished", "failed"
+  std::string status;
+  std::string log;                // its log file (started, resumed, submitted)
+  std::vector<int> cpus;          // its CPUs (started, resumed; empty: it shares them all)
+  std::optional<int> exit_code;   // finished, failed on this machine (128 + signal when killed)
+  std::optional<double> seconds;  // finished, failed on this machine: wall time of this session
+  std::string job;                // Slurm: its array task ("1234_5")
+  std::string state;              // Slurm: the task's last state (COMPLETED, CANCELLED, ...)
+};
+
+struct SweepOutcome {
+  int runs = 0;
+  int finished_now = 0;
+  int already_finished = 0;
+  int submitted = 0;  // Slurm: array tasks submitted
+  std::string job;    // Slurm: the array job's id, when one was submitted
+  std::vector<std::string> failed;
+};
+
+using SweepEventSink = std::function<void(const SweepEvent&)>;
+
+// Makes sweep_dir ready for either engine and returns its runs: plans the grid, records it (or
+// checks it against the recorded one), makes logs/ and runs/, and writes slurm.sh for `program`.
+// Throws cmbrl::Error as PlanSweep and RecordOrCheckSweep do.
+std::vector<SweepRun> PrepareSweep(const SweepGrid& grid, const std::string& sweep_dir,
+                                   const std::string& program);
+
 // sweep_dir/slurm.sh: a job array with one task per run, each resuming or starting its run with
-// `program` (an absolute path), logs in sweep_dir/logs.
+// `program` (an absolute path), logs in sweep_dir/logs (appended to, so that a requeued task's
+// log keeps its first part). Tasks are requeueable: one stopped by a node failure or preemption
+// (or `scontrol requeue`) starts again and resumes its run from its checkpoint.
 std::string SlurmScript(const std::vector<SweepRun>& runs, const SweepGrid& grid,
                         const std::string& sweep_dir, const std::string& program);
 

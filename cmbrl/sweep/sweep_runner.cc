@@ -70,22 +70,14 @@ pid_t Spawn(const std::string& program, const std::vector<std::string>& args,
 
 SweepOutcome RunSweep(const SweepGrid& grid, const std::string& sweep_dir, int jobs,
                       const std::string& program,
-                      const std::function<void(const SweepEvent&)>& on_event) {
-  const std::vector<SweepRun> runs = PlanSweep(grid, sweep_dir);
-  RecordOrCheckSweep(grid, sweep_dir);
-  fs::create_directories(fs::path(sweep_dir) / "logs");
-  fs::create_directories(fs::path(sweep_dir) / "runs");
-  {
-    const fs::path script = fs::path(sweep_dir) / "slurm.sh";
-    WriteFile(script, SlurmScript(runs, grid, sweep_dir, program));
-    fs::permissions(script, fs::perms::owner_exec | fs::perms::group_exec, fs::perm_options::add);
-  }
+                      const SweepEventSink& on_event) {
+  const std::vector<SweepRun> runs = PrepareSweep(grid, sweep_dir, program);
 
   std::deque<const SweepRun*> queue;
   int skipped = 0;
   for (const SweepRun& run : runs) {
     if (StatusOf(run, grid.steps) == RunStatus::kFinished) {
-      on_event({run.name, "already finished", "", {}, std::nullopt, std::nullopt});
+      on_event({run.name, "already finished", "", {}, std::nullopt, std::nullopt, "", ""});
       ++skipped;
     } else {
       queue.push_back(&run);
@@ -128,7 +120,7 @@ SweepOutcome RunSweep(const SweepGrid& grid, const std::string& sweep_dir, int j
       running[Spawn(program, train, log, cpus, blas_threads)] = {
           &run, std::chrono::steady_clock::now(), share};
       on_event({run.name, train[1] == "--resume" ? "resumed" : "started", log, cpus,
-                std::nullopt, std::nullopt});
+                std::nullopt, std::nullopt, "", ""});
     }
     int status = 0;
     const pid_t pid = waitpid(-1, &status, 0);
@@ -147,7 +139,7 @@ SweepOutcome RunSweep(const SweepGrid& grid, const std::string& sweep_dir, int j
       failed.push_back(run.name);
     }
     on_event({run.name, ok ? "finished" : "failed", "", {},
-              WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status), seconds});
+              WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status), seconds, "", ""});
   }
   SweepOutcome outcome;
   outcome.runs = static_cast<int>(runs.size());

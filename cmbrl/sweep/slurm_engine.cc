@@ -1,0 +1,174 @@
+#include "cmbrl/sweep/slurm_engine.h"
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <filesystem>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <thread>
+
+#include "cmbrl/core/check.h"
+#include "cmbrl/core/files.h"
+#include "cmbrl/core/subprocess.h"
+#include "cmbrl/core/utc_time.h"
+
+namespace cmbrl {
+namespace fs = std::filesystem;
+namespace {
+
+// squeue may fail for a while (the controller restarting); this many failures in a row end the
+// wait with the last one's message.
+constexpr int kSqueueFailuresTolerated = 10;
+
+std::string Trimmed(const std::string& text) {
+  const size_t begin = text.find_first_not_of(" \t\r\n");
+  if (begin == std::string::npos) return "";
+  return text.substr(begin, text.find_last_not_of(" \t\r\n") - begin + 1);
+}
+
+// Each array task of `job` that squeue still knows, with its state. A job that has left the
+// controller's memory altogether ("Invalid job id") has no tasks left. Returns nullopt when
+// squeue failed otherwise, with its message in `failure`.
+std::optional<std::map<size_t, std::string>> QueuedTasks(const std::string& job,
+                                                         std::string& failure) {
+  const std::vector<std::string> args = {"--noheader", "--array", "--states=all",
+                                         "--jobs=" + job, "--format=%K %T"};
+  const ProgramOutput answer = RunProgram("squeue", args);
+  std::map<size_t, std::string> tasks;
+  if (answer.exit_code != 0) {
+    if (answer.errors.find("Invalid job id") != std::string::npos) return tasks;
+    failure = fmt::format("'{}' exited with {}: {}", CommandLine("squeue", args),
+                          answer.exit_code, Trimmed(answer.errors));
+    return std::nullopt;
+  }
+  std::istringstream lines(answer.output);
+  std::string index, state;
+  while (lines >> index >> state) {
+    // A job submitted without an array shows "N/A"; ours always is one.
+    if (index.find_first_not_of("0123456789") == std::string::npos) {
+      tasks[std::stoul(index)] = state;
+    }
+  }
+  return tasks;
+}
+
+}  // namespace
+
+std::string ArrayIndexList(const std::vector<size_t>& indices) {
+  std::string list;
+  for (size_t first = 0; first < indices.size();) {
+    size_t last = first;
+    while (last + 1 < indices.size() && indices[last + 1] == indices[last] + 1) ++last;
+    if (!list.empty()) list += ",";
+    list += last == first ? std::to_string(indices[first])
+                          : fmt::format("{}-{}", indices[first], indices[last]);
+    first = last + 1;
+  }
+  return list;
+}
+
+std::string ParseSubmittedJob(const std::string& sbatch_output) {
+  const std::string job = Trimmed(sbatch_output.substr(0, sbatch_output.find(';')));
+  Require(!job.empty() && job.find_first_not_of("0123456789") == std::string::npos,
+          "sbatch answered '{}': expected a job id (sbatch --parsable)", Trimmed(sbatch_output));
+  return job;
+}
+
+bool IsFinalSlurmState(const std::string& state) {
+  static constexpr std::array<const char*, 10> kFinal = {
+      "COMPLETED", "FAILED",    "CANCELLED",     "TIMEOUT",   "NODE_FAIL",
+      "PREEMPTED", "BOOT_FAIL", "OUT_OF_MEMORY", "DEADLINE", "REVOKED"};
+  return std::find(kFinal.begin(), kFinal.end(), state) != kFinal.end();
+}
+
+SweepOutcome SubmitSweep(const SweepGrid& grid, const std::string& sweep_dir,
+                         const std::string& program, const SlurmOptions& options,
+                         const SweepEventSink& on_event) {
+  Require(options.poll_seconds > 0 && options.poll_seconds <= 3600,
+          "the poll interval is {} s: expected more than 0 and at most 3600", options.poll_seconds);
+  const std::vector<SweepRun> runs = PrepareSweep(grid, sweep_dir, program);
+  SweepOutcome outcome;
+  outcome.runs = static_cast<int>(runs.size());
+  std::vector<size_t> pending;
+  for (size_t index = 0; index < runs.size(); ++index) {
+    if (StatusOf(runs[index], grid.steps) == RunStatus::kFinished) {
+      on_event({runs[index].name, "already finished", "", {}, std::nullopt, std::nullopt, "", ""});
+      ++outcome.already_finished;
+    } else {
+      pending.push_back(index);
+    }
+  }
+  if (pending.empty()) return outcome;
+
+  const fs::path script = fs::absolute(fs::path(sweep_dir) / "slurm.sh");
+  Require(options.max_running >= 0, "max_running is {}: expected 0 (no limit) or more",
+          options.max_running);
+  std::string array = ArrayIndexList(pending);
+  if (options.max_running > 0) array += fmt::format("%{}", options.max_running);
+  std::vector<std::string> args = {"--parsable", "--array=" + array};
+  args.insert(args.end(), options.sbatch_args.begin(), options.sbatch_args.end());
+  args.push_back(script.string());
+  const ProgramOutput answer = RunProgram("sbatch", args);
+  Require(answer.exit_code == 0, "'{}' exited with {}: {}", CommandLine("sbatch", args),
+          answer.exit_code, Trimmed(answer.errors + answer.output));
+  outcome.job = ParseSubmittedJob(answer.output);
+  outcome.submitted = static_cast<int>(pending.size());
+  AppendToFile(fs::path(sweep_dir) / "slurm-jobs.jsonl",
+               nlohmann::ordered_json{{"job", outcome.job},
+                                      {"array", array},
+                                      {"submitted", UtcTimestamp()},
+                                      {"sbatch_args", options.sbatch_args}}
+                       .dump() +
+                   "\n");
+  const auto log_of = [&](size_t index) {
+    return (fs::path(sweep_dir) / "logs" / fmt::format("slurm-{}.log", index)).string();
+  };
+  const auto task_of = [&](size_t index) { return fmt::format("{}_{}", outcome.job, index); };
+  for (const size_t index : pending) {
+    on_event({runs[index].name, "submitted", log_of(index), {}, std::nullopt, std::nullopt,
+              task_of(index), ""});
+  }
+  if (!options.wait) return outcome;
+
+  // Follow the array: a task has ended once it is in a final state or has left the queue.
+  std::map<size_t, std::string> last_state;
+  int failures_in_a_row = 0;
+  while (!pending.empty()) {
+    std::this_thread::sleep_for(std::chrono::duration<double>(options.poll_seconds));
+    std::string failure;
+    const std::optional<std::map<size_t, std::string>> queued = QueuedTasks(outcome.job, failure);
+    if (!queued) {
+      Require(++failures_in_a_row < kSqueueFailuresTolerated,
+              "lost track of Slurm job {}: {} ({} times in a row); its tasks may still run: "
+              "follow them with squeue, or run the sweep again once they have ended",
+              outcome.job, failure, failures_in_a_row);
+      continue;
+    }
+    failures_in_a_row = 0;
+    std::vector<size_t> still_pending;
+    for (const size_t index : pending) {
+      const auto queued_task = queued->find(index);
+      if (queued_task != queued->end()) last_state[index] = queued_task->second;
+      if (queued_task != queued->end() && !IsFinalSlurmState(queued_task->second)) {
+        still_pending.push_back(index);
+        continue;
+      }
+      const SweepRun& run = runs[index];
+      const bool finished = StatusOf(run, grid.steps) == RunStatus::kFinished;
+      if (finished) {
+        ++outcome.finished_now;
+      } else {
+        outcome.failed.push_back(run.name);
+      }
+      on_event({run.name, finished ? "finished" : "failed", log_of(index), {}, std::nullopt,
+                std::nullopt, task_of(index),
+                last_state.count(index) != 0 ? last_state[index] : "UNKNOWN"});
+    }
+    pending = std::move(still_pending);
+  }
+  return outcome;
+}
+
+}  // namespace cmbrl
