@@ -58,6 +58,8 @@ class TracingEnv final : public Env {
   const BoxSpec& observation_spec() const override { return env_.observation_spec(); }
   const BoxSpec& action_spec() const override { return env_.action_spec(); }
   int max_episode_steps() const override { return env_.max_episode_steps(); }
+  std::string State() const override { return env_.State(); }
+  void SetState(const std::string& state) override { env_.SetState(state); }
   double agent_step_seconds() const override { return env_.agent_step_seconds(); }
   const SceneSource* scene_source() const override { return env_.scene_source(); }
   std::string GeneratorState() const override { return env_.GeneratorState(); }

@@ -83,6 +83,13 @@ class Env {
   // layouts that would have followed. Throws cmbrl::Error for text that is not such a state.
   virtual std::string GeneratorState() const = 0;
   virtual void SetGeneratorState(const std::string& state) = 0;
+
+  // The environment's whole state (physics, layout, episode, generator) as bytes that
+  // SetState() restores exactly in an environment made the same way (task, variant, robot): its
+  // next reset or step then equals this one's. Python's pickle and deepcopy use it. SetState
+  // throws cmbrl::Error, changing nothing, for bytes of another environment or damaged ones.
+  virtual std::string State() const = 0;
+  virtual void SetState(const std::string& state) = 0;
 };
 
 }  // namespace cmbrl

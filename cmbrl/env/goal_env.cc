@@ -3,11 +3,14 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cstddef>
+#include <cstring>
 #include <cmath>
 #include <limits>
 #include <sstream>
 #include <utility>
 
+#include "cmbrl/core/binary_io.h"
 #include "cmbrl/core/check.h"
 #include "cmbrl/env/observation.h"
 
@@ -339,6 +342,111 @@ void GoalEnv::SetGeneratorState(const std::string& state) {
   in >> restored;
   Require(!in.fail(), "not a generator state: expected the text GeneratorState() wrote");
   rng_ = restored;
+}
+
+namespace {
+
+constexpr const char* kStateTag = "cmbrl-goal-env-state-v1";
+
+// mjData's fixed part before its buffers: sizes, counters, diagnostics, time (plain values).
+constexpr size_t kDataHeaderBytes = offsetof(mjData, buffer);
+
+void WritePose(ByteWriter& out, const Pose2& pose) {
+  out.Write(pose.position.x);
+  out.Write(pose.position.y);
+  out.Write(pose.yaw);
+}
+
+Pose2 ReadPose(ByteReader& in) {
+  Pose2 pose;
+  pose.position.x = in.Read<double>();
+  pose.position.y = in.Read<double>();
+  pose.yaw = in.Read<double>();
+  return pose;
+}
+
+}  // namespace
+
+// The physics is MuJoCo's whole mjData: its fixed header and its main buffer, which holds every
+// array (positions, velocities, warm start, contacts, sensors), so the next mj_step continues
+// bit for bit. The scratch stack is not state. Models of one task, variant and robot have
+// buffers of one layout; the task name and the sizes below refuse another's bytes.
+std::string GoalEnv::State() const {
+  ByteWriter out;
+  out.Write(std::string(kStateTag));
+  out.Write(spec_.name);
+  out.Write(static_cast<int>(spec_.variant));
+  out.Write(model_->nq);
+  out.Write(model_->nv);
+  out.Write(model_->nbody);
+  out.WriteBytes(data_.get(), kDataHeaderBytes);
+  out.WriteBytes(data_->buffer, static_cast<size_t>(data_->nbuffer));
+  out.Write(GeneratorState());
+  WritePose(out, layout_.robot);
+  out.Write(layout_.goal.x);
+  out.Write(layout_.goal.y);
+  out.Write<std::uint64_t>(layout_.hazards.size());
+  for (const Vec2& hazard : layout_.hazards) {
+    out.Write(hazard.x);
+    out.Write(hazard.y);
+  }
+  out.Write<std::uint64_t>(layout_.vases.size());
+  for (const Pose2& vase : layout_.vases) WritePose(out, vase);
+  out.Write(last_goal_distance_);
+  out.Write(env_steps_);
+  out.Write<std::uint8_t>(episode_over_ ? 1 : 0);
+  return out.Take();
+}
+
+void GoalEnv::SetState(const std::string& state) {
+  const std::string what = fmt::format("the {} environment state", spec_.name);
+  ByteReader in(state, what);
+  Require(in.ReadString() == kStateTag, "{} is not one: expected the bytes State() wrote",
+          what);
+  const std::string task = in.ReadString();
+  const int variant = in.Read<int>();
+  Require(task == spec_.name && variant == static_cast<int>(spec_.variant),
+          "{} is of another environment ({}, variant {}): expected {}, variant {}", what, task,
+          variant, spec_.name, static_cast<int>(spec_.variant));
+  const int nq = in.Read<int>(), nv = in.Read<int>(), nbody = in.Read<int>();
+  Require(nq == model_->nq && nv == model_->nv && nbody == model_->nbody,
+          "{} is of another robot or scene: {} positions, {} velocities and {} bodies, where "
+          "this one has {}, {} and {}", what, nq, nv, nbody, model_->nq, model_->nv,
+          model_->nbody);
+  const std::string_view header = in.ReadBytes(kDataHeaderBytes);
+  const std::string_view buffer = in.ReadBytes(static_cast<size_t>(data_->nbuffer));
+  const std::string generator = in.ReadString();
+  GoalLayout layout;
+  layout.robot = ReadPose(in);
+  layout.goal.x = in.Read<double>();
+  layout.goal.y = in.Read<double>();
+  const auto read_count = [&](size_t expected, const char* things) {
+    const auto count = in.Read<std::uint64_t>();
+    Require(count == expected, "{} has {} {}, where this one has {}", what, count, things,
+            expected);
+    return expected;
+  };
+  layout.hazards.resize(read_count(static_cast<size_t>(spec_.num_hazards), "hazards"));
+  for (Vec2& hazard : layout.hazards) {
+    hazard.x = in.Read<double>();
+    hazard.y = in.Read<double>();
+  }
+  layout.vases.resize(read_count(static_cast<size_t>(spec_.num_vases), "vases"));
+  for (Pose2& vase : layout.vases) vase = ReadPose(in);
+  const double last_goal_distance = in.Read<double>();
+  const int env_steps = in.Read<int>();
+  const bool episode_over = in.Read<std::uint8_t>() != 0;
+  in.ExpectEnd();
+
+  // Everything is read and checked: now change the environment. The header ends before mjData's
+  // pointers, which stay this environment's own.
+  SetGeneratorState(generator);
+  std::memcpy(static_cast<void*>(data_.get()), header.data(), kDataHeaderBytes);
+  std::memcpy(data_->buffer, buffer.data(), buffer.size());
+  layout_ = std::move(layout);
+  last_goal_distance_ = last_goal_distance;
+  env_steps_ = env_steps;
+  episode_over_ = episode_over;
 }
 
 }  // namespace cmbrl

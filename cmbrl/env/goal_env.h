@@ -51,6 +51,8 @@ class GoalEnv final : public Env, public SceneSource {
   const SceneSource* scene_source() const override { return this; }
   std::string GeneratorState() const override;
   void SetGeneratorState(const std::string& state) override;
+  std::string State() const override;
+  void SetState(const std::string& state) override;
 
   // Starts an episode from a given layout instead of a sampled one (scenario tests, pictures of
   // chosen situations). Positions are used as given; the generator is not touched.

@@ -420,3 +420,82 @@ TEST(GoalEnvInputTest, LayoutOfTheWrongShapeIsRefused) {
 
 }  // namespace
 }  // namespace cmbrl
+
+namespace cmbrl {
+namespace {
+using ::testing::HasSubstr;
+
+// A state taken mid-episode and set in a fresh environment (never reset, or reset elsewhere):
+// from then on both give the same observations, rewards and costs bit for bit, through the
+// episode's end and the unseeded resets after it (the generator travels with the state).
+TEST(GoalEnvStateTest, ARestoredStateContinuesBitForBit) {
+  // Both robots; level 1 (an unconstrained vase in the stock variant) and level 2.
+  for (const std::string task : {"PointGoal1", "CarGoal2"}) {
+    for (const Variant variant : {Variant::kPaper, Variant::kStandard}) {
+      SCOPED_TRACE(task + " " + VariantName(variant));
+      GoalEnv original = MakeGoalEnv(task, variant);
+      GoalEnv fresh = MakeGoalEnv(task, variant);
+      GoalEnv elsewhere = MakeGoalEnv(task, variant);
+      elsewhere.Reset(999);
+      RandomPolicy policy(original.action_spec(), 3);
+      std::vector<double> observation = original.Reset(42);
+      // The state is taken 30 steps before the time limit, so that the episode's end and a reset
+      // come after it.
+      for (int i = 0; i < original.max_episode_steps() - 30; ++i) {
+        const StepResult step = original.Step(policy.Act(observation));
+        observation = step.terminated || step.truncated ? original.Reset() : step.observation;
+      }
+      const std::string state = original.State();
+      fresh.SetState(state);
+      elsewhere.SetState(state);
+      EXPECT_EQ(fresh.State(), state);
+      int resets = 0;
+      for (int i = 0; i < 80; ++i) {
+        const std::vector<double> action = policy.Act(observation);
+        const StepResult a = original.Step(action);
+        const StepResult b = fresh.Step(action);
+        const StepResult c = elsewhere.Step(action);
+        ASSERT_EQ(a.observation, b.observation) << "step " << i;
+        ASSERT_EQ(a.observation, c.observation) << "step " << i;
+        ASSERT_EQ(a.reward, b.reward);
+        ASSERT_EQ(a.cost, b.cost);
+        ASSERT_EQ(a.info.goal_met, b.info.goal_met);
+        ASSERT_EQ(a.truncated, b.truncated);
+        observation = a.observation;
+        if (a.terminated || a.truncated) {
+          observation = original.Reset();
+          ASSERT_EQ(fresh.Reset(), observation) << "the reset after the episode's end";
+          ASSERT_EQ(elsewhere.Reset(), observation);
+          ++resets;
+        }
+      }
+      EXPECT_GE(resets, 1) << "the episode did not end after the state was taken";
+    }
+  }
+}
+
+TEST(GoalEnvStateTest, AnotherEnvironmentsOrDamagedStateIsRefusedAndChangesNothing) {
+  GoalEnv point = MakeGoalEnv("PointGoal1", Variant::kPaper);
+  GoalEnv car = MakeGoalEnv("CarGoal1", Variant::kPaper);
+  GoalEnv stock = MakeGoalEnv("PointGoal1", Variant::kStandard);
+  point.Reset(1);
+  car.Reset(1);
+  const std::string before = car.State();
+  EXPECT_THAT(testing::ErrorMessage([&] { car.SetState(point.State()); }),
+              HasSubstr("the CarGoal1 environment state is of another environment (PointGoal1"));
+  EXPECT_THAT(testing::ErrorMessage([&] { stock.SetState(point.State()); }),
+              HasSubstr("is of another environment (PointGoal1, variant"));
+  std::string cut = point.State();
+  cut.resize(cut.size() / 2);
+  GoalEnv other = MakeGoalEnv("PointGoal1", Variant::kPaper);
+  EXPECT_THAT(testing::ErrorMessage([&] { other.SetState(cut); }),
+              HasSubstr("the PointGoal1 environment state is damaged"));
+  EXPECT_THAT(testing::ErrorMessage([&] { other.SetState(point.State() + "x"); }),
+              HasSubstr("is damaged: 1 bytes more than expected"));
+  EXPECT_THAT(testing::ErrorMessage([&] { other.SetState("not a state"); }),
+              HasSubstr("the PointGoal1 environment state is damaged"));
+  EXPECT_EQ(car.State(), before);
+}
+
+}  // namespace
+}  // namespace cmbrl
