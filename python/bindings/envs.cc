@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "bench/env_throughput.h"
+#include "cmbrl/core/binary_io.h"
 #include "cmbrl/core/check.h"
 #include "cmbrl/core/parallel.h"
 #include "cmbrl/env/registry.h"
@@ -151,6 +152,50 @@ class PyEnv {
     options.size_px = size_px;
     py::gil_scoped_release release;
     WriteScenePng(picture, path, options);
+  }
+
+  // The environment's whole state (Env::State) and the episode's path for pictures, as bytes
+  // for pickle and deepcopy.
+  py::bytes State() const {
+    const ObjectLock lock(mutex_);
+    Open();
+    ByteWriter out;
+    out.Write(env_->State());
+    out.Write<std::uint8_t>(started_ ? 1 : 0);
+    out.Write<std::uint64_t>(path_.size());
+    for (size_t i = 0; i < path_.size(); ++i) {
+      out.Write(path_[i]);
+      out.Write<std::uint8_t>(path_violations_[i] ? 1 : 0);
+    }
+    out.Write<std::uint64_t>(reached_goals_.size());
+    for (const Vec2& goal : reached_goals_) out.Write(goal);
+    out.Write(last_goal_);
+    return py::bytes(out.Take());
+  }
+
+  void SetState(const std::string& bytes) {
+    const ObjectLock lock(mutex_);
+    Open();
+    ByteReader in(bytes, fmt::format("the pickled {} environment", task_));
+    const std::string state = in.ReadString();
+    const bool started = in.Read<std::uint8_t>() != 0;
+    std::vector<Vec2> path, reached_goals;
+    std::vector<bool> violations;
+    for (auto count = in.Read<std::uint64_t>(); count > 0; --count) {
+      path.push_back(in.Read<Vec2>());
+      violations.push_back(in.Read<std::uint8_t>() != 0);
+    }
+    for (auto count = in.Read<std::uint64_t>(); count > 0; --count) {
+      reached_goals.push_back(in.Read<Vec2>());
+    }
+    const Vec2 last_goal = in.Read<Vec2>();
+    in.ExpectEnd();
+    env_->SetState(state);  // checks its own part before changing anything
+    started_ = started;
+    path_ = std::move(path);
+    path_violations_ = std::move(violations);
+    reached_goals_ = std::move(reached_goals);
+    last_goal_ = last_goal;
   }
 
   py::dict ObservationSpec() const { return BoxDict(env_->observation_spec()); }
@@ -318,6 +363,8 @@ void BindEnvs(py::module_& m) {
       .def("reset", &PyEnv::Reset, py::arg("seed") = py::none())
       .def("step", &PyEnv::Step, py::arg("action"))
       .def("ground_truth", &PyEnv::GroundTruth)
+      .def("state", &PyEnv::State)
+      .def("set_state", &PyEnv::SetState, py::arg("state"))
       .def("render", &PyEnv::Render, py::arg("size_px"))
       .def("save_picture", &PyEnv::SavePicture, py::arg("path"), py::arg("size_px"),
            py::arg("caption"), py::arg("predictions"))

@@ -13,6 +13,7 @@
 
 Errors from the C++ core are raised as cmbrl.Error (a ValueError) with its message.
 """
+import copy
 import json
 import math
 import os
@@ -64,7 +65,7 @@ class _NotCopyable:
         self._refuse("pickled")
 
 
-class _Closable(_NotCopyable):
+class _Closable:
     """What Env and VectorEnv share: the C++ object in self._env, close() and `with`."""
 
     def close(self):
@@ -126,12 +127,15 @@ class Env(_Closable):
     ground_truth() gives what the agent does not observe: the robot's pose, the goal, hazards
     and vases in world coordinates. render() draws the arena from above with the episode's path.
 
+    pickle, copy.copy and copy.deepcopy give an independent environment in the same state: the
+    task, variant and spawn, MuJoCo's whole state, the layout, the episode so far and the
+    generators, so that its next step (and reset) equals the original's.
+
     Threads: calls on one object from several threads take turns (one lock per object, taken
     with the GIL released); distinct objects run in parallel.
     """
 
     reward_range = (-math.inf, math.inf)
-    _instead = "make another with cmbrl.make(env.spec.id, **env.spec.kwargs)"
 
     def __init__(self, task, variant=None, spawn="standing", render_mode=None, render_size=400):
         if render_mode not in (None, "rgb_array"):
@@ -205,11 +209,39 @@ class Env(_Closable):
         """The environment itself (no wrappers inside): Gymnasium's convention."""
         return self
 
+    def __getstate__(self):
+        if self.closed:
+            raise Error(f"a closed cmbrl.Env ({self.task}) cannot be pickled or copied: "
+                        "it has no state left")
+        return {"id": self.spec.id, "variant": self.variant, "spawn": self.spawn,
+                "render_mode": self.render_mode, "render_size": self.render_size,
+                "observation_space": self.observation_space, "action_space": self.action_space,
+                "np_random": self._np_random, "seeded": getattr(self, "_seeded", False),
+                "state": self._env.state()}
+
+    def __setstate__(self, state):
+        self.__init__(state["id"], state["variant"], state["spawn"], state["render_mode"],
+                      state["render_size"])
+        self._env.set_state(state["state"])
+        self.observation_space = state["observation_space"]
+        self.action_space = state["action_space"]
+        self._np_random = state["np_random"]
+        self._seeded = state["seeded"]
+
+    def __copy__(self):
+        # An independent environment: a shallow copy would share the C++ one.
+        clone = type(self).__new__(type(self))
+        clone.__setstate__(copy.deepcopy(self.__getstate__()))
+        return clone
+
+    def __deepcopy__(self, memo):
+        return self.__copy__()
+
     def __repr__(self):
         return f"cmbrl.Env({self.task!r}, variant={self.variant!r})"
 
 
-class VectorEnv(_Closable):
+class VectorEnv(_Closable, _NotCopyable):
     """num_envs environments stepped together in C++ threads, in Gymnasium's vector API:
     batched (num_envs, ...) arrays in and out. Resets follow Gymnasium 1.x's autoreset modes:
     "same-step" (the default: an environment whose episode ended returns its next episode's first

@@ -227,3 +227,54 @@ def test_the_look_alike_box_has_gymnasiums_attributes_and_rules():
     assert box != _Box(low=[-1.0, 0.0], high=[2.0, np.inf], dtype=np.float32)
     with pytest.raises(ValueError, match="manner"):
         box.is_bounded("sideways")
+
+
+@pytest.mark.parametrize("task,variant", [("PointGoal1", "paper"), ("CarGoal2", "standard"),
+                                          ("SafetyPointGoal2-v0", None)])
+def test_an_env_pickled_or_copied_mid_episode_continues_exactly(task, variant):
+    import copy
+    import pickle
+
+    env = cmbrl.make(task, variant=variant, render_size=64)
+    obs, _ = env.reset(seed=11)
+    for _ in range(env.max_episode_steps - 20):  # the episode ends after the copies are made
+        obs, _, _, terminated, truncated, _ = env.step(env.action_space.sample())
+        assert not (terminated or truncated)
+    copies = [pickle.loads(pickle.dumps(env)), copy.deepcopy(env), copy.copy(env)]
+    for other in copies:
+        assert other is not env and other._env is not env._env
+        assert (other.task, other.variant, other.spawn, other.spec.id) == \
+            (env.task, env.variant, env.spawn, env.spec.id)
+        assert np.array_equal(other.render(), env.render())  # the episode's path came along
+    for step in range(60):
+        action = env.action_space.sample()
+        for other in copies:
+            assert np.array_equal(other.action_space.sample(), action)  # its generator too
+        result = env.step(action)
+        for other in copies:
+            theirs = other.step(action)
+            assert np.array_equal(theirs[0], result[0]), f"step {step}"
+            assert theirs[1:5] == result[1:5]
+        if result[3] or result[4]:
+            first = env.reset()[0]  # unseeded: the generator continues, in the copies too
+            for other in copies:
+                assert np.array_equal(other.reset()[0], first)
+    # The copies are independent: stepping one leaves the others where they were.
+    before = copies[1]._env.state()
+    copies[0].step(env.action_space.sample())
+    assert copies[1]._env.state() == before
+
+
+def test_a_pickled_env_refuses_another_environments_state_and_a_closed_one_refuses_copies():
+    import pickle
+
+    point, car = cmbrl.make("PointGoal1"), cmbrl.make("CarGoal1")
+    point.reset(seed=1)
+    car.reset(seed=1)
+    with pytest.raises(cmbrl.Error, match="pickled CarGoal1 environment|another environment"):
+        car._env.set_state(point._env.state())
+    with pytest.raises(cmbrl.Error, match="damaged"):
+        car._env.set_state(b"not a state")
+    point.close()
+    with pytest.raises(cmbrl.Error, match=r"a closed cmbrl\.Env \(PointGoal1\) cannot be pickled"):
+        pickle.dumps(point)

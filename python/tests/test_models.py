@@ -133,9 +133,8 @@ def test_live_objects_refuse_copies_and_pickles_by_name():
     import copy
     import pickle
 
-    env = cmbrl.make("PointGoal1")
     vec = cmbrl.make_vec("PointGoal1", num_envs=2)
-    for obj, instead in ((env, r"cmbrl\.make\(env\.spec\.id"), (vec, r"cmbrl\.make_vec")):
+    for obj, instead in ((vec, r"cmbrl\.make_vec"),):
         name = type(obj).__name__
         for attempt, what in ((copy.copy, "copied"), (copy.deepcopy, "copied"),
                               (pickle.dumps, "pickled")):
