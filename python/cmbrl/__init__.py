@@ -25,6 +25,13 @@ import numpy as np
 from . import _cmbrl
 from .spaces import Box
 
+try:  # gymnasium is optional: where it is importable, the environments are of its own kinds
+    import gymnasium as _gymnasium
+    import gymnasium.vector  # noqa: F401 (makes _gymnasium.vector available)
+    _EnvBase, _VectorEnvBase = _gymnasium.Env, _gymnasium.vector.VectorEnv
+except ImportError:  # pragma: no cover - depends on the machine
+    _EnvBase = _VectorEnvBase = object
+
 Error = _cmbrl.Error
 # The version of the C++ core this module was built from, and its source commit ("744c47e1a2b3",
 # with "+dirty" for uncommitted changes): what a run's sessions.jsonl records as "cmbrl".
@@ -120,9 +127,11 @@ def _as_seed(seed, what="seed"):
     return _as_int(seed, what, 0, 2**64 - 1)
 
 
-class Env(_Closable):
+class Env(_Closable, _EnvBase):
     """One Goal environment with Safety-Gymnasium's API (reset, step with a separate cost,
-    observation_space, action_space, render to an RGB array, close).
+    observation_space, action_space, render to an RGB array, close). Where gymnasium is
+    importable it is a gymnasium.Env (and its spaces gymnasium's Boxes), as Safety-Gymnasium's
+    environments are; step() returns the cost as Safety-Gymnasium's do.
 
     ground_truth() gives what the agent does not observe: the robot's pose, the goal, hazards
     and vases in world coordinates. render() draws the arena from above with the episode's path.
@@ -241,7 +250,7 @@ class Env(_Closable):
         return f"cmbrl.Env({self.task!r}, variant={self.variant!r})"
 
 
-class VectorEnv(_Closable, _NotCopyable):
+class VectorEnv(_Closable, _NotCopyable, _VectorEnvBase):
     """num_envs environments stepped together in C++ threads, in Gymnasium's vector API:
     batched (num_envs, ...) arrays in and out. Resets follow Gymnasium 1.x's autoreset modes:
     "same-step" (the default: an environment whose episode ended returns its next episode's first

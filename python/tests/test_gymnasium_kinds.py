@@ -1,0 +1,137 @@
+"""Where gymnasium is importable, cmbrl's environments are its kinds (gymnasium.Env,
+gymnasium.vector.VectorEnv) and its spaces gymnasium's Boxes. gymnasium is not a dependency, so
+the test gives a fresh interpreter a stand-in package with the parts of gymnasium 1.x's classes
+that a subclass could trip on (np_random and unwrapped properties, a closed attribute that
+close() sets, __del__ closing, Generic bases), and runs a Gymnasium-style loop there. Where the
+real gymnasium is installed, it is used instead."""
+import os
+import subprocess
+import sys
+import textwrap
+
+FAKE_GYMNASIUM = {
+    "gymnasium/__init__.py": """
+        from typing import Generic, TypeVar
+        from gymnasium import spaces, vector  # noqa: F401
+        ObsType, ActType = TypeVar("ObsType"), TypeVar("ActType")
+        FAKE = True
+
+        class Env(Generic[ObsType, ActType]):
+            metadata = {"render_modes": []}
+            render_mode = None
+            spec = None
+            _np_random = None
+
+            @property
+            def np_random(self):
+                raise AssertionError("gymnasium.Env.np_random used instead of cmbrl's")
+
+            @property
+            def unwrapped(self):
+                raise AssertionError("gymnasium.Env.unwrapped used instead of cmbrl's")
+
+            def close(self):
+                raise AssertionError("gymnasium.Env.close used instead of cmbrl's")
+    """,
+    "gymnasium/spaces.py": """
+        import numpy as np
+
+        class Box:
+            def __init__(self, low, high, dtype=np.float32):
+                self.low, self.high, self.dtype = np.asarray(low), np.asarray(high), dtype
+                self.shape = self.low.shape
+                self._rng = np.random.default_rng(0)
+
+            def seed(self, seed=None):
+                self._rng = np.random.default_rng(seed)
+
+            def sample(self):
+                return self._rng.uniform(self.low, self.high).astype(self.dtype)
+    """,
+    "gymnasium/vector/__init__.py": """
+        from typing import Generic, TypeVar
+        ObsType, ActType, ArrayType = TypeVar("ObsType"), TypeVar("ActType"), TypeVar("ArrayType")
+
+        class VectorEnv(Generic[ObsType, ActType, ArrayType]):
+            metadata = {}
+            closed = False
+            num_envs = 0
+
+            def close(self, **kwargs):
+                raise AssertionError("gymnasium's VectorEnv.close used instead of cmbrl's")
+
+            def __del__(self):
+                if not getattr(self, "closed", True):
+                    self.close()
+    """,
+}
+
+LOOP = """
+    import copy, pickle
+    import gymnasium, numpy as np
+    import cmbrl
+    assert getattr(gymnasium, "FAKE", False) == {fake}
+    assert issubclass(cmbrl.Env, gymnasium.Env)
+    assert issubclass(cmbrl.VectorEnv, gymnasium.vector.VectorEnv)
+    env = cmbrl.make("PointGoal1")
+    assert isinstance(env, gymnasium.Env) and env.unwrapped is env
+    assert isinstance(env.action_space, gymnasium.spaces.Box)
+    obs, info = env.reset(seed=3)
+    assert isinstance(env.np_random, np.random.Generator)
+    twin = copy.deepcopy(env)
+    for _ in range(20):
+        action = env.action_space.sample()
+        assert np.array_equal(env.step(action)[0], twin.step(action)[0])
+    assert pickle.loads(pickle.dumps(env)).spec.id == "PointGoal1"
+    with env:
+        pass
+    assert env.closed
+    vec = cmbrl.make_vec("CarGoal1", num_envs=3)
+    assert isinstance(vec, gymnasium.vector.VectorEnv) and vec.num_envs == 3
+    obs, info = vec.reset(seed=[1, 2, 3])
+    obs, reward, cost, terminated, truncated, info = vec.step(vec.action_space.sample())
+    assert obs.shape[0] == 3 and not vec.closed
+    vec.close()
+    assert vec.closed
+    del vec
+    print("gymnasium kinds: ok")
+"""
+
+
+def _run(code, extra_path):
+    environment = dict(os.environ)
+    environment["PYTHONPATH"] = os.pathsep.join(
+        [p for p in [extra_path, environment.get("PYTHONPATH")] if p])
+    return subprocess.run([sys.executable, "-c", textwrap.dedent(code)], env=environment,
+                          capture_output=True, text=True, timeout=300)
+
+
+def test_with_gymnasium_the_envs_are_its_kinds(tmp_path):
+    try:
+        import gymnasium  # noqa: F401
+        real = True
+    except ImportError:
+        real = False
+    if not real:
+        for name, text in FAKE_GYMNASIUM.items():
+            path = tmp_path / name
+            path.parent.mkdir(parents=True, exist_ok=True)
+            path.write_text(textwrap.dedent(text))
+    result = _run(LOOP.format(fake=not real), None if real else str(tmp_path))
+    assert result.returncode == 0, result.stderr
+    assert "gymnasium kinds: ok" in result.stdout
+
+
+def test_without_gymnasium_the_look_alikes_stand_in(tmp_path):
+    # A gymnasium that cannot be imported (as on a machine without it).
+    (tmp_path / "gymnasium").mkdir()
+    (tmp_path / "gymnasium" / "__init__.py").write_text("raise ImportError('no gymnasium here')\n")
+    result = _run("""
+        import cmbrl, cmbrl.spaces
+        assert cmbrl.Env.__mro__[-1] is object and len(cmbrl.Env.__mro__) == 3
+        env = cmbrl.make("PointGoal1")
+        assert isinstance(env.action_space, cmbrl.spaces._Box)
+        print("look-alikes: ok")
+    """, str(tmp_path))
+    assert result.returncode == 0, result.stderr
+    assert "look-alikes: ok" in result.stdout
