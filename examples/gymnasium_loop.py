@@ -17,7 +17,7 @@ import numpy as np
 import cmbrl
 
 
-def main():
+def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--env", default="SafetyPointGoal1-v0", help="a task or Safety-Gymnasium id")
     parser.add_argument("--num-envs", type=int, default=4)
@@ -44,23 +44,24 @@ def main():
     envs.action_space.seed(args.seed)
     obs, _ = envs.reset(seed=[args.seed + k for k in range(args.num_envs)])
     returns, costs = np.zeros(args.num_envs), np.zeros(args.num_envs)
-    ended = []  # (return, violations) of each finished episode
+    ended: list[tuple[float, float]] = []  # (return, violations) of each finished episode
     for _ in range(args.steps):
-        obs, rewards, step_costs, terminated, truncated, info = envs.step(envs.action_space.sample())
+        obs, rewards, step_costs, terminations, truncations, info = envs.step(
+            envs.action_space.sample())
         returns += rewards
         costs += step_costs
-        for k in np.flatnonzero(terminated | truncated):
+        for k in np.flatnonzero(terminations | truncations):
             # Same-step autoreset: obs[k] already starts the next episode; the last observation
             # of the one that ended is info["final_obs"][k].
             assert info["_final_obs"][k]
-            ended.append((returns[k], costs[k]))
+            ended.append((float(returns[k]), float(costs[k])))
             returns[k] = costs[k] = 0.0
     envs.close()
     print(f"{args.env} ({envs.task}, {envs.variant}): {len(ended)} episodes ended in "
           f"{args.steps} steps of {args.num_envs} environments")
     if ended:
-        ended = np.array(ended)
-        print(f"  mean return {ended[:, 0].mean():.2f}, mean violations {ended[:, 1].mean():.1f}")
+        table = np.array(ended)
+        print(f"  mean return {table[:, 0].mean():.2f}, mean violations {table[:, 1].mean():.1f}")
 
 
 if __name__ == "__main__":

@@ -28,6 +28,8 @@ packages=(
   slurm-wlm munge
   # The Python module and its tests.
   pybind11-dev python3-dev python3-numpy python3-pytest python3-pip python3-setuptools python3-wheel python3-venv
+  # Checks the type stubs against the module (mypy.stubtest) and the examples against them.
+  python3-mypy
 )
 
 export DEBIAN_FRONTEND=noninteractive

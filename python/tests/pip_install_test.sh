@@ -13,6 +13,10 @@ CMBRL_BUILD_DIR=$build_dir "$venv/bin/pip" install --quiet --no-build-isolation 
 cd "$(mktemp -d)"  # not the checkout: the installed package must be the one imported
 installed=$("$venv/bin/python" -c "import cmbrl, sys; print(cmbrl.__version__); print(cmbrl.__file__, file=sys.stderr)" 2> where)
 case "$(cat where)" in "$venv"/*) ;; *) echo "FAILED: imported $(cat where), not the venv's"; exit 1;; esac
+package=$(dirname "$(cat where)")
+for typed in py.typed __init__.pyi spaces.pyi; do
+  [ -f "$package/$typed" ] || { echo "FAILED: the installed package has no $typed"; exit 1; }
+done
 program=$("$cmbrl" --version | sed -E 's/^cmbrl ([0-9.]+) .*/\1/')
 [ "$installed" = "$program" ] || { echo "FAILED: cmbrl.__version__ $installed, cmbrl --version $program"; exit 1; }
 "$venv/bin/python" "$source_dir/examples/gymnasium_loop.py" --num-envs 2 --steps 20 > loop.txt
