@@ -86,13 +86,17 @@ CostFitReport XgbCostModel::Fit(const LabeledStateBuffer& data) {
 }
 
 CostFitReport XgbCostModel::FitArrays(const float* safe, int safe_count, const float* unsafe,
-                                      int unsafe_count) {
+                                      int unsafe_count, const std::function<bool()>& keep_going) {
   const auto start = std::chrono::steady_clock::now();
   Require(safe_count >= 0 && unsafe_count >= 0, "negative sample counts");
   CostFitReport report;
   report.safe_used = safe_count;
   report.unsafe_used = unsafe_count;
   if (unsafe_count == 0) {
+    if (keep_going && !keep_going()) {
+      report.interrupted = true;
+      return report;
+    }
     // Nothing unsafe seen yet: predict everything safe (see the class comment).
     trained_ = false;
     booster_.reset();
@@ -149,6 +153,10 @@ CostFitReport XgbCostModel::FitArrays(const float* safe, int safe_count, const f
   for (int round = 0; round < options_.rounds; ++round) {
     XgbCheck(XGBoosterUpdateOneIter(booster->handle, round, matrix.get()),
              "XGBoosterUpdateOneIter");
+    if (keep_going && !keep_going()) {
+      report.interrupted = true;
+      return report;
+    }
   }
   booster_ = std::move(booster);
   AdoptBoosterJson(booster_->SaveJson());

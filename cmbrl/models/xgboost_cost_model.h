@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -23,6 +24,7 @@ struct CostFitReport {
   double unsafe_accuracy = 0.0;  // recall of the unsafe class (NaN with no unsafe state)
   int trees = 0;
   double seconds = 0.0;
+  bool interrupted = false;      // keep_going said stop: the model is as it was before the fit
 };
 
 // XGBoost binary classifier retrained from scratch at every fit; predictions go through the
@@ -43,8 +45,12 @@ class XgbCostModel final : public CostModel {
   // safe_selection.
   CostFitReport Fit(const LabeledStateBuffer& data);
 
-  // The same from arrays: (safe_count, S) and (unsafe_count, S) row-major floats.
-  CostFitReport FitArrays(const float* safe, int safe_count, const float* unsafe, int unsafe_count);
+  // The same from arrays: (safe_count, S) and (unsafe_count, S) row-major floats. `keep_going`,
+  // when given, is asked after each boosting round: false abandons the fit there, leaving the
+  // model as it was (a fit starts from scratch, so half of one is no model), and the report
+  // says interrupted.
+  CostFitReport FitArrays(const float* safe, int safe_count, const float* unsafe, int unsafe_count,
+                          const std::function<bool()>& keep_going = nullptr);
 
   torch::Tensor PredictViolation(const torch::Tensor& states) const override;
   std::vector<std::uint8_t> PredictRows(const float* states, int rows) const override;

@@ -179,9 +179,16 @@ class PyCostClassifier {
     CostFitReport report;
     {
       py::gil_scoped_release release;
-      report = classifier_.FitArrays(safe_rows.data(), static_cast<int>(safe_rows.size() / s),
-                                     unsafe_rows.data(), static_cast<int>(unsafe_rows.size() / s));
+      // After each boosting round, Python's signal handlers run (Ctrl-C): a KeyboardInterrupt
+      // abandons the fit, leaving the classifier as it was, and is raised once it has returned.
+      report = classifier_.FitArrays(
+          safe_rows.data(), static_cast<int>(safe_rows.size() / s), unsafe_rows.data(),
+          static_cast<int>(unsafe_rows.size() / s), [] {
+            const py::gil_scoped_acquire acquire;
+            return PyErr_CheckSignals() == 0;
+          });
     }
+    if (report.interrupted && PyErr_Occurred() != nullptr) throw py::error_already_set();
     py::dict d;
     d["trained"] = report.trained;
     d["safe_used"] = report.safe_used;

@@ -652,7 +652,10 @@ class CostClassifier(_StandaloneModel):
                                             _as_seed(seed))
 
     def fit(self, states, unsafe):
-        """states (N, S), unsafe (N) of 0/1 or bool -> a dict: trees, accuracies, seconds."""
+        """states (N, S), unsafe (N) of 0/1 or bool -> a dict: trees, accuracies, seconds.
+        Ctrl-C (or another signal handler's exception) abandons the fit after the boosting round
+        in progress, leaving the classifier as it was before (each fit starts from scratch), and
+        the exception is raised."""
         unsafe = np.asarray(unsafe)
         if unsafe.dtype == bool:
             unsafe = unsafe.astype(np.float64)

@@ -161,3 +161,28 @@ def test_ctrl_c_stops_a_fit_after_its_epoch_and_keeps_what_was_learned():
     trained = model.predict(states[:20], actions[:20])
     assert not np.array_equal(trained, untrained)  # the epochs done are kept
     assert np.mean((trained - next_states[:20]) ** 2) < np.mean((untrained - next_states[:20]) ** 2)
+
+
+def test_ctrl_c_abandons_a_classifier_fit_and_leaves_the_classifier_as_it_was(tmp_path):
+    import os
+    import signal
+    import threading
+
+    rng = np.random.default_rng(0)
+    states = rng.uniform(-1, 1, size=(4000, 3))
+    unsafe = np.linalg.norm(states[:, :2], axis=1) < 0.5
+    model = cmbrl.CostClassifier(state_dim=3, rounds=20, seed=0)
+    model.fit(states, unsafe)
+    before = model.predict(states)
+    assert (before == unsafe).mean() > 0.9
+    # A fit of very many rounds on other labels, stopped after half a second.
+    slow = cmbrl.CostClassifier(state_dim=3, rounds=100000, seed=0)
+    model.save(tmp_path / "fast")
+    slow._model.load(str(tmp_path / "fast" / "classifier.json"))  # the trees, not the settings
+    assert np.array_equal(slow.predict(states), before)
+    timer = threading.Timer(0.5, lambda: os.kill(os.getpid(), signal.SIGINT))
+    timer.start()
+    with pytest.raises(KeyboardInterrupt):
+        slow.fit(states, ~unsafe)
+    timer.join()
+    assert np.array_equal(slow.predict(states), before)

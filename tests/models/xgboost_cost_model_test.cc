@@ -178,6 +178,26 @@ TEST_F(XgbCostModelTest, SaveThenLoadPredictsTheSame) {
   std::filesystem::remove(path);
 }
 
+// A fit abandoned after its third round leaves the model as the last whole fit made it.
+TEST_F(XgbCostModelTest, AnInterruptedFitLeavesTheModelAsItWas) {
+  const std::string path = testing::TestTempPath("before.json");
+  model_->Save(path);
+  XgbCostModel model(kHazardStateDim, XgbCostModelOptions{}, 3);
+  model.Load(path);
+  const std::vector<float> before = model.Margins(test_->unsafe.data(), 500);
+  int rounds = 0;
+  const std::vector<float> flipped_safe(test_->unsafe.begin(), test_->unsafe.begin() + 100 * kHazardStateDim);
+  const std::vector<float> flipped_unsafe(test_->safe.begin(), test_->safe.begin() + 300 * kHazardStateDim);
+  const CostFitReport report = model.FitArrays(flipped_safe.data(), 100, flipped_unsafe.data(),
+                                               300, [&] { return ++rounds < 3; });
+  EXPECT_TRUE(report.interrupted);
+  EXPECT_EQ(rounds, 3);
+  EXPECT_EQ(model.Margins(test_->unsafe.data(), 500), before);
+  // Without interruption the same fit changes the model.
+  EXPECT_FALSE(model.FitArrays(flipped_safe.data(), 100, flipped_unsafe.data(), 300).interrupted);
+  EXPECT_NE(model.Margins(test_->unsafe.data(), 500), before);
+}
+
 TEST(XgbCostModelEdgeTest, WithoutUnsafeStatesEverythingIsSafe) {
   LabeledStateBuffer buffer(3);
   buffer.Add({0, 0, 0}, false);
