@@ -2,6 +2,7 @@
 
 #include <torch/torch.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 
@@ -21,17 +22,20 @@ std::optional<std::uint64_t> EpisodeResetSeed(const EvaluationOptions& options, 
 // Predicted robot positions in the world: the predicted magnetometer gives the heading theta
 // ((-0.5 sin theta, -0.5 cos theta) in the body frame), the predicted ego-frame goal the offset,
 // and the goal itself does not move: p = goal - R(theta) goal_ego.
-std::vector<PredictedPath> WorldPaths(MpcAgent& agent, const BoxSpec& spec, Vec2 goal, Vec2 robot,
-                                      int keep) {
+// Every path of the objective's last evaluation, sample-major (n * E + e).
+std::vector<PredictedPath> WorldPaths(MpcAgent& agent, const BoxSpec& spec, Vec2 goal,
+                                      Vec2 robot) {
   const torch::Tensor trajectories = agent.objective()
                                          .last_trajectories()
                                          .to(torch::kCPU, torch::kFloat)
                                          .contiguous();  // (E,N,H,S)
-  const torch::Tensor constraint = agent.objective().last_values().constraint_cost.cpu();
+  const torch::Tensor constraint =
+      agent.objective().last_values().constraint_cost.to(torch::kCPU, torch::kFloat).contiguous();
   const int mx = spec.IndexOf("magnetometer_x"), my = spec.IndexOf("magnetometer_y");
   const int gx = spec.IndexOf("goal_x"), gy = spec.IndexOf("goal_y");
   const std::int64_t samples = trajectories.size(1), horizon = trajectories.size(2);
   const auto states = trajectories.accessor<float, 4>();
+  const auto costs = constraint.accessor<float, 1>();  // (N)
   const auto point = [&](std::int64_t e, std::int64_t n, std::int64_t t) {
     const double theta = std::atan2(-states[e][n][t][mx], -states[e][n][t][my]);
     const double ex = states[e][n][t][gx], ey = states[e][n][t][gy];
@@ -39,11 +43,11 @@ std::vector<PredictedPath> WorldPaths(MpcAgent& agent, const BoxSpec& spec, Vec2
                 goal.y - (std::sin(theta) * ex + std::cos(theta) * ey)};
   };
   std::vector<PredictedPath> paths;
-  const std::int64_t stride = std::max<std::int64_t>(1, samples / std::max(1, keep));
-  for (std::int64_t n = 0; n < samples; n += stride) {
+  paths.reserve(static_cast<size_t>(samples * trajectories.size(0)));
+  for (std::int64_t n = 0; n < samples; ++n) {
     for (std::int64_t e = 0; e < trajectories.size(0); ++e) {
       PredictedPath path;
-      path.feasible = constraint[n].item<float>() == 0.0f;
+      path.feasible = costs[n] == 0.0f;
       path.points.push_back(robot);
       for (std::int64_t t = 0; t < horizon; ++t) path.points.push_back(point(e, n, t));
       paths.push_back(std::move(path));
@@ -54,17 +58,36 @@ std::vector<PredictedPath> WorldPaths(MpcAgent& agent, const BoxSpec& spec, Vec2
 
 }  // namespace
 
-std::vector<PredictedPath> PlannerPredictions(MpcAgent& agent, const BoxSpec& spec,
-                                              const SceneState& scene, int samples) {
-  std::vector<PredictedPath> paths =
-      WorldPaths(agent, spec, scene.goal, scene.robot.position, samples);
+PlanPaths TakePlanPaths(MpcAgent& agent, const BoxSpec& spec, const SceneState& scene) {
+  PlanPaths paths;
+  paths.members = static_cast<int>(agent.objective().last_trajectories().size(0));
+  paths.population = WorldPaths(agent, spec, scene.goal, scene.robot.position);
   // The executed plan: its final mean rolled through the objective once more.
   agent.objective().Evaluate(agent.last_result().sequence.unsqueeze(0));
-  for (PredictedPath& chosen : WorldPaths(agent, spec, scene.goal, scene.robot.position, 1)) {
-    chosen.chosen = true;
-    paths.push_back(std::move(chosen));
-  }
+  paths.chosen = WorldPaths(agent, spec, scene.goal, scene.robot.position);
+  for (PredictedPath& chosen : paths.chosen) chosen.chosen = true;
   return paths;
+}
+
+std::vector<PredictedPath> SelectPredictions(const PlanPaths& paths, int samples) {
+  Require(samples >= 1, "samples is {}: expected at least 1", samples);
+  const size_t members = static_cast<size_t>(std::max(1, paths.members));
+  const size_t population = paths.population.size() / members;
+  const size_t keep = std::min(population, static_cast<size_t>(samples));
+  std::vector<PredictedPath> selected;
+  selected.reserve((keep + 1) * members);
+  for (size_t k = 0; k < keep; ++k) {
+    const size_t n = k * population / keep;  // evenly spread, the first sample included
+    selected.insert(selected.end(), paths.population.begin() + static_cast<std::ptrdiff_t>(n * members),
+                    paths.population.begin() + static_cast<std::ptrdiff_t>((n + 1) * members));
+  }
+  selected.insert(selected.end(), paths.chosen.begin(), paths.chosen.end());
+  return selected;
+}
+
+std::vector<PredictedPath> PlannerPredictions(MpcAgent& agent, const BoxSpec& spec,
+                                              const SceneState& scene, int samples) {
+  return SelectPredictions(TakePlanPaths(agent, spec, scene), samples);
 }
 
 std::vector<EvaluatedEpisode> EvaluateRun(const std::string& run_dir,

@@ -39,10 +39,24 @@ struct EvaluatedEpisode {
 
 class MpcAgent;
 
-// The agent's last plan in world coordinates, for pictures: `samples` of its sampled action
-// sequences (each as every ensemble member predicted it) and the executed plan (chosen).
-// `scene` is the one the plan was made in; `spec` the environment's observation spec. Rolls the
-// executed plan through the objective once more, so the objective's last values change.
+// The agent's last plan in world coordinates: every sampled action sequence of the plan's last
+// iteration and the executed plan, each as every ensemble member predicted it.
+struct PlanPaths {
+  int members = 0;                       // E
+  std::vector<PredictedPath> population;  // (N * E): sample n, member e at n * E + e
+  std::vector<PredictedPath> chosen;      // (E): the executed plan (chosen = true)
+};
+
+// Takes the agent's last plan's paths. `scene` is the one the plan was made in; `spec` the
+// environment's observation spec. Rolls the executed plan through the objective once more, so the
+// objective's last values change: take them once per plan (after Act), then select from them.
+PlanPaths TakePlanPaths(MpcAgent& agent, const BoxSpec& spec, const SceneState& scene);
+
+// `samples` sampled sequences spread evenly over the population (all of them when it has fewer),
+// each with every member's path, then the executed plan's: (min(samples, N) + 1) * E paths.
+std::vector<PredictedPath> SelectPredictions(const PlanPaths& paths, int samples);
+
+// SelectPredictions(TakePlanPaths(...), samples), for pictures of an evaluation.
 std::vector<PredictedPath> PlannerPredictions(MpcAgent& agent, const BoxSpec& spec,
                                               const SceneState& scene, int samples);
 

@@ -6,6 +6,7 @@
 #include <pybind11/stl.h>
 #include <torch/torch.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <functional>
@@ -35,6 +36,7 @@ class PyAgent {
 
   void BeginEpisode() {
     const ObjectLock lock(mutex_);
+    plan_paths_.reset();
     run_.policy().BeginEpisode();
   }
 
@@ -46,6 +48,7 @@ class PyAgent {
     for (const double v : values)
       Require(std::isfinite(v), "the observation holds {}: expected finite values", v);
     std::vector<double> action;
+    plan_paths_.reset();  // a new plan
     {
       py::gil_scoped_release release;
       action = run_.policy().Act(values);
@@ -53,7 +56,10 @@ class PyAgent {
     return Own(std::move(action));
   }
 
-  // The last plan in world coordinates: a list of dicts (points (H+1, 2), feasible, chosen).
+  // The last plan in world coordinates: a list of dicts (points (H+1, 2), feasible, chosen,
+  // member), `samples` sampled sequences times the members, then the executed plan's. The paths
+  // are taken once per plan (taking them re-rolls the executed plan through the objective), so
+  // every call after one act() selects from the same plan, placed in the first call's scene.
   py::list Predictions(const py::dict& scene_of_plan, int samples) {
     const ObjectLock lock(mutex_);
     RequirePlan("predictions");
@@ -68,10 +74,15 @@ class PyAgent {
     std::vector<PredictedPath> paths;
     {
       py::gil_scoped_release release;
-      paths = PlannerPredictions(run_.mpc_agent(), run_.env().observation_spec(), scene, samples);
+      if (!plan_paths_) {
+        plan_paths_ = TakePlanPaths(run_.mpc_agent(), run_.env().observation_spec(), scene);
+      }
+      paths = SelectPredictions(*plan_paths_, samples);
     }
     py::list out;
-    for (const PredictedPath& path : paths) {
+    const size_t members = static_cast<size_t>(std::max(1, plan_paths_->members));
+    for (size_t index = 0; index < paths.size(); ++index) {
+      const PredictedPath& path = paths[index];
       std::vector<double> points;
       for (const Vec2& p : path.points) points.insert(points.end(), {p.x, p.y});
       py::dict d;
@@ -79,6 +90,7 @@ class PyAgent {
           Own<double>(std::move(points), {static_cast<py::ssize_t>(path.points.size()), 2});
       d["feasible"] = path.feasible;
       d["chosen"] = path.chosen;
+      d["member"] = static_cast<int>(index % members);
       out.append(d);
     }
     return out;
@@ -140,6 +152,7 @@ class PyAgent {
 
   mutable std::mutex mutex_;  // ObjectLock: one call at a time
   LoadedRun run_;
+  std::optional<PlanPaths> plan_paths_;  // the last plan's paths, once predictions() took them
 };
 
 // Trains (or resumes) a run; `progress` sees each unit's summary, with the GIL held.

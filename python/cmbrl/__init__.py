@@ -487,8 +487,12 @@ class Agent(_NotCopyable):
 
     def predictions(self, env, samples=8):
         """MPC only: the last plan's predicted robot paths in world coordinates, for plotting:
-        dicts of points (H + 1, 2), feasible and chosen (the executed plan). `env` is the
-        environment the plan was made in (its ground truth places the paths)."""
+        dicts of points (H + 1, 2), feasible, chosen (the executed plan) and member (the
+        ensemble member that predicted it). `samples` sampled sequences spread over the plan's
+        last population, each as every member predicted it, then the executed plan's: (samples
+        + 1) x members paths (fewer samples when the population is smaller). `env` is the
+        environment the plan was made in (its ground truth places the paths); calls between two
+        act()s give the same plan."""
         return self._agent.predictions(env.ground_truth(), _as_int(samples, "samples"))
 
     def predict_next(self, states, actions):

@@ -43,8 +43,15 @@ def test_train_resume_and_act(tmp_path, source_dir):
     plan = agent.last_plan()
     assert plan["actions"].shape == (3, 2)
     paths = agent.predictions(env, samples=4)
-    assert any(p["chosen"] for p in paths)
+    members = 1 + max(p["member"] for p in paths)
+    assert len(paths) == (4 + 1) * members  # 4 samples and the executed plan, every member
+    assert [p["chosen"] for p in paths] == [False] * 4 * members + [True] * members
     assert all(p["points"].shape == (4, 2) for p in paths)
+    # Asked again about the same plan, with more samples than its population (24): the same
+    # plan every time, not the executed plan's re-evaluation (36 paths, then 8, before v0.7).
+    again = agent.predictions(env, samples=4)
+    assert all(np.array_equal(a["points"], b["points"]) for a, b in zip(paths, again))
+    assert len(agent.predictions(env, samples=1000)) == (24 + 1) * members
     states = np.repeat(obs[None, :], 5, axis=0)
     nxt = agent.predict_next(states, np.zeros((5, 2)))
     assert nxt.shape[1:] == (5, obs.shape[0]) and np.isfinite(nxt).all()
