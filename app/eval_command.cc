@@ -34,6 +34,10 @@ void RunEval(const EvalArgs& args) {
                                    {"cost", r.episode_cost},
                                    {"steps", r.steps},
                                    {"goals_met", r.goals_met},
+                                   {"hazard_steps", r.hazard_steps},
+                                   {"vase_steps", r.vase_steps},
+                                   {"mean_goal_distance", r.mean_goal_distance},
+                                   {"steps_near_goal", r.steps_near_goal},
                                    {"ms_per_plan", episode.mean_ms_per_plan}};
     if (episode.mean_feasible_fraction) {
       line["feasible_fraction"] = *episode.mean_feasible_fraction;

@@ -1,5 +1,7 @@
 #include "cmbrl/eval/rollout.h"
 
+#include <cmath>
+
 #include "cmbrl/core/check.h"
 
 namespace cmbrl {
@@ -12,6 +14,7 @@ EpisodeRecord RunEpisode(Env& env, Policy& policy, std::optional<std::uint64_t> 
   std::vector<double> observation = env.Reset(seed);
   policy.BeginEpisode();
   SceneState scene = scenes->Scene();
+  double goal_distance_sum = 0.0;
   record.path.push_back(scene.robot.position);
   record.path_violations.push_back(false);
   for (;;) {
@@ -28,6 +31,14 @@ EpisodeRecord RunEpisode(Env& env, Policy& policy, std::optional<std::uint64_t> 
       ++record.goals_met;
       record.reached_goals.push_back(goal_before);
     }
+    if (step.info.cost_hazards > 0.0) ++record.hazard_steps;
+    if (step.info.cost_vases_contact > 0.0 || step.info.cost_vases_velocity > 0.0) {
+      ++record.vase_steps;
+    }
+    const double distance = std::hypot(scene.robot.position.x - goal_before.x,
+                                       scene.robot.position.y - goal_before.y);
+    goal_distance_sum += distance;
+    if (distance <= kNearGoalMetres) ++record.steps_near_goal;
     record.path.push_back(scene.robot.position);
     record.path_violations.push_back(step.cost > 0.0);
     observation = std::move(step.observation);
@@ -37,6 +48,7 @@ EpisodeRecord RunEpisode(Env& env, Policy& policy, std::optional<std::uint64_t> 
       break;
     }
   }
+  record.mean_goal_distance = goal_distance_sum / record.steps;
   record.final_scene = std::move(scene);
   return record;
 }

@@ -19,6 +19,12 @@ struct EpisodeRecord {
   int steps = 0;                // agent steps
   int env_steps = 0;            // inner env steps (action repeat)
   int goals_met = 0;
+  int hazard_steps = 0;  // agent steps that ended with the robot inside a hazard
+  int vase_steps = 0;    // agent steps with a vase cost (contact or vase speed)
+  // Metres from the robot, after each step, to the goal it pursued in that step: their mean, and
+  // the steps that ended within kNearGoalMetres of it (where the robot is about to score).
+  double mean_goal_distance = 0.0;
+  int steps_near_goal = 0;
   bool terminated = false;
   bool truncated = false;
   std::vector<Vec2> path;             // robot position before the first step and after each
@@ -26,6 +32,10 @@ struct EpisodeRecord {
   std::vector<Vec2> reached_goals;    // goal positions at the moments they were reached
   SceneState final_scene;
 };
+
+// What "near the goal" means in EpisodeRecord::steps_near_goal: about three goal radii (0.3 m in
+// every Goal task), the distance a planning horizon closes in a few steps.
+inline constexpr double kNearGoalMetres = 1.0;
 
 // Called after the policy chose the action of step `step` and before the environment runs it,
 // with the scene the action was chosen in.

@@ -22,13 +22,17 @@ def test_a_setting_names_its_overrides():
 
 def test_the_summary_counts_per_run_and_per_100_steps():
     episode = {"cost": 5, "steps": 100, "return": 2.0, "goals_met": 1, "ms_per_plan": 10.0,
-               "feasible_fraction": 0.5, "fallback_steps": 0.1}
-    heavy = dict(episode, cost=25)
+               "feasible_fraction": 0.5, "fallback_steps": 0.1, "hazard_steps": 4,
+               "steps_near_goal": 10, "mean_goal_distance": 1.5}
+    heavy = dict(episode, cost=25, hazard_steps=25, steps_near_goal=0, mean_goal_distance=3.0)
     summary = planner_study.summarise({"a": [episode, heavy], "b": [episode]})
     assert summary["per_run"] == {"a": 30, "b": 5}
     assert summary["per_100_steps"] == pytest.approx(35 / 3)
     assert summary["heavy"] == 1
     assert summary["episodes"] == 3
+    assert summary["hazard_share"] == pytest.approx(33 / 300)
+    assert summary["near_goal_share"] == pytest.approx(20 / 300)
+    assert summary["goal_distance"] == pytest.approx(2.0)
 
 
 def test_model_size_parses_its_settings_and_fits_tiny_ensembles(capsys):

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "cmbrl/env/registry.h"
 
 namespace cmbrl {
@@ -37,6 +39,35 @@ TEST(RolloutTest, SameSeedSameRecord) {
   EXPECT_EQ(ra.episode_cost, rb.episode_cost);
   ASSERT_EQ(ra.path.size(), rb.path.size());
   for (size_t i = 0; i < ra.path.size(); ++i) EXPECT_EQ(ra.path[i], rb.path[i]);
+}
+
+// Where the steps went, recomputed from the path: in an episode whose goal never moved, the
+// distance after each step is to the final scene's goal. Hazard and vase steps bound the cost
+// (a step costs 1 when anything is violated).
+TEST(RolloutTest, CountsHazardStepsAndTheDistanceToTheGoal) {
+  std::unique_ptr<Env> env = MakeEnv("PointGoal2", Variant::kPaper);
+  int checked = 0;
+  for (std::uint64_t seed = 1; seed <= 6; ++seed) {
+    RandomPolicy policy(env->action_spec(), seed);
+    const EpisodeRecord record = RunEpisode(*env, policy, seed);
+    EXPECT_LE(record.hazard_steps, record.episode_cost);
+    EXPECT_LE(record.episode_cost, record.hazard_steps + record.vase_steps);
+    EXPECT_GE(record.steps_near_goal, record.goals_met);
+    if (record.goals_met > 0) continue;
+    const Vec2 goal = record.final_scene.goal;
+    double sum = 0.0;
+    int near = 0;
+    for (size_t i = 1; i < record.path.size(); ++i) {
+      const double distance =
+          std::hypot(record.path[i].x - goal.x, record.path[i].y - goal.y);
+      sum += distance;
+      near += distance <= kNearGoalMetres;
+    }
+    EXPECT_DOUBLE_EQ(record.mean_goal_distance, sum / record.steps);
+    EXPECT_EQ(record.steps_near_goal, near);
+    ++checked;
+  }
+  EXPECT_GE(checked, 3);  // random walks rarely reach the goal
 }
 
 }  // namespace

@@ -68,6 +68,12 @@ def summarise(episodes_by_run):
         "heavy": sum(e["cost"] >= HEAVY for e in episodes),
         "return": statistics.mean(e["return"] for e in episodes),
         "goals": statistics.mean(e["goals_met"] for e in episodes),
+        # Where the steps went: inside hazards, and near the goal (cmbrl eval's steps_near_goal,
+        # within 1 m of the goal pursued), and how far from it on average.
+        "hazard_share": sum(e.get("hazard_steps", float("nan")) for e in episodes) / steps,
+        "near_goal_share": sum(e.get("steps_near_goal", float("nan")) for e in episodes) / steps,
+        "goal_distance": statistics.mean(e.get("mean_goal_distance", float("nan"))
+                                         for e in episodes),
         "feasible": statistics.mean(e.get("feasible_fraction", float("nan")) for e in episodes),
         "fallback": statistics.mean(e.get("fallback_steps", float("nan")) for e in episodes),
         "ms": statistics.median(e["ms_per_plan"] for e in episodes),
@@ -88,11 +94,13 @@ def main(argv=None):
                              "(use one choice per output folder)")
     args = parser.parse_args(argv)
 
-    rows = []
+    rows, run_rows = [], []
     for name, overrides in args.setting:
         by_run = {}
         for run in args.runs:
-            by_run[os.path.basename(os.path.normpath(run))] = evaluate(args, run, name, overrides)
+            run_name = os.path.basename(os.path.normpath(run))
+            by_run[run_name] = evaluate(args, run, name, overrides)
+            run_rows.append((name, run_name, summarise({run_name: by_run[run_name]})))
             print(f"{name}: {run} done", flush=True)
         rows.append((name, overrides, summarise(by_run)))
 
@@ -109,6 +117,14 @@ def main(argv=None):
                     f"{s['per_100_steps']:.2f} | {s['heavy']} | {s['return']:.2f} | "
                     f"{s['goals']:.2f} | {s['feasible']:.3f} | {s['fallback']:.3f} | "
                     f"{s['ms']:.0f} |\n")
+        f.write("\nPer run (whose models) and setting (how they were planned with): where the steps "
+                "went.\n\n| setting | run | return | goals | steps in hazards | steps within 1 m of "
+                "the goal | mean distance to the goal (m) | feasible fraction | fallback steps |\n")
+        f.write("|---|---|---|---|---|---|---|---|---|\n")
+        for name, run_name, s in run_rows:
+            f.write(f"| {name} | {run_name} | {s['return']:.2f} | {s['goals']:.2f} | "
+                    f"{s['hazard_share']:.1%} | {s['near_goal_share']:.1%} | "
+                    f"{s['goal_distance']:.2f} | {s['feasible']:.3f} | {s['fallback']:.3f} |\n")
     print(open(os.path.join(args.out, "table.md")).read())
 
 
