@@ -5,6 +5,8 @@
 
 #include <cerrno>
 #include <cstring>
+#include <fstream>
+#include <sstream>
 
 #include "cmbrl/core/check.h"
 
@@ -53,6 +55,17 @@ void CloseChecked(std::ofstream& out, const std::filesystem::path& path) {
     errno = cause;
     FailToWrite(path);
   }
+}
+
+std::string ReadWholeLines(const std::filesystem::path& path) {
+  if (!std::filesystem::exists(path)) return "";
+  std::ifstream in(path, std::ios::binary);
+  Require(static_cast<bool>(in), "could not read '{}'", path.string());
+  std::stringstream text;
+  text << in.rdbuf();
+  const std::string all = text.str();
+  const size_t end = all.rfind('\n');
+  return end == std::string::npos ? std::string() : all.substr(0, end + 1);
 }
 
 }  // namespace cmbrl

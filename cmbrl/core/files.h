@@ -1,5 +1,6 @@
 // Writing files so that a full disk, a quota or a vanished folder is an error that names the
-// file and the cause ("No space left on device"), never a crash or a file silently cut short.
+// file and the cause ("No space left on device"), never a crash or a file silently cut short;
+// and reading back what an interrupted append left whole.
 // Every file cmbrl writes goes through here, or is checked as here (Cairo's, XGBoost's).
 #pragma once
 
@@ -20,6 +21,11 @@ void AppendToFile(const std::filesystem::path& path, std::string_view bytes);
 // Closes a stream written piece by piece and throws cmbrl::Error naming `path` and the cause
 // when any write or the close failed.
 void CloseChecked(std::ofstream& out, const std::filesystem::path& path);
+
+// The text of `path` up to and including its last newline: what an append stopped mid-line left
+// whole (a line without its newline does not count). "" when the file is missing. Throws
+// cmbrl::Error naming the file when it exists but cannot be read.
+std::string ReadWholeLines(const std::filesystem::path& path);
 
 // "could not write '<path>': <cause>", the cause from errno (the last failed call's).
 [[noreturn]] void FailToWrite(const std::filesystem::path& path);

@@ -61,12 +61,11 @@ struct SessionsPrefix {
 
 SessionsPrefix ReadSessionsPrefix(const RunDirectory& run, std::int64_t lines) {
   SessionsPrefix prefix;
-  std::ifstream in(run.sessions_file(), std::ios::binary);
-  if (!in) return prefix;
+  if (!fs::exists(run.sessions_file())) return prefix;
   prefix.exists = true;
+  std::istringstream whole(ReadWholeLines(run.sessions_file()));
   std::string line;
-  while (std::getline(in, line)) {
-    if (in.eof()) break;  // no newline after it: unfinished
+  while (std::getline(whole, line)) {
     if (prefix.lines_in_file < lines) prefix.text += line + "\n";
     ++prefix.lines_in_file;
   }

@@ -86,19 +86,6 @@ RunSession ParseSession(const std::string& text, const std::string& where) {
   return session;
 }
 
-// The file's text up to and including its last newline (what a stop mid-write left whole); ""
-// when there is no file.
-std::string WholeLines(const fs::path& file) {
-  if (!fs::exists(file)) return "";
-  std::ifstream in(file, std::ios::binary);
-  Require(static_cast<bool>(in), "could not read '{}'", file.string());
-  std::stringstream text;
-  text << in.rdbuf();
-  const std::string all = text.str();
-  const size_t end = all.rfind('\n');
-  return end == std::string::npos ? std::string() : all.substr(0, end + 1);
-}
-
 // The sessions of `whole_lines`, the whole lines of `file`.
 std::vector<RunSession> ParseSessions(const std::string& whole_lines, const fs::path& file) {
   std::vector<RunSession> sessions;
@@ -164,13 +151,13 @@ std::string RunIdOf(const std::vector<RunSession>& sessions) {
 
 std::vector<RunSession> ReadRunSessions(const RunDirectory& run) {
   const fs::path file = run.sessions_file();
-  return ParseSessions(WholeLines(file), file);
+  return ParseSessions(ReadWholeLines(file), file);
 }
 
 std::vector<std::string> RecordRunSession(const RunDirectory& run, std::int64_t steps_done,
                                           const NumericsSetup& setup) {
   const fs::path file = run.sessions_file();
-  const std::string whole_lines = WholeLines(file);
+  const std::string whole_lines = ReadWholeLines(file);
   const std::vector<RunSession> before = ParseSessions(whole_lines, file);
   if (fs::exists(file)) {
     std::error_code error;
