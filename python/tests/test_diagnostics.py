@@ -7,7 +7,7 @@ import pytest
 
 import cmbrl
 from conftest import tiny_config
-from cmbrl.diagnostics import model_size, planner_study, violation_anatomy
+from cmbrl.diagnostics import goal_approach, model_size, planner_study, violation_anatomy
 
 TINY = tiny_config(120)
 
@@ -58,3 +58,8 @@ def test_the_planner_study_and_the_violation_anatomy_run_on_a_trained_run(
     assert len(lines) == 1 and "cost" in json.loads(lines[0])
     violation_anatomy.main([str(run), "--episodes", "1"])
     assert capsys.readouterr().out.strip()
+    goal_approach.main([str(run), str(run), "--episodes", "1", "--near", "100"])
+    table = capsys.readouterr().out
+    rows = [line for line in table.splitlines() if line.startswith("| run |")]
+    assert len(rows) == 2 and rows[0] == rows[1]  # the same models judged on the same transitions
+    assert "nan" in rows[0]  # nothing is farther than 100 m from the goal
