@@ -29,8 +29,10 @@ try:  # gymnasium is optional: where it is importable, the environments are of i
     import gymnasium as _gymnasium
     import gymnasium.vector  # noqa: F401 (makes _gymnasium.vector available)
     _EnvBase, _VectorEnvBase = _gymnasium.Env, _gymnasium.vector.VectorEnv
+    _WrapperBase, _VectorWrapperBase = _gymnasium.Wrapper, _gymnasium.vector.VectorWrapper
 except ImportError:  # pragma: no cover - depends on the machine
     _EnvBase = _VectorEnvBase = object
+    _WrapperBase = _VectorWrapperBase = None
 
 Error = _cmbrl.Error
 # The version of the C++ core this module was built from, and its source commit ("744c47e1a2b3",
@@ -39,7 +41,7 @@ __version__ = _cmbrl.__version__
 __commit__ = _cmbrl.__commit__
 
 __all__ = ["Error", "Box", "Env", "EnvSpec", "VectorEnv", "Agent", "Ensemble", "CostClassifier", "make",
-           "make_vec", "tasks", "train", "load_run"]
+           "make_vec", "tasks", "train", "load_run", "CostInInfo", "VectorCostInInfo"]
 
 
 def tasks():
@@ -408,6 +410,59 @@ def make_vec(task, num_envs, variant=None, spawn="standing", threads=None, spin_
     0 spares the cores of a loop that does much else between steps."""
     return VectorEnv(task, num_envs, variant=variant, spawn=spawn, threads=threads,
                      spin_us=spin_us, autoreset_mode=autoreset_mode)
+
+
+class _Forwarding:
+    """Without gymnasium, what its wrappers give: the wrapped environment as .env, and every
+    attribute and method this wrapper does not define taken from it."""
+
+    def __init__(self, env):
+        self.env = env
+
+    def __getattr__(self, name):
+        if name == "env":  # not set yet (unpickling, say): do not recurse
+            raise AttributeError(name)
+        return getattr(self.env, name)
+
+    @property
+    def unwrapped(self):
+        return self.env.unwrapped
+
+    def reset(self, *, seed=None, options=None):
+        return self.env.reset(seed=seed, options=options)
+
+    def close(self):
+        self.env.close()
+
+
+def _with_cost(info, cost):
+    info = dict(info)
+    info["cost"] = cost
+    return info
+
+
+class CostInInfo(_WrapperBase or _Forwarding):
+    """An Env with Gymnasium's five-value step: (observation, reward, terminated, truncated, info),
+    the cost moved into info["cost"], for Gymnasium's own wrappers and the libraries built on
+    them (Safety-Gymnasium's SafetyGymnasium2Gymnasium does the same). Where gymnasium is
+    importable it is a gymnasium.Wrapper. Threads: as the Env it wraps."""
+
+    def step(self, action):
+        """(observation, reward, terminated, truncated, info), the cost in info["cost"]."""
+        observation, reward, cost, terminated, truncated, info = self.env.step(action)
+        return observation, reward, terminated, truncated, _with_cost(info, cost)
+
+
+class VectorCostInInfo(_VectorWrapperBase or _Forwarding):
+    """A VectorEnv with Gymnasium's five-value step, the (num_envs) costs in info["cost"]. Where
+    gymnasium is importable it is a gymnasium.vector.VectorWrapper. Threads: as the VectorEnv it
+    wraps."""
+
+    def step(self, actions):
+        """(observations, rewards, terminations, truncations, infos), the costs in
+        infos["cost"]."""
+        observations, rewards, costs, terminations, truncations, infos = self.env.step(actions)
+        return observations, rewards, terminations, truncations, _with_cost(infos, costs)
 
 
 def train(config=None, out=None, steps=None, seed=None, device=None, resume=None, progress=None):

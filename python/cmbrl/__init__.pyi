@@ -18,7 +18,7 @@ _Bools = npt.NDArray[np.bool_]
 __version__: str
 __commit__: str
 __all__ = ["Error", "Box", "Env", "EnvSpec", "VectorEnv", "Agent", "Ensemble", "CostClassifier",
-           "make", "make_vec", "tasks", "train", "load_run"]
+           "make", "make_vec", "tasks", "train", "load_run", "CostInInfo", "VectorCostInInfo"]
 
 class Error(ValueError): ...
 
@@ -102,6 +102,29 @@ def make(task: str, variant: Optional[str] = ..., spawn: str = ...,
 def make_vec(task: str, num_envs: int, variant: Optional[str] = ..., spawn: str = ...,
              threads: Optional[int] = ..., spin_us: int = ...,
              autoreset_mode: Any = ...) -> VectorEnv: ...
+class _Forwarding:
+    env: Any
+    def __init__(self, env: Any) -> None: ...
+    def __getattr__(self, name: str) -> Any: ...
+    @property
+    def unwrapped(self) -> Any: ...
+    def reset(self, *, seed: Union[int, Sequence[int], None] = ...,
+              options: Optional[Mapping[str, Any]] = ...) -> tuple[_Floats, dict[str, Any]]: ...
+    def close(self) -> None: ...
+
+# Gymnasium's five-value step, the cost in info["cost"] (gymnasium wrappers where importable).
+class CostInInfo(_Forwarding):
+    env: Env
+    def __init__(self, env: Env) -> None: ...
+    def step(self, action: npt.ArrayLike
+             ) -> tuple[_Floats, float, bool, bool, dict[str, Any]]: ...
+
+class VectorCostInInfo(_Forwarding):
+    env: VectorEnv
+    def __init__(self, env: VectorEnv) -> None: ...
+    def step(self, actions: npt.ArrayLike
+             ) -> tuple[_Floats, _Floats, _Bools, _Bools, dict[str, Any]]: ...
+
 def train(config: Union[_Path, Sequence[_Path], Mapping[str, Any], None] = ...,
           out: Optional[_Path] = ..., steps: Optional[int] = ..., seed: Optional[int] = ...,
           device: Optional[str] = ..., resume: Optional[_Path] = ...,

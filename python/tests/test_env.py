@@ -278,3 +278,35 @@ def test_a_pickled_env_refuses_another_environments_state_and_a_closed_one_refus
     point.close()
     with pytest.raises(cmbrl.Error, match=r"a closed cmbrl\.Env \(PointGoal1\) cannot be pickled"):
         pickle.dumps(point)
+
+
+def test_cost_in_info_gives_gymnasiums_five_values():
+    plain, wrapped = cmbrl.make("PointGoal2"), cmbrl.CostInInfo(cmbrl.make("PointGoal2"))
+    assert wrapped.action_space == plain.action_space and wrapped.spec.id == "PointGoal2"
+    assert wrapped.unwrapped is wrapped.env
+    a, _ = plain.reset(seed=4)
+    b, _ = wrapped.reset(seed=4)
+    assert np.array_equal(a, b)
+    costs = 0.0
+    for _ in range(80):
+        action = plain.action_space.sample()
+        obs, reward, cost, terminated, truncated, info = plain.step(action)
+        five = wrapped.step(action)
+        assert len(five) == 5
+        assert np.array_equal(five[0], obs) and five[1:4] == (reward, terminated, truncated)
+        assert five[4]["cost"] == cost and five[4]["goal_met"] == info["goal_met"]
+        costs += cost
+    wrapped.close()
+    assert wrapped.env.closed
+
+    plain_vec = cmbrl.make_vec("CarGoal2", num_envs=3)
+    vec = cmbrl.VectorCostInInfo(cmbrl.make_vec("CarGoal2", num_envs=3))
+    assert vec.num_envs == 3
+    plain_vec.reset(seed=[1, 2, 3])
+    vec.reset(seed=[1, 2, 3])
+    for _ in range(30):
+        actions = plain_vec.action_space.sample()
+        obs, rewards, step_costs, terminations, truncations, _ = plain_vec.step(actions)
+        five = vec.step(actions)
+        assert np.array_equal(five[0], obs) and np.array_equal(five[1], rewards)
+        assert np.array_equal(five[4]["cost"], step_costs)

@@ -32,6 +32,25 @@ FAKE_GYMNASIUM = {
 
             def close(self):
                 raise AssertionError("gymnasium.Env.close used instead of cmbrl's")
+
+        class Wrapper(Env):  # gymnasium 1.x: no __getattr__ forwarding
+            def __init__(self, env):
+                assert isinstance(env, Env)
+                self.env = env
+
+            @property
+            def action_space(self):
+                return self.env.action_space
+
+            @property
+            def unwrapped(self):
+                return self.env.unwrapped
+
+            def reset(self, *, seed=None, options=None):
+                return self.env.reset(seed=seed, options=options)
+
+            def close(self):
+                return self.env.close()
     """,
     "gymnasium/spaces.py": """
         import numpy as np
@@ -63,6 +82,21 @@ FAKE_GYMNASIUM = {
             def __del__(self):
                 if not getattr(self, "closed", True):
                     self.close()
+
+        class VectorWrapper(VectorEnv):
+            def __init__(self, env):
+                assert isinstance(env, VectorEnv)
+                self.env = env
+
+            @property
+            def action_space(self):
+                return self.env.action_space
+
+            def reset(self, *, seed=None, options=None):
+                return self.env.reset(seed=seed, options=options)
+
+            def close(self, **kwargs):
+                return self.env.close()
     """,
 }
 
@@ -83,6 +117,11 @@ LOOP = """
         action = env.action_space.sample()
         assert np.array_equal(env.step(action)[0], twin.step(action)[0])
     assert pickle.loads(pickle.dumps(env)).spec.id == "PointGoal1"
+    five = cmbrl.CostInInfo(copy.deepcopy(env))
+    assert isinstance(five, gymnasium.Wrapper) and five.unwrapped is five.env
+    five.reset(seed=5)
+    assert len(five.step(five.action_space.sample())) == 5 and "cost" in five.step(
+        five.action_space.sample())[4]
     with env:
         pass
     assert env.closed
@@ -91,6 +130,9 @@ LOOP = """
     obs, info = vec.reset(seed=[1, 2, 3])
     obs, reward, cost, terminated, truncated, info = vec.step(vec.action_space.sample())
     assert obs.shape[0] == 3 and not vec.closed
+    wrapped = cmbrl.VectorCostInInfo(vec)
+    assert isinstance(wrapped, gymnasium.vector.VectorWrapper)
+    assert wrapped.step(wrapped.action_space.sample())[4]["cost"].shape == (3,)
     vec.close()
     assert vec.closed
     del vec
