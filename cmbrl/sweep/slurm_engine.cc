@@ -150,7 +150,20 @@ SweepOutcome SubmitSweep(const SweepGrid& grid, const std::string& sweep_dir,
     std::vector<size_t> still_pending;
     for (const size_t index : pending) {
       const auto queued_task = queued->find(index);
-      if (queued_task != queued->end()) last_state[index] = queued_task->second;
+      if (queued_task != queued->end()) {
+        // Say when a task starts running, and when it is back in the queue after running (a
+        // requeue: its run resumes when it starts again).
+        const std::string& state = queued_task->second;
+        const std::string before = last_state.count(index) != 0 ? last_state[index] : "";
+        if (state == "RUNNING" && before != "RUNNING") {
+          on_event({runs[index].name, "running", log_of(index), {}, std::nullopt, std::nullopt,
+                    task_of(index), state});
+        } else if (before == "RUNNING" && (state == "PENDING" || state == "REQUEUED")) {
+          on_event({runs[index].name, "requeued", log_of(index), {}, std::nullopt, std::nullopt,
+                    task_of(index), state});
+        }
+        last_state[index] = state;
+      }
       if (queued_task != queued->end() && !IsFinalSlurmState(queued_task->second)) {
         still_pending.push_back(index);
         continue;

@@ -74,7 +74,8 @@ std::vector<std::vector<int>> CpuShares(const std::vector<int>& cpus, int jobs);
 // What happened to one run, as a sweep goes (on this machine or on Slurm).
 struct SweepEvent {
   std::string run;                // its name
-  // "already finished", "started", "resumed", "submitted", "finished", "failed"
+  // "already finished", "started", "resumed", "submitted", "running", "requeued", "finished",
+  // "failed"
   std::string status;
   std::string log;                // its log file (started, resumed, submitted)
   std::vector<int> cpus;          // its CPUs (started, resumed; empty: it shares them all)

@@ -135,6 +135,8 @@ grep -q '"run":"pointgoal1-rce-s1","status":"failed".*"state":"CANCELLED"' "$wor
   { echo "FAILED: the cancelled run was not reported failed"; cat "$work/submit-1.log"; exit 1; }
 grep -q '"run":"pointgoal1-rce-s0","status":"finished"' "$work/submit-1.log" ||
   { echo "FAILED: the requeued run did not finish"; cat "$work/submit-1.log"; exit 1; }
+grep -q '"run":"pointgoal1-rce-s0","status":"requeued"' "$work/submit-1.log" ||
+  { echo "FAILED: the requeue was not reported"; cat "$work/submit-1.log"; exit 1; }
 grep -q 'did not finish: pointgoal1-rce-s1; .*run the same sweep again' "$work/submit-1.log" ||
   { echo "FAILED: the sweep's error does not name the run and what to do"; exit 1; }
 # Submitting again sends only the unfinished run, which resumes.
