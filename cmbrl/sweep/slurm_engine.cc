@@ -88,6 +88,17 @@ SweepOutcome SubmitSweep(const SweepGrid& grid, const std::string& sweep_dir,
                          const SweepEventSink& on_event) {
   Require(options.poll_seconds > 0 && options.poll_seconds <= 3600,
           "the poll interval is {} s: expected more than 0 and at most 3600", options.poll_seconds);
+  Require(options.max_running >= 0, "max_running is {}: expected 0 (no limit) or more",
+          options.max_running);
+  for (const std::string& arg : options.sbatch_args) {
+    // The array's tasks are the sweep's unfinished runs, and sbatch's answer must be the job id.
+    const auto is = [&](const std::string& flag) {
+      return arg == flag || arg.rfind(flag + "=", 0) == 0;
+    };
+    Require(!is("--array") && !is("--parsable") && arg.rfind("-a", 0) != 0,
+            "the sbatch option '{}' is the sweep's own: the array holds the unfinished runs "
+            "(limit the tasks at a time with --jobs)", arg);
+  }
   const std::vector<SweepRun> runs = PrepareSweep(grid, sweep_dir, program);
   SweepOutcome outcome;
   outcome.runs = static_cast<int>(runs.size());
@@ -103,8 +114,6 @@ SweepOutcome SubmitSweep(const SweepGrid& grid, const std::string& sweep_dir,
   if (pending.empty()) return outcome;
 
   const fs::path script = fs::absolute(fs::path(sweep_dir) / "slurm.sh");
-  Require(options.max_running >= 0, "max_running is {}: expected 0 (no limit) or more",
-          options.max_running);
   std::string array = ArrayIndexList(pending);
   if (options.max_running > 0) array += fmt::format("%{}", options.max_running);
   std::vector<std::string> args = {"--parsable", "--array=" + array};

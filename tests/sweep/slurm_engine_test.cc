@@ -216,6 +216,14 @@ TEST(SlurmEngineTest, SlurmsRefusalsAreErrorsThatQuoteIt) {
     EXPECT_EQ(outcome.failed.size(), 2u);
     EXPECT_EQ(recorded.events.back().state, "UNKNOWN");
   }
+  for (const char* ours : {"--array=0-3", "-a0-3", "--parsable"}) {
+    SlurmOptions options;
+    options.sbatch_args = {"--partition=short", ours};
+    EXPECT_THAT(ErrorMessage([&] {
+                  SubmitSweep(TwoSeeds(), sweep_dir, "/opt/cmbrl", options, [](auto&) {});
+                }),
+                HasSubstr(std::string("the sbatch option '") + ours + "' is the sweep's own"));
+  }
   const std::string old_path = std::getenv("PATH");
   setenv("PATH", testing::TestTempPath("empty").c_str(), 1);
   const std::string missing = ErrorMessage(
