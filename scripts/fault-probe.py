@@ -72,8 +72,9 @@ class Probe:
             return "accepted"
         return "clear error" if re.search(must_name, output) else "unclear error"
 
-    def case(self, cls, name, args, must_name, want_error=True, timeout=600, check=None):
-        code, output, _ = self.run(args, timeout)
+    def case(self, cls, name, args, must_name, want_error=True, timeout=600, check=None,
+             env=None):
+        code, output, _ = self.run(args, timeout, env)
         verdict = self.verdict(code, output, must_name, want_error)
         if verdict in ("clear error", "ok") and check is not None and not check():
             verdict = "accepted"  # ran without error but did the wrong thing
@@ -149,6 +150,19 @@ def config_cases(p):
     p.case("cli", "steps 0", [c, "train", "--config", base, "--steps", "0", "--out", out("z")],
            r"steps")
     p.case("cli", "unknown command", [c, "trian"], r"trian")
+    # The sweep's engines: options of the other engine, an unknown one, an sbatch option that
+    # would change the sweep's own array, and no sbatch on PATH.
+    sweep = [c, "sweep", "--tasks", "PointGoal1", "--planners", "random", "--seeds", "0",
+             "--steps", "100"]
+    p.case("cli", "sweep: --wait with the local engine", sweep + ["--out", out("w1"), "--wait"],
+           r"--wait is for --engine slurm")
+    p.case("cli", "sweep: unknown engine", sweep + ["--out", out("w2"), "--engine", "pbs"],
+           r"pbs")
+    p.case("cli", "sweep: --sbatch=--array", sweep + ["--out", out("w3"), "--engine", "slurm",
+                                                      "--sbatch=--array=0-9"],
+           r"'--array=0-9' is the sweep's own")
+    p.case("cli", "sweep: no sbatch on PATH", sweep + ["--out", out("w4"), "--engine", "slurm"],
+           r"'sbatch' is not on PATH", env=dict(os.environ, PATH="/nonexistent"))
 
 
 def run_cases(p):
