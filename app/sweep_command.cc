@@ -79,6 +79,7 @@ void RunSweepCommand(SweepArgs args, const CLI::App& command) {
                                  {"already_finished", outcome.already_finished}};
   if (slurm) {
     summary["submitted"] = outcome.submitted;
+    summary["already_queued"] = outcome.already_queued;
     if (!outcome.job.empty()) summary["job"] = outcome.job;
   }
   if (!slurm || args.slurm.wait) {

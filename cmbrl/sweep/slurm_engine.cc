@@ -18,6 +18,31 @@ namespace cmbrl {
 namespace fs = std::filesystem;
 namespace {
 
+constexpr const char* kSlurmJobsFile = "slurm-jobs.jsonl";
+
+// The jobs this sweep submitted before, oldest first (sweep_dir/slurm-jobs.jsonl; an unfinished
+// last line, from a stop mid-append, does not count).
+std::vector<std::string> RecordedJobs(const std::string& sweep_dir) {
+  const fs::path file = fs::path(sweep_dir) / kSlurmJobsFile;
+  std::vector<std::string> jobs;
+  std::istringstream lines(ReadWholeLines(file));
+  std::string line;
+  for (int number = 1; std::getline(lines, line); ++number) {
+    nlohmann::json record;
+    try {
+      record = nlohmann::json::parse(line);
+    } catch (const nlohmann::json::exception&) {
+      Fail("'{}' line {} is not JSON: expected a line that `cmbrl sweep --engine slurm` wrote",
+           file.string(), number);
+    }
+    Require(record.is_object() && record.contains("job") && record["job"].is_string(),
+            "'{}' line {} names no job: expected {{\"job\": \"1234\", ...}}", file.string(),
+            number);
+    jobs.push_back(record["job"].get<std::string>());
+  }
+  return jobs;
+}
+
 // squeue may fail for a while (the controller restarting); this many failures in a row end the
 // wait with the last one's message.
 constexpr int kSqueueFailuresTolerated = 10;
@@ -113,53 +138,96 @@ SweepOutcome SubmitSweep(const SweepGrid& grid, const std::string& sweep_dir,
   }
   if (pending.empty()) return outcome;
 
-  const fs::path script = fs::absolute(fs::path(sweep_dir) / "slurm.sh");
-  std::string array = ArrayIndexList(pending);
-  if (options.max_running > 0) array += fmt::format("%{}", options.max_running);
-  std::vector<std::string> args = {"--parsable", "--array=" + array};
-  args.insert(args.end(), options.sbatch_args.begin(), options.sbatch_args.end());
-  args.push_back(script.string());
-  const ProgramOutput answer = RunProgram("sbatch", args);
-  Require(answer.exit_code == 0, "'{}' exited with {}: {}", CommandLine("sbatch", args),
-          answer.exit_code, Trimmed(answer.errors + answer.output));
-  outcome.job = ParseSubmittedJob(answer.output);
-  outcome.submitted = static_cast<int>(pending.size());
-  AppendToFile(fs::path(sweep_dir) / "slurm-jobs.jsonl",
-               nlohmann::ordered_json{{"job", outcome.job},
-                                      {"array", array},
-                                      {"submitted", UtcTimestamp()},
-                                      {"sbatch_args", options.sbatch_args}}
-                       .dump() +
-                   "\n");
   const auto log_of = [&](size_t index) {
     return (fs::path(sweep_dir) / "logs" / fmt::format("slurm-{}.log", index)).string();
   };
-  const auto task_of = [&](size_t index) { return fmt::format("{}_{}", outcome.job, index); };
-  for (const size_t index : pending) {
-    on_event({runs[index].name, "submitted", log_of(index), {}, std::nullopt, std::nullopt,
-              task_of(index), ""});
+  // The job each followed run's task belongs to: an earlier submission's where its task is still
+  // in the queue (submitting it again would start a second writer of the run), else the new one.
+  std::map<size_t, std::string> job_of;
+  const auto task_of = [&](size_t index) { return fmt::format("{}_{}", job_of[index], index); };
+  std::vector<size_t> to_submit;
+  {
+    std::map<size_t, std::pair<std::string, std::string>> live;  // index -> (job, state)
+    for (const std::string& job : RecordedJobs(sweep_dir)) {
+      std::string failure;
+      const std::optional<std::map<size_t, std::string>> queued = QueuedTasks(job, failure);
+      Require(queued.has_value(),
+              "could not tell whether the sweep's earlier Slurm job {} still has tasks in the "
+              "queue: {}; submitting now could run one task twice", job, failure);
+      for (const auto& [index, state] : *queued) {
+        if (!IsFinalSlurmState(state)) live[index] = {job, state};
+      }
+    }
+    for (const size_t index : pending) {
+      const auto found = live.find(index);
+      if (found == live.end()) {
+        to_submit.push_back(index);
+        continue;
+      }
+      job_of[index] = found->second.first;
+      ++outcome.already_queued;
+      on_event({runs[index].name, "already queued", log_of(index), {}, std::nullopt,
+                std::nullopt, task_of(index), found->second.second});
+    }
+  }
+
+  if (!to_submit.empty()) {
+    const fs::path script = fs::absolute(fs::path(sweep_dir) / "slurm.sh");
+    std::string array = ArrayIndexList(to_submit);
+    if (options.max_running > 0) array += fmt::format("%{}", options.max_running);
+    std::vector<std::string> args = {"--parsable", "--array=" + array};
+    args.insert(args.end(), options.sbatch_args.begin(), options.sbatch_args.end());
+    args.push_back(script.string());
+    const ProgramOutput answer = RunProgram("sbatch", args);
+    Require(answer.exit_code == 0, "'{}' exited with {}: {}", CommandLine("sbatch", args),
+            answer.exit_code, Trimmed(answer.errors + answer.output));
+    outcome.job = ParseSubmittedJob(answer.output);
+    outcome.submitted = static_cast<int>(to_submit.size());
+    AppendToFile(fs::path(sweep_dir) / kSlurmJobsFile,
+                 nlohmann::ordered_json{{"job", outcome.job},
+                                        {"array", array},
+                                        {"submitted", UtcTimestamp()},
+                                        {"sbatch_args", options.sbatch_args}}
+                         .dump() +
+                     "\n");
+    for (const size_t index : to_submit) {
+      job_of[index] = outcome.job;
+      on_event({runs[index].name, "submitted", log_of(index), {}, std::nullopt, std::nullopt,
+                task_of(index), ""});
+    }
   }
   if (!options.wait) return outcome;
 
-  // Follow the array: a task has ended once it is in a final state or has left the queue.
+  // Follow the tasks: one has ended once it is in a final state or has left the queue.
   std::map<size_t, std::string> last_state;
   int failures_in_a_row = 0;
   while (!pending.empty()) {
     std::this_thread::sleep_for(std::chrono::duration<double>(options.poll_seconds));
-    std::string failure;
-    const std::optional<std::map<size_t, std::string>> queued = QueuedTasks(outcome.job, failure);
-    if (!queued) {
+    std::map<std::string, std::map<size_t, std::string>> queued_by_job;
+    std::string failure, failed_job;
+    for (const size_t index : pending) {
+      const std::string& job = job_of[index];
+      if (queued_by_job.count(job) != 0 || !failed_job.empty()) continue;
+      std::optional<std::map<size_t, std::string>> queued = QueuedTasks(job, failure);
+      if (queued) {
+        queued_by_job[job] = std::move(*queued);
+      } else {
+        failed_job = job;
+      }
+    }
+    if (!failed_job.empty()) {
       Require(++failures_in_a_row < kSqueueFailuresTolerated,
               "lost track of Slurm job {}: {} ({} times in a row); its tasks may still run: "
               "follow them with squeue, or run the sweep again once they have ended",
-              outcome.job, failure, failures_in_a_row);
+              failed_job, failure, failures_in_a_row);
       continue;
     }
     failures_in_a_row = 0;
     std::vector<size_t> still_pending;
     for (const size_t index : pending) {
-      const auto queued_task = queued->find(index);
-      if (queued_task != queued->end()) {
+      const std::map<size_t, std::string>& queued = queued_by_job[job_of[index]];
+      const auto queued_task = queued.find(index);
+      if (queued_task != queued.end()) {
         // Say when a task starts running, and when it is back in the queue after running (a
         // requeue: its run resumes when it starts again).
         const std::string& state = queued_task->second;
@@ -173,7 +241,7 @@ SweepOutcome SubmitSweep(const SweepGrid& grid, const std::string& sweep_dir,
         }
         last_state[index] = state;
       }
-      if (queued_task != queued->end() && !IsFinalSlurmState(queued_task->second)) {
+      if (queued_task != queued.end() && !IsFinalSlurmState(queued_task->second)) {
         still_pending.push_back(index);
         continue;
       }

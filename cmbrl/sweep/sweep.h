@@ -74,8 +74,8 @@ std::vector<std::vector<int>> CpuShares(const std::vector<int>& cpus, int jobs);
 // What happened to one run, as a sweep goes (on this machine or on Slurm).
 struct SweepEvent {
   std::string run;                // its name
-  // "already finished", "started", "resumed", "submitted", "running", "requeued", "finished",
-  // "failed"
+  // "already finished", "started", "resumed", "already queued", "submitted", "running",
+  // "requeued", "finished", "failed"
   std::string status;
   std::string log;                // its log file (started, resumed, submitted)
   std::vector<int> cpus;          // its CPUs (started, resumed; empty: it shares them all)
@@ -89,7 +89,8 @@ struct SweepOutcome {
   int runs = 0;
   int finished_now = 0;
   int already_finished = 0;
-  int submitted = 0;  // Slurm: array tasks submitted
+  int submitted = 0;       // Slurm: array tasks submitted
+  int already_queued = 0;  // Slurm: runs whose task of an earlier submission is still queued
   std::string job;    // Slurm: the array job's id, when one was submitted
   std::vector<std::string> failed;
 };

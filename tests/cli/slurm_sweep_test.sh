@@ -160,5 +160,13 @@ for name in pointgoal1-rce-s0 pointgoal1-rce-s1; do
 done
 grep -q 'DUE TO JOB REQUEUE' "$work/slurm/logs/slurm-0.log" ||
   { echo "FAILED: the requeued task's log lost its first part"; exit 1; }
+# Submitted twice, the second submission follows the first's task instead of sending the run again.
+twice=(sweep --tasks PointGoal1 --planners rce --seeds 0 --config-dir "$work/configs" --steps 1000
+       --out "$work/twice" --engine slurm --poll 0.5 --sbatch=--cpus-per-task=1)
+"$cmbrl" "${twice[@]}" > "$work/twice-1.log"
+"$cmbrl" "${twice[@]}" --wait > "$work/twice-2.log"
+grep -q '"status":"already queued"' "$work/twice-2.log" &&
+  grep -q '"submitted":0,"already_queued":1,"finished_now":1' "$work/twice-2.log" ||
+  { echo "FAILED: a second submission sent a queued run again"; cat "$work/twice-2.log"; exit 1; }
 echo "slurm: $runs runs through a single-node Slurm, one requeued and one cancelled then" \
   "resubmitted, rows identical to the local sweep"

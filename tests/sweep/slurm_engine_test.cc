@@ -8,6 +8,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "cmbrl/core/files.h"
 #include "tests/error_message.h"
 #include "tests/temp_path.h"
 
@@ -183,6 +184,43 @@ TEST(SlurmEngineTest, ASecondSubmissionSendsOnlyWhatIsUnfinished) {
   EXPECT_EQ(again.job, "");
 }
 
+// Submitted again while a task of the first submission is still in the queue, the sweep follows
+// that task instead of starting a second writer of its run, and submits only the others.
+TEST(SlurmEngineTest, ATaskStillQueuedFromAnEarlierSubmissionIsFollowedNotSubmittedAgain) {
+  const std::string sweep_dir = testing::TestTempPath("sweep");
+  const FakeSlurm slurm("echo $((100 + call))",
+                        "if [ $call = 1 ]; then printf '0 RUNNING\\n1 COMPLETED\\n'; exit; fi\n"
+                        "case \"$*\" in\n"
+                        "  *--jobs=101*) printf '0 COMPLETED\\n';;\n"
+                        "  *--jobs=102*) printf '1 CANCELLED\\n';;\n"
+                        "esac");
+  SubmitSweep(TwoSeeds(), sweep_dir, "/opt/cmbrl", SlurmOptions{}, [](auto&) {});  // job 101
+  SlurmOptions options;
+  options.wait = true;
+  options.poll_seconds = 0.01;
+  Recorded recorded;
+  const SweepOutcome outcome =
+      SubmitSweep(TwoSeeds(), sweep_dir, "/opt/cmbrl", options, recorded.sink());
+  EXPECT_THAT(slurm.args("sbatch"), HasSubstr("--parsable --array=1 "));
+  EXPECT_EQ(outcome.already_queued, 1);
+  EXPECT_EQ(outcome.submitted, 1);
+  EXPECT_EQ(outcome.job, "102");
+  std::vector<std::string> seen;
+  for (const SweepEvent& event : recorded.events) {
+    seen.push_back(event.run + " " + event.status + " " + event.job + " " + event.state);
+  }
+  EXPECT_THAT(seen, ElementsAre("pointgoal1-rce-s0 already queued 101_0 RUNNING",
+                                "pointgoal1-rce-s1 submitted 102_1 ",
+                                "pointgoal1-rce-s0 failed 101_0 COMPLETED",
+                                "pointgoal1-rce-s1 failed 102_1 CANCELLED"));
+  // A damaged record of the jobs is named, not guessed around.
+  AppendToFile(sweep_dir + "/slurm-jobs.jsonl", "{\"array\": \"0-1\"}\n");
+  EXPECT_THAT(ErrorMessage([&] {
+                SubmitSweep(TwoSeeds(), sweep_dir, "/opt/cmbrl", SlurmOptions{}, [](auto&) {});
+              }),
+              HasSubstr("slurm-jobs.jsonl' line 3 names no job"));
+}
+
 TEST(SlurmEngineTest, SlurmsRefusalsAreErrorsThatQuoteIt) {
   const std::string sweep_dir = testing::TestTempPath("sweep");
   {
@@ -226,8 +264,10 @@ TEST(SlurmEngineTest, SlurmsRefusalsAreErrorsThatQuoteIt) {
   }
   const std::string old_path = std::getenv("PATH");
   setenv("PATH", testing::TestTempPath("empty").c_str(), 1);
-  const std::string missing = ErrorMessage(
-      [&] { SubmitSweep(TwoSeeds(), sweep_dir, "/opt/cmbrl", SlurmOptions{}, [](auto&) {}); });
+  const std::string missing = ErrorMessage([&] {
+    SubmitSweep(TwoSeeds(), testing::TestTempPath("new-sweep"), "/opt/cmbrl", SlurmOptions{},
+                [](auto&) {});
+  });
   setenv("PATH", old_path.c_str(), 1);
   EXPECT_THAT(missing, HasSubstr("('sbatch' is not on PATH)"));
 }
