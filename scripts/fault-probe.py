@@ -152,8 +152,9 @@ def config_cases(p):
     p.case("cli", "unknown command", [c, "trian"], r"trian")
     # The sweep's engines: options of the other engine, an unknown one, an sbatch option that
     # would change the sweep's own array, and no sbatch on PATH.
+    configs = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "configs")
     sweep = [c, "sweep", "--tasks", "PointGoal1", "--planners", "random", "--seeds", "0",
-             "--steps", "100"]
+             "--steps", "100", "--config-dir", configs]
     p.case("cli", "sweep: --wait with the local engine", sweep + ["--out", out("w1"), "--wait"],
            r"--wait is for --engine slurm")
     p.case("cli", "sweep: unknown engine", sweep + ["--out", out("w2"), "--engine", "pbs"],

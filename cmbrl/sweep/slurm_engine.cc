@@ -5,6 +5,7 @@
 #include <chrono>
 #include <filesystem>
 #include <map>
+#include <set>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <thread>
@@ -99,6 +100,10 @@ std::string ParseSubmittedJob(const std::string& sbatch_output) {
   Require(!job.empty() && job.find_first_not_of("0123456789") == std::string::npos,
           "sbatch answered '{}': expected a job id (sbatch --parsable)", Trimmed(sbatch_output));
   return job;
+}
+
+bool IsWaitingSlurmState(const std::string& state) {
+  return state == "PENDING" || state.rfind("REQUEUE", 0) == 0;  // REQUEUED, REQUEUE_HOLD, ...
 }
 
 bool IsFinalSlurmState(const std::string& state) {
@@ -200,6 +205,7 @@ SweepOutcome SubmitSweep(const SweepGrid& grid, const std::string& sweep_dir,
 
   // Follow the tasks: one has ended once it is in a final state or has left the queue.
   std::map<size_t, std::string> last_state;
+  std::set<size_t> running;  // tasks seen running since they last waited in the queue
   int failures_in_a_row = 0;
   while (!pending.empty()) {
     std::this_thread::sleep_for(std::chrono::duration<double>(options.poll_seconds));
@@ -228,14 +234,14 @@ SweepOutcome SubmitSweep(const SweepGrid& grid, const std::string& sweep_dir,
       const std::map<size_t, std::string>& queued = queued_by_job[job_of[index]];
       const auto queued_task = queued.find(index);
       if (queued_task != queued.end()) {
-        // Say when a task starts running, and when it is back in the queue after running (a
-        // requeue: its run resumes when it starts again).
+        // Say when a task starts running, and when it waits in the queue again after running (a
+        // requeue: its run resumes when it starts again). States in between (COMPLETING while
+        // the old step is killed) may or may not be seen between two polls.
         const std::string& state = queued_task->second;
-        const std::string before = last_state.count(index) != 0 ? last_state[index] : "";
-        if (state == "RUNNING" && before != "RUNNING") {
+        if (state == "RUNNING" && running.insert(index).second) {
           on_event({runs[index].name, "running", log_of(index), {}, std::nullopt, std::nullopt,
                     task_of(index), state});
-        } else if (before == "RUNNING" && (state == "PENDING" || state == "REQUEUED")) {
+        } else if (IsWaitingSlurmState(state) && running.erase(index) != 0) {
           on_event({runs[index].name, "requeued", log_of(index), {}, std::nullopt, std::nullopt,
                     task_of(index), state});
         }

@@ -36,6 +36,9 @@ std::string ArrayIndexList(const std::vector<size_t>& indices);
 // The job id in sbatch --parsable's answer ("1234" or "1234;cluster").
 std::string ParseSubmittedJob(const std::string& sbatch_output);
 
+// Whether a Slurm job state is a wait in the queue (PENDING, or one of the REQUEUE states).
+bool IsWaitingSlurmState(const std::string& state);
+
 // Whether a Slurm job state is final (the task will not run again unless requeued by hand).
 bool IsFinalSlurmState(const std::string& state);
 

@@ -113,13 +113,13 @@ wait_for_rows() {
 }
 # Requeue the first seed of RCE mid-run. Slurm holds a requeued task back for about two minutes;
 # release it sooner, but not within the second its old credential was revoked (a task started
-# then fails with "Job credential revoked").
+# then fails with "Job credential revoked"), and late enough for the sweep to see it wait.
 wait_for_rows pointgoal1-rce-s0
 requeued=$(task_of pointgoal1-rce-s0)
 scontrol requeue "$requeued"
 for _ in $(seq 300); do
   if [ "$(squeue --noheader --jobs="$requeued" --format=%T 2> /dev/null)" = PENDING ]; then
-    scontrol update JobId="$requeued" StartTime=now+3 && break
+    scontrol update JobId="$requeued" StartTime=now+5 && break
   fi
   sleep 0.1
 done

@@ -105,6 +105,12 @@ TEST(SlurmEngineTest, OnlyEndedStatesAreFinal) {
   for (const char* state : {"PENDING", "RUNNING", "REQUEUED", "COMPLETING", "SUSPENDED"}) {
     EXPECT_FALSE(IsFinalSlurmState(state)) << state;
   }
+  for (const char* state : {"PENDING", "REQUEUED", "REQUEUE_HOLD", "REQUEUE_FED"}) {
+    EXPECT_TRUE(IsWaitingSlurmState(state)) << state;
+  }
+  for (const char* state : {"RUNNING", "COMPLETING", "COMPLETED", "SUSPENDED"}) {
+    EXPECT_FALSE(IsWaitingSlurmState(state)) << state;
+  }
 }
 
 // The array is submitted once with our options and the caller's; the wait outlasts a failing
@@ -116,8 +122,9 @@ TEST(SlurmEngineTest, SubmitsTheUnfinishedRunsAndFollowsThemToTheirEnd) {
                         "case $call in\n"
                         "  1) printf '0 RUNNING\\n1 PENDING\\n';;\n"
                         "  2) echo 'squeue: error: Socket timed out' >&2; exit 1;;\n"
-                        "  3) printf '0 PENDING\\n1 RUNNING\\n';;\n"  // 0 requeued
-                        "  4) printf '0 RUNNING\\n1 RUNNING\\n';;\n"
+                        "  3) printf '0 COMPLETING\\n1 RUNNING\\n';;\n"  // 0 requeued
+                        "  4) printf '0 REQUEUED\\n1 RUNNING\\n';;\n"
+                        "  5) printf '0 RUNNING\\n1 RUNNING\\n';;\n"
                         // Task 0's run reaches its budget; task 1 is cancelled.
                         "  *) cp -r '" + std::string(kFinishedRun) + "' '" + run0 + "'\n"
                         "     printf '0 COMPLETED\\n1 CANCELLED\\n';;\n"
@@ -135,7 +142,7 @@ TEST(SlurmEngineTest, SubmitsTheUnfinishedRunsAndFollowsThemToTheirEnd) {
                                       fs::absolute(sweep_dir + "/slurm.sh").string() + "\n");
   EXPECT_THAT(slurm.args("squeue"),
               HasSubstr("--array --states=all --jobs=4242 --format=%K %T"));
-  EXPECT_EQ(slurm.calls("squeue"), 5);
+  EXPECT_EQ(slurm.calls("squeue"), 6);
   EXPECT_EQ(outcome.job, "4242");
   EXPECT_EQ(outcome.submitted, 2);
   EXPECT_EQ(outcome.finished_now, 1);
@@ -147,8 +154,8 @@ TEST(SlurmEngineTest, SubmitsTheUnfinishedRunsAndFollowsThemToTheirEnd) {
   EXPECT_THAT(seen, ElementsAre("pointgoal1-rce-s0 submitted 4242_0 ",
                                 "pointgoal1-rce-s1 submitted 4242_1 ",
                                 "pointgoal1-rce-s0 running 4242_0 RUNNING",
-                                "pointgoal1-rce-s0 requeued 4242_0 PENDING",
                                 "pointgoal1-rce-s1 running 4242_1 RUNNING",
+                                "pointgoal1-rce-s0 requeued 4242_0 REQUEUED",
                                 "pointgoal1-rce-s0 running 4242_0 RUNNING",
                                 "pointgoal1-rce-s0 finished 4242_0 COMPLETED",
                                 "pointgoal1-rce-s1 failed 4242_1 CANCELLED"));
