@@ -129,18 +129,12 @@ SweepOutcome SubmitSweep(const SweepGrid& grid, const std::string& sweep_dir,
             "the sbatch option '{}' is the sweep's own: the array holds the unfinished runs "
             "(limit the tasks at a time with --jobs)", arg);
   }
-  const std::vector<SweepRun> runs = PrepareSweep(grid, sweep_dir, program);
+  const PreparedSweep prepared = PrepareSweep(grid, sweep_dir, program, on_event);
+  const std::vector<SweepRun>& runs = prepared.runs;
   SweepOutcome outcome;
   outcome.runs = static_cast<int>(runs.size());
-  std::vector<size_t> pending;
-  for (size_t index = 0; index < runs.size(); ++index) {
-    if (StatusOf(runs[index], grid.steps) == RunStatus::kFinished) {
-      on_event({runs[index].name, "already finished", "", {}, std::nullopt, std::nullopt, "", ""});
-      ++outcome.already_finished;
-    } else {
-      pending.push_back(index);
-    }
-  }
+  outcome.already_finished = prepared.already_finished;
+  std::vector<size_t> pending = prepared.unfinished;
   if (pending.empty()) return outcome;
 
   const auto log_of = [&](size_t index) {

@@ -234,16 +234,26 @@ std::vector<std::vector<int>> CpuShares(const std::vector<int>& cpus, int jobs) 
   return shares;
 }
 
-std::vector<SweepRun> PrepareSweep(const SweepGrid& grid, const std::string& sweep_dir,
-                                   const std::string& program) {
-  std::vector<SweepRun> runs = PlanSweep(grid, sweep_dir);
+PreparedSweep PrepareSweep(const SweepGrid& grid, const std::string& sweep_dir,
+                           const std::string& program, const SweepEventSink& on_event) {
+  PreparedSweep prepared;
+  prepared.runs = PlanSweep(grid, sweep_dir);
   RecordOrCheckSweep(grid, sweep_dir);
   fs::create_directories(fs::path(sweep_dir) / "logs");
   fs::create_directories(fs::path(sweep_dir) / "runs");
   const fs::path script = fs::path(sweep_dir) / "slurm.sh";
-  WriteFile(script, SlurmScript(runs, grid, sweep_dir, program));
+  WriteFile(script, SlurmScript(prepared.runs, grid, sweep_dir, program));
   fs::permissions(script, fs::perms::owner_exec | fs::perms::group_exec, fs::perm_options::add);
-  return runs;
+  for (size_t index = 0; index < prepared.runs.size(); ++index) {
+    const SweepRun& run = prepared.runs[index];
+    if (StatusOf(run, grid.steps) == RunStatus::kFinished) {
+      on_event({run.name, "already finished", "", {}, std::nullopt, std::nullopt, "", ""});
+      ++prepared.already_finished;
+    } else {
+      prepared.unfinished.push_back(index);
+    }
+  }
+  return prepared;
 }
 
 std::string SlurmScript(const std::vector<SweepRun>& runs, const SweepGrid& grid,

@@ -97,11 +97,19 @@ struct SweepOutcome {
 
 using SweepEventSink = std::function<void(const SweepEvent&)>;
 
-// Makes sweep_dir ready for either engine and returns its runs: plans the grid, records it (or
-// checks it against the recorded one), makes logs/ and runs/, and writes slurm.sh for `program`.
-// Throws cmbrl::Error as PlanSweep and RecordOrCheckSweep do.
-std::vector<SweepRun> PrepareSweep(const SweepGrid& grid, const std::string& sweep_dir,
-                                   const std::string& program);
+// A sweep directory made ready for an engine: its runs, and which of them are left to do.
+struct PreparedSweep {
+  std::vector<SweepRun> runs;
+  std::vector<size_t> unfinished;  // indices into runs, in grid order
+  int already_finished = 0;
+};
+
+// Makes sweep_dir ready for either engine: plans the grid, records it (or checks it against the
+// recorded one), makes logs/ and runs/, writes slurm.sh for `program`, and reports each finished
+// run to `on_event` as "already finished". Throws cmbrl::Error as PlanSweep and
+// RecordOrCheckSweep do.
+PreparedSweep PrepareSweep(const SweepGrid& grid, const std::string& sweep_dir,
+                           const std::string& program, const SweepEventSink& on_event);
 
 // sweep_dir/slurm.sh: a job array with one task per run, each resuming or starting its run with
 // `program` (an absolute path), logs in sweep_dir/logs (appended to, so that a requeued task's

@@ -71,18 +71,10 @@ pid_t Spawn(const std::string& program, const std::vector<std::string>& args,
 SweepOutcome RunSweep(const SweepGrid& grid, const std::string& sweep_dir, int jobs,
                       const std::string& program,
                       const SweepEventSink& on_event) {
-  const std::vector<SweepRun> runs = PrepareSweep(grid, sweep_dir, program);
-
+  const PreparedSweep prepared = PrepareSweep(grid, sweep_dir, program, on_event);
+  const std::vector<SweepRun>& runs = prepared.runs;
   std::deque<const SweepRun*> queue;
-  int skipped = 0;
-  for (const SweepRun& run : runs) {
-    if (StatusOf(run, grid.steps) == RunStatus::kFinished) {
-      on_event({run.name, "already finished", "", {}, std::nullopt, std::nullopt, "", ""});
-      ++skipped;
-    } else {
-      queue.push_back(&run);
-    }
-  }
+  for (const size_t index : prepared.unfinished) queue.push_back(&runs[index]);
   // Seeds outermost: every cell gets its first seed before any gets its second, so that a sweep
   // stopped part-way (a session's end) has covered the grid evenly.
   const auto seed_rank = [&](const SweepRun* run) {
@@ -144,7 +136,7 @@ SweepOutcome RunSweep(const SweepGrid& grid, const std::string& sweep_dir, int j
   SweepOutcome outcome;
   outcome.runs = static_cast<int>(runs.size());
   outcome.finished_now = finished;
-  outcome.already_finished = skipped;
+  outcome.already_finished = prepared.already_finished;
   outcome.failed = failed;
   return outcome;
 }

@@ -82,6 +82,14 @@ struct Recorded {
   SweepEventSink sink() {
     return [this](const SweepEvent& event) { events.push_back(event); };
   }
+  // "run status job state" per event, in order.
+  std::vector<std::string> lines() const {
+    std::vector<std::string> out;
+    for (const SweepEvent& event : events) {
+      out.push_back(event.run + " " + event.status + " " + event.job + " " + event.state);
+    }
+    return out;
+  }
 };
 
 TEST(SlurmEngineTest, ArrayIndicesAreGivenAsRanges) {
@@ -147,18 +155,14 @@ TEST(SlurmEngineTest, SubmitsTheUnfinishedRunsAndFollowsThemToTheirEnd) {
   EXPECT_EQ(outcome.submitted, 2);
   EXPECT_EQ(outcome.finished_now, 1);
   EXPECT_THAT(outcome.failed, ElementsAre("pointgoal1-rce-s1"));
-  std::vector<std::string> seen;
-  for (const SweepEvent& event : recorded.events) {
-    seen.push_back(event.run + " " + event.status + " " + event.job + " " + event.state);
-  }
-  EXPECT_THAT(seen, ElementsAre("pointgoal1-rce-s0 submitted 4242_0 ",
-                                "pointgoal1-rce-s1 submitted 4242_1 ",
-                                "pointgoal1-rce-s0 running 4242_0 RUNNING",
-                                "pointgoal1-rce-s1 running 4242_1 RUNNING",
-                                "pointgoal1-rce-s0 requeued 4242_0 REQUEUED",
-                                "pointgoal1-rce-s0 running 4242_0 RUNNING",
-                                "pointgoal1-rce-s0 finished 4242_0 COMPLETED",
-                                "pointgoal1-rce-s1 failed 4242_1 CANCELLED"));
+  EXPECT_THAT(recorded.lines(), ElementsAre("pointgoal1-rce-s0 submitted 4242_0 ",
+                                            "pointgoal1-rce-s1 submitted 4242_1 ",
+                                            "pointgoal1-rce-s0 running 4242_0 RUNNING",
+                                            "pointgoal1-rce-s1 running 4242_1 RUNNING",
+                                            "pointgoal1-rce-s0 requeued 4242_0 REQUEUED",
+                                            "pointgoal1-rce-s0 running 4242_0 RUNNING",
+                                            "pointgoal1-rce-s0 finished 4242_0 COMPLETED",
+                                            "pointgoal1-rce-s1 failed 4242_1 CANCELLED"));
   EXPECT_EQ(recorded.events[1].log, sweep_dir + "/logs/slurm-1.log");
   EXPECT_THAT(Read(sweep_dir + "/slurm-jobs.jsonl"),
               HasSubstr(R"({"job":"4242","array":"0-1%1","submitted":")"));
@@ -212,14 +216,10 @@ TEST(SlurmEngineTest, ATaskStillQueuedFromAnEarlierSubmissionIsFollowedNotSubmit
   EXPECT_EQ(outcome.already_queued, 1);
   EXPECT_EQ(outcome.submitted, 1);
   EXPECT_EQ(outcome.job, "102");
-  std::vector<std::string> seen;
-  for (const SweepEvent& event : recorded.events) {
-    seen.push_back(event.run + " " + event.status + " " + event.job + " " + event.state);
-  }
-  EXPECT_THAT(seen, ElementsAre("pointgoal1-rce-s0 already queued 101_0 RUNNING",
-                                "pointgoal1-rce-s1 submitted 102_1 ",
-                                "pointgoal1-rce-s0 failed 101_0 COMPLETED",
-                                "pointgoal1-rce-s1 failed 102_1 CANCELLED"));
+  EXPECT_THAT(recorded.lines(), ElementsAre("pointgoal1-rce-s0 already queued 101_0 RUNNING",
+                                            "pointgoal1-rce-s1 submitted 102_1 ",
+                                            "pointgoal1-rce-s0 failed 101_0 COMPLETED",
+                                            "pointgoal1-rce-s1 failed 102_1 CANCELLED"));
   // A damaged record of the jobs is named, not guessed around.
   AppendToFile(sweep_dir + "/slurm-jobs.jsonl", "{\"array\": \"0-1\"}\n");
   EXPECT_THAT(ErrorMessage([&] {
