@@ -5,8 +5,8 @@
 #include <chrono>
 #include <filesystem>
 #include <map>
-#include <set>
 #include <nlohmann/json.hpp>
+#include <set>
 #include <sstream>
 #include <thread>
 
@@ -59,14 +59,14 @@ std::string Trimmed(const std::string& text) {
 // squeue failed otherwise, with its message in `failure`.
 std::optional<std::map<size_t, std::string>> QueuedTasks(const std::string& job,
                                                          std::string& failure) {
-  const std::vector<std::string> args = {"--noheader", "--array", "--states=all",
-                                         "--jobs=" + job, "--format=%K %T"};
+  const std::vector<std::string> args = {"--noheader", "--array", "--states=all", "--jobs=" + job,
+                                         "--format=%K %T"};
   const ProgramOutput answer = RunProgram("squeue", args);
   std::map<size_t, std::string> tasks;
   if (answer.exit_code != 0) {
     if (answer.errors.find("Invalid job id") != std::string::npos) return tasks;
-    failure = fmt::format("'{}' exited with {}: {}", CommandLine("squeue", args),
-                          answer.exit_code, Trimmed(answer.errors));
+    failure = fmt::format("'{}' exited with {}: {}", CommandLine("squeue", args), answer.exit_code,
+                          Trimmed(answer.errors));
     return std::nullopt;
   }
   std::istringstream lines(answer.output);
@@ -108,7 +108,7 @@ bool IsWaitingSlurmState(const std::string& state) {
 
 bool IsFinalSlurmState(const std::string& state) {
   static constexpr std::array<const char*, 10> kFinal = {
-      "COMPLETED", "FAILED",    "CANCELLED",     "TIMEOUT",   "NODE_FAIL",
+      "COMPLETED", "FAILED",    "CANCELLED",     "TIMEOUT",  "NODE_FAIL",
       "PREEMPTED", "BOOT_FAIL", "OUT_OF_MEMORY", "DEADLINE", "REVOKED"};
   return std::find(kFinal.begin(), kFinal.end(), state) != kFinal.end();
 }
@@ -127,7 +127,8 @@ SweepOutcome SubmitSweep(const SweepGrid& grid, const std::string& sweep_dir,
     };
     Require(!is("--array") && !is("--parsable") && arg.rfind("-a", 0) != 0,
             "the sbatch option '{}' is the sweep's own: the array holds the unfinished runs "
-            "(limit the tasks at a time with --jobs)", arg);
+            "(limit the tasks at a time with --jobs)",
+            arg);
   }
   const PreparedSweep prepared = PrepareSweep(grid, sweep_dir, program, on_event);
   const std::vector<SweepRun>& runs = prepared.runs;
@@ -152,7 +153,8 @@ SweepOutcome SubmitSweep(const SweepGrid& grid, const std::string& sweep_dir,
       const std::optional<std::map<size_t, std::string>> queued = QueuedTasks(job, failure);
       Require(queued.has_value(),
               "could not tell whether the sweep's earlier Slurm job {} still has tasks in the "
-              "queue: {}; submitting now could run one task twice", job, failure);
+              "queue: {}; submitting now could run one task twice",
+              job, failure);
       for (const auto& [index, state] : *queued) {
         if (!IsFinalSlurmState(state)) live[index] = {job, state};
       }
@@ -165,8 +167,14 @@ SweepOutcome SubmitSweep(const SweepGrid& grid, const std::string& sweep_dir,
       }
       job_of[index] = found->second.first;
       ++outcome.already_queued;
-      on_event({runs[index].name, "already queued", log_of(index), {}, std::nullopt,
-                std::nullopt, task_of(index), found->second.second});
+      on_event({runs[index].name,
+                "already queued",
+                log_of(index),
+                {},
+                std::nullopt,
+                std::nullopt,
+                task_of(index),
+                found->second.second});
     }
   }
 
@@ -191,8 +199,14 @@ SweepOutcome SubmitSweep(const SweepGrid& grid, const std::string& sweep_dir,
                      "\n");
     for (const size_t index : to_submit) {
       job_of[index] = outcome.job;
-      on_event({runs[index].name, "submitted", log_of(index), {}, std::nullopt, std::nullopt,
-                task_of(index), ""});
+      on_event({runs[index].name,
+                "submitted",
+                log_of(index),
+                {},
+                std::nullopt,
+                std::nullopt,
+                task_of(index),
+                ""});
     }
   }
   if (!options.wait) return outcome;
@@ -233,11 +247,23 @@ SweepOutcome SubmitSweep(const SweepGrid& grid, const std::string& sweep_dir,
         // the old step is killed) may or may not be seen between two polls.
         const std::string& state = queued_task->second;
         if (state == "RUNNING" && running.insert(index).second) {
-          on_event({runs[index].name, "running", log_of(index), {}, std::nullopt, std::nullopt,
-                    task_of(index), state});
+          on_event({runs[index].name,
+                    "running",
+                    log_of(index),
+                    {},
+                    std::nullopt,
+                    std::nullopt,
+                    task_of(index),
+                    state});
         } else if (IsWaitingSlurmState(state) && running.erase(index) != 0) {
-          on_event({runs[index].name, "requeued", log_of(index), {}, std::nullopt, std::nullopt,
-                    task_of(index), state});
+          on_event({runs[index].name,
+                    "requeued",
+                    log_of(index),
+                    {},
+                    std::nullopt,
+                    std::nullopt,
+                    task_of(index),
+                    state});
         }
         last_state[index] = state;
       }
@@ -252,8 +278,13 @@ SweepOutcome SubmitSweep(const SweepGrid& grid, const std::string& sweep_dir,
       } else {
         outcome.failed.push_back(run.name);
       }
-      on_event({run.name, finished ? "finished" : "failed", log_of(index), {}, std::nullopt,
-                std::nullopt, task_of(index),
+      on_event({run.name,
+                finished ? "finished" : "failed",
+                log_of(index),
+                {},
+                std::nullopt,
+                std::nullopt,
+                task_of(index),
                 last_state.count(index) != 0 ? last_state[index] : "UNKNOWN"});
     }
     pending = std::move(still_pending);

@@ -21,11 +21,11 @@ struct SlurmOptions {
 // Submits every run of the grid that has not finished as a task of one job array with `sbatch`
 // (found on PATH), recording the job in sweep_dir/slurm-jobs.jsonl, and reports each as
 // "submitted" (or "already finished"). A run whose task of an earlier submission is still in the
-// queue is not submitted again but followed ("already queued"). With options.wait, polls `squeue` until every task has
-// left the queue, reports a task "running" when it starts and "requeued" when it is back in the
-// queue after running, and each run "finished" when its progress reached the budget, else
-// "failed" with the task's last Slurm state. Throws cmbrl::Error naming the command and what it
-// printed when sbatch fails or squeue keeps failing, and as PrepareSweep does.
+// queue is not submitted again but followed ("already queued"). With options.wait, polls `squeue`
+// until every task has left the queue, reports a task "running" when it starts and "requeued" when
+// it is back in the queue after running, and each run "finished" when its progress reached the
+// budget, else "failed" with the task's last Slurm state. Throws cmbrl::Error naming the command
+// and what it printed when sbatch fails or squeue keeps failing, and as PrepareSweep does.
 SweepOutcome SubmitSweep(const SweepGrid& grid, const std::string& sweep_dir,
                          const std::string& program, const SlurmOptions& options,
                          const SweepEventSink& on_event);

@@ -13,7 +13,8 @@ PlanPaths SyntheticPlan(int samples, int members) {
   PlanPaths plan;
   plan.members = members;
   for (int n = 0; n < samples; ++n) {
-    for (int e = 0; e < members; ++e) plan.population.push_back({{{1.0 * n, 1.0 * e}}, true, false});
+    for (int e = 0; e < members; ++e)
+      plan.population.push_back({{{1.0 * n, 1.0 * e}}, true, false});
   }
   for (int e = 0; e < members; ++e) plan.chosen.push_back({{{-1.0, 1.0 * e}}, true, true});
   return plan;

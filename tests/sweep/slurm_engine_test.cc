@@ -16,8 +16,8 @@ namespace cmbrl {
 namespace {
 namespace fs = std::filesystem;
 using ::testing::ElementsAre;
-using ::testing::HasSubstr;
 using testing::ErrorMessage;
+using ::testing::HasSubstr;
 
 std::string Read(const fs::path& path) {
   std::ifstream in(path);
@@ -65,7 +65,8 @@ class FakeSlurm {
 };
 
 // A run that reached 3000 steps: the logs of one the CPU grid made (committed in its report).
-const char* kFinishedRun = CMBRL_SOURCE_DIR "/experiments/cpu-grid/report/run-logs/pointgoal1-rce-s0";
+const char* kFinishedRun =
+    CMBRL_SOURCE_DIR "/experiments/cpu-grid/report/run-logs/pointgoal1-rce-s0";
 
 SweepGrid TwoSeeds() {
   SweepGrid grid;
@@ -106,8 +107,8 @@ TEST(SlurmEngineTest, TheJobIdIsReadFromSbatchsAnswer) {
 }
 
 TEST(SlurmEngineTest, OnlyEndedStatesAreFinal) {
-  for (const char* state : {"COMPLETED", "FAILED", "CANCELLED", "TIMEOUT", "NODE_FAIL",
-                            "OUT_OF_MEMORY"}) {
+  for (const char* state :
+       {"COMPLETED", "FAILED", "CANCELLED", "TIMEOUT", "NODE_FAIL", "OUT_OF_MEMORY"}) {
     EXPECT_TRUE(IsFinalSlurmState(state)) << state;
   }
   for (const char* state : {"PENDING", "RUNNING", "REQUEUED", "COMPLETING", "SUSPENDED"}) {
@@ -134,9 +135,11 @@ TEST(SlurmEngineTest, SubmitsTheUnfinishedRunsAndFollowsThemToTheirEnd) {
                         "  4) printf '0 REQUEUED\\n1 RUNNING\\n';;\n"
                         "  5) printf '0 RUNNING\\n1 RUNNING\\n';;\n"
                         // Task 0's run reaches its budget; task 1 is cancelled.
-                        "  *) cp -r '" + std::string(kFinishedRun) + "' '" + run0 + "'\n"
-                        "     printf '0 COMPLETED\\n1 CANCELLED\\n';;\n"
-                        "esac");
+                        "  *) cp -r '" +
+                            std::string(kFinishedRun) + "' '" + run0 +
+                            "'\n"
+                            "     printf '0 COMPLETED\\n1 CANCELLED\\n';;\n"
+                            "esac");
   SlurmOptions options;
   options.sbatch_args = {"--partition=short"};
   options.max_running = 1;
@@ -148,8 +151,7 @@ TEST(SlurmEngineTest, SubmitsTheUnfinishedRunsAndFollowsThemToTheirEnd) {
 
   EXPECT_EQ(slurm.args("sbatch"), "--parsable --array=0-1%1 --partition=short " +
                                       fs::absolute(sweep_dir + "/slurm.sh").string() + "\n");
-  EXPECT_THAT(slurm.args("squeue"),
-              HasSubstr("--array --states=all --jobs=4242 --format=%K %T"));
+  EXPECT_THAT(slurm.args("squeue"), HasSubstr("--array --states=all --jobs=4242 --format=%K %T"));
   EXPECT_EQ(slurm.calls("squeue"), 6);
   EXPECT_EQ(outcome.job, "4242");
   EXPECT_EQ(outcome.submitted, 2);
@@ -239,19 +241,22 @@ TEST(SlurmEngineTest, SlurmsRefusalsAreErrorsThatQuoteIt) {
                 HasSubstr("exited with 1: sbatch: error: invalid partition specified: gpu"));
   }
   {
-    const FakeSlurm slurm("echo 5", "echo 'squeue: error: Unable to contact slurm controller' >&2; exit 1");
+    const FakeSlurm slurm("echo 5",
+                          "echo 'squeue: error: Unable to contact slurm controller' >&2; exit 1");
     SlurmOptions options;
     options.wait = true;
     options.poll_seconds = 0.01;
     EXPECT_THAT(
-        ErrorMessage([&] { SubmitSweep(TwoSeeds(), sweep_dir, "/opt/cmbrl", options, [](auto&) {}); }),
+        ErrorMessage(
+            [&] { SubmitSweep(TwoSeeds(), sweep_dir, "/opt/cmbrl", options, [](auto&) {}); }),
         HasSubstr("lost track of Slurm job 5: 'squeue --noheader --array --states=all --jobs=5 "
                   "--format=%K %T' exited with 1: squeue: error: Unable to contact slurm "
                   "controller (10 times in a row)"));
   }
   {
     // A job the controller has forgotten has no tasks left: the wait ends.
-    const FakeSlurm slurm("echo 6", "echo 'slurm_load_jobs error: Invalid job id specified' >&2; exit 1");
+    const FakeSlurm slurm("echo 6",
+                          "echo 'slurm_load_jobs error: Invalid job id specified' >&2; exit 1");
     SlurmOptions options;
     options.wait = true;
     options.poll_seconds = 0.01;
