@@ -6,6 +6,7 @@
 # made in one go. Needs root (mount); exits 77 (skipped) without it.
 # Usage: full_disk_test.sh CMBRL CONFIG WORK_DIR
 set -euo pipefail
+source "$(dirname "${BASH_SOURCE[0]}")/progress_rows.sh"
 cmbrl=$1 config=$2 work=$3
 if [ "$(id -u)" != 0 ]; then echo "skipped: mounting a tmpfs needs root"; exit 77; fi
 rm -rf "$work" && mkdir -p "$work/disk"
@@ -36,8 +37,8 @@ expect_full train "$work/train.log" "checkpoint.tmp/[a-z_]*\.[a-z]*"
 # Space freed (the run moved to a disk with room): it resumes to the uninterrupted run's rows.
 cp -r "$disk/run" "$work/moved" && rm -f "$work/moved/lock" && rm -rf "$disk/run"
 "$cmbrl" train --resume "$work/moved" > /dev/null
-if ! diff <(cut -d, -f1-6,8-11,13- "$work/whole/progress.csv") \
-          <(cut -d, -f1-6,8-11,13- "$work/moved/progress.csv"); then
+if ! diff <(deterministic_rows "$work/whole/progress.csv") \
+          <(deterministic_rows "$work/moved/progress.csv"); then
   echo "FAILED: the resumed run's rows differ from the uninterrupted run's"; exit 1
 fi
 

@@ -4,6 +4,7 @@
 # Time and MsPerPlan aside).
 # Usage: kill_resume_test.sh CMBRL CONFIG WORK_DIR
 set -euo pipefail
+source "$(dirname "${BASH_SOURCE[0]}")/progress_rows.sh"
 cmbrl=$1 config=$2 work=$3
 rm -rf "$work" && mkdir -p "$work"
 
@@ -18,8 +19,8 @@ for delay in 0.3 1.5; do
   kill -9 "$pid" 2> /dev/null || true
   wait "$pid" 2> /dev/null || true
   "$cmbrl" train --resume "$run" > /dev/null
-  if ! diff <(cut -d, -f1-6,8-11,13- "$work/whole/progress.csv") \
-            <(cut -d, -f1-6,8-11,13- "$run/progress.csv"); then
+  if ! diff <(deterministic_rows "$work/whole/progress.csv") \
+            <(deterministic_rows "$run/progress.csv"); then
     echo "FAILED: rows differ after kill -9 at ${delay}s and resume"
     exit 1
   fi

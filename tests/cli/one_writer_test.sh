@@ -4,6 +4,7 @@
 # (its rows, the wall-clock columns Time and MsPerPlan aside), and resumes.
 # Usage: one_writer_test.sh CMBRL CONFIG WORK_DIR
 set -euo pipefail
+source "$(dirname "${BASH_SOURCE[0]}")/progress_rows.sh"
 cmbrl=$1 config=$2 work=$3
 rm -rf "$work" && mkdir -p "$work/logs"
 "$cmbrl" train --config "$config" --steps 60 --out "$work/alone" > /dev/null
@@ -17,7 +18,7 @@ done
 [ "$ok" -eq 1 ] || { echo "expected one start to succeed, $ok did"; cat "$work"/logs/*.log; exit 1; }
 unclear=$(grep -L -e "already holds a run" -e "another process" -e '"run"' "$work"/logs/*.log || true)
 [ -z "$unclear" ] || { echo "unclear refusals:"; cat $unclear; exit 1; }
-rows() { cut -d, -f1-6,8-11,13- "$1/progress.csv"; }  # without Time (7) and MsPerPlan (12)
+rows() { deterministic_rows "$1/progress.csv"; }
 diff <(rows "$work/alone") <(rows "$work/run") || { echo "the raced run differs"; exit 1; }
 "$cmbrl" train --resume "$work/run" --steps 120 > /dev/null
 echo "one writer: 1 of 20 simultaneous starts trained, $refused refused, rows as a run alone"

@@ -7,6 +7,7 @@
 # resumed, not restarted. Exits 77 (skipped), saying why, only where the daemons cannot start.
 # Usage: slurm_sweep_test.sh CMBRL CONFIG WORK_DIR
 set -euo pipefail
+source "$(dirname "${BASH_SOURCE[0]}")/progress_rows.sh"
 cmbrl=$1 config=$2 work=$3
 export PATH="$PATH:/usr/sbin:/sbin"
 skip() {
@@ -148,7 +149,7 @@ runs=0
 for whole in "$work"/local/runs/*/progress.csv; do
   name=$(basename "$(dirname "$whole")")
   through_slurm="$work/slurm/runs/$name/progress.csv"
-  if ! diff <(cut -d, -f1-6,8-11,13- "$whole") <(cut -d, -f1-6,8-11,13- "$through_slurm"); then
+  if ! diff <(deterministic_rows "$whole") <(deterministic_rows "$through_slurm"); then
     echo "FAILED: $name through Slurm differs from the local sweep's"
     exit 1
   fi

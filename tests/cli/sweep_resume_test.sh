@@ -5,6 +5,7 @@
 # that a second start skips what is finished, and that runs at a time get CPUs of their own.
 # Usage: sweep_resume_test.sh CMBRL CONFIG WORK_DIR
 set -euo pipefail
+source "$(dirname "${BASH_SOURCE[0]}")/progress_rows.sh"
 cmbrl=$1 config=$2 work=$3
 rm -rf "$work" && mkdir -p "$work/configs"
 for planner in rce random; do
@@ -50,7 +51,7 @@ runs=0
 for whole in "$work"/whole/runs/*/progress.csv; do
   name=$(basename "$(dirname "$whole")")
   cut_run="$work/cut/runs/$name/progress.csv"
-  if ! diff <(cut -d, -f1-6,8-11,13- "$whole") <(cut -d, -f1-6,8-11,13- "$cut_run"); then
+  if ! diff <(deterministic_rows "$whole") <(deterministic_rows "$cut_run"); then
     echo "FAILED: $name differs after kill -9 and restart"
     exit 1
   fi
