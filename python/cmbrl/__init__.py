@@ -74,6 +74,15 @@ class _NotCopyable:
         self._refuse("pickled")
 
 
+def _copy_through_state(obj, memo=None):
+    """__copy__ and __deepcopy__ of the objects that hold a C++ object and carry its state through
+    __getstate__/__setstate__ (Env, the standalone models): both give an independent object in the
+    same state, where a shallow copy would share the C++ one."""
+    clone = type(obj).__new__(type(obj))
+    clone.__setstate__(copy.deepcopy(obj.__getstate__()))
+    return clone
+
+
 class _Closable:
     """What Env and VectorEnv share: the C++ object in self._env, close() and `with`."""
 
@@ -239,14 +248,7 @@ class Env(_Closable, _EnvBase):
         self._np_random = state["np_random"]
         self._seeded = state["seeded"]
 
-    def __copy__(self):
-        # An independent environment: a shallow copy would share the C++ one.
-        clone = type(self).__new__(type(self))
-        clone.__setstate__(copy.deepcopy(self.__getstate__()))
-        return clone
-
-    def __deepcopy__(self, memo):
-        return self.__copy__()
+    __copy__ = __deepcopy__ = _copy_through_state
 
     def __repr__(self):
         return f"cmbrl.Env({self.task!r}, variant={self.variant!r})"
@@ -643,13 +645,7 @@ class _StandaloneModel:
                     out.write(data)
             self.__dict__.update(type(self).load(folder).__dict__)
 
-    def __copy__(self):
-        clone = type(self).__new__(type(self))
-        clone.__setstate__(self.__getstate__())
-        return clone
-
-    def __deepcopy__(self, memo):
-        return self.__copy__()
+    __copy__ = __deepcopy__ = _copy_through_state
 
 
 class Ensemble(_StandaloneModel):
