@@ -145,6 +145,17 @@ SweepOutcome SubmitSweep(const SweepGrid& grid, const std::string& sweep_dir,
   // in the queue (submitting it again would start a second writer of the run), else the new one.
   std::map<size_t, std::string> job_of;
   const auto task_of = [&](size_t index) { return fmt::format("{}_{}", job_of[index], index); };
+  // An event of run `index`'s array task.
+  const auto report = [&](size_t index, const char* status, const std::string& state) {
+    on_event({runs[index].name,
+              status,
+              log_of(index),
+              {},
+              std::nullopt,
+              std::nullopt,
+              task_of(index),
+              state});
+  };
   std::vector<size_t> to_submit;
   {
     std::map<size_t, std::pair<std::string, std::string>> live;  // index -> (job, state)
@@ -167,14 +178,7 @@ SweepOutcome SubmitSweep(const SweepGrid& grid, const std::string& sweep_dir,
       }
       job_of[index] = found->second.first;
       ++outcome.already_queued;
-      on_event({runs[index].name,
-                "already queued",
-                log_of(index),
-                {},
-                std::nullopt,
-                std::nullopt,
-                task_of(index),
-                found->second.second});
+      report(index, "already queued", found->second.second);
     }
   }
 
@@ -199,14 +203,7 @@ SweepOutcome SubmitSweep(const SweepGrid& grid, const std::string& sweep_dir,
                      "\n");
     for (const size_t index : to_submit) {
       job_of[index] = outcome.job;
-      on_event({runs[index].name,
-                "submitted",
-                log_of(index),
-                {},
-                std::nullopt,
-                std::nullopt,
-                task_of(index),
-                ""});
+      report(index, "submitted", "");
     }
   }
   if (!options.wait) return outcome;
@@ -247,23 +244,9 @@ SweepOutcome SubmitSweep(const SweepGrid& grid, const std::string& sweep_dir,
         // the old step is killed) may or may not be seen between two polls.
         const std::string& state = queued_task->second;
         if (state == "RUNNING" && running.insert(index).second) {
-          on_event({runs[index].name,
-                    "running",
-                    log_of(index),
-                    {},
-                    std::nullopt,
-                    std::nullopt,
-                    task_of(index),
-                    state});
+          report(index, "running", state);
         } else if (IsWaitingSlurmState(state) && running.erase(index) != 0) {
-          on_event({runs[index].name,
-                    "requeued",
-                    log_of(index),
-                    {},
-                    std::nullopt,
-                    std::nullopt,
-                    task_of(index),
-                    state});
+          report(index, "requeued", state);
         }
         last_state[index] = state;
       }
@@ -278,14 +261,8 @@ SweepOutcome SubmitSweep(const SweepGrid& grid, const std::string& sweep_dir,
       } else {
         outcome.failed.push_back(run.name);
       }
-      on_event({run.name,
-                finished ? "finished" : "failed",
-                log_of(index),
-                {},
-                std::nullopt,
-                std::nullopt,
-                task_of(index),
-                last_state.count(index) != 0 ? last_state[index] : "UNKNOWN"});
+      report(index, finished ? "finished" : "failed",
+             last_state.count(index) != 0 ? last_state[index] : "UNKNOWN");
     }
     pending = std::move(still_pending);
   }
