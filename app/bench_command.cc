@@ -73,6 +73,10 @@ void AddBenchLearningCommands(CLI::App& bench_command) {
                     "states of the classifier fit")
       ->check(IntegerIn(4, 1 << 30))
       ->capture_default_str();
+  train->add_option("--backends", train_args->backends,
+                    "auto, libtorch, onednn (default: the config's); each times the same epoch, "
+                    "the backends alternating run by run")
+      ->check(CLI::IsMember({"auto", "libtorch", "onednn"}));
   train->add_flag("--full-fit", train_args->full_fit,
                   "also time one whole fit, up to the config's max_epochs");
   train->callback([train_args] { bench::RunTrainBench(*train_args, PrintFigure); });

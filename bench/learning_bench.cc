@@ -359,36 +359,63 @@ void RunTrainBench(const LearningBenchOptions& args, const FigureSink& emit) {
     for (int j = 0; j < shape.state_dim; ++j) next[j] = s[j] + 0.1 * u[j % shape.action_dim];
     data.Add(s, u, next);
   }
-  // One epoch: every member trains on its subset in one batched step per batch; forward plus
-  // backward costs about 3 forward passes.
-  EnsembleOptions epoch_options = config.ensemble;
-  epoch_options.max_epochs = 1;
-  EnsembleDynamics trainee(shape.state_dim, shape.action_dim, epoch_options, args.seed);
-  EnsembleFitReport report;
-  const TimedRuns epoch_runs = TimeRunsBesideCeiling(args.runs, [&] { return probe.Measure(); }, [&] {
-    report = trainee.Fit(data);
-    Synchronize(device);
-  });
-  const auto rows =
-      static_cast<std::int64_t>(config.ensemble.member_subset_fraction * report.train_size);
-  nlohmann::ordered_json epoch = Figure("train", "dynamics_epoch", config, epoch_runs.seconds);
-  epoch["members"] = config.ensemble.ensemble_size;
-  epoch["hidden"] = config.ensemble.hidden_sizes;
-  epoch["transitions"] = args.transitions;
-  epoch["rows_per_member"] = rows;
-  epoch["batch_size"] = config.ensemble.batch_size;
-  AddRate(epoch, 3.0 * trainee.PredictFlops(rows), epoch_runs);
+  // Which kernel is fastest on one training batch's forward products (the backward pass's two
+  // products per layer have the same sizes): the per-shape ceiling beside the GEMM one.
+  nlohmann::ordered_json batch_candidates;
   if (device.is_cpu()) {
-    // Which kernel is fastest on one training batch's forward products (the backward pass's
-    // two products per layer have the same sizes): where another than LibTorch's wins, the
-    // epoch could gain by moving to it.
     const ShapeCeiling batch(
         ForwardShapes(config.ensemble.ensemble_size, config.ensemble.batch_size,
                       LayerSizes(config, shape)), "fp32",
         args.runs);
-    epoch["batch_product_candidates"] = batch.candidates();
+    batch_candidates = batch.candidates();
   }
-  emit(epoch);
+  // One epoch per backend, alternating them run by run: every member trains on its subset in
+  // one step per batch; forward plus backward costs about 3 forward passes.
+  const std::vector<std::string> backends =
+      args.backends.empty() ? std::vector<std::string>{config.ensemble.backend} : args.backends;
+  std::vector<std::unique_ptr<EnsembleDynamics>> trainees;
+  std::vector<TimedRuns> epoch_runs(backends.size());
+  for (const std::string& backend : backends) {
+    EnsembleOptions epoch_options = config.ensemble;
+    epoch_options.max_epochs = 1;
+    epoch_options.backend = backend;
+    trainees.push_back(std::make_unique<EnsembleDynamics>(shape.state_dim, shape.action_dim,
+                                                          epoch_options, args.seed));
+  }
+  EnsembleFitReport report;
+  for (const auto& trainee : trainees) trainee->Fit(data);  // warm-up: primitives, caches
+  for (int run = 0; run < args.runs; ++run) {
+    for (std::size_t b = 0; b < backends.size(); ++b) {
+      epoch_runs[b].ceilings.push_back(probe.Measure());
+      epoch_runs[b].seconds.push_back(SecondsOf([&] {
+        report = trainees[b]->Fit(data);
+        Synchronize(device);
+      }));
+    }
+  }
+  const auto rows =
+      static_cast<std::int64_t>(config.ensemble.member_subset_fraction * report.train_size);
+  for (std::size_t b = 0; b < backends.size(); ++b) {
+    nlohmann::ordered_json epoch =
+        Figure("train", "dynamics_epoch", config, epoch_runs[b].seconds);
+    epoch["backend"] = backends[b];
+    epoch["training_backend"] = trainees[b]->training_backend();
+    epoch["members"] = config.ensemble.ensemble_size;
+    epoch["hidden"] = config.ensemble.hidden_sizes;
+    epoch["transitions"] = args.transitions;
+    epoch["rows_per_member"] = rows;
+    epoch["batch_size"] = config.ensemble.batch_size;
+    AddRate(epoch, 3.0 * trainees[b]->PredictFlops(rows), epoch_runs[b]);
+    if (!batch_candidates.is_null()) {
+      epoch["batch_product_candidates"] = batch_candidates;
+      double best = 0.0;
+      for (const auto& [name, value] : batch_candidates.items()) {
+        if (value.is_number()) best = std::max(best, value.get<double>());
+      }
+      if (best > 0.0) epoch["ratio_to_batch_ceiling"] = epoch["gflops"].get<double>() / best;
+    }
+    emit(epoch);
+  }
 
   if (args.full_fit) {
     EnsembleDynamics fitted(shape.state_dim, shape.action_dim, config.ensemble, args.seed);

@@ -43,8 +43,10 @@ class EnsembleDynamics final : public DynamicsModel {
   int action_dim() const override { return action_dim_; }
   int ensemble_size() const override { return options_.ensemble_size; }
   const EnsembleOptions& options() const { return options_; }
-  // The backend `options().backend` resolved to here: "onednn" or "libtorch".
+  // The backend `options().backend` resolved to here, for the predictions and for the training
+  // products: "onednn" or "libtorch" each (model_options.h says when they differ).
   const std::string& backend() const { return backend_; }
+  const std::string& training_backend() const { return training_backend_; }
 
   torch::Tensor Predict(const torch::Tensor& states, const torch::Tensor& actions) const override;
   torch::Tensor PredictUnchecked(const torch::Tensor& states,
@@ -81,6 +83,7 @@ class EnsembleDynamics final : public DynamicsModel {
   int action_dim_;
   EnsembleOptions options_;
   std::string backend_;
+  std::string training_backend_;
   std::unique_ptr<State> state_;
 };
 

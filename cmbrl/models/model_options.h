@@ -29,11 +29,14 @@ struct EnsembleOptions {
   //   bf16: predictions with bfloat16 copies of the weights and activations (8-bit mantissa),
   //         refreshed after every fit; training stays float32.
   std::string precision = "fp32";
-  // Who computes the predictions (training always runs on LibTorch):
+  // Who computes the predictions and the training products:
   //   auto: onednn where it is available (a build with oneDNN, device cpu, fp32, or bf16 on a
-  //         CPU with AVX-512), libtorch elsewhere;
-  //   libtorch: LibTorch's batched products (OpenBLAS for fp32 on the CPU; cuBLAS on CUDA);
-  //   onednn: oneDNN's matrix-product primitives (onednn_forward.h); an error where unavailable.
+  //         CPU with AVX-512), libtorch elsewhere; the training products through onednn only
+  //         where every hidden layer is at most 256 wide (wider, OpenBLAS was faster);
+  //   libtorch: LibTorch's batched products and autograd (OpenBLAS for fp32 on the CPU; cuBLAS
+  //         on CUDA);
+  //   onednn: oneDNN's matrix-product primitives for both (onednn_forward.h,
+  //         onednn_training.h); an error where unavailable.
   std::string backend = "auto";
 };
 

@@ -14,8 +14,7 @@
 #include "cmbrl/core/parallel.h"
 
 #ifdef CMBRL_HAVE_ONEDNN
-#include <omp.h>
-#include <oneapi/dnnl/dnnl.hpp>
+#include "cmbrl/models/onednn_common.h"
 #endif
 
 namespace cmbrl {
@@ -51,6 +50,7 @@ namespace {
 
 using dnnl::memory;
 using Dims = memory::dims;
+using onednn::ScopedOmpThreads;
 
 // float32 -> bfloat16, rounding to nearest even (NaN stays a NaN).
 std::uint16_t ToBf16(float value) {
@@ -60,22 +60,6 @@ std::uint16_t ToBf16(float value) {
   bits += 0x7fffu + ((bits >> 16) & 1u);
   return static_cast<std::uint16_t>(bits >> 16);
 }
-
-// Sets the calling thread's OpenMP thread count for its lifetime, then puts the caller's back.
-class ScopedOmpThreads {
- public:
-  explicit ScopedOmpThreads(int threads) : before_(omp_get_max_threads()) {
-    if (threads != before_) omp_set_num_threads(threads);
-  }
-  ~ScopedOmpThreads() {
-    if (omp_get_max_threads() != before_) omp_set_num_threads(before_);
-  }
-  ScopedOmpThreads(const ScopedOmpThreads&) = delete;
-  ScopedOmpThreads& operator=(const ScopedOmpThreads&) = delete;
-
- private:
-  int before_;
-};
 
 // Rows per task of a prediction: large enough for a single-threaded product to run at speed,
 // small enough that the planner's batches (a few hundred rows per member) give every core work.
