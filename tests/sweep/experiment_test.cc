@@ -64,7 +64,7 @@ TEST(ExperimentTest, EveryDeclaredExperimentResolves) {
     EXPECT_FALSE(ResolveExperimentRuns(e).empty());
     ++experiments;
   }
-  EXPECT_GE(experiments, 3);  // cpu-grid, model-free, bf16-planning
+  EXPECT_GE(experiments, 4);  // cpu-grid, model-free, bf16-planning, random-samples
 }
 
 TEST(ExperimentTest, AxesAndOverridesApplyToEveryRun) {
