@@ -34,7 +34,8 @@ class OnednnEnsembleTraining {
   // float32 rows; `batch` (E, B): member m's row indices. Sets each parameter's gradient
   // (mutable_grad) of loss = sum over members of the member's mean squared error over its
   // B x out values, the loss LibTorch's path differentiates, and returns that loss. The
-  // gradient tensors are this object's and are overwritten by the next call.
+  // gradient tensors are this object's and are overwritten by the next call. Not safe to call
+  // concurrently (it keeps the primitives of each batch size it meets).
   double Gradients(std::vector<torch::Tensor>& weights, std::vector<torch::Tensor>& biases,
                    const torch::Tensor& inputs, const torch::Tensor& targets,
                    const torch::Tensor& batch);
