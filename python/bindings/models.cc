@@ -107,6 +107,9 @@ class PyEnsemble {
     d["validation_mse"] = report.validation_mse;
     d["stopped_early"] = report.stopped_early;
     d["seconds"] = report.seconds;
+    // Whose products ran: the predictions' and the training's (ensemble.backend's auto rule).
+    d["backend"] = dynamics_.backend();
+    d["training_backend"] = dynamics_.training_backend();
     return d;
   }
 

@@ -673,7 +673,9 @@ class Ensemble(_StandaloneModel):
             _as_int(max_epochs, "max_epochs"), bool(predict_delta), _as_seed(seed))
 
     def fit(self, states, actions, next_states):
-        """(N, S), (N, A), (N, S) -> a dict: epochs, train and validation MSE, seconds.
+        """(N, S), (N, A), (N, S) -> a dict: epochs, train and validation MSE, seconds, and
+        whose products ran: backend (the predictions') and training_backend, each "onednn" or
+        "libtorch" (oneDNN trains only where every hidden layer is at most 256 wide).
         Ctrl-C (or another signal handler's exception) stops the fit after the epoch in
         progress: the epochs done are kept, and the exception is raised."""
         return self._model.fit(states, actions, next_states)

@@ -13,6 +13,8 @@ def test_the_ensemble_learns_a_linear_system():
     model = cmbrl.Ensemble(4, 2, ensemble_size=3, hidden_sizes=[64, 64], max_epochs=40, seed=1)
     report = model.fit(states, actions, next_states)
     assert model.transitions == 3000 and report["epochs"] > 0
+    assert report["backend"] in ("onednn", "libtorch")
+    assert report["training_backend"] == report["backend"]  # 64 wide: trained where it predicts
     test_s, test_a = rng.uniform(-0.8, 0.8, size=(200, 4)), rng.uniform(-0.8, 0.8, size=(200, 2))
     predicted = model.predict(test_s, test_a)
     assert predicted.shape == (3, 200, 4)
@@ -20,6 +22,15 @@ def test_the_ensemble_learns_a_linear_system():
     assert np.mean((predicted - truth) ** 2) < 0.05 * np.var(truth)
     with pytest.raises(cmbrl.Error, match="actions"):
         model.predict(test_s, test_a[:, :1])
+
+
+def test_wide_ensembles_train_on_libtorch_whoever_predicts():
+    rng = np.random.default_rng(1)
+    states, actions = rng.uniform(-1, 1, size=(20, 3)), rng.uniform(-1, 1, size=(20, 1))
+    model = cmbrl.Ensemble(3, 1, ensemble_size=2, hidden_sizes=[8, 300], max_epochs=1, seed=1)
+    report = model.fit(states, actions, states)
+    assert report["backend"] in ("onednn", "libtorch")
+    assert report["training_backend"] == "libtorch"
 
 
 def test_predicting_the_change_helps_where_states_dwarf_their_change():
