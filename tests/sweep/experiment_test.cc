@@ -67,6 +67,28 @@ TEST(ExperimentTest, EveryDeclaredExperimentResolves) {
   EXPECT_GE(experiments, 4);  // cpu-grid, model-free, bf16-planning, random-samples
 }
 
+// Every experiment's README is short and opens with its table: at most 100 lines, and a table
+// before its first section heading.
+TEST(ExperimentTest, EveryReadmeIsShortAndOpensWithItsTable) {
+  for (const auto& entry : fs::directory_iterator(CMBRL_SOURCE_DIR "/experiments")) {
+    if (!IsExperimentDir(entry.path())) continue;
+    SCOPED_TRACE(entry.path().string());
+    std::ifstream readme(entry.path() / "README.md");
+    ASSERT_TRUE(readme.good()) << "no README.md";
+    int lines = 0, table_line = 0, first_section = 0;
+    for (std::string line; std::getline(readme, line);) {
+      ++lines;
+      if (table_line == 0 && line.rfind("|---", 0) == 0) table_line = lines;
+      if (first_section == 0 && line.rfind("## ", 0) == 0) first_section = lines;
+    }
+    EXPECT_LE(lines, 100);
+    EXPECT_GT(table_line, 0) << "no table";
+    if (first_section > 0) {
+      EXPECT_LT(table_line, first_section) << "the table comes after a section";
+    }
+  }
+}
+
 TEST(ExperimentTest, AxesAndOverridesApplyToEveryRun) {
   const fs::path dir = WriteExperiment("axes",
                                        "family: cpu\ntasks: [PointGoal2]\nmethods: [rce, cem]\n"
