@@ -2,8 +2,8 @@
 
 #include <torch/torch.h>
 
-#include <chrono>
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <limits>
 
@@ -119,7 +119,6 @@ EnsembleDynamics::EnsembleDynamics(int state_dim, int action_dim, EnsembleOption
     s.onednn_training = std::make_unique<OnednnEnsembleTraining>(
         std::vector<std::int64_t>(sizes.begin(), sizes.end()));
   }
-  training_backend_ = s.onednn_training ? "onednn" : "libtorch";
   RefreshPredictionWeights();
 }
 
@@ -142,6 +141,10 @@ void EnsembleDynamics::RefreshPredictionWeights() {
 }
 
 EnsembleDynamics::~EnsembleDynamics() = default;
+
+std::string EnsembleDynamics::training_backend() const {
+  return state_->onednn_training ? "onednn" : "libtorch";
+}
 
 torch::Tensor EnsembleDynamics::Forward(const torch::Tensor& x, bool prediction) const {
   const State& s = *state_;

@@ -46,7 +46,7 @@ class EnsembleDynamics final : public DynamicsModel {
   // The backend `options().backend` resolved to here, for the predictions and for the training
   // products: "onednn" or "libtorch" each (model_options.h says when they differ).
   const std::string& backend() const { return backend_; }
-  const std::string& training_backend() const { return training_backend_; }
+  std::string training_backend() const;
 
   torch::Tensor Predict(const torch::Tensor& states, const torch::Tensor& actions) const override;
   torch::Tensor PredictUnchecked(const torch::Tensor& states,
@@ -83,7 +83,6 @@ class EnsembleDynamics final : public DynamicsModel {
   int action_dim_;
   EnsembleOptions options_;
   std::string backend_;
-  std::string training_backend_;
   std::unique_ptr<State> state_;
 };
 
