@@ -89,16 +89,26 @@ struct TimedRuns {
   std::vector<double> ceilings;  // FLOP/s
 };
 
+// `runs` rounds over `works` after one warm-up of each, every run preceded by a ceiling probe;
+// the works alternate run by run, so that a slow phase of the machine falls on all of them.
+std::vector<TimedRuns> TimeAlternatingBesideCeiling(
+    int runs, const std::function<double()>& probe,
+    const std::vector<std::function<void()>>& works) {
+  for (const auto& work : works) work();
+  std::vector<TimedRuns> timed(works.size());
+  for (int i = 0; i < runs; ++i) {
+    for (std::size_t w = 0; w < works.size(); ++w) {
+      timed[w].ceilings.push_back(probe());
+      timed[w].seconds.push_back(SecondsOf(works[w]));
+    }
+  }
+  return timed;
+}
+
 // `runs` runs of `work` after one warm-up, each preceded by a ceiling probe.
 TimedRuns TimeRunsBesideCeiling(int runs, const std::function<double()>& probe,
                                  const std::function<void()>& work) {
-  work();
-  TimedRuns timed;
-  for (int i = 0; i < runs; ++i) {
-    timed.ceilings.push_back(probe());
-    timed.seconds.push_back(SecondsOf(work));
-  }
-  return timed;
+  return TimeAlternatingBesideCeiling(runs, probe, {work}).front();
 }
 
 nlohmann::ordered_json Figure(const std::string& bench, const std::string& what,
@@ -374,25 +384,21 @@ void RunTrainBench(const LearningBenchOptions& args, const FigureSink& emit) {
   const std::vector<std::string> backends =
       args.backends.empty() ? std::vector<std::string>{config.ensemble.backend} : args.backends;
   std::vector<std::unique_ptr<EnsembleDynamics>> trainees;
-  std::vector<TimedRuns> epoch_runs(backends.size());
+  EnsembleFitReport report;
+  std::vector<std::function<void()>> epochs;
   for (const std::string& backend : backends) {
     EnsembleOptions epoch_options = config.ensemble;
     epoch_options.max_epochs = 1;
     epoch_options.backend = backend;
     trainees.push_back(std::make_unique<EnsembleDynamics>(shape.state_dim, shape.action_dim,
                                                           epoch_options, args.seed));
+    epochs.push_back([&report, &device, &trainee = *trainees.back(), &data] {
+      report = trainee.Fit(data);
+      Synchronize(device);
+    });
   }
-  EnsembleFitReport report;
-  for (const auto& trainee : trainees) trainee->Fit(data);  // warm-up: primitives, caches
-  for (int run = 0; run < args.runs; ++run) {
-    for (std::size_t b = 0; b < backends.size(); ++b) {
-      epoch_runs[b].ceilings.push_back(probe.Measure());
-      epoch_runs[b].seconds.push_back(SecondsOf([&] {
-        report = trainees[b]->Fit(data);
-        Synchronize(device);
-      }));
-    }
-  }
+  const std::vector<TimedRuns> epoch_runs =
+      TimeAlternatingBesideCeiling(args.runs, [&] { return probe.Measure(); }, epochs);
   const auto rows =
       static_cast<std::int64_t>(config.ensemble.member_subset_fraction * report.train_size);
   for (std::size_t b = 0; b < backends.size(); ++b) {
