@@ -68,6 +68,14 @@ class FakeSlurm {
 const char* kFinishedRun =
     CMBRL_SOURCE_DIR "/experiments/cpu-grid/report/run-logs/pointgoal1-rce-s0";
 
+// Options that follow the array to its end, polling the fake squeue every 10 ms.
+SlurmOptions Waiting() {
+  SlurmOptions options;
+  options.wait = true;
+  options.poll_seconds = 0.01;
+  return options;
+}
+
 SweepGrid TwoSeeds() {
   SweepGrid grid;
   grid.tasks = {"PointGoal1"};
@@ -140,11 +148,9 @@ TEST(SlurmEngineTest, SubmitsTheUnfinishedRunsAndFollowsThemToTheirEnd) {
                             "'\n"
                             "     printf '0 COMPLETED\\n1 CANCELLED\\n';;\n"
                             "esac");
-  SlurmOptions options;
+  SlurmOptions options = Waiting();
   options.sbatch_args = {"--partition=short"};
   options.max_running = 1;
-  options.wait = true;
-  options.poll_seconds = 0.01;
   Recorded recorded;
   const SweepOutcome outcome =
       SubmitSweep(TwoSeeds(), sweep_dir, "/opt/cmbrl", options, recorded.sink());
@@ -208,9 +214,7 @@ TEST(SlurmEngineTest, ATaskStillQueuedFromAnEarlierSubmissionIsFollowedNotSubmit
                         "  *--jobs=102*) printf '1 CANCELLED\\n';;\n"
                         "esac");
   SubmitSweep(TwoSeeds(), sweep_dir, "/opt/cmbrl", SlurmOptions{}, [](auto&) {});  // job 101
-  SlurmOptions options;
-  options.wait = true;
-  options.poll_seconds = 0.01;
+  const SlurmOptions options = Waiting();
   Recorded recorded;
   const SweepOutcome outcome =
       SubmitSweep(TwoSeeds(), sweep_dir, "/opt/cmbrl", options, recorded.sink());
@@ -243,9 +247,7 @@ TEST(SlurmEngineTest, SlurmsRefusalsAreErrorsThatQuoteIt) {
   {
     const FakeSlurm slurm("echo 5",
                           "echo 'squeue: error: Unable to contact slurm controller' >&2; exit 1");
-    SlurmOptions options;
-    options.wait = true;
-    options.poll_seconds = 0.01;
+    const SlurmOptions options = Waiting();
     EXPECT_THAT(
         ErrorMessage(
             [&] { SubmitSweep(TwoSeeds(), sweep_dir, "/opt/cmbrl", options, [](auto&) {}); }),
@@ -257,9 +259,7 @@ TEST(SlurmEngineTest, SlurmsRefusalsAreErrorsThatQuoteIt) {
     // A job the controller has forgotten has no tasks left: the wait ends.
     const FakeSlurm slurm("echo 6",
                           "echo 'slurm_load_jobs error: Invalid job id specified' >&2; exit 1");
-    SlurmOptions options;
-    options.wait = true;
-    options.poll_seconds = 0.01;
+    const SlurmOptions options = Waiting();
     Recorded recorded;
     const SweepOutcome outcome =
         SubmitSweep(TwoSeeds(), sweep_dir, "/opt/cmbrl", options, recorded.sink());
