@@ -64,7 +64,8 @@ TEST(ExperimentTest, EveryDeclaredExperimentResolves) {
     EXPECT_FALSE(ResolveExperimentRuns(e).empty());
     ++experiments;
   }
-  EXPECT_GE(experiments, 4);  // cpu-grid, model-free, bf16-planning, random-samples
+  EXPECT_GE(experiments, 5);  // cpu-grid, model-free, bf16-planning, random-samples,
+                              // rce-population
 }
 
 // Every experiment's README is short and opens with its table: at most 100 lines, and a table
