@@ -26,7 +26,7 @@ def test_train_resume_and_act(tmp_path, source_dir):
     # Continued to 300 steps, the rows are those of a run made with 300 from the start (the
     # YAML file of the same settings).
     cmbrl.train(resume=tmp_path / "run", steps=300)
-    cmbrl.train(config=source_dir / "configs" / "tiny-test.yaml", out=tmp_path / "whole")
+    cmbrl.train(config=source_dir / "tests" / "cli" / "tiny-rce.yaml", out=tmp_path / "whole")
     assert rows(tmp_path / "run") == rows(tmp_path / "whole")
 
     agent = cmbrl.load_run(tmp_path / "run", seed=1)
@@ -126,7 +126,7 @@ def test_the_example_trains_evaluates_and_draws(tmp_path, source_dir):
 
     out = tmp_path / "example"
     subprocess.run([sys.executable, str(source_dir / "examples" / "train_quickstart.py"),
-                    "--config", str(source_dir / "configs" / "tiny-test.yaml"), "--out", str(out),
+                    "--config", str(source_dir / "tests" / "cli" / "tiny-rce.yaml"), "--out", str(out),
                     "--steps", "100"], check=True, env=dict(os.environ), stdout=subprocess.PIPE)
     assert (out / "python-evaluation.png").stat().st_size > 10_000
 

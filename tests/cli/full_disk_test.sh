@@ -67,7 +67,9 @@ rm -f "$disk/filler" "$disk/trace.jsonl"
 mkdir -p "$disk/sweep"
 head -c $((298 * 1024)) /dev/zero > "$disk/filler" 2> /dev/null || true
 set +e
-"$cmbrl" sweep --config-dir "$(dirname "$config")" --tasks PointGoal1 --planners random \
+mkdir -p "$work/configs"
+sed "s/^planner: .*/planner: random/" "$config" > "$work/configs/pointgoal1-random.yaml"
+"$cmbrl" sweep --config-dir "$work/configs" --tasks PointGoal1 --planners random \
   --seeds 0 --steps 100 --out "$disk/sweep" > "$work/sweep.log" 2>&1
 code=$?
 set -e
