@@ -3,8 +3,10 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -17,8 +19,8 @@
 #include "cmbrl/core/check.h"
 #include "cmbrl/env/registry.h"
 #include "cmbrl/learners/mpc/mpc_progress_columns.h"
-#include "cmbrl/report/reference.h"
 #include "cmbrl/planning/planning_options.h"
+#include "cmbrl/report/reference.h"
 #include "cmbrl/run/progress_table.h"
 #include "cmbrl/run/run_directory.h"
 
@@ -77,6 +79,40 @@ std::vector<std::string> InOrder(const std::vector<RunRecord>& runs, Get get,
                    [&](const std::string& a, const std::string& b) { return rank(a) < rank(b); });
   return order;
 }
+
+// Whether `a` sorts before `b` with the numbers in them compared by value ("gamma=0.9" before
+// "gamma=0.98", "population=100" before "population=500"): an experiment's settings in order.
+bool NaturalLess(const std::string& a, const std::string& b) {
+  size_t i = 0, j = 0;
+  while (i < a.size() && j < b.size()) {
+    if (std::isdigit(static_cast<unsigned char>(a[i])) &&
+        std::isdigit(static_cast<unsigned char>(b[j]))) {
+      char* a_end = nullptr;
+      char* b_end = nullptr;
+      const double x = std::strtod(a.c_str() + i, &a_end);
+      const double y = std::strtod(b.c_str() + j, &b_end);
+      if (x != y) return x < y;
+      i = static_cast<size_t>(a_end - a.c_str());
+      j = static_cast<size_t>(b_end - b.c_str());
+      continue;
+    }
+    if (a[i] != b[j]) return a[i] < b[j];
+    ++i;
+    ++j;
+  }
+  return a.size() - i < b.size() - j;
+}
+
+// A run's setting: its values of an experiment's axes, read from its name (SweepRunName).
+std::string SettingOf(const RunRecord& run) {
+  return SettingOfRunName(run.name, run.config.task, MethodOf(run.config), run.config.seed);
+}
+
+// A cell's row label: its task, with its setting where it has one.
+std::string RowLabel(const std::string& task, const std::string& setting) {
+  return setting.empty() ? task : fmt::format("{} ({})", task, setting);
+}
+std::string RowLabel(const TableCell& cell) { return RowLabel(cell.task, cell.setting); }
 
 // The first epochs' violations and mean returns, each as "mean (per seed)", or "-" for none.
 struct FirstEpochTexts {
@@ -564,49 +600,58 @@ std::vector<TableCell> ViolationTable(const std::vector<RunRecord>& runs, std::i
                                       const std::vector<RunRecord>& reference) {
   const auto task_of = [](const RunRecord& r) { return r.config.task; };
   const auto planner_of = [](const RunRecord& r) { return MethodOf(r.config); };
+  std::vector<std::string> settings;
+  for (const RunRecord& run : runs) settings.push_back(SettingOf(run));
+  std::sort(settings.begin(), settings.end(), NaturalLess);
+  settings.erase(std::unique(settings.begin(), settings.end()), settings.end());
   std::vector<TableCell> cells;
   for (const std::string& task : InOrder(runs, task_of, EnvNames())) {
     for (const std::string& planner : InOrder(runs, planner_of, MethodNames())) {
-      // A run without a finished episode yet (just started) has nothing to say: counted, it
-      // would add a seed with no violations and no return.
-      std::vector<const RunRecord*> members;
-      for (const RunRecord& run : runs) {
-        if (run.config.task == task && MethodOf(run.config) == planner && !run.episodes.empty()) {
-          members.push_back(&run);
+      for (const std::string& setting : settings) {
+        // A run without a finished episode yet (just started) has nothing to say: counted, it
+        // would add a seed with no violations and no return.
+        std::vector<const RunRecord*> members;
+        for (const RunRecord& run : runs) {
+          if (run.config.task == task && MethodOf(run.config) == planner &&
+              SettingOf(run) == setting && !run.episodes.empty()) {
+            members.push_back(&run);
+          }
         }
-      }
-      if (members.empty()) continue;
-      std::sort(members.begin(), members.end(), [](const RunRecord* a, const RunRecord* b) {
-        return a->config.seed < b->config.seed;
-      });
-      TableCell cell;
-      cell.task = task;
-      cell.planner = planner;
-      cell.fewest_steps = std::numeric_limits<std::int64_t>::max();
-      for (const RunRecord* run : members) {
-        cell.per_seed.push_back(ViolationsWithin(*run, window));
-        cell.final_returns.push_back(FinalReturn(*run, window));
-        // An epoch's mean cost is not an episode's: no count of heavy episodes for epoch logs.
-        if (!run->epoch_log) cell.heavy_episodes.push_back(HeavyEpisodesWithin(*run, window));
-        cell.feasible_fractions.push_back(FeasibleFractionWithin(*run, window));
-        cell.fewest_steps = std::min(cell.fewest_steps, StepsReached(*run));
-        if (const auto first = FirstEpochOf(*run)) cell.first_epochs.push_back(*first);
-        if (const auto causes = ViolationCausesWithin(*run, window)) {
-          cell.hazard_steps.push_back(causes->hazard_steps);
-          cell.vase_steps.push_back(causes->vase_steps);
+        if (members.empty()) continue;
+        std::sort(members.begin(), members.end(), [](const RunRecord* a, const RunRecord* b) {
+          return a->config.seed < b->config.seed;
+        });
+        TableCell cell;
+        cell.task = task;
+        cell.planner = planner;
+        cell.setting = setting;
+        cell.fewest_steps = std::numeric_limits<std::int64_t>::max();
+        for (const RunRecord* run : members) {
+          cell.seeds.push_back(run->config.seed);
+          cell.per_seed.push_back(ViolationsWithin(*run, window));
+          cell.final_returns.push_back(FinalReturn(*run, window));
+          // An epoch's mean cost is not an episode's: no count of heavy episodes for epoch logs.
+          if (!run->epoch_log) cell.heavy_episodes.push_back(HeavyEpisodesWithin(*run, window));
+          cell.feasible_fractions.push_back(FeasibleFractionWithin(*run, window));
+          cell.fewest_steps = std::min(cell.fewest_steps, StepsReached(*run));
+          if (const auto first = FirstEpochOf(*run)) cell.first_epochs.push_back(*first);
+          if (const auto causes = ViolationCausesWithin(*run, window)) {
+            cell.hazard_steps.push_back(causes->hazard_steps);
+            cell.vase_steps.push_back(causes->vase_steps);
+          }
         }
+        if (cell.hazard_steps.size() != members.size()) {
+          cell.hazard_steps.clear();
+          cell.vase_steps.clear();
+        }
+        cell.mean = Mean(cell.per_seed);
+        cell.std = SampleStd(cell.per_seed);
+        cell.return_mean = Mean(cell.final_returns);
+        cell.return_std = SampleStd(cell.final_returns);
+        cell.paper = PaperViolations(task, planner);
+        FillOriginalSide(reference, window, cell);
+        cells.push_back(cell);
       }
-      if (cell.hazard_steps.size() != members.size()) {
-        cell.hazard_steps.clear();
-        cell.vase_steps.clear();
-      }
-      cell.mean = Mean(cell.per_seed);
-      cell.std = SampleStd(cell.per_seed);
-      cell.return_mean = Mean(cell.final_returns);
-      cell.return_std = SampleStd(cell.final_returns);
-      cell.paper = PaperViolations(task, planner);
-      FillOriginalSide(reference, window, cell);
-      cells.push_back(cell);
     }
   }
   return cells;
@@ -635,12 +680,12 @@ std::string OriginalComparisonMarkdown(const std::vector<TableCell>& cells, std:
   for (const TableCell& cell : cells) {
     if (cell.original_per_seed.empty()) continue;
     text += fmt::format(
-        "| {} | {} | {:.1f} ({}) | {:.1f} ({}) | {} | {} | {} | {} | {} | {} | {} |\n", cell.task,
-        MethodLabel(cell.planner), cell.mean, Counts(cell.per_seed), Mean(cell.original_per_seed),
-        Counts(cell.original_per_seed), VersusOriginal(cell), WithinWidenedRange(cell),
-        Figure(cell.return_mean, 2), Figure(Mean(cell.original_final_returns), 2),
-        CountsOrDash(cell.heavy_episodes), CountsOrDash(cell.original_heavy_episodes),
-        Figure(Mean(cell.feasible_fractions), 3));
+        "| {} | {} | {:.1f} ({}) | {:.1f} ({}) | {} | {} | {} | {} | {} | {} | {} |\n",
+        RowLabel(cell), MethodLabel(cell.planner), cell.mean, Counts(cell.per_seed),
+        Mean(cell.original_per_seed), Counts(cell.original_per_seed), VersusOriginal(cell),
+        WithinWidenedRange(cell), Figure(cell.return_mean, 2),
+        Figure(Mean(cell.original_final_returns), 2), CountsOrDash(cell.heavy_episodes),
+        CountsOrDash(cell.original_heavy_episodes), Figure(Mean(cell.feasible_fractions), 3));
   }
   return text;
 }
@@ -668,7 +713,7 @@ std::string FirstEpochMarkdown(const std::vector<TableCell>& cells) {
     }
     const FirstEpochTexts ours = DescribeFirstEpochs(cell.first_epochs);
     const FirstEpochTexts original = DescribeFirstEpochs(cell.original_first_epochs);
-    text += fmt::format("| {} | {} | {} | {} | {} | {} | {} |\n", cell.task,
+    text += fmt::format("| {} | {} | {} | {} | {} | {} | {} |\n", RowLabel(cell),
                         MethodLabel(cell.planner), fmt::join(counts, ", "), ours.violations,
                         original.violations, ours.returns, original.returns);
   }
@@ -688,7 +733,7 @@ std::string ViolationCausesMarkdown(const std::vector<TableCell>& cells) {
       "| task | method | violating steps | in hazards | at vases |\n|---|---|---|---|---|\n";
   for (const TableCell& cell : cells) {
     if (cell.hazard_steps.empty()) continue;
-    text += fmt::format("| {} | {} | {} | {} | {} |\n", cell.task, MethodLabel(cell.planner),
+    text += fmt::format("| {} | {} | {} | {} | {} |\n", RowLabel(cell), MethodLabel(cell.planner),
                         Counts(cell.per_seed), CountsOrDash(cell.hazard_steps),
                         CountsOrDash(cell.vase_steps));
   }
@@ -699,13 +744,24 @@ std::string ViolationCausesMarkdown(const std::vector<TableCell>& cells) {
 
 namespace {
 
-// The cell of a task and planner, or nullptr when the table has none.
+// The cell of a task, planner and setting, or nullptr when the table has none.
 const TableCell* FindCell(const std::vector<TableCell>& cells, const std::string& task,
-                          const std::string& planner) {
+                          const std::string& planner, const std::string& setting) {
   const auto it = std::find_if(cells.begin(), cells.end(), [&](const TableCell& c) {
-    return c.task == task && c.planner == planner;
+    return c.task == task && c.planner == planner && c.setting == setting;
   });
   return it == cells.end() ? nullptr : &*it;
+}
+
+// The table's rows: its distinct (task, setting) pairs, in the cells' order.
+std::vector<std::pair<std::string, std::string>> TaskSettingRows(
+    const std::vector<TableCell>& cells) {
+  std::vector<std::pair<std::string, std::string>> rows;
+  for (const TableCell& cell : cells) {
+    const std::pair<std::string, std::string> row(cell.task, cell.setting);
+    if (std::find(rows.begin(), rows.end(), row) == rows.end()) rows.push_back(row);
+  }
+  return rows;
 }
 
 // The distinct values of one field of the cells (task or planner), in the table's order.
@@ -733,22 +789,20 @@ std::string TableMarkdown(const std::vector<TableCell>& cells, std::int64_t wind
   text += "\n|---|";
   for (size_t i = 0; i < planners.size(); ++i) text += "---|";
   text += "\n";
-  std::string task;
-  for (const TableCell& cell : cells) {
-    if (cell.task != task) {
-      if (!task.empty()) text += "\n";
-      task = cell.task;
-      text += "| " + task + " |";
-      for (const std::string& planner : planners) {
-        const TableCell* it = FindCell(cells, task, planner);
-        if (it == nullptr) {
-          text += " |";
-          continue;
-        }
-        text += fmt::format(" {:.1f} ± {:.1f} ({}){}{}", it->mean, it->std, it->per_seed.size(),
-                            it->fewest_steps < window ? "*" : "", it->source.empty() ? "" : "†");
-        text += it->paper ? fmt::format(" [{:.0f}] |", *it->paper) : " |";
+  const std::vector<std::pair<std::string, std::string>> rows = TaskSettingRows(cells);
+  for (size_t r = 0; r < rows.size(); ++r) {
+    const auto& [task, setting] = rows[r];
+    if (r > 0) text += "\n";
+    text += "| " + RowLabel(task, setting) + " |";
+    for (const std::string& planner : planners) {
+      const TableCell* it = FindCell(cells, task, planner, setting);
+      if (it == nullptr) {
+        text += " |";
+        continue;
       }
+      text += fmt::format(" {:.1f} ± {:.1f} ({}){}{}", it->mean, it->std, it->per_seed.size(),
+                          it->fewest_steps < window ? "*" : "", it->source.empty() ? "" : "†");
+      text += it->paper ? fmt::format(" [{:.0f}] |", *it->paper) : " |";
     }
   }
   std::vector<std::string> sources;
@@ -770,13 +824,10 @@ std::string TableMarkdown(const std::vector<TableCell>& cells, std::int64_t wind
   for (const std::string& planner : planners) text += " " + MethodLabel(planner) + " |";
   text += "\n|---|";
   for (size_t i = 0; i < planners.size(); ++i) text += "---|";
-  task.clear();
-  for (const TableCell& cell : cells) {
-    if (cell.task == task) continue;
-    task = cell.task;
-    text += "\n| " + task + " |";
+  for (const auto& [task, setting] : rows) {
+    text += "\n| " + RowLabel(task, setting) + " |";
     for (const std::string& planner : planners) {
-      const TableCell* it = FindCell(cells, task, planner);
+      const TableCell* it = FindCell(cells, task, planner, setting);
       text += it == nullptr ? " |"
               : !std::isfinite(it->return_mean)
                   ? " - |"
@@ -840,7 +891,6 @@ std::string PerSeed(const std::vector<double>& values, int digits) {
 }  // namespace
 
 std::string ProtocolVerdictMarkdown(const std::vector<TableCell>& cells, std::int64_t window) {
-  const std::vector<std::string> tasks = DistinctInOrder(cells, &TableCell::task);
   const std::vector<std::string> planners = DistinctInOrder(cells, &TableCell::planner);
   std::string text = fmt::format(
       "Violations during the first {} agent steps: mean over seeds [bootstrap 90% interval of "
@@ -855,21 +905,21 @@ std::string ProtocolVerdictMarkdown(const std::vector<TableCell>& cells, std::in
   text += "\n|---|";
   for (size_t i = 0; i < 2 * planners.size() + 1; ++i) text += "---|";
   text += "\n";
-  for (const std::string& task : tasks) {
-    text += "| " + task + " |";
+  for (const auto& [task, setting] : TaskSettingRows(cells)) {
+    text += "| " + RowLabel(task, setting) + " |";
     std::optional<std::string> papers;
     for (const std::string& planner : planners) {
-      const TableCell* cell = FindCell(cells, task, planner);
+      const TableCell* cell = FindCell(cells, task, planner, setting);
       text += " " + (cell ? MeanWithInterval(cell->per_seed, 1) : std::string("-")) + " |";
       if (cell && IsPapersMethod(planner)) papers = planner;
     }
     std::string verdict = "-";
     if (papers) {
-      const TableCell& ours = *FindCell(cells, task, *papers);
+      const TableCell& ours = *FindCell(cells, task, *papers, setting);
       const MeanInterval ours_interval = BootstrapMeanInterval(ours.per_seed);
       bool lowest_mean = true, apart = true, others = false;
       for (const TableCell& other : cells) {
-        if (other.task != task || other.planner == *papers) continue;
+        if (other.task != task || other.setting != setting || other.planner == *papers) continue;
         others = true;
         lowest_mean = lowest_mean && ours.mean < other.mean;
         apart = apart && ours_interval.high < BootstrapMeanInterval(other.per_seed).low;
@@ -878,7 +928,7 @@ std::string ProtocolVerdictMarkdown(const std::vector<TableCell>& cells, std::in
     }
     text += " " + verdict + " |";
     for (const std::string& planner : planners) {
-      const TableCell* cell = FindCell(cells, task, planner);
+      const TableCell* cell = FindCell(cells, task, planner, setting);
       if (cell == nullptr || cell->original_per_seed.empty()) {
         text += " - |";
         continue;
@@ -914,8 +964,8 @@ std::string ProtocolCellsMarkdown(const std::vector<TableCell>& cells, std::int6
                           Figure(Mean(cell.original_final_returns), 2));
     const std::string vs = AgainstRange(cell.mean, cell.original_per_seed);
     const std::string vs_return = AgainstRange(cell.return_mean, cell.original_final_returns);
-    text += fmt::format("| {} | {} | {}{} | {} | {} | {} | {} | {} | {} | {} | {} |\n", cell.task,
-                        MethodLabel(cell.planner), cell.per_seed.size(),
+    text += fmt::format("| {} | {} | {}{} | {} | {} | {} | {} | {} | {} | {} | {} |\n",
+                        RowLabel(cell), MethodLabel(cell.planner), cell.per_seed.size(),
                         cell.fewest_steps < window ? "*" : "", Counts(cell.per_seed),
                         MeanWithInterval(cell.per_seed, 1), original, vs.empty() ? "-" : vs,
                         PerSeed(cell.final_returns, 2), MeanWithInterval(cell.final_returns, 2),
@@ -926,7 +976,8 @@ std::string ProtocolCellsMarkdown(const std::vector<TableCell>& cells, std::int6
 
 std::string TableCsv(const std::vector<TableCell>& cells, std::int64_t window) {
   std::string text =
-      "task,planner,window,seeds,mean,std,per_seed,paper,fewest_steps,return_mean,return_std,"
+      "task,planner,setting,window,seeds,mean,std,per_seed,paper,fewest_steps,return_mean,return_"
+      "std,"
       "original_per_seed,original_mean,versus_original,original_return_mean,heavy_per_seed,"
       "feasible_fraction,original_heavy_per_seed,reproduces,first_epoch_violations_per_seed,"
       "first_epoch_return_per_seed,original_first_epoch_violations_per_seed,"
@@ -942,8 +993,8 @@ std::string TableCsv(const std::vector<TableCell>& cells, std::int64_t window) {
   for (const TableCell& cell : cells) {
     const bool original = !cell.original_per_seed.empty();
     text += fmt::format(
-        "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n", cell.task,
-        cell.planner, window, cell.per_seed.size(), cell.mean, cell.std,
+        "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n", cell.task,
+        cell.planner, cell.setting, window, cell.per_seed.size(), cell.mean, cell.std,
         fmt::join(cell.per_seed, " "), cell.paper ? fmt::format("{}", *cell.paper) : "",
         cell.fewest_steps, cell.return_mean, cell.return_std,
         fmt::join(cell.original_per_seed, " "),
@@ -953,6 +1004,89 @@ std::string TableCsv(const std::vector<TableCell>& cells, std::int64_t window) {
         fmt::join(cell.original_heavy_episodes, " "), WithinWidenedRange(cell),
         first_epoch_columns(cell.first_epochs), first_epoch_columns(cell.original_first_epochs),
         fmt::join(cell.hazard_steps, " "), fmt::join(cell.vase_steps, " "), cell.source);
+  }
+  return text;
+}
+
+double PairedSignFlipP(const std::vector<double>& differences) {
+  const size_t n = differences.size();
+  if (n == 0) return 1.0;
+  double observed = 0.0;
+  for (const double d : differences) observed += d;
+  observed = std::abs(observed);
+  // A sum within rounding of the observed one counts as "as far": sums of the same values in
+  // another order may differ in their last bits.
+  const double tolerance = 1e-9 * (1.0 + observed);
+  const auto as_far = [&](std::uint64_t signs) {
+    double sum = 0.0;
+    for (size_t i = 0; i < n; ++i) sum += (signs >> i & 1) ? -differences[i] : differences[i];
+    return std::abs(sum) >= observed - tolerance;
+  };
+  constexpr size_t kExactUpTo = 20;
+  std::uint64_t hits = 0, total = 0;
+  if (n <= kExactUpTo) {
+    total = std::uint64_t{1} << n;
+    for (std::uint64_t signs = 0; signs < total; ++signs) hits += as_far(signs);
+  } else {
+    // A fixed seed: the p-value is a property of the values, and a report regenerates alike.
+    std::mt19937_64 generator(0x5eedf11b);
+    total = std::uint64_t{1} << kExactUpTo;
+    for (std::uint64_t draw = 0; draw < total; ++draw) {
+      std::uint64_t signs = generator();
+      double sum = 0.0;
+      for (size_t i = 0; i < n; ++i) {
+        if (i % 64 == 0 && i > 0) signs = generator();
+        sum += (signs >> (i % 64) & 1) ? -differences[i] : differences[i];
+      }
+      hits += std::abs(sum) >= observed - tolerance;
+    }
+  }
+  return static_cast<double>(hits) / static_cast<double>(total);
+}
+
+std::string SettingComparisonMarkdown(const std::vector<TableCell>& cells) {
+  if (std::all_of(cells.begin(), cells.end(),
+                  [](const TableCell& c) { return c.setting.empty(); })) {
+    return "";
+  }
+  std::string text =
+      "Each setting against the first of its task and method, paired by seed (the seeds both "
+      "have): the per-seed differences (this setting's minus the first's) of violations and of "
+      "the last-10-episode return, their mean [bootstrap 90% interval], and the two-sided "
+      "p-value of an exact paired sign-flip test (with n pairs it cannot fall below 2/2^n).\n\n"
+      "| task | method | setting | against | seeds | violations: differences | mean [90%] | p | "
+      "return: differences | mean [90%] | p |\n|---|---|---|---|---|---|---|---|---|---|---|\n";
+  for (const TableCell& first : cells) {
+    // The first cell of its task and method in the table's order is the one compared against.
+    const auto same_pair = [&](const TableCell& c) {
+      return c.task == first.task && c.planner == first.planner;
+    };
+    if (&*std::find_if(cells.begin(), cells.end(), same_pair) != &first) continue;
+    for (const TableCell& other : cells) {
+      if (&other == &first || !same_pair(other)) continue;
+      std::vector<std::uint64_t> seeds;
+      std::vector<double> violations, returns;
+      for (size_t i = 0; i < other.seeds.size(); ++i) {
+        const auto it = std::find(first.seeds.begin(), first.seeds.end(), other.seeds[i]);
+        if (it == first.seeds.end()) continue;
+        const size_t j = static_cast<size_t>(it - first.seeds.begin());
+        seeds.push_back(other.seeds[i]);
+        violations.push_back(other.per_seed[i] - first.per_seed[j]);
+        if (std::isfinite(other.final_returns[i]) && std::isfinite(first.final_returns[j])) {
+          returns.push_back(other.final_returns[i] - first.final_returns[j]);
+        }
+      }
+      const auto p_value = [](const std::vector<double>& d) {
+        return d.empty() ? std::string("-") : fmt::format("{:.3f}", PairedSignFlipP(d));
+      };
+      text += fmt::format(
+          "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |\n", first.task,
+          MethodLabel(first.planner), other.setting.empty() ? "-" : other.setting,
+          first.setting.empty() ? "-" : first.setting,
+          seeds.empty() ? std::string("none") : fmt::format("{}", fmt::join(seeds, ", ")),
+          PerSeed(violations, 1), MeanWithInterval(violations, 1), p_value(violations),
+          PerSeed(returns, 2), MeanWithInterval(returns, 2), p_value(returns));
+    }
   }
   return text;
 }
@@ -979,6 +1113,8 @@ std::vector<TableCell> ReadEarlierTable(const std::string& path, std::int64_t wi
   const size_t hazards = has_causes ? table.Column("hazard_steps_per_seed", expected) : 0;
   const size_t vases = has_causes ? table.Column("vase_steps_per_seed", expected) : 0;
   const bool has_source = table.HasColumn("source");
+  const bool has_setting = table.HasColumn("setting");  // added with experiments' axes
+  const size_t setting_column = has_setting ? table.Column("setting", expected) : 0;
   const size_t source_column = has_source ? table.Column("source", expected) : 0;
   const auto counts = [&](size_t row, size_t column) {
     std::vector<int> values;
@@ -994,6 +1130,7 @@ std::vector<TableCell> ReadEarlierTable(const std::string& path, std::int64_t wi
     TableCell cell;
     cell.task = table.Text(row, task);
     cell.planner = table.Text(row, planner);
+    cell.setting = has_setting ? table.Text(row, setting_column) : "";
     cell.per_seed = table.Numbers(row, per_seed);
     Require(!cell.per_seed.empty(), "{} line {}: per_seed is empty: expected a count per seed",
             path, table.line(row));
@@ -1021,7 +1158,7 @@ std::vector<TableCell> WithEarlierCells(std::vector<TableCell> cells,
                                         const std::vector<TableCell>& earlier) {
   const auto has = [&](const TableCell& cell) {
     return std::any_of(cells.begin(), cells.end(), [&](const TableCell& c) {
-      return c.task == cell.task && c.planner == cell.planner;
+      return c.task == cell.task && c.planner == cell.planner && c.setting == cell.setting;
     });
   };
   for (const TableCell& cell : earlier) {
@@ -1033,8 +1170,9 @@ std::vector<TableCell> WithEarlierCells(std::vector<TableCell> cells,
   const std::vector<std::string> tasks = EnvNames();
   const std::vector<std::string> methods = MethodNames();
   std::stable_sort(cells.begin(), cells.end(), [&](const TableCell& a, const TableCell& b) {
-    return std::make_pair(rank(tasks, a.task), rank(methods, a.planner)) <
-           std::make_pair(rank(tasks, b.task), rank(methods, b.planner));
+    const auto key_a = std::make_pair(rank(tasks, a.task), rank(methods, a.planner));
+    const auto key_b = std::make_pair(rank(tasks, b.task), rank(methods, b.planner));
+    return key_a != key_b ? key_a < key_b : NaturalLess(a.setting, b.setting);
   });
   return cells;
 }
@@ -1047,37 +1185,45 @@ std::vector<LearningCurve> LearningCurves(const std::vector<RunRecord>& runs,
           grid_step, smoothing);
   std::vector<LearningCurve> curves;
   const auto planner_of = [](const RunRecord& r) { return MethodOf(r.config); };
+  std::vector<std::string> settings;
+  for (const RunRecord& run : runs) settings.push_back(SettingOf(run));
+  std::sort(settings.begin(), settings.end(), NaturalLess);
+  settings.erase(std::unique(settings.begin(), settings.end()), settings.end());
   for (const std::string& planner : InOrder(runs, planner_of, MethodNames())) {
-    std::vector<const RunRecord*> members;
-    std::int64_t longest = 0;
-    for (const RunRecord& run : runs) {
-      if (run.config.task != task || MethodOf(run.config) != planner || run.episodes.empty()) {
-        continue;
-      }
-      members.push_back(&run);
-      longest = std::max(longest, std::min(StepsReached(run), up_to));
-    }
-    if (members.empty()) continue;
-    LearningCurve curve;
-    curve.planner = planner;
-    for (std::int64_t x = grid_step; x <= longest; x += grid_step) {
-      std::vector<double> values;
-      for (const RunRecord* run : members) {
-        if (StepsReached(*run) < x) continue;  // this seed has not reached x
-        std::vector<double> window;
-        for (const EpisodePoint& e : run->episodes) {
-          if (e.end_step > x - smoothing && e.end_step <= x) {
-            window.push_back(metric == CurveMetric::kReturn ? e.episode_return : e.episode_cost);
-          }
+    for (const std::string& setting : settings) {
+      std::vector<const RunRecord*> members;
+      std::int64_t longest = 0;
+      for (const RunRecord& run : runs) {
+        if (run.config.task != task || MethodOf(run.config) != planner ||
+            SettingOf(run) != setting || run.episodes.empty()) {
+          continue;
         }
-        if (!window.empty()) values.push_back(Mean(window));
+        members.push_back(&run);
+        longest = std::max(longest, std::min(StepsReached(run), up_to));
       }
-      if (values.empty()) continue;
-      curve.steps.push_back(static_cast<double>(x));
-      curve.mean.push_back(Mean(values));
-      curve.std.push_back(SampleStd(values));
+      if (members.empty()) continue;
+      LearningCurve curve;
+      curve.planner = planner;
+      curve.setting = setting;
+      for (std::int64_t x = grid_step; x <= longest; x += grid_step) {
+        std::vector<double> values;
+        for (const RunRecord* run : members) {
+          if (StepsReached(*run) < x) continue;  // this seed has not reached x
+          std::vector<double> window;
+          for (const EpisodePoint& e : run->episodes) {
+            if (e.end_step > x - smoothing && e.end_step <= x) {
+              window.push_back(metric == CurveMetric::kReturn ? e.episode_return : e.episode_cost);
+            }
+          }
+          if (!window.empty()) values.push_back(Mean(window));
+        }
+        if (values.empty()) continue;
+        curve.steps.push_back(static_cast<double>(x));
+        curve.mean.push_back(Mean(values));
+        curve.std.push_back(SampleStd(values));
+      }
+      curves.push_back(curve);
     }
-    curves.push_back(curve);
   }
   return curves;
 }
@@ -1117,7 +1263,8 @@ std::vector<std::string> SetupDifferences(const std::vector<RunRecord>& runs, st
   for (const RunRecord& run : runs) {
     const TrainConfig& c = run.config;
     // Seeds as Table I counts them: a run without a finished episode is not in it.
-    if (!run.episodes.empty()) seeds[c.task + " " + MethodOf(c)].insert(c.seed);
+    if (!run.episodes.empty())
+      seeds[c.task + " " + MethodOf(c) + " " + SettingOf(run)].insert(c.seed);
     const TrainConfig paper = PaperPreset(c, configs_dir);
     const std::string cell = fmt::format("{} {}", c.task, MethodLabel(MethodOf(c)));
     for (const ConfigDifference& d : ConfigDifferences(c, paper)) {
@@ -1159,7 +1306,7 @@ namespace {
 // One cell against the original: its seeds over the same window when its logs cover it, else
 // Table I when the window is the paper's; nothing otherwise.
 std::optional<std::string> OriginalComparison(const TableCell& cell, std::int64_t window) {
-  const std::string label = fmt::format("{} {}", cell.task, MethodLabel(cell.planner));
+  const std::string label = fmt::format("{} {}", RowLabel(cell), MethodLabel(cell.planner));
   if (!cell.original_per_seed.empty()) {
     const std::string verdict = VersusOriginal(cell);
     return fmt::format(
@@ -1263,19 +1410,21 @@ std::vector<std::string> WhereRunsWereMade(const std::vector<RunRecord>& runs) {
 std::vector<std::string> OutcomeDifferences(const std::vector<TableCell>& cells,
                                             std::int64_t window) {
   std::vector<std::string> notes;
-  std::map<std::string, std::map<std::string, const TableCell*>> by_task;
-  std::vector<std::string> tasks;
+  // One row per task and setting: the paper's method is compared within its own setting.
+  std::map<std::string, std::map<std::string, const TableCell*>> by_row;
+  std::vector<std::string> rows;
   for (const TableCell& cell : cells) {
-    if (by_task.find(cell.task) == by_task.end()) tasks.push_back(cell.task);
-    by_task[cell.task][cell.planner] = &cell;
+    const std::string row = RowLabel(cell);
+    if (by_row.find(row) == by_row.end()) rows.push_back(row);
+    by_row[row][cell.planner] = &cell;
   }
-  for (const std::string& task : tasks) {
-    const auto& row = by_task[task];
+  for (const std::string& label : rows) {
+    const auto& row = by_row[label];
     for (const auto& [planner, cell] : row) {
-      if (IsPapersMethod(planner)) PapersMethodAgainstOthers(task, row, *cell, notes);
+      if (IsPapersMethod(planner)) PapersMethodAgainstOthers(label, row, *cell, notes);
     }
     for (const TableCell& cell : cells) {  // the table's planner order
-      if (cell.task != task) continue;
+      if (RowLabel(cell) != label) continue;
       if (const auto note = OriginalComparison(cell, window)) notes.push_back(*note);
     }
   }

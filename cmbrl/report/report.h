@@ -156,6 +156,10 @@ double FinalReturn(const RunRecord& run, std::int64_t window, int episodes = 10)
 
 struct TableCell {
   std::string task, planner;
+  // The runs' values of an experiment's axes ("population=500"; SettingOfRunName), "" for runs
+  // of no axes: one cell per task, method and setting.
+  std::string setting;
+  std::vector<std::uint64_t> seeds;  // in order (empty for a cell read from an earlier table)
   std::vector<double> per_seed;  // violations, in seed order
   double mean = 0.0;
   double std = 0.0;  // sample standard deviation (0 with one seed)
@@ -191,8 +195,9 @@ std::string VersusOriginal(const TableCell& cell);
 // "no: below N"; "" without the original's logs.
 std::string WithinWidenedRange(const TableCell& cell);
 
-// One cell per task and planner present, tasks and planners in the sweep's order. Runs without
-// a finished episode are left out. `reference` (ReadReferenceRuns) fills the original's columns.
+// One cell per task, planner and setting present, tasks and planners in the registries' order,
+// then settings in natural order (numbers by value). Runs without a finished episode are left
+// out. `reference` (ReadReferenceRuns) fills the original's columns.
 std::vector<TableCell> ViolationTable(const std::vector<RunRecord>& runs, std::int64_t window,
                                       const std::vector<RunRecord>& reference = {});
 
@@ -205,8 +210,8 @@ std::vector<TableCell> ViolationTable(const std::vector<RunRecord>& runs, std::i
 std::vector<TableCell> ReadEarlierTable(const std::string& path, std::int64_t window,
                                         const std::vector<RunRecord>& reference = {});
 
-// `cells` (made from runs) with the `earlier` cells of tasks and planners they lack (the first
-// earlier cell of a pair counts), in the table's order: tasks, then planners, in the
+// `cells` (made from runs) with the `earlier` cells of tasks, planners and settings they lack (the
+// first earlier cell of a pair counts), in the table's order: tasks, then planners, in the
 // registries' order. A cell made from runs replaces an earlier one whole: seeds are not mixed.
 std::vector<TableCell> WithEarlierCells(std::vector<TableCell> cells,
                                         const std::vector<TableCell>& earlier);
@@ -238,11 +243,24 @@ std::string ProtocolVerdictMarkdown(const std::vector<TableCell>& cells, std::in
 std::string ProtocolCellsMarkdown(const std::vector<TableCell>& cells, std::int64_t window);
 std::string TableCsv(const std::vector<TableCell>& cells, std::int64_t window);
 
+// The two-sided p-value of an exact paired sign-flip (permutation) test that the differences'
+// mean is zero: the share of the 2^n sign assignments whose mean is at least as far from zero
+// as the observed one (n <= 20; beyond, 2^20 assignments drawn from a fixed seed). 1 for no
+// differences. With 3 pairs it cannot fall below 0.25, with 5 below 0.0625.
+double PairedSignFlipP(const std::vector<double>& differences);
+
+// Where cells differ only in their setting (an experiment's axes): for each task and method
+// with two or more settings, each setting against the first (in the table's order), paired by
+// seed: the differences of violations and of last-10-episode returns per seed, their mean with
+// its bootstrap 90% interval, and the sign-flip p-value. "" when no cell has a setting.
+std::string SettingComparisonMarkdown(const std::vector<TableCell>& cells);
+
 // A metric over agent steps, across seeds: at each grid step x, each run's mean over its
 // episodes that ended in (x - smoothing, x], then the mean and sample std over the runs that
 // reached x.
 struct LearningCurve {
   std::string planner;
+  std::string setting;  // as TableCell's
   std::vector<double> steps, mean, std;
 };
 

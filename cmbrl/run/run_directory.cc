@@ -3,6 +3,7 @@
 #include <zlib.h>
 
 #include <algorithm>
+#include <cctype>
 #include <fstream>
 #include <limits>
 #include <nlohmann/json.hpp>
@@ -382,6 +383,36 @@ std::optional<CheckpointManifest> VerifiedCheckpoint(const RunDirectory& run, bo
             run.sessions_file().string(), manifest.sessions);
   }
   return manifest;
+}
+
+namespace {
+
+std::string RunNameStem(const std::string& task, const std::string& method) {
+  std::string stem = task + "-" + method;
+  std::transform(stem.begin(), stem.end(), stem.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return stem;
+}
+
+}  // namespace
+
+std::string SweepRunName(const std::string& task, const std::string& method,
+                         const std::string& setting, std::uint64_t seed) {
+  return fmt::format("{}{}{}-s{}", RunNameStem(task, method), setting.empty() ? "" : "-", setting,
+                     seed);
+}
+
+std::string SettingOfRunName(const std::string& name, const std::string& task,
+                             const std::string& method, std::uint64_t seed) {
+  const std::string prefix = RunNameStem(task, method);
+  const std::string suffix = fmt::format("-s{}", seed);
+  if (name.size() < prefix.size() + suffix.size() || name.rfind(prefix, 0) != 0 ||
+      name.compare(name.size() - suffix.size(), suffix.size(), suffix) != 0) {
+    return "";
+  }
+  const std::string middle =
+      name.substr(prefix.size(), name.size() - prefix.size() - suffix.size());
+  return middle.size() > 1 && middle.front() == '-' ? middle.substr(1) : "";
 }
 
 void TruncateProgress(const RunDirectory& run, std::int64_t rows) {

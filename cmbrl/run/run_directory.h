@@ -123,4 +123,15 @@ void TruncateProgress(const RunDirectory& run, std::int64_t rows);
 // CRC-32 (zlib) of a file's bytes; throws cmbrl::Error naming a file that cannot be read.
 std::uint32_t FileCrc(const std::filesystem::path& path);
 
+// The name a sweep gives a run's directory: <task in lower case>-<method>[-<setting>]-s<seed>.
+// A setting names the run's values of an experiment's axes ("population=500"; several joined
+// by '-'), "" for a run of no axes.
+std::string SweepRunName(const std::string& task, const std::string& method,
+                         const std::string& setting, std::uint64_t seed);
+
+// The setting of a run named by SweepRunName, read back from its name with its own task, method
+// and seed; "" for a run of no axes, or a name not of that form (a run made by hand).
+std::string SettingOfRunName(const std::string& name, const std::string& task,
+                             const std::string& method, std::uint64_t seed);
+
 }  // namespace cmbrl

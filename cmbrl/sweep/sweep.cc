@@ -83,7 +83,8 @@ std::vector<SweepRun> PlanSweep(const SweepGrid& grid, const std::string& sweep_
     Require(fs::is_regular_file(overlay), "no config '{}': expected a YAML file to compose over "
             "each run's preset", overlay);
   }
-  // Every combination of the axes' values, as (name part, override) lists.
+  // Every combination of the axes' values, as (setting, overrides): the setting names the
+  // values ("population=500", several joined by '-'; SweepRunName).
   std::vector<std::pair<std::string, std::vector<std::string>>> points = {{"", {}}};
   for (const SweepAxis& axis : grid.axes) {
     Require(!axis.values.empty(), "axis '{}' has no values: expected a list of at least one",
@@ -98,7 +99,8 @@ std::vector<SweepRun> PlanSweep(const SweepGrid& grid, const std::string& sweep_
       for (const std::string& value : axis.values) {
         std::vector<std::string> with = overrides;
         with.push_back(axis.key + "=" + value);
-        longer.emplace_back(name + "-" + short_key + "=" + PathWord(value), with);
+        longer.emplace_back((name.empty() ? "" : name + "-") + short_key + "=" + PathWord(value),
+                            with);
       }
     }
     points = longer;
@@ -111,10 +113,10 @@ std::vector<SweepRun> PlanSweep(const SweepGrid& grid, const std::string& sweep_
       Require(fs::exists(config), "no config '{}' for {} with {}: expected <task>-<planner>.yaml "
               "in --config-dir",
               config.string(), task, planner);
-      for (const auto& [point_name, point_overrides] : points) {
+      for (const auto& [setting, point_overrides] : points) {
         for (const std::uint64_t seed : grid.seeds) {
           SweepRun run;
-          run.name = fmt::format("{}{}-s{}", stem, point_name, seed);
+          run.name = SweepRunName(task, planner, setting, seed);
           run.task = task;
           run.planner = planner;
           run.seed = seed;

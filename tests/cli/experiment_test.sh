@@ -30,6 +30,12 @@ runs=$(ls experiments/tiny/runs/runs | wc -l)
 "$cmbrl" report experiments/tiny > /dev/null
 grep -q "SHA-256 $(sha256sum experiments/tiny/experiment.yaml | cut -d' ' -f1)" \
   experiments/tiny/report/report.md || { echo "the report lacks the file's SHA-256"; exit 1; }
+# Each value of the axis is a cell of its own (2 seeds each), compared with the first value.
+for row in "| PointGoal1 (gamma=0.9) | MPC-RCE | 2 |" "| PointGoal1 (gamma=0.98) | MPC-random | 2 |" \
+           "## Settings compared" "| PointGoal1 | MPC-RCE | gamma=0.98 | gamma=0.9 | 0, 1 |"; do
+  grep -qF "$row" experiments/tiny/report/report.md ||
+    { echo "the report lacks '$row'"; sed -n '/## Every cell/,/## Details/p' experiments/tiny/report/report.md; exit 1; }
+done
 cp -r experiments/tiny/report first-report
 rm -rf experiments/tiny/runs
 "$cmbrl" report experiments/tiny > /dev/null
@@ -41,4 +47,4 @@ if "$cmbrl" report experiments/tiny 2> edited.err; then
 fi
 grep -q "was made with another config than" edited.err || { cat edited.err; exit 1; }
 grep -q "rounds: 10" edited.err || { cat edited.err; exit 1; }
-echo "experiment: 8 runs, report made again identical, edited declaration refused"
+echo "experiment: 8 runs, a cell per setting, report made again identical, edited declaration refused"

@@ -31,16 +31,18 @@ using ::testing::HasSubstr;
 using ::testing::Not;
 
 // A run of a fixture sweep: episodes of `steps` agent steps with the given costs; returns rise
-// by one per episode from `first_return`.
+// by one per episode from `first_return`. A run of a setting is named as a sweep names it.
 void WriteRun(const fs::path& sweep, const std::string& task, const std::string& planner,
               std::uint64_t seed, int steps, const std::vector<double>& costs,
-              double first_return) {
+              double first_return, const std::string& setting = "") {
   TrainConfig config;
   config.task = task;
   config.planner = planner;
   config.seed = seed;
   config.training.total_steps = 1000;
-  const fs::path dir = sweep / "runs" / fmt::format("{}-{}-s{}", task, planner, seed);
+  const fs::path dir = sweep / "runs" /
+                       (setting.empty() ? fmt::format("{}-{}-s{}", task, planner, seed)
+                                        : SweepRunName(task, planner, setting, seed));
   fs::create_directories(dir);
   std::ofstream(dir / "config.yaml") << TrainConfigToYaml(config);
   std::ofstream progress(dir / "progress.csv");
@@ -127,7 +129,7 @@ TEST_F(ReportTest, TableOneHasTheExpectedNumbers) {
   EXPECT_THAT(markdown, HasSubstr("| PointGoal1 | 2.0 ± 1.4 (2) [16] | 16.5 ± 2.1 (2) [184] |"));
   EXPECT_THAT(markdown, HasSubstr("| CarGoal2 | 8.0 ± 0.0 (1) [96] | 2.0 ± 0.0 (1) [578] |"));
   const std::string csv = TableCsv(cells, 300);
-  EXPECT_THAT(csv, HasSubstr("PointGoal1,cem,300,2,16.5,2.1213203435596424,15 18,184.33,300,2,"
+  EXPECT_THAT(csv, HasSubstr("PointGoal1,cem,,300,2,16.5,2.1213203435596424,15 18,184.33,300,2,"
                              "1.4142135623730951,,,,,0 0,0,,,,,,,0 0,0 0,\n"));
   // Returns of the episodes begun in the window: rce 0,1,2 and 1,2,3; cem 0,1,2 and 2,3,4.
   EXPECT_EQ(cells[0].final_returns, (std::vector<double>{1, 2}));
@@ -176,6 +178,70 @@ TEST_F(ReportTest, TableOneHasTheExpectedNumbers) {
   }
   EXPECT_THAT(SetupDifferences(car, 300, kConfigs),
               ::testing::Contains(HasSubstr("Seeds: 1 per cell, the paper 3.")));
+}
+
+// An experiment's axes: each setting is a cell of its own, settings in natural order, and each
+// compared with the first of its task and method, paired by seed.
+TEST_F(ReportTest, SettingsAreCellsOfTheirOwnComparedPairedBySeed) {
+  fs::remove_all(sweep_);
+  for (std::uint64_t seed = 0; seed < 3; ++seed) {
+    const double c = static_cast<double>(seed) + 5;
+    WriteRun(sweep_, "PointGoal2", "rce", seed, 100, {c, c, c}, 0, "population=100");
+    WriteRun(sweep_, "PointGoal2", "rce", seed, 100, {c - 4, c - 4, c - 4}, 2, "population=500");
+  }
+  WriteRun(sweep_, "PointGoal2", "rce", 3, 100, {0, 0, 0}, 2, "population=500");  // no pair
+  WriteRun(sweep_, "PointGoal2", "rce", 0, 100, {1, 1, 1}, 0, "population=1000");
+  const std::vector<RunRecord> runs = ReadSweep(sweep_.string());
+  const std::vector<TableCell> cells = ViolationTable(runs, 300);
+  ASSERT_EQ(cells.size(), 3u);
+  // 1000 after 500: numbers compare by value, not as text.
+  EXPECT_EQ(cells[0].setting, "population=100");
+  EXPECT_EQ(cells[1].setting, "population=500");
+  EXPECT_EQ(cells[2].setting, "population=1000");
+  EXPECT_EQ(cells[0].seeds, (std::vector<std::uint64_t>{0, 1, 2}));
+  EXPECT_EQ(cells[1].seeds, (std::vector<std::uint64_t>{0, 1, 2, 3}));
+  EXPECT_EQ(cells[0].per_seed, (std::vector<double>{15, 18, 21}));
+  EXPECT_EQ(cells[1].per_seed, (std::vector<double>{3, 6, 9, 0}));
+
+  const std::string table = TableMarkdown(cells, 300);
+  EXPECT_THAT(table, HasSubstr("| PointGoal2 (population=100) | 18.0 ± 3.0 (3) [231] |"));
+  EXPECT_THAT(table, HasSubstr("| PointGoal2 (population=500) | 4.5 ± 3.9 (4) [231] |"));
+  EXPECT_THAT(ProtocolVerdictMarkdown(cells, 300), HasSubstr("| PointGoal2 (population=1000) |"));
+  EXPECT_THAT(ProtocolCellsMarkdown(cells, 300), HasSubstr("| PointGoal2 (population=500) | "
+                                                           "MPC-RCE | 4 |"));
+  EXPECT_THAT(TableCsv(cells, 300), HasSubstr("PointGoal2,rce,population=500,300,4,"));
+
+  // Returns: the 100 arm's episodes earn 0, 1, 2 (mean 1), the 500 arm's 2, 3, 4 (mean 3).
+  const std::string compared = SettingComparisonMarkdown(cells);
+  EXPECT_THAT(compared,
+              HasSubstr("| PointGoal2 | MPC-RCE | population=500 | population=100 | 0, 1, 2 | "
+                        "-12.0, -12.0, -12.0 | -12.0 [-12.0, -12.0] | 0.250 | 2.00, 2.00, 2.00 | "
+                        "2.00 [2.00, 2.00] | 0.250 |"));
+  EXPECT_THAT(compared, HasSubstr("| PointGoal2 | MPC-RCE | population=1000 | population=100 | "
+                                  "0 | -12.0 | -12.0 [-12.0, -12.0] | 1.000 |"));
+  EXPECT_EQ(LearningCurves(runs, "PointGoal2", CurveMetric::kCost, 100, 100).size(), 3u);
+  // The paper's method is judged within its own setting: alone there, no verdict.
+  EXPECT_THAT(OutcomeDifferences(cells, 300),
+              Not(::testing::Contains(HasSubstr("violations on average"))));
+}
+
+TEST_F(ReportTest, ARunOfNoAxesHasNoSettingsToCompare) {
+  const std::vector<TableCell> cells = ViolationTable(ReadSweep(sweep_.string()), 300);
+  for (const TableCell& cell : cells) EXPECT_EQ(cell.setting, "");
+  EXPECT_EQ(SettingComparisonMarkdown(cells), "");
+}
+
+// The exact sign-flip test on hand-counted cases: of the 8 sign assignments of (3, 1, 1) only
+// (+, +, +) and (-, -, -) reach |5|; of (3, -1, 1), 6 reach |3|.
+TEST(ReportTableTest, ThePairedSignFlipTestCountsEveryAssignment) {
+  EXPECT_DOUBLE_EQ(PairedSignFlipP({}), 1.0);
+  EXPECT_DOUBLE_EQ(PairedSignFlipP({3, 1, 1}), 0.25);
+  EXPECT_DOUBLE_EQ(PairedSignFlipP({3, -1, 1}), 0.75);
+  EXPECT_DOUBLE_EQ(PairedSignFlipP({1, -1}), 1.0);
+  EXPECT_DOUBLE_EQ(PairedSignFlipP({0.1, 0.2, 0.3, 0.4, 0.5}), 2.0 / 32.0);
+  // Beyond 20 pairs the assignments are drawn: 25 equal differences are all but never matched.
+  EXPECT_LT(PairedSignFlipP(std::vector<double>(25, 1.0)), 1e-3);
+  EXPECT_GT(PairedSignFlipP(std::vector<double>(25, 1.0)), 0.0 - 1e-12);
 }
 
 TEST_F(ReportTest, LearningCurvesAverageOverSeedsThatReachEachStep) {
