@@ -108,6 +108,15 @@ std::string SettingOf(const RunRecord& run) {
   return SettingOfRunName(run.name, run.config.task, MethodOf(run.config), run.config.seed);
 }
 
+// The runs' distinct settings in natural order ("" first: runs of no axes).
+std::vector<std::string> SettingsInOrder(const std::vector<RunRecord>& runs) {
+  std::vector<std::string> settings;
+  for (const RunRecord& run : runs) settings.push_back(SettingOf(run));
+  std::sort(settings.begin(), settings.end(), NaturalLess);
+  settings.erase(std::unique(settings.begin(), settings.end()), settings.end());
+  return settings;
+}
+
 // A cell's row label: its task, with its setting where it has one.
 std::string RowLabel(const std::string& task, const std::string& setting) {
   return setting.empty() ? task : fmt::format("{} ({})", task, setting);
@@ -600,10 +609,7 @@ std::vector<TableCell> ViolationTable(const std::vector<RunRecord>& runs, std::i
                                       const std::vector<RunRecord>& reference) {
   const auto task_of = [](const RunRecord& r) { return r.config.task; };
   const auto planner_of = [](const RunRecord& r) { return MethodOf(r.config); };
-  std::vector<std::string> settings;
-  for (const RunRecord& run : runs) settings.push_back(SettingOf(run));
-  std::sort(settings.begin(), settings.end(), NaturalLess);
-  settings.erase(std::unique(settings.begin(), settings.end()), settings.end());
+  const std::vector<std::string> settings = SettingsInOrder(runs);
   std::vector<TableCell> cells;
   for (const std::string& task : InOrder(runs, task_of, EnvNames())) {
     for (const std::string& planner : InOrder(runs, planner_of, MethodNames())) {
@@ -1185,10 +1191,7 @@ std::vector<LearningCurve> LearningCurves(const std::vector<RunRecord>& runs,
           grid_step, smoothing);
   std::vector<LearningCurve> curves;
   const auto planner_of = [](const RunRecord& r) { return MethodOf(r.config); };
-  std::vector<std::string> settings;
-  for (const RunRecord& run : runs) settings.push_back(SettingOf(run));
-  std::sort(settings.begin(), settings.end(), NaturalLess);
-  settings.erase(std::unique(settings.begin(), settings.end()), settings.end());
+  const std::vector<std::string> settings = SettingsInOrder(runs);
   for (const std::string& planner : InOrder(runs, planner_of, MethodNames())) {
     for (const std::string& setting : settings) {
       std::vector<const RunRecord*> members;
