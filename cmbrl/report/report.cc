@@ -634,6 +634,7 @@ std::vector<TableCell> ViolationTable(const std::vector<RunRecord>& runs, std::i
         cell.fewest_steps = std::numeric_limits<std::int64_t>::max();
         for (const RunRecord* run : members) {
           cell.seeds.push_back(run->config.seed);
+          cell.epoch_log = run->epoch_log;
           cell.per_seed.push_back(ViolationsWithin(*run, window));
           cell.final_returns.push_back(FinalReturn(*run, window));
           // An epoch's mean cost is not an episode's: no count of heavy episodes for epoch logs.
@@ -880,6 +881,27 @@ std::string AgainstRange(double mean, const std::vector<double>& original) {
 
 namespace {
 
+// What the cells count in: agent steps and episodes (MPC runs), environment steps and epochs
+// (model-free runs), or both named where a table holds both.
+struct CountUnits {
+  std::string steps, violations, returns;
+};
+CountUnits UnitsOf(const std::vector<TableCell>& cells) {
+  const bool epochs = std::any_of(cells.begin(), cells.end(), [](auto& c) { return c.epoch_log; });
+  const bool episodes =
+      std::any_of(cells.begin(), cells.end(), [](auto& c) { return !c.epoch_log; });
+  const CountUnits mpc{"agent steps", "the EpCost of the episodes that ended in the window",
+                       "the mean EpRet of each run's last 10 episodes in it"};
+  const CountUnits model_free{"environment steps",
+                              "the cumulative cost at the window's end, interpolated in its epoch",
+                              "the mean AverageEpRet of each run's last 10 epochs in it"};
+  if (!epochs) return mpc;
+  if (!episodes) return model_free;
+  return {"steps (agent steps for MPC runs, environment steps for model-free ones)",
+          mpc.violations + "; for model-free runs " + model_free.violations,
+          mpc.returns + "; for model-free runs " + model_free.returns};
+}
+
 // "12.3 [8.0, 17.1]": a mean and its bootstrap 90% interval.
 std::string MeanWithInterval(const std::vector<double>& values, int digits) {
   if (values.empty()) return "-";
@@ -898,13 +920,14 @@ std::string PerSeed(const std::vector<double>& values, int digits) {
 
 std::string ProtocolVerdictMarkdown(const std::vector<TableCell>& cells, std::int64_t window) {
   const std::vector<std::string> planners = DistinctInOrder(cells, &TableCell::planner);
+  const CountUnits units = UnitsOf(cells);
   std::string text = fmt::format(
-      "Violations during the first {} agent steps: mean over seeds [bootstrap 90% interval of "
+      "Violations during the first {} {}: mean over seeds [bootstrap 90% interval of "
       "the mean]. \"Least\": the paper's method violates least, its interval wholly below every "
       "other method's (\"yes\"), or only its mean lowest (\"mean only\"). Against the "
       "original: where our mean lies against the range of the original's three seeds over the "
-      "same window, for violations / for the return of the last 10 episodes.\n\n| task |",
-      window);
+      "same window, for violations / for the return ({}).\n\n| task |",
+      window, units.steps, units.returns);
   for (const std::string& planner : planners) text += " " + MethodLabel(planner) + " |";
   text += " least? |";
   for (const std::string& planner : planners) text += " " + MethodLabel(planner) + " vs original |";
@@ -948,15 +971,15 @@ std::string ProtocolVerdictMarkdown(const std::vector<TableCell>& cells, std::in
 }
 
 std::string ProtocolCellsMarkdown(const std::vector<TableCell>& cells, std::int64_t window) {
+  const CountUnits units = UnitsOf(cells);
   std::string text = fmt::format(
-      "Every cell over the first {} agent steps: violations (the EpCost of the episodes that "
-      "ended in the window) and return (the mean EpRet of each run's last 10 episodes in it), per "
-      "seed in seed order, their mean [bootstrap 90% interval], and the original's seeds (0, 10, "
-      "100) from its logs. * marks a cell whose shortest run has not reached the window.\n\n"
+      "Every cell over the first {} {}: violations ({}) and return ({}), per seed in seed order, "
+      "their mean [bootstrap 90% interval], and the original's seeds (0, 10, 100) from its "
+      "logs. * marks a cell whose shortest run has not reached the window.\n\n"
       "| task | method | seeds | violations per seed | mean [90%] | original | vs original | "
       "return per seed | mean [90%] | original | vs original |\n"
       "|---|---|---|---|---|---|---|---|---|---|---|\n",
-      window);
+      window, units.steps, units.violations, units.returns);
   for (const TableCell& cell : cells) {
     const std::string original =
         cell.original_per_seed.empty()

@@ -160,6 +160,8 @@ struct TableCell {
   // of no axes: one cell per task, method and setting.
   std::string setting;
   std::vector<std::uint64_t> seeds;  // in order (empty for a cell read from an earlier table)
+  // Model-free runs: counted in environment steps, their points epochs (RunRecord::epoch_log).
+  bool epoch_log = false;
   std::vector<double> per_seed;  // violations, in seed order
   double mean = 0.0;
   double std = 0.0;  // sample standard deviation (0 with one seed)

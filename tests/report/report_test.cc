@@ -523,6 +523,22 @@ TEST_F(ReportTest, ModelFreeRunsAreEpochLogsGroupedByAlgorithm) {
   const std::vector<TableCell> early = ViolationTable(runs, 500);
   EXPECT_THAT(TableMarkdown(early, 500), HasSubstr("| CPO |"));
   EXPECT_THAT(TableMarkdown(early, 500), Not(HasSubstr("nan")));
+  // An experiment's tables name what model-free cells count: environment steps and epochs.
+  const std::vector<TableCell> model_free(cell, cell + 1);
+  EXPECT_TRUE(cell->epoch_log);
+  EXPECT_THAT(ProtocolCellsMarkdown(model_free, 1500),
+              HasSubstr("first 1500 environment steps: violations (the cumulative cost at the "
+                        "window's end, interpolated in its epoch) and return (the mean "
+                        "AverageEpRet of each run's last 10 epochs in it)"));
+  EXPECT_THAT(ProtocolVerdictMarkdown(model_free, 1500), HasSubstr("1500 environment steps"));
+  // Beside MPC cells, both are named.
+  EXPECT_THAT(ProtocolCellsMarkdown(cells, 1500),
+              HasSubstr("steps (agent steps for MPC runs, environment steps for model-free ones)"));
+  std::vector<TableCell> mpc_only;
+  for (const TableCell& c : cells) {
+    if (!c.epoch_log) mpc_only.push_back(c);
+  }
+  EXPECT_THAT(ProtocolCellsMarkdown(mpc_only, 1500), Not(HasSubstr("environment steps")));
 }
 
 TEST_F(ReportTest, BadReferenceLogsAreNamed) {
