@@ -164,8 +164,19 @@ grep -q 'DUE TO JOB REQUEUE' "$work/slurm/logs/slurm-0.log" ||
 # Submitted twice, the second submission follows the first's task instead of sending the run again.
 twice=(sweep --tasks PointGoal1 --planners rce --seeds 0 --config-dir "$work/configs" --steps 1000
        --out "$work/twice" --engine slurm --poll 0.5 --sbatch=--cpus-per-task=1)
-"$cmbrl" "${twice[@]}" > "$work/twice-1.log"
-"$cmbrl" "${twice[@]}" --wait > "$work/twice-2.log"
+# The first submission is held, so that its task cannot finish before the second one looks (on a
+# busy machine it sometimes did); it is released once the second has found it queued.
+"$cmbrl" "${twice[@]}" --sbatch=--hold > "$work/twice-1.log"
+"$cmbrl" "${twice[@]}" --wait > "$work/twice-2.log" &
+second=$!
+for _ in $(seq 600); do
+  grep -q '"status":"already queued"' "$work/twice-2.log" 2> /dev/null && break
+  sleep 0.1
+done
+for job in $(squeue --noheader --name=cmbrl-sweep --format=%F | sort -u); do
+  scontrol release "$job"
+done
+wait "$second"
 grep -q '"status":"already queued"' "$work/twice-2.log" &&
   grep -q '"submitted":0,"already_queued":1,"finished_now":1' "$work/twice-2.log" ||
   { echo "FAILED: a second submission sent a queued run again"; cat "$work/twice-2.log"; exit 1; }
