@@ -18,6 +18,16 @@
 #include "python/bindings/bindings.h"
 
 namespace cmbrl::python {
+namespace {
+
+// A fit's keep-going callback, called between epochs or boosting rounds with the GIL released:
+// runs Python's signal handlers, false once one raised (Ctrl-C's KeyboardInterrupt).
+bool NoSignalRaised() {
+  const py::gil_scoped_acquire acquire;
+  return PyErr_CheckSignals() == 0;
+}
+
+}  // namespace
 
 py::array_t<double> PredictNextStates(const EnsembleDynamics& dynamics,
                                       const std::vector<double>& states,
@@ -93,10 +103,7 @@ class PyEnsemble {
       }
       // After each epoch, Python's signal handlers run (Ctrl-C): a KeyboardInterrupt stops the
       // fit there, the epochs done kept, and is raised once the fit has returned.
-      report = dynamics_.Fit(buffer_, [] {
-        const py::gil_scoped_acquire acquire;
-        return PyErr_CheckSignals() == 0;
-      });
+      report = dynamics_.Fit(buffer_, NoSignalRaised);
     }
     if (report.interrupted && PyErr_Occurred() != nullptr) throw py::error_already_set();
     py::dict d;
@@ -184,12 +191,9 @@ class PyCostClassifier {
       py::gil_scoped_release release;
       // After each boosting round, Python's signal handlers run (Ctrl-C): a KeyboardInterrupt
       // abandons the fit, leaving the classifier as it was, and is raised once it has returned.
-      report = classifier_.FitArrays(
-          safe_rows.data(), static_cast<int>(safe_rows.size() / s), unsafe_rows.data(),
-          static_cast<int>(unsafe_rows.size() / s), [] {
-            const py::gil_scoped_acquire acquire;
-            return PyErr_CheckSignals() == 0;
-          });
+      report = classifier_.FitArrays(safe_rows.data(), static_cast<int>(safe_rows.size() / s),
+                                     unsafe_rows.data(), static_cast<int>(unsafe_rows.size() / s),
+                                     NoSignalRaised);
     }
     if (report.interrupted && PyErr_Occurred() != nullptr) throw py::error_already_set();
     py::dict d;
