@@ -39,37 +39,32 @@ std::vector<PlotPanel> CurvePanels(const std::vector<RunRecord>& runs,
     panel.x_label = x_label;
     panel.y_label = metric == CurveMetric::kReturn ? kEpRetColumn : kEpCostColumn;
     if (metric == CurveMetric::kCost) panel.y_floor = 0.0;  // violations are counts
-    for (const LearningCurve& curve :
-         LearningCurves(runs, task, metric, args.grid_step, args.smoothing)) {
+    const std::vector<LearningCurve> curves =
+        LearningCurves(runs, task, metric, args.grid_step, args.smoothing);
+    for (const LearningCurve& curve : curves) {
       PlotSeries ours;
-      ours.label = curve.setting.empty()
-                       ? MethodLabel(curve.planner)
-                       : fmt::format("{} ({})", MethodLabel(curve.planner), curve.setting);
+      ours.label = WithSetting(MethodLabel(curve.planner), curve.setting);
       ours.x = curve.steps;
       ours.y = curve.mean;
       ours.band = curve.std;
       panel.series.push_back(ours);
     }
-    // The original's mean over its seeds, dashed in the colour of ours, over our steps only
-    // (once per method: beside its first setting's curve).
+    // The original's mean over its seeds, dashed in the colour of its method's first curve of
+    // ours (its first setting), over our steps only.
     std::vector<PlotSeries> originals;
-    for (const PlotSeries& ours : panel.series) {
-      for (const LearningCurve& curve :
-           LearningCurves(reference, task, metric, args.grid_step, args.smoothing, longest)) {
-        const std::string label = MethodLabel(curve.planner);
-        if ((ours.label != label && ours.label.rfind(label + " (", 0) != 0) ||
-            std::any_of(originals.begin(), originals.end(),
-                        [&](const PlotSeries& o) { return o.label == label + " (original)"; })) {
-          continue;
-        }
-        PlotSeries original;
-        original.label = label + " (original)";
-        original.x = curve.steps;
-        original.y = curve.mean;
-        original.dashed = true;
-        original.colour_of = ours.label;
-        originals.push_back(original);
-      }
+    for (const LearningCurve& curve :
+         LearningCurves(reference, task, metric, args.grid_step, args.smoothing, longest)) {
+      const auto ours = std::find_if(curves.begin(), curves.end(), [&](const LearningCurve& c) {
+        return c.planner == curve.planner;
+      });
+      if (ours == curves.end()) continue;
+      PlotSeries original;
+      original.label = MethodLabel(curve.planner) + " (original)";
+      original.x = curve.steps;
+      original.y = curve.mean;
+      original.dashed = true;
+      original.colour_of = panel.series[static_cast<size_t>(ours - curves.begin())].label;
+      originals.push_back(original);
     }
     panel.series.insert(panel.series.end(), originals.begin(), originals.end());
     panels.push_back(panel);
@@ -120,8 +115,8 @@ ReportSummary WriteReport(const ReportRequest& args) {
   std::vector<std::string> earlier_cells;
   for (const TableCell& cell : cells) {
     if (!cell.source.empty()) {
-      earlier_cells.push_back(cell.task + " " + MethodLabel(cell.planner) +
-                              (cell.setting.empty() ? "" : " (" + cell.setting + ")"));
+      earlier_cells.push_back(cell.task + " " +
+                              WithSetting(MethodLabel(cell.planner), cell.setting));
     }
   }
   const std::string settings = SettingComparisonMarkdown(cells);

@@ -118,10 +118,7 @@ std::vector<std::string> SettingsInOrder(const std::vector<RunRecord>& runs) {
 }
 
 // A cell's row label: its task, with its setting where it has one.
-std::string RowLabel(const std::string& task, const std::string& setting) {
-  return setting.empty() ? task : fmt::format("{} ({})", task, setting);
-}
-std::string RowLabel(const TableCell& cell) { return RowLabel(cell.task, cell.setting); }
+std::string RowLabel(const TableCell& cell) { return WithSetting(cell.task, cell.setting); }
 
 // The first epochs' violations and mean returns, each as "mean (per seed)", or "-" for none.
 struct FirstEpochTexts {
@@ -800,7 +797,7 @@ std::string TableMarkdown(const std::vector<TableCell>& cells, std::int64_t wind
   for (size_t r = 0; r < rows.size(); ++r) {
     const auto& [task, setting] = rows[r];
     if (r > 0) text += "\n";
-    text += "| " + RowLabel(task, setting) + " |";
+    text += "| " + WithSetting(task, setting) + " |";
     for (const std::string& planner : planners) {
       const TableCell* it = FindCell(cells, task, planner, setting);
       if (it == nullptr) {
@@ -832,7 +829,7 @@ std::string TableMarkdown(const std::vector<TableCell>& cells, std::int64_t wind
   text += "\n|---|";
   for (size_t i = 0; i < planners.size(); ++i) text += "---|";
   for (const auto& [task, setting] : rows) {
-    text += "\n| " + RowLabel(task, setting) + " |";
+    text += "\n| " + WithSetting(task, setting) + " |";
     for (const std::string& planner : planners) {
       const TableCell* it = FindCell(cells, task, planner, setting);
       text += it == nullptr ? " |"
@@ -871,6 +868,10 @@ MeanInterval BootstrapMeanInterval(const std::vector<double>& values, double lev
   interval.low = at((1.0 - level) / 2.0);
   interval.high = at(1.0 - (1.0 - level) / 2.0);
   return interval;
+}
+
+std::string WithSetting(const std::string& name, const std::string& setting) {
+  return setting.empty() ? name : fmt::format("{} ({})", name, setting);
 }
 
 std::string AgainstRange(double mean, const std::vector<double>& original) {
@@ -935,7 +936,7 @@ std::string ProtocolVerdictMarkdown(const std::vector<TableCell>& cells, std::in
   for (size_t i = 0; i < 2 * planners.size() + 1; ++i) text += "---|";
   text += "\n";
   for (const auto& [task, setting] : TaskSettingRows(cells)) {
-    text += "| " + RowLabel(task, setting) + " |";
+    text += "| " + WithSetting(task, setting) + " |";
     std::optional<std::string> papers;
     for (const std::string& planner : planners) {
       const TableCell* cell = FindCell(cells, task, planner, setting);
@@ -1046,28 +1047,27 @@ double PairedSignFlipP(const std::vector<double>& differences) {
   // A sum within rounding of the observed one counts as "as far": sums of the same values in
   // another order may differ in their last bits.
   const double tolerance = 1e-9 * (1.0 + observed);
-  const auto as_far = [&](std::uint64_t signs) {
+  // Whether the assignment whose bit i flips difference i (words of 64 bits) reaches it.
+  std::vector<std::uint64_t> signs((n + 63) / 64);
+  const auto as_far = [&] {
     double sum = 0.0;
-    for (size_t i = 0; i < n; ++i) sum += (signs >> i & 1) ? -differences[i] : differences[i];
+    for (size_t i = 0; i < n; ++i) {
+      sum += (signs[i / 64] >> (i % 64) & 1) ? -differences[i] : differences[i];
+    }
     return std::abs(sum) >= observed - tolerance;
   };
   constexpr size_t kExactUpTo = 20;
   std::uint64_t hits = 0, total = 0;
   if (n <= kExactUpTo) {
     total = std::uint64_t{1} << n;
-    for (std::uint64_t signs = 0; signs < total; ++signs) hits += as_far(signs);
+    for (signs[0] = 0; signs[0] < total; ++signs[0]) hits += as_far();
   } else {
     // A fixed seed: the p-value is a property of the values, and a report regenerates alike.
     std::mt19937_64 generator(0x5eedf11b);
     total = std::uint64_t{1} << kExactUpTo;
     for (std::uint64_t draw = 0; draw < total; ++draw) {
-      std::uint64_t signs = generator();
-      double sum = 0.0;
-      for (size_t i = 0; i < n; ++i) {
-        if (i % 64 == 0 && i > 0) signs = generator();
-        sum += (signs >> (i % 64) & 1) ? -differences[i] : differences[i];
-      }
-      hits += std::abs(sum) >= observed - tolerance;
+      for (std::uint64_t& word : signs) word = generator();
+      hits += as_far();
     }
   }
   return static_cast<double>(hits) / static_cast<double>(total);

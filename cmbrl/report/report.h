@@ -230,6 +230,10 @@ struct MeanInterval {
 MeanInterval BootstrapMeanInterval(const std::vector<double>& values, double level = 0.9,
                                    int resamples = 10000);
 
+// A task's or method's label with a setting: "PointGoal2 (population=500)"; the name alone for
+// no setting.
+std::string WithSetting(const std::string& name, const std::string& setting);
+
 // Where a mean lies against a set of the original's per-seed values: "below" the lowest, "inside"
 // their range, "above" the highest; "" without them.
 std::string AgainstRange(double mean, const std::vector<double>& original);
