@@ -54,4 +54,18 @@ class QuadraticObjective : public Objective {
   float lowest_ = 1e9f, highest_ = -1e9f;
 };
 
+// The optimum of a QuadraticObjective of horizon 8 and two action dimensions where every step
+// wants (x, y), flattened (H * A) and as a tensor (H, A).
+inline std::vector<float> RepeatedTarget(float x, float y) {
+  std::vector<float> target;
+  for (int t = 0; t < 8; ++t) {
+    target.push_back(x);
+    target.push_back(y);
+  }
+  return target;
+}
+inline torch::Tensor RepeatedTargetTensor(float x, float y) {
+  return torch::tensor(RepeatedTarget(x, y)).view({8, 2});
+}
+
 }  // namespace cmbrl::testing
