@@ -12,7 +12,10 @@
 #include "cmbrl/core/check.h"
 #include "cmbrl/core/files.h"
 #include "cmbrl/learners/mpc/mpc_progress_columns.h"
+#include "cmbrl/report/curves.h"
 #include "cmbrl/report/reference.h"
+#include "cmbrl/report/setup_diff.h"
+#include "cmbrl/report/table_markdown.h"
 #include "cmbrl/viz/plot.h"
 
 namespace cmbrl {

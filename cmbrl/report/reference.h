@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "cmbrl/report/report.h"
+#include "cmbrl/report/run_logs.h"
 
 namespace cmbrl {
 

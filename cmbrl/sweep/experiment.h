@@ -21,7 +21,7 @@
 
 #include "cmbrl/config/config.h"
 #include "cmbrl/report/document.h"
-#include "cmbrl/report/report.h"
+#include "cmbrl/report/run_logs.h"
 #include "cmbrl/sweep/sweep.h"
 
 namespace cmbrl {

@@ -9,11 +9,11 @@
 #include <nlohmann/json.hpp>
 #include <set>
 
+#include "cmbrl/config/config.h"
 #include "cmbrl/core/check.h"
 #include "cmbrl/core/files.h"
 #include "cmbrl/env/registry.h"
-#include "cmbrl/config/config.h"
-#include "cmbrl/report/report.h"
+#include "cmbrl/report/run_logs.h"
 #include "cmbrl/run/run_directory.h"
 
 namespace cmbrl {

@@ -1,5 +1,3 @@
-#include "cmbrl/report/report.h"
-
 #include <cairo.h>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -14,10 +12,14 @@
 
 #include "cmbrl/learners/mpc/mpc_learner.h"
 #include "cmbrl/learners/policy_opt/policy_opt_learner.h"
+#include "cmbrl/report/curves.h"
 #include "cmbrl/report/document.h"
 #include "cmbrl/report/reference.h"
-#include "cmbrl/train/trainer.h"
+#include "cmbrl/report/setup_diff.h"
+#include "cmbrl/report/statistics.h"
+#include "cmbrl/report/table_markdown.h"
 #include "cmbrl/run/run_directory.h"
+#include "cmbrl/train/trainer.h"
 #include "cmbrl/viz/plot.h"
 #include "tests/error_message.h"
 

@@ -7,7 +7,8 @@
 #include <fstream>
 #include <map>
 
-#include "cmbrl/report/report.h"
+#include "cmbrl/report/statistics.h"
+#include "cmbrl/report/table_markdown.h"
 #include "tests/error_message.h"
 #include "tests/temp_path.h"
 

@@ -1,0 +1,385 @@
+#include "cmbrl/report/run_logs.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cctype>
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <map>
+#include <set>
+#include <thread>
+
+#include "cmbrl/core/check.h"
+#include "cmbrl/env/registry.h"
+#include "cmbrl/learners/mpc/mpc_progress_columns.h"
+#include "cmbrl/run/progress_table.h"
+#include "cmbrl/run/run_directory.h"
+
+namespace cmbrl {
+namespace fs = std::filesystem;
+namespace {
+
+// The distinct values of a field over the runs, in the order of `known` (the registries'
+// order: the paper's), unknown values last.
+template <typename Get>
+std::vector<std::string> InOrder(const std::vector<RunRecord>& runs, Get get,
+                                 const std::vector<std::string>& known) {
+  std::vector<std::string> order;
+  for (const RunRecord& run : runs) {
+    const std::string value = get(run);
+    if (std::find(order.begin(), order.end(), value) == order.end()) order.push_back(value);
+  }
+  const auto rank = [&](const std::string& value) {
+    return std::find(known.begin(), known.end(), value) - known.begin();
+  };
+  std::stable_sort(order.begin(), order.end(),
+                   [&](const std::string& a, const std::string& b) { return rank(a) < rank(b); });
+  return order;
+}
+
+// A row's value of a column that must lie in [low, high] (finite), named in the error.
+double InDomain(const ProgressTable& table, const std::string& file, size_t row, size_t column,
+                double low, double high, const char* expected) {
+  const double value = table.Number(row, column);
+  Require(std::isfinite(value) && value >= low && value <= high,
+          "{} line {}: {} is {}: expected {}", file, table.line(row), table.header().at(column),
+          table.Text(row, column), expected);
+  return value;
+}
+
+// The same for a count of steps in an episode of `steps` steps: a whole number in [0, steps].
+double StepCount(const ProgressTable& table, const std::string& file, size_t row, size_t column,
+                 double steps) {
+  const double value =
+      InDomain(table, file, row, column, 0.0, steps, "a whole count from 0 to the episode's steps");
+  Require(value == std::round(value), "{} line {}: {} is {}: expected a whole count", file,
+          table.line(row), table.header().at(column), table.Text(row, column));
+  return value;
+}
+
+// The same for a column where NaN means "not measured" (a fraction not logged, the means of an
+// epoch in which no episode ended): NaN passes, any other value must lie in [low, high].
+double NanOrInDomain(const ProgressTable& table, const std::string& file, size_t row, size_t column,
+                     double low, double high, const char* expected) {
+  const double value = table.Number(row, column);
+  return std::isnan(value) ? value : InDomain(table, file, row, column, low, high, expected);
+}
+
+std::optional<size_t> RowLimit(std::optional<std::int64_t> rows) {
+  if (!rows) return std::nullopt;
+  return static_cast<size_t>(std::max<std::int64_t>(*rows, 0));
+}
+
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
+
+// The folders under `parent` that hold a run (config.yaml), in name order.
+std::vector<fs::path> RunFolders(const fs::path& parent) {
+  std::vector<fs::path> dirs;
+  if (!fs::is_directory(parent)) return dirs;
+  for (const fs::directory_entry& entry : fs::directory_iterator(parent)) {
+    if (entry.is_directory() && RunDirectory(entry.path()).HoldsRun()) dirs.push_back(entry.path());
+  }
+  std::sort(dirs.begin(), dirs.end());
+  return dirs;
+}
+
+// A run's record; `rows` limits it to the progress rows its checkpoint covers.
+RunRecord ReadRunRecord(const fs::path& dir, std::optional<std::int64_t> rows) {
+  const RunDirectory run_dir(dir);
+  RunRecord run;
+  run.name = dir.filename().string();
+  run.source = dir;
+  run.config = LoadTrainConfig(run_dir.config_file().string());
+  const LearnerFamily family = FindAlgorithm(run.config.algorithm).family;
+  run.epoch_log = family != LearnerFamily::kMpc;
+  run.episodes = EpisodeReaderOf(family)(run_dir.progress_file().string(), rows);
+  run.sessions = ReadRunSessions(run_dir);
+  return run;
+}
+
+// Whether `log`'s points are the first points of `run` (a report's copy of a run that went on).
+bool IsPrefixOf(const RunRecord& log, const RunRecord& run) {
+  if (log.epoch_log != run.epoch_log || log.episodes.size() > run.episodes.size()) return false;
+  for (size_t i = 0; i < log.episodes.size(); ++i) {
+    const EpisodePoint& a = log.episodes[i];
+    const EpisodePoint& b = run.episodes[i];
+    if (a.end_step != b.end_step || a.episode_cost != b.episode_cost ||
+        a.episode_return != b.episode_return) {
+      return false;
+    }
+  }
+  return true;
+}
+
+constexpr const char* kLogsFolder = "run-logs";
+
+}  // namespace
+
+bool NaturalLess(const std::string& a, const std::string& b) {
+  size_t i = 0, j = 0;
+  while (i < a.size() && j < b.size()) {
+    if (std::isdigit(static_cast<unsigned char>(a[i])) &&
+        std::isdigit(static_cast<unsigned char>(b[j]))) {
+      char* a_end = nullptr;
+      char* b_end = nullptr;
+      const double x = std::strtod(a.c_str() + i, &a_end);
+      const double y = std::strtod(b.c_str() + j, &b_end);
+      if (x != y) return x < y;
+      i = static_cast<size_t>(a_end - a.c_str());
+      j = static_cast<size_t>(b_end - b.c_str());
+      continue;
+    }
+    if (a[i] != b[j]) return a[i] < b[j];
+    ++i;
+    ++j;
+  }
+  return a.size() - i < b.size() - j;
+}
+
+std::string SettingOf(const RunRecord& run) {
+  return SettingOfRunName(run.name, run.config.task, MethodOf(run.config), run.config.seed);
+}
+
+std::vector<std::string> SettingsInOrder(const std::vector<RunRecord>& runs) {
+  std::vector<std::string> settings;
+  for (const RunRecord& run : runs) settings.push_back(SettingOf(run));
+  std::sort(settings.begin(), settings.end(), NaturalLess);
+  settings.erase(std::unique(settings.begin(), settings.end()), settings.end());
+  return settings;
+}
+
+std::vector<std::string> TasksInOrder(const std::vector<RunRecord>& runs) {
+  return InOrder(
+      runs, [](const RunRecord& r) { return r.config.task; }, EnvNames());
+}
+
+std::vector<std::string> MethodsInOrder(const std::vector<RunRecord>& runs) {
+  return InOrder(
+      runs, [](const RunRecord& r) { return MethodOf(r.config); }, MethodNames());
+}
+
+std::vector<EpisodePoint> ReadProgressEpisodes(const std::string& file,
+                                               std::optional<std::int64_t> rows) {
+  return ReadEpisodeColumns(file, /*has_steps=*/true, rows);
+}
+
+std::vector<EpisodePoint> ReadEpisodeColumns(const std::string& file, bool has_steps,
+                                             std::optional<std::int64_t> rows) {
+  const ProgressTable table = ProgressTable::Read(file, RowLimit(rows));
+  const std::string expected =
+      fmt::format("a progress log with {}, {}, {}{}", kEpRetColumn, kEpCostColumn,
+                  kTotalEnvInteractsColumn, has_steps ? fmt::format(" and {}", kStepsColumn) : "");
+  const size_t ret = table.Column(kEpRetColumn, expected);
+  const size_t cost = table.Column(kEpCostColumn, expected);
+  const size_t total = table.Column(kTotalEnvInteractsColumn, expected);
+  const size_t steps = has_steps ? table.Column(kStepsColumn, expected) : 0;
+  const bool has_feasible = table.HasColumn(kFeasibleFractionColumn);
+  const size_t feasible = has_feasible ? table.Column(kFeasibleFractionColumn, expected) : 0;
+  const bool has_causes = table.HasColumn(kHazardStepsColumn) && table.HasColumn(kVaseStepsColumn);
+  const size_t hazards = has_causes ? table.Column(kHazardStepsColumn, expected) : 0;
+  const size_t vases = has_causes ? table.Column(kVaseStepsColumn, expected) : 0;
+  std::vector<EpisodePoint> episodes;
+  for (size_t row = 0; row < table.rows(); ++row) {
+    EpisodePoint point;
+    const std::int64_t previous = episodes.empty() ? 0 : episodes.back().end_step;
+    point.end_step =
+        static_cast<std::int64_t>(InDomain(table, file, row, total, static_cast<double>(previous),
+                                           kInfinity, "a count of steps that never falls"));
+    point.steps = has_steps
+                      ? static_cast<int>(InDomain(table, file, row, steps, 0.0,
+                                                  static_cast<double>(point.end_step - previous),
+                                                  "the episode's steps, at most the rise of "
+                                                  "TotalEnvInteracts"))
+                      : static_cast<int>(point.end_step - previous);
+    point.episode_return =
+        InDomain(table, file, row, ret, -kInfinity, kInfinity, "a finite return");
+    point.episode_cost = StepCount(table, file, row, cost, point.steps);
+    if (has_feasible) {
+      point.feasible_fraction =
+          NanOrInDomain(table, file, row, feasible, 0.0, 1.0, "a fraction from 0 to 1");
+    }
+    if (has_causes) {
+      point.hazard_steps = StepCount(table, file, row, hazards, point.steps);
+      point.vase_steps = StepCount(table, file, row, vases, point.steps);
+    }
+    point.cumulative_violations =
+        (episodes.empty() ? 0.0 : episodes.back().cumulative_violations) + point.episode_cost;
+    episodes.push_back(point);
+  }
+  return episodes;
+}
+
+std::vector<RunRecord> ReadSweeps(const std::vector<std::string>& sweep_dirs) {
+  std::map<std::string, std::pair<RunRecord, bool>> found;  // name -> (run, read from a log)
+  const auto add = [&](RunRecord run, bool is_log) {
+    const auto it = found.find(run.name);
+    if (it == found.end()) {
+      const std::string name = run.name;
+      found.emplace(name, std::make_pair(std::move(run), is_log));
+      return;
+    }
+    RunRecord& kept = it->second.first;
+    const bool kept_is_log = it->second.second;
+    if (kept_is_log != is_log) {
+      const RunRecord& log = kept_is_log ? kept : run;
+      const RunRecord& live = kept_is_log ? run : kept;
+      if (IsPrefixOf(log, live)) {
+        if (kept_is_log) it->second = std::make_pair(std::move(run), false);
+        return;
+      }
+    }
+    throw Error(fmt::format(
+        "run '{}' is in both '{}' and '{}' and neither is a report's log of the other: expected "
+        "each run once (leave one folder out)",
+        run.name, kept.source.string(), run.source.string()));
+  };
+  for (const std::string& sweep_dir : sweep_dirs) {
+    const fs::path runs_dir = fs::path(sweep_dir) / "runs";
+    const fs::path logs_dir = fs::path(sweep_dir) / kLogsFolder;
+    Require(fs::is_directory(runs_dir) || fs::is_directory(logs_dir),
+            "'{}' holds neither runs/ nor run-logs/: expected a cmbrl sweep or report folder",
+            sweep_dir);
+    for (const fs::path& dir : RunFolders(runs_dir)) {
+      // A run whose progress.csv disagrees with its checkpoint's manifest is refused, naming the
+      // file; rows written after the last checkpoint (a run in progress, or added by hand) are
+      // left out.
+      // A run in progress may swap its checkpoint while this reads it: a second look settles it.
+      const RunDirectory run_dir(dir);
+      std::optional<CheckpointManifest> checkpoint;
+      try {
+        checkpoint = VerifiedCheckpoint(run_dir, /*files=*/false);
+      } catch (const Error&) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(500));
+        checkpoint = VerifiedCheckpoint(run_dir, /*files=*/false);
+      }
+      // Only what the checkpoint covers: rows after it are not part of the run's record.
+      add(ReadRunRecord(dir, checkpoint ? checkpoint->rows : 0), /*is_log=*/false);
+    }
+    // A report's logs have no checkpoint to check them against: they are what was reported.
+    for (const fs::path& dir : RunFolders(logs_dir)) {
+      add(ReadRunRecord(dir, std::nullopt), /*is_log=*/true);
+    }
+  }
+  std::vector<RunRecord> runs;
+  std::map<std::string, fs::path> by_id;  // run id -> the folder it was read from
+  for (auto& [name, entry] : found) {
+    const std::string id = RunIdOf(entry.first.sessions);
+    if (!id.empty()) {
+      const auto [it, first] = by_id.emplace(id, entry.first.source);
+      Require(first,
+              "'{}' and '{}' hold one run (run id {} in their sessions.jsonl): a run folder "
+              "copied or moved counts once; remove the copy",
+              it->second.string(), entry.first.source.string(), id);
+    }
+    runs.push_back(std::move(entry.first));
+  }
+  return runs;
+}
+
+std::vector<RunRecord> ReadSweep(const std::string& sweep_dir) { return ReadSweeps({sweep_dir}); }
+
+void KeepRunLogs(const std::vector<RunRecord>& runs, const std::string& out) {
+  const fs::path logs = fs::path(out) / kLogsFolder;
+  const fs::path staging = fs::path(out) / (std::string(kLogsFolder) + ".new");
+  const RunDirectory layout("");
+  const std::set<std::string> log_files = {layout.config_file().filename().string(),
+                                           layout.progress_file().filename().string(),
+                                           layout.sessions_file().filename().string()};
+  // Only what an earlier report wrote is replaced; anything else there is not ours to delete.
+  for (const fs::path& folder : {logs, staging}) {
+    if (!fs::exists(folder)) continue;
+    for (const fs::directory_entry& run : fs::directory_iterator(folder)) {
+      Require(run.is_directory(), "'{}' holds '{}': expected only run logs kept by cmbrl report",
+              folder.string(), run.path().string());
+      for (const fs::directory_entry& file : fs::directory_iterator(run.path())) {
+        Require(log_files.count(file.path().filename().string()) == 1,
+                "'{}' holds '{}': expected only run logs (config.yaml, progress.csv and "
+                "sessions.jsonl) kept by cmbrl report",
+                folder.string(), file.path().string());
+      }
+    }
+  }
+  fs::remove_all(staging);
+  for (const RunRecord& run : runs) {
+    const RunDirectory from(run.source);
+    const RunDirectory to(staging / run.name);
+    std::error_code error;
+    fs::create_directories(to.root(), error);
+    for (const auto& [source, target] :
+         {std::make_pair(from.config_file(), to.config_file()),
+          std::make_pair(from.progress_file(), to.progress_file()),
+          std::make_pair(from.sessions_file(), to.sessions_file())}) {
+      if (source == from.sessions_file() && !fs::exists(source)) continue;  // an older run
+      if (!error) fs::copy_file(source, target, error);
+      Require(!error, "could not copy '{}' to '{}': {}", source.string(), target.string(),
+              error.message());
+    }
+  }
+  fs::remove_all(logs);
+  fs::rename(staging, logs);
+}
+
+std::int64_t StepsReached(const RunRecord& run) {
+  return run.episodes.empty() ? 0 : run.episodes.back().end_step;
+}
+
+std::vector<std::string> LeaveOutRunsShortOf(std::vector<RunRecord>& runs, std::int64_t window) {
+  std::vector<std::string> left_out;
+  std::vector<RunRecord> kept;
+  for (RunRecord& run : runs) {
+    if (StepsReached(run) < window) {
+      left_out.push_back(fmt::format("{} ({} steps)", run.name, StepsReached(run)));
+    } else {
+      kept.push_back(std::move(run));
+    }
+  }
+  runs = std::move(kept);
+  return left_out;
+}
+
+EpisodeReader EpisodeReaderOf(LearnerFamily family) {
+  switch (family) {
+    case LearnerFamily::kMpc:
+      return ReadProgressEpisodes;
+    case LearnerFamily::kPolicyOptimisation:
+      return ReadEpochLog;
+  }
+  Fail("no episode reader for this learner family");
+}
+
+std::vector<EpisodePoint> ReadEpochLog(const std::string& file, std::optional<std::int64_t> rows) {
+  const ProgressTable table = ProgressTable::Read(file, RowLimit(rows));
+  const std::string expected =
+      "a model-free progress log with AverageEpRet, AverageEpCost, CumulativeCost and "
+      "TotalEnvInteracts";
+  const size_t ret = table.Column("AverageEpRet", expected);
+  const size_t cost = table.Column("AverageEpCost", expected);
+  const size_t cumulative = table.Column("CumulativeCost", expected);
+  const size_t total = table.Column("TotalEnvInteracts", expected);
+  std::vector<EpisodePoint> epochs;
+  for (size_t row = 0; row < table.rows(); ++row) {
+    EpisodePoint point;
+    const std::int64_t previous = epochs.empty() ? 0 : epochs.back().end_step;
+    const double before = epochs.empty() ? 0.0 : epochs.back().cumulative_violations;
+    point.end_step = static_cast<std::int64_t>(table.Number(row, total));
+    Require(point.end_step > previous,
+            "{} line {}: TotalEnvInteracts {} after {}: expected a count that rises", file,
+            table.line(row), point.end_step, previous);
+    point.steps = static_cast<int>(point.end_step - previous);
+    // An epoch in which no episode ended logs NaN for both means (nothing to average).
+    point.episode_return = NanOrInDomain(table, file, row, ret, -kInfinity, kInfinity,
+                                         "a finite mean return (or nan: no episode ended)");
+    point.episode_cost =
+        NanOrInDomain(table, file, row, cost, 0.0, kInfinity,
+                      "a finite mean cost of 0 or more (or nan: no episode ended)");
+    point.cumulative_violations =
+        InDomain(table, file, row, cumulative, before, before + point.steps,
+                 "a running count that rises by at most the epoch's steps");
+    epochs.push_back(point);
+  }
+  return epochs;
+}
+
+}  // namespace cmbrl

@@ -1,0 +1,122 @@
+// Runs as a report reads them: each run's config and its progress log as episode (or epoch)
+// points, read from a sweep's runs/ or a report's run-logs/, and the logs a report keeps.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <limits>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "cmbrl/config/config.h"
+#include "cmbrl/run/run_sessions.h"
+
+namespace cmbrl {
+
+// One episode of a run's progress.csv.
+struct EpisodePoint {
+  std::int64_t end_step = 0;  // TotalEnvInteracts after the episode
+  int steps = 0;              // agent steps of the episode
+  double episode_return = 0.0;
+  double episode_cost = 0.0;
+  double feasible_fraction = std::numeric_limits<double>::quiet_NaN();  // NaN: not logged
+  // Its violating steps in hazards and at vases (HazardSteps, VaseSteps; NaN: not logged).
+  double hazard_steps = std::numeric_limits<double>::quiet_NaN();
+  double vase_steps = std::numeric_limits<double>::quiet_NaN();
+  // The run's violations from its start through this point (the running sum of EpCost for an
+  // MPC run, CumulativeCost for a model-free one).
+  double cumulative_violations = 0.0;
+};
+
+struct RunRecord {
+  std::string name;  // the run directory's name
+  TrainConfig config;
+  // One point per MPC episode, or per epoch of a model-free run (episode_return and
+  // episode_cost then the epoch's AverageEpRet and AverageEpCost, steps its environment steps).
+  std::vector<EpisodePoint> episodes;
+  bool epoch_log = false;  // the points are epochs (model-free)
+  // The folder its config.yaml and progress.csv were read from: a sweep's runs/<name>, or a
+  // report's run-logs/<name> (KeepRunLogs).
+  std::filesystem::path source;
+  // Where each of its sessions ran (empty: a run begun before runs kept sessions.jsonl).
+  std::vector<RunSession> sessions;
+};
+
+// The epochs of a model-free run's progress.csv as points (see RunRecord), its first `rows`
+// rows only when given (those its checkpoint covers). Throws cmbrl::Error naming the file, the
+// line and the column of a missing column, a value that is not a number, or one outside its
+// domain: a return that is not finite, a cost that is negative or not finite, a
+// CumulativeCost that falls, steps that do not rise.
+std::vector<EpisodePoint> ReadEpochLog(const std::string& path,
+                                       std::optional<std::int64_t> rows = std::nullopt);
+
+// The episodes of one progress.csv, its first `rows` rows only when given. Throws
+// cmbrl::Error naming the file, the line and the column of a missing column, a value that is
+// not a number, or one outside its domain: a return that is not finite, an EpCost,
+// HazardSteps or VaseSteps that is not a whole count from 0 to the episode's steps, a
+// FeasibleFraction outside 0 to 1, steps that fall.
+std::vector<EpisodePoint> ReadProgressEpisodes(const std::string& path,
+                                               std::optional<std::int64_t> rows = std::nullopt);
+
+// Each learner family's reader of its progress.csv, the one place that pairs them: MPC runs log
+// a row per episode (ReadProgressEpisodes), model-free runs a row per epoch (ReadEpochLog).
+using EpisodeReader = std::vector<EpisodePoint> (*)(const std::string& path,
+                                                    std::optional<std::int64_t> rows);
+EpisodeReader EpisodeReaderOf(LearnerFamily family);
+
+// The same from any CSV with the columns EpRet, EpCost and TotalEnvInteracts, and Steps when
+// `has_steps` (without it an episode's steps are the difference of TotalEnvInteracts, as in the
+// original's logs).
+std::vector<EpisodePoint> ReadEpisodeColumns(const std::string& path, bool has_steps,
+                                             std::optional<std::int64_t> rows = std::nullopt);
+
+// Every run under sweep_dir/runs (a folder with config.yaml, its progress checked against its
+// checkpoint) and every run log a report kept under sweep_dir/run-logs (KeepRunLogs), in name
+// order: a report's folder can be reported again. A run in runs/ is read as far as its last
+// checkpoint covers (rows after it are a run in progress, or were added by hand). A run both
+// logged and in runs/ is read from runs/ when its log is a prefix of the run's progress (the
+// run went on after the report). Throws cmbrl::Error naming a progress.csv that lacks a column
+// or holds a value that is not a number or lies outside its domain, a folder that holds
+// neither, a run found twice otherwise, or two folders that hold one run (the same run id in
+// sessions.jsonl: a copied run folder).
+std::vector<RunRecord> ReadSweep(const std::string& sweep_dir);
+
+// ReadSweep over several folders, in name order. Throws cmbrl::Error naming a run found in two
+// of them (except a log and the run it is a prefix of, as in ReadSweep).
+std::vector<RunRecord> ReadSweeps(const std::vector<std::string>& sweep_dirs);
+
+// Writes each run's config.yaml, progress.csv and sessions.jsonl (where it has one), as they are
+// now, to out/run-logs/<name>/, so
+// that the report's folder holds what it was made from and can be made again without the runs
+// (their checkpoints are not kept). run-logs/, not logs/: a sweep's logs/ holds its runs'
+// output. Replaces a previous report's run-logs/ whole (written beside it, then swapped in),
+// after reading every source. Throws cmbrl::Error when out/run-logs holds anything but such
+// logs, or a file cannot be written.
+void KeepRunLogs(const std::vector<RunRecord>& runs, const std::string& out);
+
+// The agent (or environment) steps a run's progress has reached: its last point's end, 0 before
+// its first.
+std::int64_t StepsReached(const RunRecord& run);
+
+// Removes the runs that have not reached `window` steps (StepsReached) from `runs`, and returns
+// them as "name (N steps)", in order.
+std::vector<std::string> LeaveOutRunsShortOf(std::vector<RunRecord>& runs, std::int64_t window);
+
+// A run's setting: its values of an experiment's axes, read from its name (SweepRunName); ""
+// for a run of no axes.
+std::string SettingOf(const RunRecord& run);
+
+// Whether `a` sorts before `b` with the numbers in them compared by value ("gamma=0.9" before
+// "gamma=0.98", "population=100" before "population=500"): an experiment's settings in order.
+bool NaturalLess(const std::string& a, const std::string& b);
+
+// The runs' distinct settings in natural order ("" first: runs of no axes).
+std::vector<std::string> SettingsInOrder(const std::vector<RunRecord>& runs);
+
+// The runs' distinct tasks and methods, in the registries' order (the paper's), unknown ones
+// last.
+std::vector<std::string> TasksInOrder(const std::vector<RunRecord>& runs);
+std::vector<std::string> MethodsInOrder(const std::vector<RunRecord>& runs);
+
+}  // namespace cmbrl

@@ -1,0 +1,39 @@
+// Table I as a report's Markdown: the verdict per task, every cell with its seeds, the
+// comparisons with the original and between an experiment's settings, and the outcome's notes.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "cmbrl/report/table.h"
+
+namespace cmbrl {
+
+// Table I and the returns, then each cell against the original's seeds, the first epochs and
+// where the violations happened (the sections for which some cell has data).
+std::string TableMarkdown(const std::vector<TableCell>& cells, std::int64_t window);
+
+// An experiment report's first table, one row per task: each method's violations as the mean
+// and its bootstrap 90% interval, whether the paper's method (RCE) violates least (its interval
+// wholly below every other method's, or only its mean lowest), and where each cell's
+// violations and returns lie against the original's seeds.
+std::string ProtocolVerdictMarkdown(const std::vector<TableCell>& cells, std::int64_t window);
+
+// Every cell with its seeds: violations and last-10-episode returns per seed, their means with
+// bootstrap 90% intervals, and the original's seeds beside them.
+std::string ProtocolCellsMarkdown(const std::vector<TableCell>& cells, std::int64_t window);
+
+// Where cells differ only in their setting (an experiment's axes): for each task and method
+// with two or more settings, each setting against the first (in the table's order), paired by
+// seed: the differences of violations and of last-10-episode returns per seed, their mean with
+// its bootstrap 90% interval, and the sign-flip p-value. "" when no cell has a setting.
+std::string SettingComparisonMarkdown(const std::vector<TableCell>& cells);
+
+// Where the outcome differs: per task whether RCE violated least, and each cell against the
+// original's seeds over the same window (or, for a cell without its logs, against Table I when
+// the window is the paper's).
+std::vector<std::string> OutcomeDifferences(const std::vector<TableCell>& cells,
+                                            std::int64_t window);
+
+}  // namespace cmbrl
