@@ -446,5 +446,20 @@ TEST(ConfigTest, ObservationSizesMatchTheEnvironments) {
   }
 }
 
+// ConfigDifferences visits every key of the config: one changed key, one difference.
+TEST(ConfigTest, ConfigDifferencesNamesEachChangedKey) {
+  TrainConfig a, b;
+  EXPECT_TRUE(ConfigDifferences(a, b).empty());
+  b.classifier.safe_selection = "newest";
+  b.seed = 7;  // names the run, not its method
+  b.objective.beta = 0.5;
+  const std::vector<ConfigDifference> differences = ConfigDifferences(a, b);
+  ASSERT_EQ(differences.size(), 2u);
+  EXPECT_EQ(differences[0].key, "classifier.safe_selection");
+  EXPECT_EQ(differences[1].key, "objective.beta");
+  EXPECT_EQ(differences[1].ours, "0.4");
+  EXPECT_EQ(differences[1].theirs, "0.5");
+}
+
 }  // namespace
 }  // namespace cmbrl

@@ -7,7 +7,6 @@
 #include <fstream>
 #include <map>
 
-#include "cmbrl/report/statistics.h"
 #include "cmbrl/report/table_markdown.h"
 #include "tests/error_message.h"
 #include "tests/temp_path.h"
@@ -144,29 +143,6 @@ TEST(ExperimentTest, TheHashIsTheFilesSha256) {
   // sha256sum of the three bytes "abc" (FIPS 180-2's first example).
   EXPECT_EQ(Sha256OfFile(dir / kExperimentFile),
             "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
-}
-
-// The percentile bootstrap of a mean: inside the values' range, around their mean, the same from
-// run to run, and narrower the more alike the values.
-TEST(ExperimentReportTest, TheBootstrapIntervalHoldsTheMean) {
-  const std::vector<double> counts = {116, 118, 105, 56, 64};
-  const MeanInterval interval = BootstrapMeanInterval(counts);
-  EXPECT_LT(interval.low, 91.8);
-  EXPECT_GT(interval.high, 91.8);
-  EXPECT_GE(interval.low, 56.0);
-  EXPECT_LE(interval.high, 118.0);
-  const MeanInterval again = BootstrapMeanInterval(counts);
-  EXPECT_EQ(again.low, interval.low);
-  EXPECT_EQ(again.high, interval.high);
-  const MeanInterval alike = BootstrapMeanInterval({90, 91, 92, 93, 94});
-  EXPECT_LT(alike.high - alike.low, interval.high - interval.low);
-  const MeanInterval constant = BootstrapMeanInterval({7, 7, 7});
-  EXPECT_EQ(constant.low, 7.0);
-  EXPECT_EQ(constant.high, 7.0);
-  EXPECT_TRUE(std::isnan(BootstrapMeanInterval({}).low));
-  const MeanInterval wider = BootstrapMeanInterval(counts, 0.99);
-  EXPECT_LE(wider.low, interval.low);
-  EXPECT_GE(wider.high, interval.high);
 }
 
 TableCell Cell(const std::string& task, const std::string& planner, std::vector<double> seeds,

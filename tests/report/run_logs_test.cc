@@ -1,0 +1,198 @@
+// Reading runs: progress logs of both learner families, sweeps and a report's kept logs, and
+// what is refused (bad values, rows past the checkpoint, a copied run).
+#include "cmbrl/report/run_logs.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "cmbrl/report/table.h"
+#include "tests/error_message.h"
+#include "tests/report/report_fixture.h"
+
+namespace cmbrl {
+namespace {
+
+namespace fs = std::filesystem;
+using ::testing::HasSubstr;
+using testing::ReportTest;
+
+// Every algorithm's family has a reader of its progress.csv, and the two families read
+// differently (a row per episode, a row per epoch).
+TEST(ReportEpisodesTest, EveryLearnerFamilyHasItsEpisodeReader) {
+  for (const AlgorithmEntry& entry : Algorithms()) {
+    SCOPED_TRACE(entry.name);
+    EXPECT_NE(EpisodeReaderOf(entry.family), nullptr);
+  }
+  EXPECT_EQ(EpisodeReaderOf(LearnerFamily::kMpc), &ReadProgressEpisodes);
+  EXPECT_EQ(EpisodeReaderOf(LearnerFamily::kPolicyOptimisation), &ReadEpochLog);
+}
+
+TEST_F(ReportTest, AReportsLogsMakeItAgainWithoutTheRuns) {
+  const fs::path out = sweep_ / "report";
+  const std::vector<RunRecord> runs = ReadSweep(sweep_.string());
+  KeepRunLogs(runs, out.string());
+  // The logs alone (no checkpoints) give the same runs and the same table.
+  const std::vector<RunRecord> again = ReadSweep(out.string());
+  ASSERT_EQ(again.size(), runs.size());
+  for (size_t i = 0; i < runs.size(); ++i) {
+    EXPECT_EQ(again[i].name, runs[i].name);
+    EXPECT_EQ(again[i].source, out / "run-logs" / runs[i].name);
+    EXPECT_EQ(again[i].episodes.size(), runs[i].episodes.size());
+  }
+  EXPECT_EQ(TableCsv(ViolationTable(again, 300), 300), TableCsv(ViolationTable(runs, 300), 300));
+
+  // A report's logs beside the sweep they came from: each run once, read from the sweep.
+  const std::vector<RunRecord> both = ReadSweeps({out.string(), sweep_.string()});
+  ASSERT_EQ(both.size(), runs.size());
+  for (const RunRecord& run : both) EXPECT_EQ(run.source.parent_path(), sweep_ / "runs");
+
+  // A log that is not the first rows of the run of its name is another run: refused by name.
+  const fs::path log = out / "run-logs" / "PointGoal1-cem-s0" / "progress.csv";
+  std::ofstream(log, std::ios::app) << "9,9,1,1,500,0,0,0,0,0,0,0,100,0,0,0\n";
+  EXPECT_THAT(testing::ErrorMessage([&] {
+                ReadSweeps({sweep_.string(), out.string()});
+              }),
+              HasSubstr("run 'PointGoal1-cem-s0' is in both"));
+
+  // A later report replaces the logs whole: only its own runs are left.
+  KeepRunLogs({runs.front()}, out.string());
+  ASSERT_EQ(ReadSweep(out.string()).size(), 1u);
+  EXPECT_FALSE(fs::exists(out / "run-logs.new"));
+
+  // Anything but logs under run-logs/ is not the report's to replace.
+  std::ofstream(out / "run-logs" / runs.front().name / "notes.txt") << "mine";
+  EXPECT_THAT(testing::ErrorMessage([&] { KeepRunLogs(runs, out.string()); }),
+              HasSubstr("notes.txt': expected only run logs"));
+  EXPECT_TRUE(fs::exists(out / "run-logs" / runs.front().name / "notes.txt"));
+
+  // A folder with neither runs/ nor run-logs/ is named.
+  EXPECT_THAT(testing::ErrorMessage([&] { ReadSweep((sweep_ / "none").string()); }),
+              HasSubstr("holds neither runs/ nor run-logs/"));
+}
+
+TEST_F(ReportTest, RunsShortOfTheWindowAreLeftOutByName) {
+  std::vector<RunRecord> runs = ReadSweep(sweep_.string());
+  // The CarGoal2 runs reached 450 steps but for cem seed 1 (0), PointGoal1 cem seed 1 300, the
+  // others 400.
+  const std::vector<std::string> left_out = LeaveOutRunsShortOf(runs, 400);
+  EXPECT_THAT(left_out,
+              ::testing::ElementsAre("CarGoal2-cem-s1 (0 steps)", "PointGoal1-cem-s1 (300 steps)"));
+  ASSERT_EQ(runs.size(), 5u);
+  for (const RunRecord& run : runs) EXPECT_GE(StepsReached(run), 400);
+}
+
+// A report reads what the run's checkpoint covers: a row added after it (by hand, or by a run
+// still going) is not counted.
+TEST_F(ReportTest, RowsTheCheckpointDoesNotCoverAreNotCounted) {
+  const fs::path progress = sweep_ / "runs" / "PointGoal1-rce-s0" / "progress.csv";
+  ProgressRow row;
+  row.epoch = 1;
+  row.episode = 5;
+  row.episode_cost = 99;
+  row.steps = 100;
+  row.total_env_interacts = 500;
+  std::ofstream(progress, std::ios::app) << ProgressCsvLine(row) << "\n";
+  const std::vector<RunRecord> runs = ReadSweep(sweep_.string());
+  const auto run = std::find_if(runs.begin(), runs.end(),
+                                [](const RunRecord& r) { return r.name == "PointGoal1-rce-s0"; });
+  ASSERT_NE(run, runs.end());
+  ASSERT_EQ(run->episodes.size(), 4u);
+  EXPECT_DOUBLE_EQ(run->episodes.back().cumulative_violations, 12.0);  // 1 + 0 + 2 + 9
+}
+
+// A run folder copied (or moved and copied back) keeps its run id: a report counts it once and
+// refuses the second, naming both folders.
+TEST_F(ReportTest, ACopiedRunIsRefusedNamingBothFolders) {
+  const fs::path runs = sweep_ / "runs";
+  RecordRunSession(RunDirectory(runs / "PointGoal1-rce-s0"), 0, NumericsSetup{});  // run ids
+  RecordRunSession(RunDirectory(runs / "PointGoal1-rce-s1"), 0, NumericsSetup{});
+  fs::copy(runs / "PointGoal1-rce-s1", runs / "PointGoal1-rce-s7", fs::copy_options::recursive);
+  const std::string message = testing::ErrorMessage([&] { ReadSweep(sweep_.string()); });
+  EXPECT_THAT(message, HasSubstr("PointGoal1-rce-s1' and '"));
+  EXPECT_THAT(message, HasSubstr("PointGoal1-rce-s7' hold one run (run id "));
+  // Distinct runs have distinct ids.
+  fs::remove_all(runs / "PointGoal1-rce-s7");
+  std::set<std::string> ids;
+  for (const RunRecord& run : ReadSweep(sweep_.string())) {
+    if (!run.sessions.empty()) ids.insert(RunIdOf(run.sessions));
+  }
+  EXPECT_EQ(ids.size(), 2u);
+  EXPECT_EQ(ids.begin()->size(), 32u);
+}
+
+// Values outside their domain are refused naming the file, the line and the column, whatever
+// the manifest says of them.
+TEST_F(ReportTest, ValuesOutsideTheirDomainAreNamed) {
+  const fs::path progress = sweep_ / "bad-progress.csv";
+  const auto write_row = [&](double cost, double episode_return, int steps) {
+    ProgressRow row;
+    row.epoch = 1;
+    row.episode = 1;
+    row.episode_cost = cost;
+    row.episode_return = episode_return;
+    row.steps = steps;
+    row.total_env_interacts = 100;
+    std::ofstream(progress, std::ios::trunc) << ProgressCsvHeader() << "\n"
+                                             << ProgressCsvLine(row) << "\n";
+  };
+  const auto row_with = [&](double cost, double episode_return, int steps) {
+    write_row(cost, episode_return, steps);
+    return testing::ErrorMessage([&] { ReadProgressEpisodes(progress.string()); });
+  };
+  const std::string count = "expected a whole count from 0 to the episode's steps";
+  EXPECT_THAT(row_with(std::nan(""), 0, 100), HasSubstr("line 2: EpCost is nan: " + count));
+  EXPECT_THAT(row_with(-7, 0, 100), HasSubstr("line 2: EpCost is -7: " + count));
+  EXPECT_THAT(row_with(1e300, 0, 100), HasSubstr("line 2: EpCost is 1e+300: " + count));
+  EXPECT_THAT(row_with(101, 0, 100), HasSubstr("line 2: EpCost is 101: " + count));
+  EXPECT_THAT(row_with(2.5, 0, 100), HasSubstr("line 2: EpCost is 2.5: expected a whole count"));
+  EXPECT_THAT(row_with(1, std::nan(""), 100),
+              HasSubstr("line 2: EpRet is nan: expected a finite return"));
+  EXPECT_THAT(row_with(1, 0, 150), HasSubstr("line 2: Steps is 150: expected the episode's "
+                                             "steps, at most the rise of TotalEnvInteracts"));
+  write_row(100, -3.5, 100);  // the edges are in the domain
+  EXPECT_NO_THROW(ReadProgressEpisodes(progress.string()));
+
+  const fs::path epochs = sweep_ / "bad-epochs.csv";
+  std::ofstream(epochs) << "AverageEpRet,AverageEpCost,CumulativeCost,TotalEnvInteracts\n"
+                        << "1,2,40,300\n1,2,30,600\n";
+  EXPECT_THAT(testing::ErrorMessage([&] { ReadEpochLog(epochs.string()); }),
+              HasSubstr("bad-epochs.csv line 3: CumulativeCost is 30: expected a running count "
+                        "that rises by at most the epoch's steps"));
+  EXPECT_EQ(ReadEpochLog(epochs.string(), 1).size(), 1u);  // the rows a checkpoint covers
+  // An epoch in which no episode ended has no means (nan); infinities and negative costs are
+  // refused.
+  std::ofstream(epochs, std::ios::trunc)
+      << "AverageEpRet,AverageEpCost,CumulativeCost,TotalEnvInteracts\n"
+      << "nan,nan,0,300\n1,2,2,600\n";
+  EXPECT_EQ(ReadEpochLog(epochs.string()).size(), 2u);
+  std::ofstream(epochs, std::ios::trunc)
+      << "AverageEpRet,AverageEpCost,CumulativeCost,TotalEnvInteracts\n"
+      << "inf,1,0,300\n";
+  EXPECT_THAT(testing::ErrorMessage([&] { ReadEpochLog(epochs.string()); }),
+              HasSubstr("line 2: AverageEpRet is inf: expected a finite mean return"));
+  std::ofstream(epochs, std::ios::trunc)
+      << "AverageEpRet,AverageEpCost,CumulativeCost,TotalEnvInteracts\n"
+      << "1,-3,0,300\n";
+  EXPECT_THAT(testing::ErrorMessage([&] { ReadEpochLog(epochs.string()); }),
+              HasSubstr("line 2: AverageEpCost is -3: expected a finite mean cost of 0 or more"));
+}
+
+TEST_F(ReportTest, BadProgressIsNamed) {
+  const fs::path progress = sweep_ / "runs" / "PointGoal1-rce-s0" / "progress.csv";
+  std::ofstream(progress) << ProgressCsvHeader() << "\n1,1,oops,0,100,0,0,0,0,0,0,0,100,0,0,0\n";
+  EXPECT_THAT(testing::ErrorMessage([&] { ReadProgressEpisodes(progress.string()); }),
+              HasSubstr("progress.csv line 2: EpRet is 'oops': expected a number"));
+  // In a sweep, the run's checkpoint no longer covers what progress.csv holds: refused by name.
+  EXPECT_THAT(testing::ErrorMessage([&] { ReadSweep(sweep_.string()); }),
+              HasSubstr("PointGoal1-rce-s0/progress.csv' has 1 rows but the checkpoint covers 4"));
+}
+
+}  // namespace
+}  // namespace cmbrl
