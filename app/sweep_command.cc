@@ -3,8 +3,10 @@
 // submitted to a cluster and followed there (the Slurm engine).
 #include <fmt/ranges.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <iostream>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <string>
 
@@ -12,10 +14,10 @@
 #include "app/commands.h"
 #include "cmbrl/core/check.h"
 #include "cmbrl/env/registry.h"
+#include "cmbrl/planning/planner_registry.h"
 #include "cmbrl/sweep/experiment.h"
 #include "cmbrl/sweep/slurm_engine.h"
 #include "cmbrl/sweep/sweep_runner.h"
-#include "cmbrl/planning/planner_registry.h"
 
 namespace cmbrl::app {
 namespace {
@@ -28,6 +30,7 @@ struct SweepArgs {
   std::string experiment;  // experiments/<name>: its grid, into experiments/<name>/runs
   std::string engine = "local";
   SlurmOptions slurm;
+  bool status = false;  // say how far each run has got; start nothing
 };
 
 void PrintEvent(const SweepEvent& event) {
@@ -39,6 +42,36 @@ void PrintEvent(const SweepEvent& event) {
   if (event.exit_code) line["exit"] = *event.exit_code;
   if (event.seconds) line["seconds"] = *event.seconds;
   std::cout << line.dump() << std::endl;
+}
+
+// `--status`: one line per run (its status, steps reached and budget), then the totals. Reads
+// the runs' folders only: no run is started, no file written.
+void PrintSweepStatus(const SweepGrid& grid, const std::string& sweep_dir) {
+  std::map<std::string, int> counts{{"finished", 0}, {"started", 0}, {"new", 0}};
+  std::int64_t steps = 0, budget = 0;
+  const std::vector<SweepRun> runs = PlanSweep(grid, sweep_dir);
+  for (const SweepRun& run : runs) {
+    const RunProgress progress = ProgressOf(run, grid.steps);
+    const std::string status = RunStatusName(progress.status);
+    ++counts[status];
+    steps += std::min(progress.steps, progress.budget);
+    budget += progress.budget;
+    std::cout << nlohmann::ordered_json{{"run", run.name},
+                                        {"status", status},
+                                        {"steps", progress.steps},
+                                        {"budget", progress.budget}}
+                     .dump()
+              << std::endl;
+  }
+  std::cout << nlohmann::ordered_json{{"sweep", sweep_dir},
+                                      {"runs", runs.size()},
+                                      {"finished", counts["finished"]},
+                                      {"started", counts["started"]},
+                                      {"new", counts["new"]},
+                                      {"steps", steps},
+                                      {"budget", budget}}
+                   .dump()
+            << std::endl;
 }
 
 std::string ProgramPath() { return fs::read_symlink("/proc/self/exe").string(); }
@@ -61,6 +94,14 @@ void RunSweepCommand(SweepArgs args, const CLI::App& command) {
               << std::endl;
   }
   Require(!args.out.empty(), "--out SWEEP_DIR is required (or give an experiment folder)");
+  if (args.status) {
+    for (const char* option : {"--jobs", "--engine", "--wait", "--poll", "--sbatch"}) {
+      Require(command.count(option) == 0, "{} starts runs; --status starts none: give one of them",
+              option);
+    }
+    PrintSweepStatus(args.grid, args.out);
+    return;
+  }
   const bool slurm = args.engine == "slurm";
   if (slurm) {
     if (command.count("--jobs") != 0) args.slurm.max_running = args.jobs;
@@ -137,6 +178,9 @@ void AddSweepCommand(CLI::App& parent) {
                    "as one job array (SWEEP_DIR/slurm.sh) with sbatch")
       ->check(CLI::IsMember({"local", "slurm"}))
       ->capture_default_str();
+  command->add_flag("--status", args->status,
+                    "start nothing: print each run's status (new, started, finished), the steps "
+                    "it has reached and its budget, one JSON line each, then the totals");
   command->add_flag("--wait", args->slurm.wait,
                     "slurm: follow the array with squeue until every task has left the queue, "
                     "then say which runs finished");

@@ -135,22 +135,51 @@ std::vector<SweepRun> PlanSweep(const SweepGrid& grid, const std::string& sweep_
   return runs;
 }
 
-RunStatus StatusOf(const SweepRun& run, std::optional<std::int64_t> budget) {
+RunProgress ProgressOf(const SweepRun& run, std::optional<std::int64_t> budget) {
   const RunDirectory dir(run.run_dir);
-  if (!dir.HoldsRun()) return RunStatus::kNew;
+  RunProgress progress;
+  if (!dir.HoldsRun()) {
+    progress.budget =
+        budget.value_or(ApplyConfigOverrides(LoadTrainConfig(run.config_paths), run.overrides,
+                                             "the overrides of sweep run '" + run.name + "'")
+                            .training.total_steps);
+    return progress;
+  }
   const TrainConfig config = LoadTrainConfig(dir.config_file().string());
+  progress.budget = budget.value_or(config.training.total_steps);
+  progress.status = RunStatus::kStarted;
   std::vector<EpisodePoint> episodes;
   try {
     episodes = EpisodeReaderOf(FindAlgorithm(config.algorithm).family)(
         dir.progress_file().string(), std::nullopt);
   } catch (const Error&) {
     // A process killed while writing a row leaves it half written; resuming repairs that.
-    return RunStatus::kStarted;
+    return progress;
   }
-  const std::int64_t steps = budget.value_or(config.training.total_steps);
-  return !episodes.empty() && episodes.back().end_step >= steps
-             ? RunStatus::kFinished
-             : RunStatus::kStarted;
+  if (!episodes.empty()) progress.steps = episodes.back().end_step;
+  if (!episodes.empty() && progress.steps >= progress.budget) {
+    progress.status = RunStatus::kFinished;
+  }
+  return progress;
+}
+
+RunStatus StatusOf(const SweepRun& run, std::optional<std::int64_t> budget) {
+  const RunDirectory dir(run.run_dir);
+  // A new run's budget would compose its configs: not needed to know that it is new.
+  if (!dir.HoldsRun()) return RunStatus::kNew;
+  return ProgressOf(run, budget).status;
+}
+
+const char* RunStatusName(RunStatus status) {
+  switch (status) {
+    case RunStatus::kNew:
+      return "new";
+    case RunStatus::kStarted:
+      return "started";
+    case RunStatus::kFinished:
+      return "finished";
+  }
+  Fail("unknown run status");
 }
 
 void RecordOrCheckSweep(const SweepGrid& grid, const std::string& sweep_dir) {

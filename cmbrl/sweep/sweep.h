@@ -53,6 +53,22 @@ std::vector<SweepRun> PlanSweep(const SweepGrid& grid, const std::string& sweep_
 enum class RunStatus { kNew, kStarted, kFinished };
 RunStatus StatusOf(const SweepRun& run, std::optional<std::int64_t> budget = std::nullopt);
 
+// "new", "started" or "finished".
+const char* RunStatusName(RunStatus status);
+
+// How far a run has got: its status, the steps its progress log has reached (agent steps, or
+// environment steps for a model-free run; 0 before its first row, or while a row half written
+// by a killed process is there, which resuming repairs) and the steps it runs to
+// (`budget`, else its own training.total_steps: from its config.yaml once started, else from
+// its configs and overrides as the sweep would compose them). Reads only; throws cmbrl::Error
+// naming a config that does not load.
+struct RunProgress {
+  RunStatus status = RunStatus::kNew;
+  std::int64_t steps = 0;
+  std::int64_t budget = 0;
+};
+RunProgress ProgressOf(const SweepRun& run, std::optional<std::int64_t> budget = std::nullopt);
+
 // Records the grid in sweep_dir/sweep.json, or checks it against the recorded one, so that a
 // restarted sweep cannot silently mix budgets or config folders. A larger --steps than recorded
 // is allowed and recorded: the sweep then continues every run to it. Throws cmbrl::Error naming

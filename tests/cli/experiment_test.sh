@@ -24,7 +24,21 @@ axes:
   objective.gamma: [0.98, 0.9]
 YAML
 cd "$work"
+# --status starts nothing: before the runs, 8 new runs of 120 steps each.
+"$cmbrl" sweep experiments/tiny --status > status-before.log
+grep -qF '{"run":"pointgoal1-rce-gamma=0.98-s0","status":"new","steps":0,"budget":120}' \
+  status-before.log || { cat status-before.log; exit 1; }
+grep -qF '"runs":8,"finished":0,"started":0,"new":8,"steps":0,"budget":960}' status-before.log ||
+  { cat status-before.log; exit 1; }
+[ ! -e experiments/tiny/runs/runs ] || { echo "--status started a run"; exit 1; }
+if "$cmbrl" sweep experiments/tiny --status --jobs 2 > /dev/null 2> status-jobs.err; then
+  echo "--status with --jobs was accepted"; exit 1
+fi
+grep -q -- "--jobs starts runs; --status starts none" status-jobs.err || { cat status-jobs.err; exit 1; }
 "$cmbrl" sweep experiments/tiny --jobs 2 > sweep.log
+"$cmbrl" sweep experiments/tiny --status > status-after.log
+grep -qF '"runs":8,"finished":8,"started":0,"new":0,"steps":960,"budget":960}' status-after.log ||
+  { cat status-after.log; exit 1; }
 runs=$(ls experiments/tiny/runs/runs | wc -l)
 [ "$runs" -eq 8 ] || { echo "expected 8 runs (2 methods x 2 gammas x 2 seeds), got $runs"; exit 1; }
 "$cmbrl" report experiments/tiny > /dev/null
@@ -47,4 +61,4 @@ if "$cmbrl" report experiments/tiny 2> edited.err; then
 fi
 grep -q "was made with another config than" edited.err || { cat edited.err; exit 1; }
 grep -q "rounds: 10" edited.err || { cat edited.err; exit 1; }
-echo "experiment: 8 runs, a cell per setting, report made again identical, edited declaration refused"
+echo "experiment: --status before and after, 8 runs, a cell per setting, report made again identical, edited declaration refused"

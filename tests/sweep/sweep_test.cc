@@ -175,6 +175,40 @@ TEST(SweepTest, AModelFreeRunIsFinishedByItsEpochs) {
   EXPECT_EQ(StatusOf(runs[0]), RunStatus::kFinished);
 }
 
+// How far each run has got, for `cmbrl sweep --status`: a new run's budget as the sweep would
+// compose its configs and overrides, a started run's steps from its progress and budget from its
+// config.yaml, and the grid's budget over both.
+TEST(SweepTest, ProgressSaysTheStepsReachedAndTheBudget) {
+  const std::string dir = testing::TestTempPath("sweep_progress");
+  fs::remove_all(dir);
+  SweepGrid grid = PaperGrid();
+  grid.overrides = {"training.total_steps=4000"};
+  const std::vector<SweepRun> runs = PlanSweep(grid, dir);
+  const RunProgress fresh = ProgressOf(runs[0]);
+  EXPECT_EQ(fresh.status, RunStatus::kNew);
+  EXPECT_EQ(fresh.steps, 0);
+  EXPECT_EQ(fresh.budget, 4000);  // the override over the preset's 10,000
+  EXPECT_EQ(ProgressOf(runs[0], 3000).budget, 3000);
+  EXPECT_STREQ(RunStatusName(fresh.status), "new");
+  fs::create_directories(runs[1].run_dir);
+  std::ofstream(fs::path(runs[1].run_dir) / "config.yaml") << "training: {total_steps: 3000}\n";
+  std::ofstream(fs::path(runs[1].run_dir) / "progress.csv")
+      << ProgressCsvHeader() << "\n1,1,0,0,1000,0,0,0,0,0,0,0,1000,0,0,0\n"
+      << "1,2,0,0,2000,0,0,0,0,0,0,0,1000,0,0,0\n";
+  const RunProgress started = ProgressOf(runs[1]);
+  EXPECT_EQ(started.status, RunStatus::kStarted);
+  EXPECT_EQ(started.steps, 2000);
+  EXPECT_EQ(started.budget, 3000);  // its own config's, not the grid's override
+  EXPECT_STREQ(RunStatusName(started.status), "started");
+  const RunProgress done = ProgressOf(runs[1], 2000);
+  EXPECT_EQ(done.status, RunStatus::kFinished);
+  EXPECT_STREQ(RunStatusName(done.status), "finished");
+  // A row half written by a killed process: started, its steps unknown until resumed.
+  std::ofstream(fs::path(runs[1].run_dir) / "progress.csv", std::ios::app) << "1,3,0,0,2";
+  EXPECT_EQ(ProgressOf(runs[1]).status, RunStatus::kStarted);
+  EXPECT_EQ(ProgressOf(runs[1]).steps, 0);
+}
+
 TEST(SweepTest, EachRunAtATimeGetsItsOwnCpus) {
   using Shares = std::vector<std::vector<int>>;
   EXPECT_EQ(CpuShares({0, 1}, 2), (Shares{{0}, {1}}));
