@@ -1,5 +1,5 @@
 // cmbrl's Python module, the compiled half (`cmbrl._cmbrl`): environments, vectors of them,
-// the learned models, training and trained runs. python/cmbrl/__init__.py builds the
+// the learned models, training and trained runs, results. python/cmbrl/__init__.py builds the
 // Gymnasium-style surface on it. Every long call (stepping, planning, training) releases the
 // GIL; cmbrl::Error becomes cmbrl.Error (a ValueError) with the same message.
 #include <pybind11/pybind11.h>
@@ -18,4 +18,5 @@ PYBIND11_MODULE(_cmbrl, m) {
   cmbrl::python::BindEnvs(m);
   cmbrl::python::BindModels(m);
   cmbrl::python::BindRuns(m);
+  cmbrl::python::BindResults(m);
 }

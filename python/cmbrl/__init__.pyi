@@ -18,7 +18,8 @@ _Bools = npt.NDArray[np.bool_]
 __version__: str
 __commit__: str
 __all__ = ["Error", "Box", "Env", "EnvSpec", "VectorEnv", "Agent", "Ensemble", "CostClassifier",
-           "make", "make_vec", "tasks", "train", "load_run", "CostInInfo", "VectorCostInInfo"]
+           "make", "make_vec", "tasks", "train", "load_run", "read_runs", "report", "CostInInfo",
+           "VectorCostInInfo"]
 
 class Error(ValueError): ...
 
@@ -129,6 +130,10 @@ def train(config: Union[_Path, Sequence[_Path], Mapping[str, Any], None] = ...,
           out: Optional[_Path] = ..., steps: Optional[int] = ..., seed: Optional[int] = ...,
           device: Optional[str] = ..., resume: Optional[_Path] = ...,
           progress: Optional[Callable[[dict[str, Any]], object]] = ...) -> dict[str, Any]: ...
+
+def read_runs(dirs: Union[_Path, Sequence[_Path]]) -> list[dict[str, Any]]: ...
+def report(dirs: Union[_Path, Sequence[_Path]], out: _Path, window: Optional[int] = ...,
+           reference: Optional[_Path] = ..., complete: bool = ...) -> dict[str, Any]: ...
 
 class Agent(_NotCopyable):
     run_dir: str

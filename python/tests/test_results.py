@@ -1,0 +1,52 @@
+"""Results in Python: read_runs gives the numbers `cmbrl report` counts, and report writes the
+same files as `cmbrl report --out`."""
+import csv
+
+import numpy as np
+import pytest
+
+import cmbrl
+
+
+def test_read_runs_gives_the_counts_of_the_committed_table(source_dir):
+    report_dir = source_dir / "experiments" / "cpu-grid" / "report"
+    runs = cmbrl.read_runs(report_dir)
+    with open(report_dir / "table-1.csv", newline="") as table:
+        cells = list(csv.DictReader(table))
+    assert len(runs) == sum(int(cell["seeds"]) for cell in cells)
+    for cell in cells:
+        window = int(cell["window"])
+        ours = sorted((run for run in runs
+                       if run["task"] == cell["task"] and run["method"] == cell["planner"]),
+                      key=lambda run: run["seed"])
+        counts = [float(run["episode_cost"][run["end_step"] <= window].sum()) for run in ours]
+        assert counts == [float(v) for v in cell["per_seed"].split()], cell["task"]
+    run = runs[0]
+    assert run["setting"] == "" and run["epoch_log"] is False
+    assert run["end_step"].dtype == np.int64 and np.all(np.diff(run["end_step"]) > 0)
+    assert np.array_equal(np.cumsum(run["episode_cost"]), run["cumulative_violations"])
+
+
+def test_read_runs_of_a_model_free_run_gives_its_epochs(source_dir):
+    (run,) = cmbrl.read_runs([source_dir / "experiments" / "model-free" / "report"])
+    assert run["method"] == "trpo-lagrangian" and run["epoch_log"] is True
+    assert run["end_step"][-1] == 3_000_000
+    assert np.all(np.diff(run["cumulative_violations"]) >= 0)
+
+
+def test_report_writes_the_files_of_cmbrl_report(source_dir, tmp_path):
+    summary = cmbrl.report(source_dir / "experiments" / "model-free" / "report",
+                           tmp_path / "out", window=3_000_000)
+    assert summary["runs"] == 1 and summary["window"] == 3_000_000 and summary["cells"] == 1
+    for name in ("report.md", "table-1.csv", "curves-model-free-epcost.png"):
+        assert (tmp_path / "out" / name).is_file(), name
+    assert (tmp_path / "out" / "run-logs" / "pointgoal2-trpo-lagrangian-s0").is_dir()
+
+
+def test_bad_folders_are_named(tmp_path):
+    with pytest.raises(cmbrl.Error, match="dirs is empty"):
+        cmbrl.read_runs([])
+    with pytest.raises(cmbrl.Error, match="holds neither runs/ nor run-logs/"):
+        cmbrl.read_runs(tmp_path)
+    with pytest.raises(cmbrl.Error, match="window is 0"):
+        cmbrl.report(tmp_path, tmp_path / "out", window=0)
