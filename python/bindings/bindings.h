@@ -36,7 +36,7 @@ class ObjectLock {
 void BindEnvs(py::module_& m);    // envs.cc: Env, VectorEnv, env_names, bench_env
 void BindModels(py::module_& m);  // models.cc: Ensemble, CostClassifier
 void BindRuns(py::module_& m);    // runs.cc: Agent, train
-void BindResults(py::module_& m); // results.cc: read_runs, report
+void BindResults(py::module_& m);  // results.cc: read_runs, report
 
 // Every member's next state for n rows of states (N, S) and actions (N, A): (E, N, S).
 py::array_t<double> PredictNextStates(const EnsembleDynamics& dynamics,
