@@ -56,12 +56,12 @@ void PrintSweepStatus(const SweepGrid& grid, const std::string& sweep_dir) {
     ++counts[status];
     steps += std::min(progress.steps, progress.budget);
     budget += progress.budget;
-    std::cout << nlohmann::ordered_json{{"run", run.name},
-                                        {"status", status},
-                                        {"steps", progress.steps},
-                                        {"budget", progress.budget}}
-                     .dump()
-              << std::endl;
+    nlohmann::ordered_json line{{"run", run.name},
+                                {"status", status},
+                                {"steps", progress.steps},
+                                {"budget", progress.budget}};
+    if (progress.in_report) line["in_report"] = true;
+    std::cout << line.dump() << std::endl;
   }
   std::cout << nlohmann::ordered_json{{"sweep", sweep_dir},
                                       {"runs", runs.size()},

@@ -211,6 +211,8 @@ std::vector<EpisodePoint> ReadEpisodeColumns(const std::string& file, bool has_s
   return episodes;
 }
 
+fs::path RunLogsDir(const fs::path& report_dir) { return report_dir / kLogsFolder; }
+
 std::vector<RunRecord> ReadSweeps(const std::vector<std::string>& sweep_dirs) {
   std::map<std::string, std::pair<RunRecord, bool>> found;  // name -> (run, read from a log)
   const auto add = [&](RunRecord run, bool is_log) {

@@ -95,6 +95,9 @@ std::vector<RunRecord> ReadSweeps(const std::vector<std::string>& sweep_dirs);
 // logs, or a file cannot be written.
 void KeepRunLogs(const std::vector<RunRecord>& runs, const std::string& out);
 
+// Where a report folder keeps its runs' logs: report_dir/run-logs.
+std::filesystem::path RunLogsDir(const std::filesystem::path& report_dir);
+
 // The agent (or environment) steps a run's progress has reached: its last point's end, 0 before
 // its first.
 std::int64_t StepsReached(const RunRecord& run);

@@ -172,6 +172,7 @@ SweepGrid ExperimentGrid(const Experiment& experiment) {
   if (!experiment.family_file().empty()) grid.overlays = {experiment.family_file().string()};
   grid.overrides = experiment.overrides;
   grid.axes = experiment.axes;
+  grid.reported_dir = RunLogsDir(experiment.report_dir()).string();
   return grid;
 }
 

@@ -127,6 +127,9 @@ std::vector<SweepRun> PlanSweep(const SweepGrid& grid, const std::string& sweep_
           run.overrides.insert(run.overrides.end(), point_overrides.begin(),
                                point_overrides.end());
           run.run_dir = (fs::path(sweep_dir) / "runs" / run.name).string();
+          if (!grid.reported_dir.empty()) {
+            run.reported_run_dir = (fs::path(grid.reported_dir) / run.name).string();
+          }
           runs.push_back(run);
         }
       }
@@ -136,8 +139,13 @@ std::vector<SweepRun> PlanSweep(const SweepGrid& grid, const std::string& sweep_
 }
 
 RunProgress ProgressOf(const SweepRun& run, std::optional<std::int64_t> budget) {
-  const RunDirectory dir(run.run_dir);
+  RunDirectory dir(run.run_dir);
   RunProgress progress;
+  if (!dir.HoldsRun() && !run.reported_run_dir.empty() &&
+      RunDirectory(run.reported_run_dir).HoldsRun()) {
+    dir = RunDirectory(run.reported_run_dir);
+    progress.in_report = true;
+  }
   if (!dir.HoldsRun()) {
     progress.budget =
         budget.value_or(ApplyConfigOverrides(LoadTrainConfig(run.config_paths), run.overrides,
@@ -147,13 +155,14 @@ RunProgress ProgressOf(const SweepRun& run, std::optional<std::int64_t> budget) 
   }
   const TrainConfig config = LoadTrainConfig(dir.config_file().string());
   progress.budget = budget.value_or(config.training.total_steps);
-  progress.status = RunStatus::kStarted;
+  progress.status = progress.in_report ? RunStatus::kNew : RunStatus::kStarted;
   std::vector<EpisodePoint> episodes;
   try {
     episodes = EpisodeReaderOf(FindAlgorithm(config.algorithm).family)(
         dir.progress_file().string(), std::nullopt);
   } catch (const Error&) {
     // A process killed while writing a row leaves it half written; resuming repairs that.
+    if (progress.in_report) throw;  // a report's log is written whole: damaged, not cut short
     return progress;
   }
   if (!episodes.empty()) progress.steps = episodes.back().end_step;
@@ -166,7 +175,7 @@ RunProgress ProgressOf(const SweepRun& run, std::optional<std::int64_t> budget) 
 RunStatus StatusOf(const SweepRun& run, std::optional<std::int64_t> budget) {
   const RunDirectory dir(run.run_dir);
   // A new run's budget would compose its configs: not needed to know that it is new.
-  if (!dir.HoldsRun()) return RunStatus::kNew;
+  if (!dir.HoldsRun() && run.reported_run_dir.empty()) return RunStatus::kNew;
   return ProgressOf(run, budget).status;
 }
 
@@ -277,8 +286,21 @@ PreparedSweep PrepareSweep(const SweepGrid& grid, const std::string& sweep_dir,
   fs::permissions(script, fs::perms::owner_exec | fs::perms::group_exec, fs::perm_options::add);
   for (size_t index = 0; index < prepared.runs.size(); ++index) {
     const SweepRun& run = prepared.runs[index];
-    if (StatusOf(run, grid.steps) == RunStatus::kFinished) {
-      on_event({run.name, "already finished", "", {}, std::nullopt, std::nullopt, "", ""});
+    const RunProgress progress = ProgressOf(run, grid.steps);
+    Require(!progress.in_report || progress.status == RunStatus::kFinished,
+            "run '{}' is in the report's logs ({}) at step {} of {}, and not in {}: its "
+            "checkpoints stayed where it ran. Take it up there, or remove its logs from the "
+            "report to run it again from the start here",
+            run.name, run.reported_run_dir, progress.steps, progress.budget, run.run_dir);
+    if (progress.status == RunStatus::kFinished) {
+      on_event({run.name,
+                progress.in_report ? "already finished (in the report)" : "already finished",
+                "",
+                {},
+                std::nullopt,
+                std::nullopt,
+                "",
+                ""});
       ++prepared.already_finished;
     } else {
       prepared.unfinished.push_back(index);

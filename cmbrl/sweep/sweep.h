@@ -30,6 +30,10 @@ struct SweepGrid {
   std::vector<std::string> overlays;
   std::vector<std::string> overrides;
   std::vector<SweepAxis> axes;
+  // A report's run-logs/ folder (an experiment's report/run-logs), or empty: a run that is not
+  // in the sweep's runs/ but finished there is not run again, so that a sweep taken up on a new
+  // machine makes only the runs its committed report lacks.
+  std::string reported_dir;
 };
 
 struct SweepRun {
@@ -40,6 +44,7 @@ struct SweepRun {
   std::vector<std::string> config_paths;
   std::vector<std::string> overrides;  // the grid's, then this run's axis values
   std::string run_dir;                 // sweep_dir/runs/pointgoal1-rce-s0
+  std::string reported_run_dir;        // the grid's reported_dir/pointgoal1-rce-s0, or empty
 };
 
 // Every run of the grid, tasks outermost, then planners, then the axes' combinations (the first
@@ -49,7 +54,8 @@ struct SweepRun {
 std::vector<SweepRun> PlanSweep(const SweepGrid& grid, const std::string& sweep_dir);
 
 // Where a run stands: not started, started (resume it), or finished (its progress reached
-// `budget`, or the run's own budget without one).
+// `budget`, or the run's own budget without one). A run absent from its run_dir is judged by its
+// reported_run_dir when that holds one: finished there, it is finished.
 enum class RunStatus { kNew, kStarted, kFinished };
 RunStatus StatusOf(const SweepRun& run, std::optional<std::int64_t> budget = std::nullopt);
 
@@ -66,6 +72,9 @@ struct RunProgress {
   RunStatus status = RunStatus::kNew;
   std::int64_t steps = 0;
   std::int64_t budget = 0;
+  // Read from the report's logs (reported_run_dir), the run being absent from run_dir. Such a
+  // run short of its budget is kNew: its checkpoints stayed on the machine that made it.
+  bool in_report = false;
 };
 RunProgress ProgressOf(const SweepRun& run, std::optional<std::int64_t> budget = std::nullopt);
 
@@ -122,8 +131,10 @@ struct PreparedSweep {
 
 // Makes sweep_dir ready for either engine: plans the grid, records it (or checks it against the
 // recorded one), makes logs/ and runs/, writes slurm.sh for `program`, and reports each finished
-// run to `on_event` as "already finished". Throws cmbrl::Error as PlanSweep and
-// RecordOrCheckSweep do.
+// run to `on_event` as "already finished" ("already finished (in the report)" for one finished in
+// the grid's reported_dir). Throws cmbrl::Error as PlanSweep and RecordOrCheckSweep do, and
+// naming a run that the report holds unfinished while runs/ lacks it (its checkpoints are
+// elsewhere).
 PreparedSweep PrepareSweep(const SweepGrid& grid, const std::string& sweep_dir,
                            const std::string& program, const SweepEventSink& on_event);
 

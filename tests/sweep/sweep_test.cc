@@ -209,6 +209,63 @@ TEST(SweepTest, ProgressSaysTheStepsReachedAndTheBudget) {
   EXPECT_EQ(ProgressOf(runs[1]).steps, 0);
 }
 
+// A run's logs as a report keeps them (run-logs/<name>): config.yaml and progress.csv.
+void WriteRunLog(const fs::path& dir, int budget, int steps_reached) {
+  fs::create_directories(dir);
+  std::ofstream(dir / "config.yaml") << "training: {total_steps: " << budget << "}\n";
+  std::ofstream progress(dir / "progress.csv");
+  progress << ProgressCsvHeader() << "\n";
+  for (int end = 1000, episode = 1; end <= steps_reached; end += 1000, ++episode) {
+    progress << "1," << episode << ",0,0," << end << ",0,0,0,0,0,0,0,1000,0,0,0\n";
+  }
+}
+
+TEST(SweepTest, RunsFinishedInTheReportAreNotRunAgain) {
+  const std::string dir = testing::TestTempPath("sweep_reported");
+  fs::remove_all(dir);
+  SweepGrid grid = PaperGrid();
+  grid.overrides = {"training.total_steps=2000"};
+  grid.reported_dir = (fs::path(dir) / "report" / "run-logs").string();
+  const std::vector<SweepRun> runs = PlanSweep(grid, dir);
+  ASSERT_EQ(runs[0].reported_run_dir, (fs::path(grid.reported_dir) / runs[0].name).string());
+  WriteRunLog(runs[0].reported_run_dir, 2000, 2000);  // finished on another machine
+  const RunProgress reported = ProgressOf(runs[0]);
+  EXPECT_EQ(reported.status, RunStatus::kFinished);
+  EXPECT_TRUE(reported.in_report);
+  EXPECT_EQ(reported.steps, 2000);
+  EXPECT_EQ(StatusOf(runs[0]), RunStatus::kFinished);
+  EXPECT_FALSE(ProgressOf(runs[2]).in_report);  // in neither folder: new
+
+  std::vector<std::string> events;
+  const auto record = [&](const SweepEvent& event) {
+    events.push_back(event.run + ": " + event.status);
+  };
+  PreparedSweep prepared = PrepareSweep(grid, dir, "cmbrl", record);
+  EXPECT_EQ(prepared.already_finished, 1);
+  EXPECT_EQ(prepared.unfinished.size(), runs.size() - 1);
+  EXPECT_EQ(prepared.unfinished.front(), 1u);
+  EXPECT_THAT(events, ::testing::ElementsAre(runs[0].name + ": already finished (in the report)"));
+
+  // Half done elsewhere: its checkpoints are not here, so the sweep says so and starts nothing.
+  WriteRunLog(runs[1].reported_run_dir, 2000, 1000);
+  const RunProgress half = ProgressOf(runs[1]);
+  EXPECT_EQ(half.status, RunStatus::kNew);
+  EXPECT_TRUE(half.in_report);
+  EXPECT_EQ(half.steps, 1000);
+  const std::string refused = ErrorMessage([&] { PrepareSweep(grid, dir, "cmbrl", record); });
+  EXPECT_THAT(refused, HasSubstr("run '" + runs[1].name + "' is in the report's logs"));
+  EXPECT_THAT(refused, HasSubstr("at step 1000 of 2000"));
+  EXPECT_THAT(refused, HasSubstr("remove its logs from the report"));
+
+  // The sweep's own folder comes first: a run there is judged by its own progress.
+  WriteRunLog(runs[1].run_dir, 2000, 1000);
+  const RunProgress local = ProgressOf(runs[1]);
+  EXPECT_EQ(local.status, RunStatus::kStarted);
+  EXPECT_FALSE(local.in_report);
+  fs::remove_all(runs[1].reported_run_dir);
+  EXPECT_EQ(PrepareSweep(grid, dir, "cmbrl", record).unfinished.size(), runs.size() - 1);
+}
+
 TEST(SweepTest, EachRunAtATimeGetsItsOwnCpus) {
   using Shares = std::vector<std::vector<int>>;
   EXPECT_EQ(CpuShares({0, 1}, 2), (Shares{{0}, {1}}));
