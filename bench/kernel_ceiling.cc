@@ -50,52 +50,73 @@ class TorchKernel final : public ChainKernel {
 };
 
 #ifdef CMBRL_HAVE_ONEDNN
-// oneDNN matmul primitives, weights reordered once into the layout each prefers.
+// oneDNN matmul primitives, weights reordered once into the layout each prefers. Either one 3D
+// primitive over the batch, or (per_member) one 2D primitive per shape run for each batch entry
+// with weights of its own: the form the ensemble's oneDNN backend uses, whose brgemm kernels
+// can outrun the batched primitive's.
 class OnednnKernel final : public ChainKernel {
  public:
-  OnednnKernel(const std::vector<ProductShape>& shapes, bool bf16) : bf16_(bf16) {
+  OnednnKernel(const std::vector<ProductShape>& shapes, bool bf16, bool per_member)
+      : bf16_(bf16), per_member_(per_member) {
     using dnnl::memory;
     const memory::data_type type = bf16 ? memory::data_type::bf16 : memory::data_type::f32;
     dnnl::stream stream(engine_);
+    // Random f32 values reordered into `desc` (a layout and type the primitive chose).
+    const auto filled = [&](const memory::dims& dims, const memory::desc& desc) {
+      const torch::Tensor plain_values = torch::randn(dims);
+      memory plain({dims, memory::data_type::f32,
+                    dims.size() == 3 ? memory::format_tag::abc : memory::format_tag::ab},
+                   engine_, plain_values.data_ptr<float>());
+      memory out(desc, engine_);
+      dnnl::reorder(plain, out).execute(stream, plain, out);
+      stream.wait();
+      return out;
+    };
     for (const ProductShape& s : shapes) {
-      const memory::desc a({s.batch, s.rows, s.inner}, type, memory::format_tag::abc);
-      const memory::desc b({s.batch, s.inner, s.cols}, type, memory::format_tag::any);
-      const memory::desc c({s.batch, s.rows, s.cols}, type, memory::format_tag::abc);
+      const std::int64_t batch = per_member ? 1 : s.batch;
+      const auto dims = [&](std::int64_t a, std::int64_t b) {
+        return per_member ? memory::dims{a, b} : memory::dims{batch, a, b};
+      };
+      const memory::format_tag plain_tag =
+          per_member ? memory::format_tag::ab : memory::format_tag::abc;
+      const memory::desc a(dims(s.rows, s.inner), type, plain_tag);
+      const memory::desc b(dims(s.inner, s.cols), type, memory::format_tag::any);
+      const memory::desc c(dims(s.rows, s.cols), type, plain_tag);
       const dnnl::matmul::primitive_desc pd(dnnl::matmul::desc(a, b, c), engine_);
-      primitives_.emplace_back(pd);
-      sources_.emplace_back(a, engine_);
-      destinations_.emplace_back(c, engine_);
-      const torch::Tensor plain_b = torch::randn({s.batch, s.inner, s.cols});
-      memory plain({{s.batch, s.inner, s.cols}, memory::data_type::f32, memory::format_tag::abc},
-                   engine_, plain_b.data_ptr<float>());
-      weights_.emplace_back(pd.weights_desc(), engine_);
-      dnnl::reorder(plain, weights_.back()).execute(stream, plain, weights_.back());
-      const torch::Tensor plain_a = torch::randn({s.batch, s.rows, s.inner});
-      memory plain_source(
-          {{s.batch, s.rows, s.inner}, memory::data_type::f32, memory::format_tag::abc}, engine_,
-          plain_a.data_ptr<float>());
-      dnnl::reorder(plain_source, sources_.back()).execute(stream, plain_source, sources_.back());
+      Product product{dnnl::matmul(pd), {}, {}, {}};
+      for (std::int64_t m = 0; m < (per_member ? s.batch : 1); ++m) {
+        product.sources.push_back(filled(dims(s.rows, s.inner), a));
+        product.weights.push_back(filled(dims(s.inner, s.cols), pd.weights_desc()));
+        product.destinations.emplace_back(c, engine_);
+      }
+      products_.push_back(std::move(product));
     }
-    stream.wait();
   }
-  std::string name() const override { return bf16_ ? "onednn_bf16" : "onednn_fp32"; }
+  std::string name() const override {
+    return std::string(bf16_ ? "onednn_bf16" : "onednn_fp32") + (per_member_ ? "_per_member" : "");
+  }
   double Seconds() override {
     dnnl::stream stream(engine_);
     return SecondsOf([&] {
-      for (size_t i = 0; i < primitives_.size(); ++i) {
-        primitives_[i].execute(stream, {{DNNL_ARG_SRC, sources_[i]},
-                                        {DNNL_ARG_WEIGHTS, weights_[i]},
-                                        {DNNL_ARG_DST, destinations_[i]}});
+      for (Product& p : products_) {
+        for (size_t m = 0; m < p.sources.size(); ++m) {
+          p.primitive.execute(stream, {{DNNL_ARG_SRC, p.sources[m]},
+                                       {DNNL_ARG_WEIGHTS, p.weights[m]},
+                                       {DNNL_ARG_DST, p.destinations[m]}});
+        }
       }
       stream.wait();
     });
   }
 
  private:
-  bool bf16_;
+  struct Product {
+    dnnl::matmul primitive;
+    std::vector<dnnl::memory> sources, weights, destinations;  // one each, or one per member
+  };
+  bool bf16_, per_member_;
   dnnl::engine engine_{dnnl::engine::kind::cpu, 0};
-  std::vector<dnnl::matmul> primitives_;
-  std::vector<dnnl::memory> sources_, weights_, destinations_;
+  std::vector<Product> products_;
 };
 #endif
 
@@ -109,10 +130,12 @@ std::vector<std::unique_ptr<ChainKernel>> CeilingKernels(const std::vector<Produ
   std::vector<std::unique_ptr<ChainKernel>> kernels;
   kernels.push_back(std::make_unique<TorchKernel>(shapes, bf16 ? torch::kBFloat16 : torch::kFloat));
 #ifdef CMBRL_HAVE_ONEDNN
-  try {
-    kernels.push_back(std::make_unique<OnednnKernel>(shapes, bf16));
-  } catch (const dnnl::error&) {
-    // No oneDNN kernel for this precision on this CPU (bf16 without AVX-512): not a candidate.
+  for (const bool per_member : {false, true}) {
+    try {
+      kernels.push_back(std::make_unique<OnednnKernel>(shapes, bf16, per_member));
+    } catch (const dnnl::error&) {
+      // No oneDNN kernel for this precision on this CPU (bf16 without AVX-512): not a candidate.
+    }
   }
 #endif
   return kernels;

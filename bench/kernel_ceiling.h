@@ -3,9 +3,10 @@
 //
 // The candidates are the kernels a CPU build can call: OpenBLAS through LibTorch (fp32),
 // LibTorch's own bf16 products, and oneDNN's matmul primitives (fp32 and bf16) with weights
-// already in the layout each primitive prefers. The ceiling of a precision is the fastest of its
-// candidates; a figure's ratio to it says how much of the hardware the figure uses, not how it
-// compares with the library it happens to call.
+// already in the layout each primitive prefers, both batched (one 3D primitive) and per member
+// (2D primitives, as the ensemble's oneDNN backend runs them). The ceiling of a precision is the
+// fastest of its candidates; a figure's ratio to it says how much of the hardware the figure uses,
+// not how it compares with the library it happens to call.
 #pragma once
 
 #include <cstdint>
@@ -31,7 +32,7 @@ std::vector<ProductShape> ForwardShapes(std::int64_t members, std::int64_t rows,
 class ChainKernel {
  public:
   virtual ~ChainKernel() = default;
-  virtual std::string name() const = 0;  // e.g. "openblas_fp32", "onednn_bf16"
+  virtual std::string name() const = 0;  // "openblas_fp32", "onednn_bf16_per_member", ...
   virtual double Seconds() = 0;          // one pass over every shape
 };
 

@@ -8,6 +8,7 @@
 #include <limits>
 
 #include "cmbrl/core/check.h"
+#include "cmbrl/core/cpu_features.h"
 #include "cmbrl/core/memory.h"
 #include "cmbrl/core/torch_util.h"
 #include "cmbrl/models/fused_adam.h"
@@ -45,17 +46,19 @@ std::string ResolveBackend(const EnsembleOptions& o) {
 }
 
 // Whether the training products go through oneDNN, given the prediction backend: always with
-// backend onednn; with auto only for layers at most this wide. Measured on an AVX2 core
-// (docs/PERFORMANCE.md, v0.7): oneDNN's epoch 1.14-1.24x faster than LibTorch's at widths 200
-// and 256, 0.88x at 512 and 0.81x at 1024 (its products on unreordered weights fall behind
-// OpenBLAS). A fixed rule, not a timing, so that a config gives the same bits on one machine.
-constexpr int kAutoOnednnTrainingWidth = 256;
+// backend onednn; with auto only for layers at most AutoOnednnTrainingWidth() wide. Measured
+// (docs/PERFORMANCE.md): on an AVX2 core (v0.7) oneDNN's epoch was 1.14-1.24x LibTorch's at
+// widths 200 and 256, 0.88x at 512 and 0.81x at 1024 (its products on unreordered weights fall
+// behind OpenBLAS); on an AVX-512 core (v0.8) 1.38x at 200, 1.29x at 256, 1.15x at 512 and
+// 0.98-1.09x at 1024. A fixed rule of the config and the CPU's vector ISA, not a timing, so that
+// a config gives the same bits on one machine.
+int AutoOnednnTrainingWidth() { return CpuHasAvx512() ? 512 : 256; }
 
 bool TrainsThroughOnednn(const EnsembleOptions& o, const std::string& backend) {
   if (backend != "onednn") return false;
   if (o.backend == "onednn") return true;
   return *std::max_element(o.hidden_sizes.begin(), o.hidden_sizes.end()) <=
-         kAutoOnednnTrainingWidth;
+         AutoOnednnTrainingWidth();
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 #include <cstring>
 #include <map>
 #include <mutex>
+#include <new>
 #include <vector>
 
 #include "cmbrl/core/check.h"
@@ -60,6 +61,21 @@ std::uint16_t ToBf16(float value) {
   bits += 0x7fffu + ((bits >> 16) & 1u);
   return static_cast<std::uint16_t>(bits >> 16);
 }
+
+// Uninitialised bytes starting on a 64-byte boundary (a cache line, an AVX-512 register).
+class CacheAlignedBytes {
+ public:
+  explicit CacheAlignedBytes(std::size_t size)
+      : bytes_(static_cast<std::uint8_t*>(::operator new(size, kAlignment))) {}
+  ~CacheAlignedBytes() { ::operator delete(bytes_, kAlignment); }
+  CacheAlignedBytes(const CacheAlignedBytes&) = delete;
+  CacheAlignedBytes& operator=(const CacheAlignedBytes&) = delete;
+  std::uint8_t* get() const { return bytes_; }
+
+ private:
+  static constexpr std::align_val_t kAlignment{64};
+  std::uint8_t* bytes_;
+};
 
 // Rows per task of a prediction: large enough for a single-threaded product to run at speed,
 // small enough that the planner's batches (a few hundred rows per member) give every core work.
@@ -237,13 +253,13 @@ torch::Tensor OnednnEnsembleForward::Predict(const torch::Tensor& states_in,
     const ScopedOmpThreads one_thread(1);
     dnnl::stream stream(impl.engine);
     // This worker's buffers, left uninitialised (every byte read is written first): two for
-    // the hidden activations, one scratchpad.
-    // Each part starts a multiple of 64 bytes in, as separate allocations would.
+    // the hidden activations, one scratchpad, each on a cache line of its own. malloc's 16-byte
+    // alignment made every vector load of the activations straddle two cache lines: the
+    // products ran at about 0.6 of their rate on AVX-512 (docs/PERFORMANCE.md, v0.8).
     const std::size_t activation_bytes =
         (static_cast<std::size_t>(block * widest) * element + 63) / 64 * 64;
     const std::size_t scratch_bytes = std::max<std::size_t>(scratchpad_bytes, 1);
-    const std::unique_ptr<std::uint8_t[]> buffers(
-        new std::uint8_t[2 * activation_bytes + scratch_bytes]);
+    const CacheAlignedBytes buffers(2 * activation_bytes + scratch_bytes);
     std::uint8_t* const ping = buffers.get();
     std::uint8_t* const pong = ping + activation_bytes;
     const memory scratch({{static_cast<memory::dim>(scratch_bytes)}, memory::data_type::u8,

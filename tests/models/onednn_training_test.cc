@@ -6,6 +6,7 @@
 #include <thread>
 #include <vector>
 
+#include "cmbrl/core/cpu_features.h"
 #include "cmbrl/core/parallel.h"
 #include "cmbrl/models/ensemble.h"
 #include "cmbrl/models/onednn_forward.h"
@@ -147,8 +148,9 @@ TEST(OnednnTrainingTest, FitsAgreeWithLibTorchFits) {
   EXPECT_GT(((PredictionsOf(other) - b).abs().mean() / b.abs().mean()).item<double>(), 1e-3);
 }
 
-// Who trains: auto sends the training products to oneDNN only for layers at most 256 wide;
-// onednn always; libtorch never. The rule is fixed by the config, never by a timing.
+// Who trains: auto sends the training products to oneDNN only for layers at most 256 wide, 512
+// on a CPU with AVX-512; onednn always; libtorch never. The rule is fixed by the config and the
+// CPU's vector ISA, never by a timing.
 TEST(OnednnTrainingTest, AutoTrainsThroughOnednnOnlyForNarrowLayers) {
   SKIP_WITHOUT_ONEDNN();
   EnsembleOptions options = OnednnOptions();
@@ -159,7 +161,10 @@ TEST(OnednnTrainingTest, AutoTrainsThroughOnednnOnlyForNarrowLayers) {
     return model.backend() + "/" + model.training_backend();
   };
   EXPECT_EQ(trainer("auto", {256, 256, 256}), "onednn/onednn");
-  EXPECT_EQ(trainer("auto", {256, 257}), "onednn/libtorch");
+  const std::string wide = CpuHasAvx512() ? "onednn/onednn" : "onednn/libtorch";
+  EXPECT_EQ(trainer("auto", {256, 257}), wide);
+  EXPECT_EQ(trainer("auto", {512, 512, 512}), wide);
+  EXPECT_EQ(trainer("auto", {256, 513}), "onednn/libtorch");
   EXPECT_EQ(trainer("auto", {1024, 1024, 1024}), "onednn/libtorch");
   EXPECT_EQ(trainer("onednn", {1024}), "onednn/onednn");
   EXPECT_EQ(trainer("libtorch", {64}), "libtorch/libtorch");
