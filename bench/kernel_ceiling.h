@@ -46,7 +46,7 @@ class ShapeCeiling {
  public:
   ShapeCeiling(std::vector<ProductShape> shapes, const std::string& precision, int runs);
   double Flops() const { return flops_; }
-  // FLOP/s of one pass of the fastest kernel, now.
+  // FLOP/s of the fastest kernel now: its best pass of at least 3 and at least 20 ms of them.
   double Measure();
   // {"<kernel>_gflops": median rate of each candidate, "ceiling_kernel": the fastest}.
   const nlohmann::ordered_json& candidates() const { return candidates_; }
