@@ -2,6 +2,7 @@
 // finished runs and resuming interrupted ones (the local engine), or as a Slurm job array
 // submitted to a cluster and followed there (the Slurm engine).
 #include <fmt/ranges.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <filesystem>
@@ -31,6 +32,7 @@ struct SweepArgs {
   std::string engine = "local";
   SlurmOptions slurm;
   bool status = false;  // say how far each run has got; start nothing
+  std::string train_with;  // the program that trains the runs; empty: this one
 };
 
 void PrintEvent(const SweepEvent& event) {
@@ -95,12 +97,19 @@ void RunSweepCommand(SweepArgs args, const CLI::App& command) {
   }
   Require(!args.out.empty(), "--out SWEEP_DIR is required (or give an experiment folder)");
   if (args.status) {
-    for (const char* option : {"--jobs", "--engine", "--wait", "--poll", "--sbatch"}) {
+    for (const char* option :
+         {"--jobs", "--engine", "--wait", "--poll", "--sbatch", "--train-with"}) {
       Require(command.count(option) == 0, "{} starts runs; --status starts none: give one of them",
               option);
     }
     PrintSweepStatus(args.grid, args.out);
     return;
+  }
+  std::string program = ProgramPath();
+  if (!args.train_with.empty()) {
+    program = fs::absolute(args.train_with).lexically_normal().string();
+    Require(access(program.c_str(), X_OK) == 0,
+            "--train-with is '{}': expected an executable cmbrl program", args.train_with);
   }
   const bool slurm = args.engine == "slurm";
   if (slurm) {
@@ -112,8 +121,8 @@ void RunSweepCommand(SweepArgs args, const CLI::App& command) {
     }
   }
   const SweepOutcome outcome =
-      slurm ? SubmitSweep(args.grid, args.out, ProgramPath(), args.slurm, PrintEvent)
-            : RunSweep(args.grid, args.out, args.jobs, ProgramPath(), PrintEvent);
+      slurm ? SubmitSweep(args.grid, args.out, program, args.slurm, PrintEvent)
+            : RunSweep(args.grid, args.out, args.jobs, program, PrintEvent);
   nlohmann::ordered_json summary{{"sweep", args.out},
                                  {"engine", args.engine},
                                  {"runs", outcome.runs},
@@ -178,6 +187,12 @@ void AddSweepCommand(CLI::App& parent) {
                    "as one job array (SWEEP_DIR/slurm.sh) with sbatch")
       ->check(CLI::IsMember({"local", "slurm"}))
       ->capture_default_str();
+  command
+      ->add_option("--train-with", args->train_with,
+                   "the cmbrl program that trains the runs (default: this one), so that a newer "
+                   "build can carry on an experiment whose runs an older one makes (one binary "
+                   "per experiment)")
+      ->check(CLI::ExistingFile);
   command->add_flag("--status", args->status,
                     "start nothing: print each run's status (new, started, finished), the steps "
                     "it has reached and its budget, one JSON line each, then the totals");

@@ -55,10 +55,29 @@ rm -rf experiments/tiny/runs
 "$cmbrl" report experiments/tiny > /dev/null
 diff -r -I '^Made by `cmbrl report' first-report experiments/tiny/report ||
   { echo "the report made again from its logs differs"; exit 1; }
+# A fresh clone (no runs/): the report's logs say every run is finished, so a sweep starts none.
+"$cmbrl" sweep experiments/tiny --status > status-clone.log
+grep -qF '{"run":"pointgoal1-rce-gamma=0.98-s0","status":"finished","steps":201,"budget":120,"in_report":true}' \
+  status-clone.log || { cat status-clone.log; exit 1; }
+"$cmbrl" sweep experiments/tiny --jobs 2 > sweep-clone.log
+[ "$(grep -c '"already finished (in the report)"' sweep-clone.log)" -eq 8 ] || { cat sweep-clone.log; exit 1; }
+[ -z "$(ls experiments/tiny/runs/runs)" ] || { echo "a run finished in the report was run again"; exit 1; }
+# One run's logs gone: only it is made, by the program --train-with names.
+printf '#!/bin/sh\necho "$@" >> %s/trained-with.log\nexec %s "$@"\n' "$PWD" "$cmbrl" > old-cmbrl
+chmod +x old-cmbrl
+rm -r experiments/tiny/report/run-logs/pointgoal1-random-gamma=0.9-s1
+"$cmbrl" sweep experiments/tiny --jobs 2 --train-with old-cmbrl > sweep-one.log
+grep -q '^train --config .* --seed 1 --out .*/pointgoal1-random-gamma=0.9-s1$' trained-with.log &&
+  [ "$(wc -l < trained-with.log)" -eq 1 ] || { cat trained-with.log sweep-one.log; exit 1; }
+if "$cmbrl" sweep experiments/tiny --train-with experiments/tiny/experiment.yaml 2> train-with.err; then
+  echo "a --train-with that is not a program was accepted"; exit 1
+fi
+grep -q -- "--train-with is '.*experiment.yaml': expected an executable" train-with.err ||
+  { cat train-with.err; exit 1; }
 sed -i 's/rounds: 10/rounds: 11/' experiments/tiny/experiment.yaml
 if "$cmbrl" report experiments/tiny 2> edited.err; then
   echo "a report of runs made under another declaration was accepted"; exit 1
 fi
 grep -q "was made with another config than" edited.err || { cat edited.err; exit 1; }
 grep -q "rounds: 10" edited.err || { cat edited.err; exit 1; }
-echo "experiment: --status before and after, 8 runs, a cell per setting, report made again identical, edited declaration refused"
+echo "experiment: --status before and after, 8 runs, a cell per setting, report made again identical, a fresh clone runs only what its report lacks, edited declaration refused"
