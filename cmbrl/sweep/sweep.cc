@@ -138,28 +138,40 @@ std::vector<SweepRun> PlanSweep(const SweepGrid& grid, const std::string& sweep_
   return runs;
 }
 
-RunProgress ProgressOf(const SweepRun& run, std::optional<std::int64_t> budget) {
-  RunDirectory dir(run.run_dir);
-  RunProgress progress;
-  if (!dir.HoldsRun() && !run.reported_run_dir.empty() &&
-      RunDirectory(run.reported_run_dir).HoldsRun()) {
-    dir = RunDirectory(run.reported_run_dir);
-    progress.in_report = true;
+namespace {
+
+// The folder that holds a run's config and progress: its run_dir, else its report's logs, else
+// none (a new run). `in_report` says which.
+std::optional<RunDirectory> HeldRun(const SweepRun& run, bool& in_report) {
+  in_report = false;
+  if (RunDirectory dir(run.run_dir); dir.HoldsRun()) return dir;
+  if (run.reported_run_dir.empty()) return std::nullopt;
+  if (RunDirectory logs(run.reported_run_dir); logs.HoldsRun()) {
+    in_report = true;
+    return logs;
   }
-  if (!dir.HoldsRun()) {
+  return std::nullopt;
+}
+
+}  // namespace
+
+RunProgress ProgressOf(const SweepRun& run, std::optional<std::int64_t> budget) {
+  RunProgress progress;
+  const std::optional<RunDirectory> dir = HeldRun(run, progress.in_report);
+  if (!dir) {
     progress.budget =
         budget.value_or(ApplyConfigOverrides(LoadTrainConfig(run.config_paths), run.overrides,
                                              "the overrides of sweep run '" + run.name + "'")
                             .training.total_steps);
     return progress;
   }
-  const TrainConfig config = LoadTrainConfig(dir.config_file().string());
+  const TrainConfig config = LoadTrainConfig(dir->config_file().string());
   progress.budget = budget.value_or(config.training.total_steps);
   progress.status = progress.in_report ? RunStatus::kNew : RunStatus::kStarted;
   std::vector<EpisodePoint> episodes;
   try {
     episodes = EpisodeReaderOf(FindAlgorithm(config.algorithm).family)(
-        dir.progress_file().string(), std::nullopt);
+        dir->progress_file().string(), std::nullopt);
   } catch (const Error&) {
     // A process killed while writing a row leaves it half written; resuming repairs that.
     if (progress.in_report) throw;  // a report's log is written whole: damaged, not cut short
@@ -173,9 +185,9 @@ RunProgress ProgressOf(const SweepRun& run, std::optional<std::int64_t> budget) 
 }
 
 RunStatus StatusOf(const SweepRun& run, std::optional<std::int64_t> budget) {
-  const RunDirectory dir(run.run_dir);
   // A new run's budget would compose its configs: not needed to know that it is new.
-  if (!dir.HoldsRun() && run.reported_run_dir.empty()) return RunStatus::kNew;
+  bool in_report = false;
+  if (!HeldRun(run, in_report)) return RunStatus::kNew;
   return ProgressOf(run, budget).status;
 }
 
@@ -286,7 +298,10 @@ PreparedSweep PrepareSweep(const SweepGrid& grid, const std::string& sweep_dir,
   fs::permissions(script, fs::perms::owner_exec | fs::perms::group_exec, fs::perm_options::add);
   for (size_t index = 0; index < prepared.runs.size(); ++index) {
     const SweepRun& run = prepared.runs[index];
-    const RunProgress progress = ProgressOf(run, grid.steps);
+    // A run in neither folder is new: its budget (composed from its configs) is not needed.
+    bool in_report = false;
+    const RunProgress progress =
+        HeldRun(run, in_report) ? ProgressOf(run, grid.steps) : RunProgress{};
     Require(!progress.in_report || progress.status == RunStatus::kFinished,
             "run '{}' is in the report's logs ({}) at step {} of {}, and not in {}: its "
             "checkpoints stayed where it ran. Take it up there, or remove its logs from the "
