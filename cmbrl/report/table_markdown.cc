@@ -419,9 +419,30 @@ std::string SettingComparisonMarkdown(const std::vector<TableCell>& cells) {
       "Each setting against the first of its task and method, paired by seed (the seeds both "
       "have): the per-seed differences (this setting's minus the first's) of violations and of "
       "the last-10-episode return, their mean [bootstrap 90% interval], and the two-sided "
-      "p-value of an exact paired sign-flip test (with n pairs it cannot fall below 2/2^n).\n\n"
+      "p-value of an exact paired sign-flip test (with n pairs it cannot fall below 2/2^n). Where "
+      "one pair of settings is compared in two or more cells, an \"all\" row pools their pairs "
+      "(resampled alike), with the first setting's mean over those pairs beside it.\n\n"
       "| task | method | setting | against | seeds | violations: differences | mean [90%] | p | "
       "return: differences | mean [90%] | p |\n|---|---|---|---|---|---|---|---|---|---|---|\n";
+  // The pairs of one (setting, against) over every task and method, in order of first sight.
+  struct Pooled {
+    std::string setting, against;
+    int cells = 0;
+    std::vector<double> violations, returns, first_violations, first_returns;
+  };
+  std::vector<Pooled> pooled;
+  const auto pool_of = [&pooled](const std::string& setting, const std::string& against) {
+    for (Pooled& p : pooled) {
+      if (p.setting == setting && p.against == against) return &p;
+    }
+    Pooled& p = pooled.emplace_back();
+    p.setting = setting;
+    p.against = against;
+    return &p;
+  };
+  const auto p_value = [](const std::vector<double>& d) {
+    return d.empty() ? std::string("-") : fmt::format("{:.3f}", PairedSignFlipP(d));
+  };
   for (const TableCell& first : cells) {
     // The first cell of its task and method in the table's order is the one compared against.
     const auto same_pair = [&](const TableCell& c) {
@@ -432,19 +453,22 @@ std::string SettingComparisonMarkdown(const std::vector<TableCell>& cells) {
       if (&other == &first || !same_pair(other)) continue;
       std::vector<std::uint64_t> seeds;
       std::vector<double> violations, returns;
+      Pooled& pool = *pool_of(other.setting, first.setting);
       for (size_t i = 0; i < other.seeds.size(); ++i) {
         const auto it = std::find(first.seeds.begin(), first.seeds.end(), other.seeds[i]);
         if (it == first.seeds.end()) continue;
         const size_t j = static_cast<size_t>(it - first.seeds.begin());
         seeds.push_back(other.seeds[i]);
         violations.push_back(other.per_seed[i] - first.per_seed[j]);
+        pool.first_violations.push_back(first.per_seed[j]);
         if (std::isfinite(other.final_returns[i]) && std::isfinite(first.final_returns[j])) {
           returns.push_back(other.final_returns[i] - first.final_returns[j]);
+          pool.first_returns.push_back(first.final_returns[j]);
         }
       }
-      const auto p_value = [](const std::vector<double>& d) {
-        return d.empty() ? std::string("-") : fmt::format("{:.3f}", PairedSignFlipP(d));
-      };
+      pool.cells += seeds.empty() ? 0 : 1;
+      pool.violations.insert(pool.violations.end(), violations.begin(), violations.end());
+      pool.returns.insert(pool.returns.end(), returns.begin(), returns.end());
       text += fmt::format(
           "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |\n", first.task,
           MethodLabel(first.planner), other.setting.empty() ? "-" : other.setting,
@@ -453,6 +477,17 @@ std::string SettingComparisonMarkdown(const std::vector<TableCell>& cells) {
           PerSeed(violations, 1), MeanWithInterval(violations, 1), p_value(violations),
           PerSeed(returns, 2), MeanWithInterval(returns, 2), p_value(returns));
     }
+  }
+  for (const Pooled& pool : pooled) {
+    if (pool.cells < 2) continue;
+    text += fmt::format(
+        "| all | all | {} | {} | {} pairs in {} cells | (mean of {}: {}) | {} | {} | "
+        "(mean of {}: {}) | {} | {} |\n",
+        pool.setting.empty() ? "-" : pool.setting, pool.against.empty() ? "-" : pool.against,
+        pool.violations.size(), pool.cells, pool.against, Figure(Mean(pool.first_violations), 1),
+        MeanWithInterval(pool.violations, 1), p_value(pool.violations), pool.against,
+        Figure(Mean(pool.first_returns), 2), MeanWithInterval(pool.returns, 2),
+        p_value(pool.returns));
   }
   return text;
 }

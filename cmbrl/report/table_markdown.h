@@ -27,7 +27,10 @@ std::string ProtocolCellsMarkdown(const std::vector<TableCell>& cells, std::int6
 // Where cells differ only in their setting (an experiment's axes): for each task and method
 // with two or more settings, each setting against the first (in the table's order), paired by
 // seed: the differences of violations and of last-10-episode returns per seed, their mean with
-// its bootstrap 90% interval, and the sign-flip p-value. "" when no cell has a setting.
+// its bootstrap 90% interval, and the sign-flip p-value. A pair of settings compared in two or
+// more cells gets an "all" row as well: its pairs over every cell pooled, with the first
+// setting's mean over them (a study's decision over all its pairs). "" when no cell has a
+// setting.
 std::string SettingComparisonMarkdown(const std::vector<TableCell>& cells);
 
 // Where the outcome differs: per task whether RCE violated least, and each cell against the

@@ -144,10 +144,49 @@ TEST_F(ReportTest, SettingsAreCellsOfTheirOwnComparedPairedBySeed) {
                         "2.00 [2.00, 2.00] | 0.250 |"));
   EXPECT_THAT(compared, HasSubstr("| PointGoal2 | MPC-RCE | population=1000 | population=100 | "
                                   "0 | -12.0 | -12.0 [-12.0, -12.0] | 1.000 |"));
+  EXPECT_THAT(compared, Not(HasSubstr("| all |")));  // each pair in one cell only
   EXPECT_EQ(LearningCurves(runs, "PointGoal2", CurveMetric::kCost, 100, 100).size(), 3u);
   // The paper's method is judged within its own setting: alone there, no verdict.
   EXPECT_THAT(OutcomeDifferences(cells, 300),
               Not(::testing::Contains(HasSubstr("violations on average"))));
+}
+
+// A study's decision looks at all its pairs at once: a pair of settings compared in two cells
+// gets an "all" row pooling their pairs; one compared in a single cell gets none.
+TEST(SettingComparisonTest, PairsOfOneComparisonArePooledOverItsCells) {
+  const auto cell = [](const std::string& task, const std::string& setting,
+                       std::vector<std::uint64_t> seeds, std::vector<double> violations,
+                       std::vector<double> returns) {
+    TableCell c;
+    c.task = task;
+    c.planner = "rce";
+    c.setting = setting;
+    c.seeds = std::move(seeds);
+    c.per_seed = std::move(violations);
+    c.final_returns = std::move(returns);
+    return c;
+  };
+  const double nan = std::nan("");
+  const std::vector<TableCell> cells = {
+      cell("PointGoal1", "precision=bf16", {0, 1}, {10, 20}, {1, 2}),
+      cell("PointGoal1", "precision=fp32", {0, 1}, {14, 26}, {1.5, 2.5}),
+      cell("PointGoal2", "precision=bf16", {0, 1, 2}, {100, 100, 100}, {5, 5, 5}),
+      // Seed 0 missing: seeds 1 and 2 pair; seed 1's return is unknown, so only its count pairs.
+      cell("PointGoal2", "precision=fp32", {1, 2}, {90, 92}, {nan, 4}),
+      cell("PointGoal2", "precision=int8", {0}, {50}, {3}),
+  };
+  const std::string compared = SettingComparisonMarkdown(cells);
+  // The cells' own rows stay as they were.
+  EXPECT_THAT(compared, HasSubstr("| PointGoal2 | MPC-RCE | precision=fp32 | precision=bf16 | "
+                                  "1, 2 | -10.0, -8.0 | -9.0 ["));
+  // Differences 4, 6, -10, -8 (mean -2.0; 12 of the 16 sign patterns reach as far: 0.750) against a
+  // first arm of 10, 20, 100, 100; returns 0.5, 0.5, -1 (p 1) against 1, 2, 5.
+  EXPECT_THAT(compared,
+              HasSubstr("| all | all | precision=fp32 | precision=bf16 | 4 pairs in 2 cells | "
+                        "(mean of precision=bf16: 57.5) | -2.0 ["));
+  EXPECT_THAT(compared, HasSubstr("] | 0.750 | (mean of precision=bf16: 2.67) | 0.00 ["));
+  EXPECT_THAT(compared, HasSubstr("] | 1.000 |\n"));
+  EXPECT_THAT(compared, Not(HasSubstr("| all | all | precision=int8 |")));
 }
 
 TEST_F(ReportTest, ARunOfNoAxesHasNoSettingsToCompare) {
