@@ -10,11 +10,12 @@ namespace cmbrl {
 std::vector<LearningCurve> LearningCurves(const std::vector<RunRecord>& runs,
                                           const std::string& task, CurveMetric metric,
                                           std::int64_t grid_step, std::int64_t smoothing,
-                                          std::int64_t up_to) {
+                                          std::int64_t up_to,
+                                          const std::vector<std::string>& setting_order) {
   Require(grid_step >= 1 && smoothing >= 1, "curve grid {} and smoothing {} must be positive",
           grid_step, smoothing);
   std::vector<LearningCurve> curves;
-  const std::vector<std::string> settings = SettingsInOrder(runs);
+  const std::vector<std::string> settings = SettingsInOrder(runs, setting_order);
   for (const std::string& planner : MethodsInOrder(runs)) {
     for (const std::string& setting : settings) {
       std::vector<const RunRecord*> members;

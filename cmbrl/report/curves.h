@@ -21,10 +21,12 @@ struct LearningCurve {
 
 enum class CurveMetric { kReturn, kCost };
 
-// Points stop at `up_to` agent steps (the original's logs run far past our sweeps).
+// Points stop at `up_to` agent steps (the original's logs run far past our sweeps). Settings
+// come in `setting_order`'s order, the rest in natural order (SettingsInOrder).
 std::vector<LearningCurve> LearningCurves(const std::vector<RunRecord>& runs,
                                           const std::string& task, CurveMetric metric,
                                           std::int64_t grid_step, std::int64_t smoothing,
-                                          std::int64_t up_to = INT64_MAX);
+                                          std::int64_t up_to = INT64_MAX,
+                                          const std::vector<std::string>& setting_order = {});
 
 }  // namespace cmbrl

@@ -43,7 +43,8 @@ std::vector<PlotPanel> CurvePanels(const std::vector<RunRecord>& runs,
     panel.y_label = metric == CurveMetric::kReturn ? kEpRetColumn : kEpCostColumn;
     if (metric == CurveMetric::kCost) panel.y_floor = 0.0;  // violations are counts
     const std::vector<LearningCurve> curves =
-        LearningCurves(runs, task, metric, args.grid_step, args.smoothing);
+        LearningCurves(runs, task, metric, args.grid_step, args.smoothing, INT64_MAX,
+                       args.experiment ? args.experiment->settings : std::vector<std::string>{});
     for (const LearningCurve& curve : curves) {
       PlotSeries ours;
       ours.label = WithSetting(MethodLabel(curve.planner), curve.setting);
@@ -113,8 +114,10 @@ ReportSummary WriteReport(const ReportRequest& args) {
     const std::vector<TableCell> read = ReadEarlierTable(path, window, reference);
     earlier.insert(earlier.end(), read.begin(), read.end());
   }
-  const std::vector<TableCell> cells =
-      WithEarlierCells(ViolationTable(runs, window, reference), earlier);
+  const std::vector<TableCell> cells = WithEarlierCells(
+      ViolationTable(runs, window, reference,
+                     args.experiment ? args.experiment->settings : std::vector<std::string>{}),
+      earlier);
   std::vector<std::string> earlier_cells;
   for (const TableCell& cell : cells) {
     if (!cell.source.empty()) {

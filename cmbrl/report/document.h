@@ -21,6 +21,9 @@ struct ExperimentStamp {
   std::string sha256;         // of the file
   std::string family;         // "paper", "cpu", ...
   std::string family_sha256;  // of configs/<family>.yaml ("" for the paper family)
+  // Its axes' settings ("precision=fp32") in the order the file lists them: the report's order,
+  // so that each setting is compared against the first one declared.
+  std::vector<std::string> settings;
 };
 
 struct ReportRequest {

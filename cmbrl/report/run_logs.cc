@@ -142,11 +142,22 @@ std::string SettingOf(const RunRecord& run) {
   return SettingOfRunName(run.name, run.config.task, MethodOf(run.config), run.config.seed);
 }
 
-std::vector<std::string> SettingsInOrder(const std::vector<RunRecord>& runs) {
+std::vector<std::string> SettingsInOrder(const std::vector<RunRecord>& runs,
+                                         const std::vector<std::string>& declared) {
+  std::vector<std::string> natural;
+  for (const RunRecord& run : runs) natural.push_back(SettingOf(run));
+  std::sort(natural.begin(), natural.end(), NaturalLess);
+  natural.erase(std::unique(natural.begin(), natural.end()), natural.end());
+  const auto held = [](const std::vector<std::string>& list, const std::string& setting) {
+    return std::find(list.begin(), list.end(), setting) != list.end();
+  };
   std::vector<std::string> settings;
-  for (const RunRecord& run : runs) settings.push_back(SettingOf(run));
-  std::sort(settings.begin(), settings.end(), NaturalLess);
-  settings.erase(std::unique(settings.begin(), settings.end()), settings.end());
+  for (const std::string& setting : declared) {
+    if (held(natural, setting) && !held(settings, setting)) settings.push_back(setting);
+  }
+  for (const std::string& setting : natural) {
+    if (!held(settings, setting)) settings.push_back(setting);
+  }
   return settings;
 }
 

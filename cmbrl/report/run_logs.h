@@ -114,8 +114,10 @@ std::string SettingOf(const RunRecord& run);
 // "gamma=0.98", "population=100" before "population=500"): an experiment's settings in order.
 bool NaturalLess(const std::string& a, const std::string& b);
 
-// The runs' distinct settings in natural order ("" first: runs of no axes).
-std::vector<std::string> SettingsInOrder(const std::vector<RunRecord>& runs);
+// The runs' distinct settings: those of `declared` in its order (an experiment's, as its axes
+// list them), then the rest in natural order ("" first: runs of no axes).
+std::vector<std::string> SettingsInOrder(const std::vector<RunRecord>& runs,
+                                         const std::vector<std::string>& declared = {});
 
 // The runs' distinct tasks and methods, in the registries' order (the paper's), unknown ones
 // last.

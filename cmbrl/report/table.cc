@@ -97,8 +97,9 @@ std::string WithinWidenedRange(const TableCell& cell) {
 }
 
 std::vector<TableCell> ViolationTable(const std::vector<RunRecord>& runs, std::int64_t window,
-                                      const std::vector<RunRecord>& reference) {
-  const std::vector<std::string> settings = SettingsInOrder(runs);
+                                      const std::vector<RunRecord>& reference,
+                                      const std::vector<std::string>& setting_order) {
+  const std::vector<std::string> settings = SettingsInOrder(runs, setting_order);
   std::vector<TableCell> cells;
   for (const std::string& task : TasksInOrder(runs)) {
     for (const std::string& planner : MethodsInOrder(runs)) {
@@ -262,6 +263,7 @@ std::vector<TableCell> ReadEarlierTable(const std::string& path, std::int64_t wi
 
 std::vector<TableCell> WithEarlierCells(std::vector<TableCell> cells,
                                         const std::vector<TableCell>& earlier) {
+  if (earlier.empty()) return cells;  // in ViolationTable's order, a declared one included
   const auto has = [&](const TableCell& cell) {
     return std::any_of(cells.begin(), cells.end(), [&](const TableCell& c) {
       return c.task == cell.task && c.planner == cell.planner && c.setting == cell.setting;

@@ -65,10 +65,12 @@ std::string VersusOriginal(const TableCell& cell);
 std::string WithinWidenedRange(const TableCell& cell);
 
 // One cell per task, planner and setting present, tasks and planners in the registries' order,
-// then settings in natural order (numbers by value). Runs without a finished episode are left
-// out. `reference` (ReadReferenceRuns) fills the original's columns.
+// then settings in `setting_order`'s order and the rest in natural order (numbers by value;
+// SettingsInOrder). Runs without a finished episode are left out. `reference`
+// (ReadReferenceRuns) fills the original's columns.
 std::vector<TableCell> ViolationTable(const std::vector<RunRecord>& runs, std::int64_t window,
-                                      const std::vector<RunRecord>& reference = {});
+                                      const std::vector<RunRecord>& reference = {},
+                                      const std::vector<std::string>& setting_order = {});
 
 // The cells of an earlier report's table-1.csv (TableCsv's columns), for cells whose runs' logs
 // are gone: our side as the file gives it (violations, heavy episodes and violation causes per
@@ -81,7 +83,8 @@ std::vector<TableCell> ReadEarlierTable(const std::string& path, std::int64_t wi
 
 // `cells` (made from runs) with the `earlier` cells of tasks, planners and settings they lack (the
 // first earlier cell of a pair counts), in the table's order: tasks, then planners, in the
-// registries' order. A cell made from runs replaces an earlier one whole: seeds are not mixed.
+// registries' order, settings in natural order (with no earlier cells, `cells` as they are). A
+// cell made from runs replaces an earlier one whole: seeds are not mixed.
 std::vector<TableCell> WithEarlierCells(std::vector<TableCell> cells,
                                         const std::vector<TableCell>& earlier);
 

@@ -13,6 +13,7 @@
 
 #include "cmbrl/core/check.h"
 #include "cmbrl/env/registry.h"
+#include "cmbrl/run/run_directory.h"
 
 namespace cmbrl {
 namespace fs = std::filesystem;
@@ -199,6 +200,12 @@ ExperimentStamp StampOf(const Experiment& experiment) {
   stamp.sha256 = experiment.sha256;
   stamp.family = experiment.family;
   stamp.family_sha256 = experiment.family_sha256;
+  for (const SweepRun& run : PlanSweep(ExperimentGrid(experiment), experiment.runs_dir())) {
+    const std::string setting = SettingOfRunName(run.name, run.task, run.planner, run.seed);
+    if (std::find(stamp.settings.begin(), stamp.settings.end(), setting) == stamp.settings.end()) {
+      stamp.settings.push_back(setting);
+    }
+  }
   return stamp;
 }
 

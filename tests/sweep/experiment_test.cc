@@ -109,6 +109,27 @@ TEST(ExperimentTest, AxesAndOverridesApplyToEveryRun) {
   EXPECT_EQ(e.runs_dir(), dir / "runs");
 }
 
+// The report compares each setting against the first one the file declares, not the first in
+// natural order: a study declared [fp32, bf16] reads bf16 - fp32.
+TEST(ExperimentTest, TheStampListsTheSettingsInTheOrderDeclared) {
+  const fs::path dir = WriteExperiment("order",
+                                       "family: cpu\ntasks: [PointGoal1, PointGoal2]\n"
+                                       "methods: [rce, cem]\nseeds: [0, 1]\nwindow: 2000\n"
+                                       "axes: {ensemble.precision: [fp32, bf16], "
+                                       "planning.horizon: [8, 5]}\n");
+  const ExperimentStamp stamp = StampOf(LoadExperiment(dir, kConfigs));
+  EXPECT_EQ(stamp.settings,
+            (std::vector<std::string>{"precision=fp32-horizon=8", "precision=fp32-horizon=5",
+                                      "precision=bf16-horizon=8", "precision=bf16-horizon=5"}));
+  EXPECT_EQ(stamp.name, "order");
+  const ExperimentStamp plain =
+      StampOf(LoadExperiment(WriteExperiment("plain",
+                                             "family: cpu\ntasks: [PointGoal1]\nmethods: [rce]\n"
+                                             "seeds: [0]\nwindow: 2000\n"),
+                             kConfigs));
+  EXPECT_EQ(plain.settings, (std::vector<std::string>{""}));
+}
+
 TEST(ExperimentTest, BadDeclarationsNameTheKeyAndTheValue) {
   const std::string ok = "tasks: [PointGoal1]\nmethods: [rce]\nseeds: [0]\nwindow: 3000\n";
   const auto error = [&](const std::string& yaml) {
