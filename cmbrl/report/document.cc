@@ -22,6 +22,12 @@ namespace cmbrl {
 namespace {
 namespace fs = std::filesystem;
 
+// The order an experiment declares its settings in (ExperimentStamp::settings); none for a sweep.
+const std::vector<std::string>& DeclaredSettings(const ReportRequest& args) {
+  static const std::vector<std::string> kNone;
+  return args.experiment ? args.experiment->settings : kNone;
+}
+
 // The local time the report was made, the one line that differs when a report is made again.
 std::string Now() {
   const std::time_t now = std::time(nullptr);
@@ -42,9 +48,8 @@ std::vector<PlotPanel> CurvePanels(const std::vector<RunRecord>& runs,
     panel.x_label = x_label;
     panel.y_label = metric == CurveMetric::kReturn ? kEpRetColumn : kEpCostColumn;
     if (metric == CurveMetric::kCost) panel.y_floor = 0.0;  // violations are counts
-    const std::vector<LearningCurve> curves =
-        LearningCurves(runs, task, metric, args.grid_step, args.smoothing, INT64_MAX,
-                       args.experiment ? args.experiment->settings : std::vector<std::string>{});
+    const std::vector<LearningCurve> curves = LearningCurves(
+        runs, task, metric, args.grid_step, args.smoothing, INT64_MAX, DeclaredSettings(args));
     for (const LearningCurve& curve : curves) {
       PlotSeries ours;
       ours.label = WithSetting(MethodLabel(curve.planner), curve.setting);
@@ -114,10 +119,8 @@ ReportSummary WriteReport(const ReportRequest& args) {
     const std::vector<TableCell> read = ReadEarlierTable(path, window, reference);
     earlier.insert(earlier.end(), read.begin(), read.end());
   }
-  const std::vector<TableCell> cells = WithEarlierCells(
-      ViolationTable(runs, window, reference,
-                     args.experiment ? args.experiment->settings : std::vector<std::string>{}),
-      earlier);
+  const std::vector<TableCell> cells =
+      WithEarlierCells(ViolationTable(runs, window, reference, DeclaredSettings(args)), earlier);
   std::vector<std::string> earlier_cells;
   for (const TableCell& cell : cells) {
     if (!cell.source.empty()) {
