@@ -228,6 +228,9 @@ ReportSummary WriteReport(const ReportRequest& args) {
   report += "- " + reference_note + "\n";
   report += "\n## Where the outcome differs\n\n";
   for (const std::string& note : OutcomeDifferences(cells, window)) report += "- " + note + "\n";
+  if (const std::string compute = ComputeMarkdown(cells); !compute.empty()) {
+    report += "\n## Compute\n\n" + compute;
+  }
   report += "\n## Where the runs were made\n\n";
   for (const std::string& note : WhereRunsWereMade(runs)) report += "- " + note + "\n";
   WriteFile(out / "report.md", report);

@@ -49,6 +49,12 @@ double InDomain(const ProgressTable& table, const std::string& file, size_t row,
   return value;
 }
 
+// A row's Time: the run's wall seconds so far, finite and not negative.
+double Seconds(const ProgressTable& table, const std::string& file, size_t row, size_t column) {
+  return InDomain(table, file, row, column, 0.0, std::numeric_limits<double>::infinity(),
+                  "the run's wall seconds so far (0 or more)");
+}
+
 // The same for a count of steps in an episode of `steps` steps: a whole number in [0, steps].
 double StepCount(const ProgressTable& table, const std::string& file, size_t row, size_t column,
                  double steps) {
@@ -191,6 +197,8 @@ std::vector<EpisodePoint> ReadEpisodeColumns(const std::string& file, bool has_s
   const bool has_causes = table.HasColumn(kHazardStepsColumn) && table.HasColumn(kVaseStepsColumn);
   const size_t hazards = has_causes ? table.Column(kHazardStepsColumn, expected) : 0;
   const size_t vases = has_causes ? table.Column(kVaseStepsColumn, expected) : 0;
+  const bool has_time = table.HasColumn(kTimeColumn);
+  const size_t time = has_time ? table.Column(kTimeColumn, expected) : 0;
   std::vector<EpisodePoint> episodes;
   for (size_t row = 0; row < table.rows(); ++row) {
     EpisodePoint point;
@@ -215,6 +223,7 @@ std::vector<EpisodePoint> ReadEpisodeColumns(const std::string& file, bool has_s
       point.hazard_steps = StepCount(table, file, row, hazards, point.steps);
       point.vase_steps = StepCount(table, file, row, vases, point.steps);
     }
+    if (has_time) point.elapsed_seconds = Seconds(table, file, row, time);
     point.cumulative_violations =
         (episodes.empty() ? 0.0 : episodes.back().cumulative_violations) + point.episode_cost;
     episodes.push_back(point);
@@ -338,6 +347,11 @@ std::int64_t StepsReached(const RunRecord& run) {
   return run.episodes.empty() ? 0 : run.episodes.back().end_step;
 }
 
+double SecondsTaken(const RunRecord& run) {
+  return run.episodes.empty() ? std::numeric_limits<double>::quiet_NaN()
+                              : run.episodes.back().elapsed_seconds;
+}
+
 std::vector<std::string> LeaveOutRunsShortOf(std::vector<RunRecord>& runs, std::int64_t window) {
   std::vector<std::string> left_out;
   std::vector<RunRecord> kept;
@@ -371,6 +385,8 @@ std::vector<EpisodePoint> ReadEpochLog(const std::string& file, std::optional<st
   const size_t cost = table.Column("AverageEpCost", expected);
   const size_t cumulative = table.Column("CumulativeCost", expected);
   const size_t total = table.Column("TotalEnvInteracts", expected);
+  const bool has_time = table.HasColumn(kTimeColumn);
+  const size_t time = has_time ? table.Column(kTimeColumn, expected) : 0;
   std::vector<EpisodePoint> epochs;
   for (size_t row = 0; row < table.rows(); ++row) {
     EpisodePoint point;
@@ -390,6 +406,7 @@ std::vector<EpisodePoint> ReadEpochLog(const std::string& file, std::optional<st
     point.cumulative_violations =
         InDomain(table, file, row, cumulative, before, before + point.steps,
                  "a running count that rises by at most the epoch's steps");
+    if (has_time) point.elapsed_seconds = Seconds(table, file, row, time);
     epochs.push_back(point);
   }
   return epochs;

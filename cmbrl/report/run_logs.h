@@ -27,6 +27,9 @@ struct EpisodePoint {
   // The run's violations from its start through this point (the running sum of EpCost for an
   // MPC run, CumulativeCost for a model-free one).
   double cumulative_violations = 0.0;
+  // The run's wall seconds at this point, over all its sessions (Time; the work an interruption
+  // threw away not counted); NaN: not logged.
+  double elapsed_seconds = std::numeric_limits<double>::quiet_NaN();
 };
 
 struct RunRecord {
@@ -101,6 +104,10 @@ std::filesystem::path RunLogsDir(const std::filesystem::path& report_dir);
 // The agent (or environment) steps a run's progress has reached: its last point's end, 0 before
 // its first.
 std::int64_t StepsReached(const RunRecord& run);
+
+// The wall seconds a run has taken so far: its last point's elapsed_seconds (NaN before its
+// first point, or where its log has no Time).
+double SecondsTaken(const RunRecord& run);
 
 // Removes the runs that have not reached `window` steps (StepsReached) from `runs`, and returns
 // them as "name (N steps)", in order.

@@ -1,5 +1,5 @@
-// The statistics a report gives: means, sample standard deviations, bootstrap intervals of a
-// mean and the paired sign-flip test. Deterministic: the same values give the same figures.
+// The statistics a report gives: means, medians, sample standard deviations, bootstrap intervals of
+// a mean and the paired sign-flip test. Deterministic: the same values give the same figures.
 #pragma once
 
 #include <limits>
@@ -9,6 +9,9 @@ namespace cmbrl {
 
 // The mean of the values (0 for none).
 double Mean(const std::vector<double>& values);
+
+// The median: the middle value, or the mean of the two middle ones (NaN for no values).
+double Median(std::vector<double> values);
 
 // The sample standard deviation (n - 1 in the denominator; 0 for fewer than two values).
 double SampleStd(const std::vector<double>& values);

@@ -50,6 +50,9 @@ struct TableCell {
   // FirstEpochOf per seed, ours and the original's (empty where a run has none).
   std::vector<FirstEpoch> first_epochs;
   std::vector<FirstEpoch> original_first_epochs;
+  // Each run's wall minutes as made so far (SecondsTaken / 60), per seed; empty unless every
+  // run logged its time (and for a cell read from an earlier table).
+  std::vector<double> run_minutes;
   // "" for a cell made from runs; else the table-1.csv it was read from (ReadEarlierTable).
   std::string source;
 };

@@ -492,6 +492,38 @@ std::string SettingComparisonMarkdown(const std::vector<TableCell>& cells) {
   return text;
 }
 
+std::string ComputeMarkdown(const std::vector<TableCell>& cells) {
+  std::string rows;
+  double minutes = 0.0, longest = -1.0;
+  std::string longest_run;
+  int runs = 0;
+  for (const TableCell& cell : cells) {
+    if (cell.run_minutes.empty()) continue;
+    for (size_t i = 0; i < cell.run_minutes.size(); ++i) {
+      minutes += cell.run_minutes[i];
+      ++runs;
+      if (cell.run_minutes[i] > longest) {
+        longest = cell.run_minutes[i];
+        longest_run = fmt::format("{} {}, seed {}", RowLabel(cell), MethodLabel(cell.planner),
+                                  cell.seeds.at(i));
+      }
+    }
+    rows +=
+        fmt::format("| {} | {} | {} | {} | {} | {} |\n", RowLabel(cell), MethodLabel(cell.planner),
+                    fmt::join(cell.seeds, ", "), PerSeed(cell.run_minutes, 0),
+                    Figure(Median(cell.run_minutes), 0),
+                    Figure(*std::max_element(cell.run_minutes.begin(), cell.run_minutes.end()), 0));
+  }
+  if (runs == 0) return "";
+  return fmt::format(
+      "Each run's wall time as made so far, in minutes: progress.csv's Time at its last row, "
+      "over all its sessions (the work an interruption threw away is not counted), one core a "
+      "run. {} runs took {:.1f} core-hours; the longest, {}, {:.0f} minutes.\n\n"
+      "| task | method | seeds | minutes per seed | median | longest |\n"
+      "|---|---|---|---|---|---|\n{}",
+      runs, minutes / 60.0, longest_run, longest, rows);
+}
+
 std::vector<std::string> OutcomeDifferences(const std::vector<TableCell>& cells,
                                             std::int64_t window) {
   std::vector<std::string> notes;

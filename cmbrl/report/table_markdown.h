@@ -33,6 +33,11 @@ std::string ProtocolCellsMarkdown(const std::vector<TableCell>& cells, std::int6
 // setting.
 std::string SettingComparisonMarkdown(const std::vector<TableCell>& cells);
 
+// What the cells' runs cost: each run's wall minutes as made so far (TableCell::run_minutes),
+// per cell with their median and the longest, and over all runs their core-hours (one core a
+// run) and the longest run. "" where no cell has them.
+std::string ComputeMarkdown(const std::vector<TableCell>& cells);
+
 // Where the outcome differs: per task whether RCE violated least, and each cell against the
 // original's seeds over the same window (or, for a cell without its logs, against Table I when
 // the window is the paper's).

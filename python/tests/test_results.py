@@ -25,6 +25,8 @@ def test_read_runs_gives_the_counts_of_the_committed_table(source_dir):
     assert run["setting"] == "" and run["epoch_log"] is False
     assert run["end_step"].dtype == np.int64 and np.all(np.diff(run["end_step"]) > 0)
     assert np.array_equal(np.cumsum(run["episode_cost"]), run["cumulative_violations"])
+    # The run's wall seconds over its sessions: never falling, and within the grid's hour.
+    assert np.all(np.diff(run["elapsed_seconds"]) >= 0) and 0 < run["elapsed_seconds"][-1] < 3600
 
 
 def test_read_runs_of_a_model_free_run_gives_its_epochs(source_dir):
@@ -32,6 +34,7 @@ def test_read_runs_of_a_model_free_run_gives_its_epochs(source_dir):
     assert run["method"] == "trpo-lagrangian" and run["epoch_log"] is True
     assert run["end_step"][-1] == 3_000_000
     assert np.all(np.diff(run["cumulative_violations"]) >= 0)
+    assert np.all(np.diff(run["elapsed_seconds"]) > 0)
 
 
 def test_report_writes_the_files_of_cmbrl_report(source_dir, tmp_path):

@@ -46,7 +46,8 @@ grep -q "SHA-256 $(sha256sum experiments/tiny/experiment.yaml | cut -d' ' -f1)" 
   experiments/tiny/report/report.md || { echo "the report lacks the file's SHA-256"; exit 1; }
 # Each value of the axis is a cell of its own (2 seeds each), compared with the first value.
 for row in "| PointGoal1 (gamma=0.9) | MPC-RCE | 2 |" "| PointGoal1 (gamma=0.98) | MPC-random | 2 |" \
-           "## Settings compared" "| PointGoal1 | MPC-RCE | gamma=0.9 | gamma=0.98 | 0, 1 |"; do
+           "## Settings compared" "| PointGoal1 | MPC-RCE | gamma=0.9 | gamma=0.98 | 0, 1 |" \
+           "## Compute" "8 runs took"; do
   grep -qF "$row" experiments/tiny/report/report.md ||
     { echo "the report lacks '$row'"; sed -n '/## Every cell/,/## Details/p' experiments/tiny/report/report.md; exit 1; }
 done

@@ -184,6 +184,44 @@ TEST_F(ReportTest, ValuesOutsideTheirDomainAreNamed) {
               HasSubstr("line 2: AverageEpCost is -3: expected a finite mean cost of 0 or more"));
 }
 
+// A run's Time column is its wall seconds over all its sessions: read per point, the last one
+// the run's time so far; a log without it (older runs) has none, and a bad one is named.
+TEST_F(ReportTest, TheTimeColumnGivesTheRunsWallSeconds) {
+  const fs::path progress = sweep_ / "timed-progress.csv";
+  const auto write = [&](std::vector<double> seconds) {
+    std::ofstream out(progress, std::ios::trunc);
+    out << ProgressCsvHeader() << "\n";
+    for (size_t i = 0; i < seconds.size(); ++i) {
+      ProgressRow row;
+      row.epoch = 1;
+      row.episode = static_cast<int>(i) + 1;
+      row.steps = 100;
+      row.total_env_interacts = 100 * (static_cast<std::int64_t>(i) + 1);
+      row.time_seconds = seconds[i];
+      out << ProgressCsvLine(row) << "\n";
+    }
+  };
+  write({12.5, 130.25});
+  RunRecord run;
+  run.episodes = ReadProgressEpisodes(progress.string());
+  ASSERT_EQ(run.episodes.size(), 2u);
+  EXPECT_DOUBLE_EQ(run.episodes[0].elapsed_seconds, 12.5);
+  EXPECT_DOUBLE_EQ(SecondsTaken(run), 130.25);
+  EXPECT_TRUE(std::isnan(SecondsTaken(RunRecord{})));
+  write({-1});
+  EXPECT_THAT(testing::ErrorMessage([&] { ReadProgressEpisodes(progress.string()); }),
+              HasSubstr("timed-progress.csv line 2: Time is -1.000: expected the run's wall "
+                        "seconds so far (0 or more)"));
+
+  const fs::path epochs = sweep_ / "timed-epochs.csv";
+  std::ofstream(epochs) << "AverageEpRet,AverageEpCost,CumulativeCost,TotalEnvInteracts,Time\n"
+                        << "1,2,40,300,61.5\n";
+  EXPECT_DOUBLE_EQ(ReadEpochLog(epochs.string()).at(0).elapsed_seconds, 61.5);
+  std::ofstream(epochs, std::ios::trunc)
+      << "AverageEpRet,AverageEpCost,CumulativeCost,TotalEnvInteracts\n1,2,40,300\n";
+  EXPECT_TRUE(std::isnan(ReadEpochLog(epochs.string()).at(0).elapsed_seconds));
+}
+
 TEST_F(ReportTest, BadProgressIsNamed) {
   const fs::path progress = sweep_ / "runs" / "PointGoal1-rce-s0" / "progress.csv";
   std::ofstream(progress) << ProgressCsvHeader() << "\n1,1,oops,0,100,0,0,0,0,0,0,0,100,0,0,0\n";

@@ -8,6 +8,14 @@
 namespace cmbrl {
 namespace {
 
+// The median is the middle value, or the mean of the two middle ones, whatever the order.
+TEST(StatisticsTest, TheMedianIsTheMiddleValue) {
+  EXPECT_DOUBLE_EQ(Median({30, 10, 20}), 20.0);
+  EXPECT_DOUBLE_EQ(Median({4, 1, 3, 2}), 2.5);
+  EXPECT_DOUBLE_EQ(Median({7}), 7.0);
+  EXPECT_TRUE(std::isnan(Median({})));
+}
+
 // The sample standard deviation divides by n - 1: {2, 4, 4, 4, 5, 5, 7, 9} has mean 5, squares
 // summing to 32, so sqrt(32 / 7). Nothing to average is 0, not NaN.
 TEST(StatisticsTest, MeanAndSampleStd) {

@@ -52,5 +52,25 @@ TEST(TableMarkdownTest, TheVerdictSaysWhetherRceViolatesLeastWithItsIntervals) {
   EXPECT_EQ(AgainstRange(5, {5, 6}), "inside");
 }
 
+// What the runs cost: minutes per seed with their median and the longest per cell, and the
+// core-hours of every run; a cell without times (an earlier table's) has no row.
+TEST(TableMarkdownTest, ComputeGivesEachRunsMinutesAndTheCoreHours) {
+  TableCell rce = Cell("PointGoal2", "rce", {1, 2, 3}, {});
+  rce.seeds = {0, 1, 2};
+  rce.run_minutes = {21.0, 30.4, 25.0};
+  TableCell cem = Cell("PointGoal2", "cem", {1, 2}, {});
+  cem.seeds = {3, 4};
+  cem.run_minutes = {40.0, 33.6};
+  const TableCell untimed = Cell("CarGoal1", "rce", {1, 2, 3}, {});
+  const std::string markdown = ComputeMarkdown({rce, cem, untimed});
+  // 21 + 30.4 + 25 + 40 + 33.6 = 150 minutes.
+  EXPECT_THAT(markdown, HasSubstr("5 runs took 2.5 core-hours; the longest, PointGoal2 MPC-CEM, "
+                                  "seed 3, 40 minutes."));
+  EXPECT_THAT(markdown, HasSubstr("| PointGoal2 | MPC-RCE | 0, 1, 2 | 21, 30, 25 | 25 | 30 |\n"));
+  EXPECT_THAT(markdown, HasSubstr("| PointGoal2 | MPC-CEM | 3, 4 | 40, 34 | 37 | 40 |\n"));
+  EXPECT_THAT(markdown, ::testing::Not(HasSubstr("CarGoal1")));
+  EXPECT_EQ(ComputeMarkdown({untimed}), "");
+}
+
 }  // namespace
 }  // namespace cmbrl

@@ -5,6 +5,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -149,6 +150,23 @@ TEST_F(ReportTest, SettingsAreCellsOfTheirOwnComparedPairedBySeed) {
   // The paper's method is judged within its own setting: alone there, no verdict.
   EXPECT_THAT(OutcomeDifferences(cells, 300),
               Not(::testing::Contains(HasSubstr("violations on average"))));
+}
+
+// A cell keeps each run's wall minutes (its last point's Time), in seed order, or none when a
+// run lacks them.
+TEST_F(ReportTest, CellsKeepTheirRunsMinutes) {
+  std::vector<RunRecord> runs = ReadSweep(sweep_.string());
+  for (RunRecord& run : runs) {
+    for (EpisodePoint& point : run.episodes) point.elapsed_seconds = 60.0 * (1 + run.config.seed);
+  }
+  std::vector<TableCell> cells = ViolationTable(runs, 300);
+  ASSERT_EQ(cells[0].seeds, (std::vector<std::uint64_t>{0, 1}));
+  EXPECT_EQ(cells[0].run_minutes, (std::vector<double>{1.0, 2.0}));
+  runs[0].episodes.back().elapsed_seconds = std::nan("");  // one run without a time
+  cells = ViolationTable(runs, 300);
+  const auto untimed = std::count_if(cells.begin(), cells.end(),
+                                     [](const TableCell& c) { return c.run_minutes.empty(); });
+  EXPECT_EQ(untimed, 1);
 }
 
 // A study's decision looks at all its pairs at once: a pair of settings compared in two cells

@@ -43,7 +43,7 @@ const std::vector<ProgressColumn<ProgressRow>>& MpcProgressColumns() {
       {kEpCostColumn, [](const R& r) { return ProgressNumber(r.episode_cost); }},
       {kTotalEnvInteractsColumn, [](const R& r) { return std::to_string(r.total_env_interacts); }},
       {"PretrainInteracts", [](const R& r) { return std::to_string(r.pretrain_interacts); }},
-      {"Time", [](const R& r) { return Fixed3(r.time_seconds); }},
+      {kTimeColumn, [](const R& r) { return Fixed3(r.time_seconds); }},
       {"DynamicsValMSE", [](const R& r) { return ProgressNumber(r.dynamics_validation_mse); }},
       {"ClassifierSafeAcc", [](const R& r) { return ProgressNumber(r.classifier_safe_accuracy); }},
       {"ClassifierUnsafeAcc",

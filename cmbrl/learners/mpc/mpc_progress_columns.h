@@ -12,5 +12,7 @@ inline constexpr const char* kStepsColumn = "Steps";
 inline constexpr const char* kFeasibleFractionColumn = "FeasibleFraction";
 inline constexpr const char* kHazardStepsColumn = "HazardSteps";
 inline constexpr const char* kVaseStepsColumn = "VaseSteps";
+// The run's wall seconds at the row, over all its sessions (the model-free log's column too).
+inline constexpr const char* kTimeColumn = "Time";
 
 }  // namespace cmbrl
