@@ -518,10 +518,11 @@ std::string ComputeMarkdown(const std::vector<TableCell>& cells) {
   return fmt::format(
       "Each run's wall time as made so far, in minutes: progress.csv's Time at its last row, "
       "over all its sessions (the work an interruption threw away is not counted), one core a "
-      "run. {} runs took {:.1f} core-hours; the longest, {}, {:.0f} minutes.\n\n"
+      "run. {} took {:.1f} core-hours; the longest, {}, {:.0f} minutes.\n\n"
       "| task | method | seeds | minutes per seed | median | longest |\n"
       "|---|---|---|---|---|---|\n{}",
-      runs, minutes / 60.0, longest_run, longest, rows);
+      runs == 1 ? std::string("1 run") : fmt::format("{} runs", runs), minutes / 60.0, longest_run,
+      longest, rows);
 }
 
 std::vector<std::string> OutcomeDifferences(const std::vector<TableCell>& cells,

@@ -70,6 +70,13 @@ TEST(TableMarkdownTest, ComputeGivesEachRunsMinutesAndTheCoreHours) {
   EXPECT_THAT(markdown, HasSubstr("| PointGoal2 | MPC-CEM | 3, 4 | 40, 34 | 37 | 40 |\n"));
   EXPECT_THAT(markdown, ::testing::Not(HasSubstr("CarGoal1")));
   EXPECT_EQ(ComputeMarkdown({untimed}), "");
+  rce.run_minutes = {30.0, 30.0, 30.0};
+  EXPECT_THAT(ComputeMarkdown({rce}), HasSubstr("3 runs took 1.5 core-hours"));
+  TableCell one = Cell("CarGoal1", "cpo", {7}, {});
+  one.seeds = {0};
+  one.run_minutes = {491.0};
+  EXPECT_THAT(ComputeMarkdown({one}), HasSubstr("1 run took 8.2 core-hours; the longest, "
+                                                "CarGoal1 CPO, seed 0, 491 minutes."));
 }
 
 }  // namespace
