@@ -128,7 +128,8 @@ ReportSummary WriteReport(const ReportRequest& args) {
                               WithSetting(MethodLabel(cell.planner), cell.setting));
     }
   }
-  const std::string settings = SettingComparisonMarkdown(cells);
+  const std::string settings =
+      SettingComparisonMarkdown(cells, args.experiment ? args.experiment->decision : std::nullopt);
   // A sweep's report shows the settings compared under Table I; an experiment's, at its top.
   const std::string table =
       TableMarkdown(cells, window) +

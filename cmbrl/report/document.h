@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "cmbrl/report/decision.h"
 #include "cmbrl/report/run_logs.h"
 
 namespace cmbrl {
@@ -24,6 +25,8 @@ struct ExperimentStamp {
   // Its axes' settings ("precision=fp32") in the order the file lists them: the report's order,
   // so that each setting is compared against the first one declared.
   std::vector<std::string> settings;
+  // Its declared decision rule (`decision`), which the report applies to "Settings compared".
+  std::optional<DecisionRule> decision;
 };
 
 struct ReportRequest {

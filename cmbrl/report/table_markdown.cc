@@ -410,7 +410,8 @@ std::string ProtocolCellsMarkdown(const std::vector<TableCell>& cells, std::int6
   return text;
 }
 
-std::string SettingComparisonMarkdown(const std::vector<TableCell>& cells) {
+std::string SettingComparisonMarkdown(const std::vector<TableCell>& cells,
+                                      const std::optional<DecisionRule>& rule) {
   if (std::all_of(cells.begin(), cells.end(),
                   [](const TableCell& c) { return c.setting.empty(); })) {
     return "";
@@ -488,6 +489,31 @@ std::string SettingComparisonMarkdown(const std::vector<TableCell>& cells) {
         MeanWithInterval(pool.violations, 1), p_value(pool.violations), pool.against,
         Figure(Mean(pool.first_returns), 2), MeanWithInterval(pool.returns, 2),
         p_value(pool.returns));
+  }
+  if (!rule) return text;
+  text += fmt::format(
+      "\n**Decision**, by the rule `experiment.yaml` declares ({}{}), over all the pairs of each "
+      "setting and the one it is compared against:\n\n"
+      "| setting | against | pairs | violations | return | decision |\n"
+      "|---|---|---|---|---|---|\n",
+      KindName(rule->kind),
+      rule->kind == DecisionRule::Kind::kEquivalence
+          ? fmt::format(": the 90% interval of the mean paired difference holds 0 and lies "
+                        "within +-{:.0f}% of the first setting's mean",
+                        100.0 * rule->band)
+          : std::string(": the 90% interval of the mean paired difference wholly below or above "
+                        "0"));
+  for (const Pooled& pool : pooled) {
+    if (pool.cells == 0) continue;
+    const std::string violations =
+        MeasureVerdict(*rule, BootstrapMeanInterval(pool.violations), Mean(pool.first_violations));
+    const std::string returns =
+        MeasureVerdict(*rule, BootstrapMeanInterval(pool.returns), Mean(pool.first_returns));
+    text += fmt::format("| {} | {} | {} in {} cell{} | {} | {} | {} |\n",
+                        pool.setting.empty() ? "-" : pool.setting,
+                        pool.against.empty() ? "-" : pool.against, pool.violations.size(),
+                        pool.cells, pool.cells == 1 ? "" : "s", violations, returns,
+                        OverallVerdict(*rule, violations, returns));
   }
   return text;
 }

@@ -3,9 +3,11 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "cmbrl/report/decision.h"
 #include "cmbrl/report/table.h"
 
 namespace cmbrl {
@@ -29,9 +31,11 @@ std::string ProtocolCellsMarkdown(const std::vector<TableCell>& cells, std::int6
 // seed: the differences of violations and of last-10-episode returns per seed, their mean with
 // its bootstrap 90% interval, and the sign-flip p-value. A pair of settings compared in two or
 // more cells gets an "all" row as well: its pairs over every cell pooled, with the first
-// setting's mean over them (a study's decision over all its pairs). "" when no cell has a
-// setting.
-std::string SettingComparisonMarkdown(const std::vector<TableCell>& cells);
+// setting's mean over them (a study's decision over all its pairs). With a `rule` (an
+// experiment's declared decision), a table follows with each pair of settings' verdict over all
+// its pairs (DecisionRule). "" when no cell has a setting.
+std::string SettingComparisonMarkdown(const std::vector<TableCell>& cells,
+                                      const std::optional<DecisionRule>& rule = std::nullopt);
 
 // What the cells' runs cost: each run's wall minutes as made so far (TableCell::run_minutes),
 // per cell with their median and the longest, and over all runs their core-hours (one core a

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -58,6 +59,54 @@ std::vector<std::string> OverridesOf(const YAML::Node& node, const std::string& 
   return overrides;
 }
 
+// The `decision` mapping: `rule: equivalence` with `band` in (0, 1], or `rule: difference`
+// (no band); none when absent.
+std::optional<DecisionRule> DecisionOf(const YAML::Node& node, const std::string& source) {
+  if (!node || node.IsNull()) return std::nullopt;
+  const std::string expected = "a mapping {rule: equivalence, band: 0.2} or {rule: difference}";
+  Require(node.IsMap(), "experiment '{}': key 'decision' is '{}': expected {}", source,
+          FlowText(node), expected);
+  for (const auto& entry : node) {
+    const std::string key = entry.first.as<std::string>();
+    Require(key == "rule" || key == "band",
+            "experiment '{}': key 'decision.{}' is unknown: expected 'rule' and, for "
+            "equivalence, 'band'",
+            source, key);
+  }
+  const YAML::Node rule = node["rule"];
+  const std::string name = rule && rule.IsScalar() ? rule.as<std::string>() : "";
+  DecisionRule decision;
+  if (name == "equivalence") {
+    decision.kind = DecisionRule::Kind::kEquivalence;
+  } else if (name == "difference") {
+    decision.kind = DecisionRule::Kind::kDifference;
+  } else {
+    Fail("experiment '{}': key 'decision.rule' is {}: expected 'equivalence' or 'difference'",
+         source, rule ? fmt::format("'{}'", FlowText(rule)) : std::string("missing"));
+  }
+  const YAML::Node band = node["band"];
+  if (decision.kind == DecisionRule::Kind::kDifference) {
+    Require(!band,
+            "experiment '{}': key 'decision.band' is '{}': expected none with 'rule: "
+            "difference' (a band belongs to 'equivalence')",
+            source, FlowText(band));
+    return decision;
+  }
+  bool valid = band && band.IsScalar();
+  if (valid) {
+    try {
+      decision.band = band.as<double>();
+    } catch (const YAML::Exception&) {
+      valid = false;
+    }
+  }
+  Require(valid && std::isfinite(decision.band) && decision.band > 0.0 && decision.band <= 1.0,
+          "experiment '{}': key 'decision.band' is {}: expected a share of the first setting's "
+          "mean in (0, 1], e.g. 0.2 for +-20%",
+          source, band ? fmt::format("'{}'", FlowText(band)) : std::string("missing"));
+  return decision;
+}
+
 }  // namespace
 
 bool IsExperimentDir(const fs::path& dir) { return fs::is_regular_file(dir / kExperimentFile); }
@@ -94,7 +143,7 @@ Experiment LoadExperiment(const fs::path& dir, const fs::path& configs_dir) {
   }
   Require(document.IsMap(), "experiment '{}' must be a mapping of keys to values", source);
   const std::set<std::string> known = {"family", "tasks", "methods", "seeds",
-                                       "window", "set",   "axes"};
+                                       "window", "set",   "axes",    "decision"};
   for (const auto& entry : document) {
     const std::string key = entry.first.as<std::string>();
     Require(known.count(key) == 1, "experiment '{}': unknown key '{}': expected one of {}",
@@ -157,6 +206,7 @@ Experiment LoadExperiment(const fs::path& dir, const fs::path& configs_dir) {
       e.axes.push_back(axis);
     }
   }
+  e.decision = DecisionOf(document["decision"], source);
   e.sha256 = Sha256OfFile(e.file());
   if (!e.family_file().empty()) e.family_sha256 = Sha256OfFile(e.family_file());
   // Every run's config must resolve now, before any run starts.
@@ -200,6 +250,7 @@ ExperimentStamp StampOf(const Experiment& experiment) {
   stamp.sha256 = experiment.sha256;
   stamp.family = experiment.family;
   stamp.family_sha256 = experiment.family_sha256;
+  stamp.decision = experiment.decision;
   for (const SweepRun& run : PlanSweep(ExperimentGrid(experiment), experiment.runs_dir())) {
     const std::string setting = SettingOfRunName(run.name, run.task, run.planner, run.seed);
     if (std::find(stamp.settings.begin(), stamp.settings.end(), setting) == stamp.settings.end()) {

@@ -11,10 +11,12 @@
 //   window: 3000                 # agent steps counted (Table I: 10000)
 //   set: {training.total_steps: 3000}           # every run (optional)
 //   axes: {classifier.threshold: [0.3, 0.5]}    # one run per combination (optional)
+//   decision: {rule: equivalence, band: 0.2}    # how the report decides (optional; below)
 #pragma once
 
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -39,6 +41,10 @@ struct Experiment {
   std::int64_t window = 0;             // agent steps counted (environment steps: model-free)
   std::vector<std::string> overrides;  // "section.key=value", every run
   std::vector<SweepAxis> axes;
+  // The rule that decides the study from its "Settings compared" pairs, declared before the
+  // runs: `rule: equivalence` with `band` (a share of the first setting's mean, in (0, 1]), or
+  // `rule: difference` (DecisionRule).
+  std::optional<DecisionRule> decision;
   std::string sha256;  // of experiment.yaml's bytes, as `sha256sum` prints it
   std::string family_sha256;  // of configs/<family>.yaml ("" for the paper family)
 

@@ -79,5 +79,38 @@ TEST(TableMarkdownTest, ComputeGivesEachRunsMinutesAndTheCoreHours) {
                                                 "CarGoal1 CPO, seed 0, 491 minutes."));
 }
 
+// A declared rule turns "Settings compared" into a decision per pair of settings, over all the
+// pairs of every cell; without one there is no decision table.
+TEST(TableMarkdownTest, ADeclaredRuleDecidesEachPairOfSettings) {
+  const auto arm = [](const std::string& task, const std::string& setting,
+                      std::vector<double> violations, std::vector<double> returns) {
+    TableCell cell = Cell(task, "rce", violations, {}, returns);
+    cell.setting = setting;
+    cell.seeds = {0, 1, 2};
+    return cell;
+  };
+  // Violations: differences +1, -1, 0 and 0, +1, -1 against a first arm of mean 100: within +-20.
+  // Returns: +2 on every pair against a first arm of mean 10: the interval excludes 0.
+  const std::vector<TableCell> cells = {
+      arm("PointGoal1", "precision=fp32", {100, 100, 100}, {10, 10, 10}),
+      arm("PointGoal1", "precision=bf16", {101, 99, 100}, {12, 12, 12}),
+      arm("PointGoal2", "precision=fp32", {100, 100, 100}, {10, 10, 10}),
+      arm("PointGoal2", "precision=bf16", {100, 101, 99}, {12, 12, 12}),
+  };
+  const DecisionRule equivalence{DecisionRule::Kind::kEquivalence, 0.2};
+  const std::string decided = SettingComparisonMarkdown(cells, equivalence);
+  EXPECT_THAT(decided, HasSubstr("**Decision**, by the rule `experiment.yaml` declares "
+                                 "(equivalence: the 90% interval of the mean paired difference "
+                                 "holds 0 and lies within +-20% of the first setting's mean)"));
+  EXPECT_THAT(decided, HasSubstr("| precision=bf16 | precision=fp32 | 6 in 2 cells | "
+                                 "indistinguishable (within +-20.00) | differs (the interval "
+                                 "excludes 0) | differs |\n"));
+  const DecisionRule difference{DecisionRule::Kind::kDifference, 0.2};
+  EXPECT_THAT(SettingComparisonMarkdown({cells[0], cells[1]}, difference),
+              HasSubstr("| precision=bf16 | precision=fp32 | 3 in 1 cell | no difference shown | "
+                        "higher | violations no difference shown, return higher |\n"));
+  EXPECT_THAT(SettingComparisonMarkdown(cells), ::testing::Not(HasSubstr("**Decision**")));
+}
+
 }  // namespace
 }  // namespace cmbrl

@@ -156,6 +156,47 @@ TEST(ExperimentTest, BadDeclarationsNameTheKeyAndTheValue) {
               HasSubstr("key 'set'"));
   EXPECT_THAT(ErrorMessage([&] { LoadExperiment("/nonexistent", kConfigs); }),
               HasSubstr("is not an experiment"));
+  const std::string declared = "family: paper\n" + ok;
+  EXPECT_THAT(error(declared + "decision: equivalence\n"),
+              HasSubstr("key 'decision' is 'equivalence': expected a mapping"));
+  EXPECT_THAT(error(declared + "decision: {rule: smaller}\n"),
+              HasSubstr("key 'decision.rule' is 'smaller': expected 'equivalence' or "
+                        "'difference'"));
+  EXPECT_THAT(error(declared + "decision: {band: 0.2}\n"),
+              HasSubstr("key 'decision.rule' is missing"));
+  EXPECT_THAT(error(declared + "decision: {rule: equivalence}\n"),
+              HasSubstr("key 'decision.band' is missing: expected a share"));
+  EXPECT_THAT(error(declared + "decision: {rule: equivalence, band: 20}\n"),
+              HasSubstr("key 'decision.band' is '20': expected a share of the first setting's "
+                        "mean in (0, 1]"));
+  EXPECT_THAT(error(declared + "decision: {rule: equivalence, band: wide}\n"),
+              HasSubstr("key 'decision.band' is 'wide'"));
+  EXPECT_THAT(error(declared + "decision: {rule: equivalence, band: .nan}\n"),
+              HasSubstr("key 'decision.band' is '.nan'"));
+  EXPECT_THAT(error(declared + "decision: {rule: difference, band: 0.2}\n"),
+              HasSubstr("key 'decision.band' is '0.2': expected none with 'rule: difference'"));
+  EXPECT_THAT(error(declared + "decision: {rule: difference, level: 0.9}\n"),
+              HasSubstr("key 'decision.level' is unknown"));
+}
+
+// A declared decision rule reaches the report's stamp; none is declared unless written.
+TEST(ExperimentTest, TheDecisionRuleIsDeclaredWithTheExperiment) {
+  const std::string base =
+      "family: cpu\ntasks: [PointGoal1]\nmethods: [rce]\nseeds: [0]\n"
+      "window: 2000\naxes: {ensemble.precision: [fp32, bf16]}\n";
+  const Experiment equivalence = LoadExperiment(
+      WriteExperiment("equivalence", base + "decision: {rule: equivalence, band: 0.25}\n"),
+      kConfigs);
+  ASSERT_TRUE(equivalence.decision.has_value());
+  EXPECT_EQ(equivalence.decision->kind, DecisionRule::Kind::kEquivalence);
+  EXPECT_DOUBLE_EQ(equivalence.decision->band, 0.25);
+  const ExperimentStamp stamp = StampOf(equivalence);
+  ASSERT_TRUE(stamp.decision.has_value());
+  EXPECT_DOUBLE_EQ(stamp.decision->band, 0.25);
+  const Experiment difference = LoadExperiment(
+      WriteExperiment("difference", base + "decision: {rule: difference}\n"), kConfigs);
+  EXPECT_EQ(difference.decision->kind, DecisionRule::Kind::kDifference);
+  EXPECT_FALSE(LoadExperiment(WriteExperiment("none", base), kConfigs).decision.has_value());
 }
 
 TEST(ExperimentTest, TheHashIsTheFilesSha256) {
