@@ -5,43 +5,59 @@
 #include <cmath>
 
 namespace cmbrl {
-namespace {
-
-bool StartsWith(const std::string& text, const std::string& prefix) {
-  return text.rfind(prefix, 0) == 0;
-}
-
-}  // namespace
 
 std::string KindName(DecisionRule::Kind kind) {
   return kind == DecisionRule::Kind::kEquivalence ? "equivalence" : "difference";
 }
 
-std::string MeasureVerdict(const DecisionRule& rule, const MeanInterval& interval,
-                           double baseline_mean) {
-  if (!std::isfinite(interval.low) || !std::isfinite(interval.high)) return "no pairs";
-  const bool holds_zero = interval.low <= 0.0 && interval.high >= 0.0;
-  if (rule.kind == DecisionRule::Kind::kDifference) {
-    if (holds_zero) return "no difference shown";
-    return interval.high < 0.0 ? "lower" : "higher";
+std::string MeasureVerdict::Text() const {
+  switch (outcome) {
+    case Outcome::kNoPairs:
+      return "no pairs";
+    case Outcome::kIndistinguishable:
+      return fmt::format("indistinguishable (within +-{:.2f})", band);
+    case Outcome::kDiffers:
+      return "differs (the interval excludes 0)";
+    case Outcome::kUndecided:
+      return fmt::format("undecided (the interval reaches past +-{:.2f})", band);
+    case Outcome::kLower:
+      return "lower";
+    case Outcome::kHigher:
+      return "higher";
+    case Outcome::kNoDifference:
+      return "no difference shown";
   }
-  const double band = rule.band * std::abs(baseline_mean);
-  if (!holds_zero) return "differs (the interval excludes 0)";
-  if (interval.low >= -band && interval.high <= band) {
-    return fmt::format("indistinguishable (within +-{:.2f})", band);
-  }
-  return fmt::format("undecided (the interval reaches past +-{:.2f})", band);
+  return "";
 }
 
-std::string OverallVerdict(const DecisionRule& rule, const std::string& violations,
-                           const std::string& returns) {
+MeasureVerdict DecideMeasure(const DecisionRule& rule, const MeanInterval& interval,
+                             double baseline_mean) {
+  using Outcome = MeasureVerdict::Outcome;
+  if (!std::isfinite(interval.low) || !std::isfinite(interval.high)) return {};
+  const bool holds_zero = interval.low <= 0.0 && interval.high >= 0.0;
   if (rule.kind == DecisionRule::Kind::kDifference) {
-    return fmt::format("violations {}, return {}", violations, returns);
+    if (holds_zero) return {Outcome::kNoDifference};
+    return {interval.high < 0.0 ? Outcome::kLower : Outcome::kHigher};
   }
-  if (StartsWith(violations, "indistinguishable") && StartsWith(returns, "indistinguishable")) {
+  const double band = rule.band * std::abs(baseline_mean);
+  if (!holds_zero) return {Outcome::kDiffers, band};
+  const bool within = interval.low >= -band && interval.high <= band;
+  return {within ? Outcome::kIndistinguishable : Outcome::kUndecided, band};
+}
+
+std::string OverallVerdict(const DecisionRule& rule, const MeasureVerdict& violations,
+                           const MeasureVerdict& returns) {
+  using Outcome = MeasureVerdict::Outcome;
+  if (rule.kind == DecisionRule::Kind::kDifference) {
+    return fmt::format("violations {}, return {}", violations.Text(), returns.Text());
+  }
+  if (violations.outcome == Outcome::kIndistinguishable &&
+      returns.outcome == Outcome::kIndistinguishable) {
     return "indistinguishable";
   }
-  if (StartsWith(violations, "differs") || StartsWith(returns, "differs")) return "differs";
+  if (violations.outcome == Outcome::kDiffers || returns.outcome == Outcome::kDiffers) {
+    return "differs";
+  }
   return "undecided";
 }
 

@@ -25,17 +25,33 @@ struct DecisionRule {
 // "equivalence" or "difference", as experiment.yaml names them.
 std::string KindName(DecisionRule::Kind kind);
 
-// One measure's verdict under the rule, from the interval of its mean paired difference and
-// the first setting's mean over the same pairs. Equivalence: "indistinguishable (within
-// +-B)", "differs (the interval excludes 0)" or "undecided (the interval reaches past +-B)",
-// B = band x |baseline_mean|. Difference: "lower", "higher" or "no difference shown". "no
-// pairs" for an interval without bounds.
-std::string MeasureVerdict(const DecisionRule& rule, const MeanInterval& interval,
-                           double baseline_mean);
+// One measure's verdict under a rule, and its words (Text): equivalence gives
+// "indistinguishable (within +-B)", "differs (the interval excludes 0)" or "undecided (the
+// interval reaches past +-B)", B = band x |the first setting's mean|; difference gives "lower",
+// "higher" or "no difference shown"; "no pairs" for an interval without bounds.
+struct MeasureVerdict {
+  enum class Outcome {
+    kNoPairs,
+    kIndistinguishable,
+    kDiffers,
+    kUndecided,
+    kLower,
+    kHigher,
+    kNoDifference,
+  };
+  Outcome outcome = Outcome::kNoPairs;
+  double band = 0.0;  // B, for the equivalence outcomes' words
+  std::string Text() const;
+};
+
+// A measure's verdict from the interval of its mean paired difference and the first setting's
+// mean over the same pairs.
+MeasureVerdict DecideMeasure(const DecisionRule& rule, const MeanInterval& interval,
+                             double baseline_mean);
 
 // Both measures' verdicts together: under equivalence "indistinguishable" only when both are,
 // "differs" when either does, else "undecided"; under difference the two verdicts named.
-std::string OverallVerdict(const DecisionRule& rule, const std::string& violations,
-                           const std::string& returns);
+std::string OverallVerdict(const DecisionRule& rule, const MeasureVerdict& violations,
+                           const MeasureVerdict& returns);
 
 }  // namespace cmbrl

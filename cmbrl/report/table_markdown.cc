@@ -505,14 +505,14 @@ std::string SettingComparisonMarkdown(const std::vector<TableCell>& cells,
                         "0"));
   for (const Pooled& pool : pooled) {
     if (pool.cells == 0) continue;
-    const std::string violations =
-        MeasureVerdict(*rule, BootstrapMeanInterval(pool.violations), Mean(pool.first_violations));
-    const std::string returns =
-        MeasureVerdict(*rule, BootstrapMeanInterval(pool.returns), Mean(pool.first_returns));
+    const MeasureVerdict violations =
+        DecideMeasure(*rule, BootstrapMeanInterval(pool.violations), Mean(pool.first_violations));
+    const MeasureVerdict returns =
+        DecideMeasure(*rule, BootstrapMeanInterval(pool.returns), Mean(pool.first_returns));
     text += fmt::format("| {} | {} | {} in {} cell{} | {} | {} | {} |\n",
                         pool.setting.empty() ? "-" : pool.setting,
                         pool.against.empty() ? "-" : pool.against, pool.violations.size(),
-                        pool.cells, pool.cells == 1 ? "" : "s", violations, returns,
+                        pool.cells, pool.cells == 1 ? "" : "s", violations.Text(), returns.Text(),
                         OverallVerdict(*rule, violations, returns));
   }
   return text;
