@@ -73,9 +73,11 @@ run() {
     torch_prefix=""
   fi
   cmake -S . -B build-gpu -DCMAKE_BUILD_TYPE=Release -DCMBRL_BUILD_TESTS=OFF \
-    -DCMBRL_BUILD_BENCHMARKS=OFF "-DCMAKE_PREFIX_PATH=${torch_prefix:+$torch_prefix;}$prefix" \
+    -DCMBRL_BUILD_BENCHMARKS=OFF -DCMBRL_BUILD_PYTHON=OFF \
+    -DCMBRL_WARNINGS_AS_ERRORS=OFF "-DCMAKE_PREFIX_PATH=${torch_prefix:+$torch_prefix;}$prefix" \
     $(command -v ninja >/dev/null && echo -G Ninja)
-  cmake --build build-gpu --parallel "$(nproc)"
+  # Every error at once (-k 0): a newer LibTorch may break several files.
+  cmake --build build-gpu --parallel "$(nproc)" -- $(command -v ninja >/dev/null && echo -k 0)
 
   local configs=("$@")
   [ ${#configs[@]} -gt 0 ] || configs=(configs/pointgoal1-rce.yaml)

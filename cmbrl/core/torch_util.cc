@@ -5,7 +5,7 @@
 #include <sstream>
 
 #include <ATen/CPUGeneratorImpl.h>
-#include <ATen/detail/CUDAHooksInterface.h>
+#include <ATen/Context.h>
 
 #include "cmbrl/core/check.h"
 #include "cmbrl/core/device_name.h"
@@ -20,7 +20,10 @@ at::Generator MakeCpuGenerator(std::uint64_t seed) {
 at::Generator MakeGenerator(const torch::Device& device, std::uint64_t seed) {
   if (device.is_cpu()) return MakeCpuGenerator(seed);
   const int index = device.has_index() ? device.index() : 0;
-  at::Generator generator = at::detail::getCUDAHooks().getDefaultCUDAGenerator(index).clone();
+  // Through the context, whose name for it holds from LibTorch 1.13 to 2.x (the CUDA hooks'
+  // own getter was renamed).
+  at::Generator generator =
+      at::globalContext().defaultGenerator(torch::Device(torch::kCUDA, index)).clone();
   generator.set_current_seed(seed);
   return generator;
 }
@@ -40,6 +43,9 @@ torch::Device ParseDevice(const std::string& name, const char* key) {
     const int count = static_cast<int>(torch::cuda::device_count());
     Require(!device.has_index() || device.index() < count,
             "{} '{}': only {} CUDA device(s) are visible", key, name, count);
+    // Tensors report the index they live on ('cuda:0'), which a bare 'cuda' lacks: name the
+    // device the way tensors will, so device checks compare like with like.
+    if (!device.has_index()) device = torch::Device(torch::kCUDA, 0);
   }
   return device;
 }
