@@ -1,9 +1,12 @@
 #include "cmbrl/core/torch_util.h"
 
 #include <dlfcn.h>
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <thread>
+
+#include "cmbrl/core/check.h"
 
 namespace cmbrl {
 namespace {
@@ -43,6 +46,34 @@ TEST(ScopedSingleThreadedMathTest, NumbersDoNotDependOnTheThreadsOutside) {
     results[threads - 1] = torch::tanh(torch::mm(a, b)).sum(0);
   }
   EXPECT_TRUE(torch::equal(results[0], results[1]));
+}
+
+TEST(ParseDeviceTest, TheCpuAndBadNamesNamedByKeyAndValue) {
+  EXPECT_TRUE(ParseDevice("cpu", "device").is_cpu());
+  try {
+    ParseDevice("gpu", "training.device");
+    FAIL() << "'gpu' was taken for a device";
+  } catch (const Error& error) {
+    EXPECT_THAT(error.what(), testing::HasSubstr("training.device 'gpu' is not a device"));
+  }
+}
+
+// A bare 'cuda' is named as the tensors on it name themselves ('cuda:0'), so that the device
+// checks of every model compare like with like; where no GPU is seen, it is refused by name.
+TEST(ParseDeviceTest, BareCudaIsItsFirstDeviceOrRefusedWithoutOne) {
+  if (!torch::cuda::is_available()) {
+    try {
+      ParseDevice("cuda", "device");
+      FAIL() << "'cuda' was taken without a GPU";
+    } catch (const Error& error) {
+      EXPECT_THAT(error.what(), testing::HasSubstr("device 'cuda' asks for CUDA"));
+    }
+    return;
+  }
+  const torch::Device device = ParseDevice("cuda", "device");
+  EXPECT_EQ(device, torch::Device(torch::kCUDA, 0));
+  const torch::Tensor on_it = torch::zeros({2, 3}, torch::TensorOptions(device));
+  EXPECT_NO_THROW(CheckFloatTensor(on_it, "states", 3, device));
 }
 
 }  // namespace
