@@ -11,7 +11,8 @@
 #                                       build-gpu/deps (never into /), builds against PyTorch's
 #                                       LibTorch into build-gpu/, runs bench plan / train / env
 #                                       on cuda for each config (default: the PointGoal1 paper
-#                                       presets and the quickstart) and prints a table last.
+#                                       presets and the quickstart), prints a table, then trains
+#                                       the quickstart for 300 steps there (train_smoke).
 #
 # Without a usable CUDA PyTorch, `run` builds against the system's LibTorch and measures the
 # CPU, so the script can be checked on any machine.
@@ -111,6 +112,30 @@ for line in lines:
     ratio = f'{line["ratio_to_ceiling"]:.2f}' if "ratio_to_ceiling" in line else ""
     print(f'| {name} | {line["median_ms"]:.2f} ms | {floor} | {ratio} |')
 PY
+  train_smoke "$device"
+}
+
+# A short training run on the device (the quickstart, 300 agent steps: pre-training, a fit and
+# three episodes with their checkpoints). On CUDA the first such run (2026-11-27) died of a call
+# through a null function pointer after its first episode; if it fails again, the same run
+# under cuda-gdb prints the stack and the caller's return address (a call to address 0 leaves
+# no frame to unwind, but the address it would return to is on top of the stack).
+train_smoke() {
+  local device=$1 out=build-gpu/train-smoke
+  local run=(build-gpu/bin/cmbrl train --config configs/pointgoal1-rce.yaml configs/quickstart.yaml
+             --device "$device" --steps 300)
+  rm -rf "$out" "$out-gdb"
+  if "${run[@]}" --out "$out"; then
+    echo "train smoke on $device: passed ($(($(wc -l < "$out/progress.csv") - 1)) episodes)"
+    return
+  fi
+  echo "train smoke on $device: FAILED" >&2
+  if command -v cuda-gdb >/dev/null; then
+    cuda-gdb -q -batch -ex run -ex bt -ex 'x/a $sp' -ex 'info symbol *(void**)$sp' \
+      --args "${run[@]}" --out "$out-gdb" 2>&1 | grep -v -E '^\[(New|Thread|Detaching)' |
+      tail -n 30 || true
+  fi
+  return 1
 }
 
 case "${1:-}" in
