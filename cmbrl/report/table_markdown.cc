@@ -265,11 +265,12 @@ void PapersMethodAgainstOthers(const std::string& task,
 
 std::string TableMarkdown(const std::vector<TableCell>& cells, std::int64_t window) {
   const std::vector<std::string> planners = DistinctInOrder(cells, &TableCell::planner);
+  const CountUnits units = UnitsOf(cells);
   std::string text = fmt::format(
-      "Violations during the first {} agent steps: ours as mean ± std over seeds (seeds), the "
+      "Violations during the first {} {}: ours as mean ± std over seeds (seeds), the "
       "paper's Table I (mean of 3 seeds over 10,000 steps) in brackets. * marks a cell whose "
       "shortest run stopped before the window's end.\n\n| task |",
-      window);
+      window, units.steps);
   for (const std::string& planner : planners) text += " " + MethodLabel(planner) + " |";
   text += "\n|---|";
   for (size_t i = 0; i < planners.size(); ++i) text += "---|";
@@ -303,9 +304,9 @@ std::string TableMarkdown(const std::vector<TableCell>& cells, std::int64_t wind
         "cell has no curve and no first epoch here.",
         fmt::join(sources, "', '"));
   }
-  text +=
-      "\n\nReturn at the end of the same window: mean EpRet of each run's last 10 episodes "
-      "that ended in it, mean ± std over seeds.\n\n| task |";
+  text += fmt::format(
+      "\n\nReturn at the end of the same window: {}, mean ± std over seeds.\n\n| task |",
+      units.returns);
   for (const std::string& planner : planners) text += " " + MethodLabel(planner) + " |";
   text += "\n|---|";
   for (size_t i = 0; i < planners.size(); ++i) text += "---|";
@@ -518,6 +519,10 @@ std::string SettingComparisonMarkdown(const std::vector<TableCell>& cells,
   return text;
 }
 
+std::string RunCount(std::size_t runs) {
+  return runs == 1 ? std::string("1 run") : fmt::format("{} runs", runs);
+}
+
 std::string ComputeMarkdown(const std::vector<TableCell>& cells) {
   std::string rows;
   double minutes = 0.0, longest = -1.0;
@@ -547,8 +552,7 @@ std::string ComputeMarkdown(const std::vector<TableCell>& cells) {
       "run. {} took {:.1f} core-hours; the longest, {}, {:.0f} minutes.\n\n"
       "| task | method | seeds | minutes per seed | median | longest |\n"
       "|---|---|---|---|---|---|\n{}",
-      runs == 1 ? std::string("1 run") : fmt::format("{} runs", runs), minutes / 60.0, longest_run,
-      longest, rows);
+      RunCount(static_cast<std::size_t>(runs)), minutes / 60.0, longest_run, longest, rows);
 }
 
 std::vector<std::string> OutcomeDifferences(const std::vector<TableCell>& cells,

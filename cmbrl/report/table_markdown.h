@@ -37,6 +37,9 @@ std::string ProtocolCellsMarkdown(const std::vector<TableCell>& cells, std::int6
 std::string SettingComparisonMarkdown(const std::vector<TableCell>& cells,
                                       const std::optional<DecisionRule>& rule = std::nullopt);
 
+// "1 run" or "N runs".
+std::string RunCount(std::size_t runs);
+
 // What the cells' runs cost: each run's wall minutes as made so far (TableCell::run_minutes),
 // per cell with their median and the longest, and over all runs their core-hours (one core a
 // run) and the longest run. "" where no cell has them.

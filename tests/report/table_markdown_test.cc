@@ -52,6 +52,27 @@ TEST(TableMarkdownTest, TheVerdictSaysWhetherRceViolatesLeastWithItsIntervals) {
   EXPECT_EQ(AgainstRange(5, {5, 6}), "inside");
 }
 
+// Table I names what its cells count in: agent steps and episodes for MPC runs, environment
+// steps and epochs for model-free ones (whose logs are per epoch).
+TEST(TableMarkdownTest, TableOneCountsInTheCellsOwnUnits) {
+  const TableCell mpc = Cell("PointGoal2", "rce", {1, 2, 3}, {});
+  const std::string episodes = TableMarkdown({mpc}, 3000);
+  EXPECT_THAT(episodes, HasSubstr("Violations during the first 3000 agent steps:"));
+  EXPECT_THAT(episodes, HasSubstr("the mean EpRet of each run's last 10 episodes in it"));
+  TableCell model_free = Cell("PointGoal2", "cpo", {90000}, {});
+  model_free.epoch_log = true;
+  const std::string epochs = TableMarkdown({model_free}, 3000000);
+  EXPECT_THAT(epochs, HasSubstr("Violations during the first 3000000 environment steps:"));
+  EXPECT_THAT(epochs, HasSubstr("the mean AverageEpRet of each run's last 10 epochs in it"));
+  EXPECT_THAT(epochs, ::testing::Not(HasSubstr("agent steps")));
+}
+
+TEST(TableMarkdownTest, RunCountIsSingularForOne) {
+  EXPECT_EQ(RunCount(0), "0 runs");
+  EXPECT_EQ(RunCount(1), "1 run");
+  EXPECT_EQ(RunCount(60), "60 runs");
+}
+
 // What the runs cost: minutes per seed with their median and the longest per cell, and the
 // core-hours of every run; a cell without times (an earlier table's) has no row.
 TEST(TableMarkdownTest, ComputeGivesEachRunsMinutesAndTheCoreHours) {
