@@ -10,6 +10,7 @@
 #include <tuple>
 
 #include "cmbrl/env/registry.h"
+#include "cmbrl/report/table_markdown.h"
 
 namespace cmbrl {
 namespace fs = std::filesystem;
@@ -110,10 +111,9 @@ std::vector<std::string> WhereRunsWereMade(const std::vector<RunRecord>& runs) {
       }
     }
   }
-  const auto count = [](size_t n) { return fmt::format("{} run{}", n, n == 1 ? "" : "s"); };
   std::vector<std::string> notes;
   for (const auto& [setup, names] : setups) {
-    notes.push_back(fmt::format("{}: {} ({}).", DescribeSetup(setup), count(names.size()),
+    notes.push_back(fmt::format("{}: {} ({}).", DescribeSetup(setup), RunCount(names.size()),
                                 fmt::join(names, ", ")));
   }
   if (!moved.empty()) {
@@ -124,7 +124,7 @@ std::vector<std::string> WhereRunsWereMade(const std::vector<RunRecord>& runs) {
   }
   if (!unrecorded.empty()) {
     notes.push_back(fmt::format("Not recorded (begun before runs kept sessions.jsonl): {} ({}).",
-                                count(unrecorded.size()), fmt::join(unrecorded, ", ")));
+                                RunCount(unrecorded.size()), fmt::join(unrecorded, ", ")));
   }
   return notes;
 }
