@@ -29,21 +29,33 @@ def test_read_runs_gives_the_counts_of_the_committed_table(source_dir):
     assert np.all(np.diff(run["elapsed_seconds"]) >= 0) and 0 < run["elapsed_seconds"][-1] < 3600
 
 
+def model_free_report(source_dir):
+    """The committed model-free report, and the names of the runs it holds (it grows run by run)."""
+    report_dir = source_dir / "experiments" / "model-free" / "report"
+    return report_dir, sorted(path.name for path in (report_dir / "run-logs").iterdir())
+
+
 def test_read_runs_of_a_model_free_run_gives_its_epochs(source_dir):
-    (run,) = cmbrl.read_runs([source_dir / "experiments" / "model-free" / "report"])
-    assert run["method"] == "trpo-lagrangian" and run["epoch_log"] is True
+    report_dir, names = model_free_report(source_dir)
+    runs = cmbrl.read_runs([report_dir])
+    assert len(runs) == len(names) and "pointgoal2-trpo-lagrangian-s0" in names
+    (run,) = [run for run in runs
+              if run["task"] == "PointGoal2" and run["method"] == "trpo-lagrangian"]
+    assert run["seed"] == 0 and run["epoch_log"] is True
     assert run["end_step"][-1] == 3_000_000
     assert np.all(np.diff(run["cumulative_violations"]) >= 0)
     assert np.all(np.diff(run["elapsed_seconds"]) > 0)
 
 
 def test_report_writes_the_files_of_cmbrl_report(source_dir, tmp_path):
-    summary = cmbrl.report(source_dir / "experiments" / "model-free" / "report",
-                           tmp_path / "out", window=3_000_000)
-    assert summary["runs"] == 1 and summary["window"] == 3_000_000 and summary["cells"] == 1
+    report_dir, names = model_free_report(source_dir)
+    summary = cmbrl.report(report_dir, tmp_path / "out", window=3_000_000)
+    # One seed a cell: as many cells as runs.
+    assert summary["runs"] == len(names) and summary["window"] == 3_000_000
+    assert summary["cells"] == len(names)
     for name in ("report.md", "table-1.csv", "curves-model-free-epcost.png"):
         assert (tmp_path / "out" / name).is_file(), name
-    assert (tmp_path / "out" / "run-logs" / "pointgoal2-trpo-lagrangian-s0").is_dir()
+    assert sorted(path.name for path in (tmp_path / "out" / "run-logs").iterdir()) == names
 
 
 def test_bad_folders_are_named(tmp_path):
