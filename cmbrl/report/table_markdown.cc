@@ -266,11 +266,13 @@ void PapersMethodAgainstOthers(const std::string& task,
 std::string TableMarkdown(const std::vector<TableCell>& cells, std::int64_t window) {
   const std::vector<std::string> planners = DistinctInOrder(cells, &TableCell::planner);
   const CountUnits units = UnitsOf(cells);
+  const bool any_paper =
+      std::any_of(cells.begin(), cells.end(), [](const TableCell& c) { return c.paper; });
   std::string text = fmt::format(
-      "Violations during the first {} {}: ours as mean ± std over seeds (seeds), the "
-      "paper's Table I (mean of 3 seeds over 10,000 steps) in brackets. * marks a cell whose "
-      "shortest run stopped before the window's end.\n\n| task |",
-      window, units.steps);
+      "Violations during the first {} {}: ours as mean ± std over seeds (seeds){}. * marks a "
+      "cell whose shortest run stopped before the window's end.\n\n| task |",
+      window, units.steps,
+      any_paper ? ", the paper's Table I (mean of 3 seeds over 10,000 steps) in brackets" : "");
   for (const std::string& planner : planners) text += " " + MethodLabel(planner) + " |";
   text += "\n|---|";
   for (size_t i = 0; i < planners.size(); ++i) text += "---|";

@@ -56,6 +56,32 @@ TEST(ReportTableTest, TheSetupNotesNameEveryKeyThatDiffersWithItsCells) {
   EXPECT_THAT(notes, Not(about("`seed`")));
 }
 
+// The counting window is said in each family's unit: agent steps against the paper's Table I for
+// MPC runs, environment steps for model-free ones, which the paper's Table I leaves out.
+TEST(ReportTableTest, TheSetupNotesSayTheWindowInEachFamilysUnit) {
+  RunRecord mpc;
+  mpc.config.task = "PointGoal2";
+  mpc.config.planner = "rce";
+  mpc.episodes.push_back(EpisodePoint{});
+  RunRecord model_free;
+  model_free.config.task = "PointGoal2";
+  model_free.config.algorithm = "cpo";
+  model_free.epoch_log = true;
+  model_free.episodes.push_back(EpisodePoint{});
+  const auto about = [](const std::string& text) { return ::testing::Contains(HasSubstr(text)); };
+  const std::string agent_steps = "Table I here counts the first 3000 agent steps";
+  const std::string environment_steps =
+      "Model-free runs are counted over their first 3000 "
+      "environment steps";
+  EXPECT_THAT(SetupDifferences({mpc}, 3000, kConfigs), about(agent_steps));
+  EXPECT_THAT(SetupDifferences({mpc}, 3000, kConfigs), Not(about(environment_steps)));
+  EXPECT_THAT(SetupDifferences({model_free}, 3000, kConfigs), about(environment_steps));
+  EXPECT_THAT(SetupDifferences({model_free}, 3000, kConfigs), Not(about(agent_steps)));
+  const std::vector<std::string> both = SetupDifferences({mpc, model_free}, 3000, kConfigs);
+  EXPECT_THAT(both, about(agent_steps));
+  EXPECT_THAT(both, about(environment_steps));
+}
+
 // Where each run was made travels with its logs, and the report says it: each setup with its
 // runs, a run resumed elsewhere, runs that kept no record.
 TEST_F(ReportTest, WhereTheRunsWereMadeIsKeptAndSaid) {

@@ -65,6 +65,14 @@ TEST(TableMarkdownTest, TableOneCountsInTheCellsOwnUnits) {
   EXPECT_THAT(epochs, HasSubstr("Violations during the first 3000000 environment steps:"));
   EXPECT_THAT(epochs, HasSubstr("the mean AverageEpRet of each run's last 10 epochs in it"));
   EXPECT_THAT(epochs, ::testing::Not(HasSubstr("agent steps")));
+  // The paper's Table I has no model-free numbers, so no brackets are promised for them.
+  EXPECT_THAT(epochs, ::testing::Not(HasSubstr("in brackets")));
+  TableCell with_paper = mpc;
+  with_paper.paper = 20.0;
+  const std::string bracketed = TableMarkdown({with_paper}, 3000);
+  EXPECT_THAT(bracketed, HasSubstr("the paper's Table I (mean of 3 seeds over 10,000 steps) in "
+                                   "brackets"));
+  EXPECT_THAT(bracketed, HasSubstr("(3) [20] |"));
 }
 
 TEST(TableMarkdownTest, RunCountIsSingularForOne) {
