@@ -45,6 +45,17 @@ std::string OnednnVersion() {
 #endif
 }
 
+// Rows per task of a prediction: large enough for a single-threaded product to run at speed,
+// small enough that the planner's batches (a few hundred rows per member) give every core work.
+// Without AVX-512, oneDNN 2.6's fp32 kernels (gemm:jit) run products of fewer than 384 rows at
+// about half speed once a layer's weights outgrow the L2 cache (1024 wide: 40 against 75-80
+// GFLOP/s on a Zen 3 core), so blocks are 512 rows there; the AVX-512 kernels run 256 rows at
+// speed (docs/PERFORMANCE.md, v0.8.1).
+std::int64_t OnednnPredictionBlockRows() {
+  static const std::int64_t rows = CpuHasAvx512() ? 256 : 512;
+  return rows;
+}
+
 #ifdef CMBRL_HAVE_ONEDNN
 
 namespace {
@@ -77,10 +88,6 @@ class CacheAlignedBytes {
   std::uint8_t* bytes_;
 };
 
-// Rows per task of a prediction: large enough for a single-threaded product to run at speed,
-// small enough that the planner's batches (a few hundred rows per member) give every core work.
-// Part of the results: another block size sums in another order.
-constexpr std::int64_t kBlockRows = 256;
 // Below this many multiply-adds a call stays on the calling thread.
 constexpr std::int64_t kParallelMultiplyAdds = std::int64_t{1} << 20;
 
@@ -223,7 +230,7 @@ torch::Tensor OnednnEnsembleForward::Predict(const torch::Tensor& states_in,
   // The work is cut into (member, block of rows) tasks of fixed shape, each one single-threaded
   // product chain, so that a prediction's bits depend on neither the thread count nor the
   // calling thread. The last block of a member may be shorter and has a primitive of its own.
-  const std::int64_t block = std::min(rows, kBlockRows);
+  const std::int64_t block = std::min(rows, OnednnPredictionBlockRows());
   const std::int64_t full_blocks = rows / block, tail = rows % block;
   const std::int64_t blocks = full_blocks + (tail > 0 ? 1 : 0);
   const std::shared_ptr<const Impl::Plan> full_plan = impl.PlanFor(block, bf16_);

@@ -10,6 +10,7 @@
 // the number of cores nor the calling thread. oneDNN stays inside the .cc file.
 #pragma once
 
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
@@ -24,6 +25,10 @@ bool OnednnForwardAvailable(bool bf16, std::string* why_not = nullptr);
 
 // The version of the oneDNN this build runs ("2.6.3"); "" without oneDNN.
 std::string OnednnVersion();
+
+// Rows of one prediction task on this CPU: 256 with AVX-512, 512 without. Part of the results
+// (another block sums in another order), so one machine always predicts the same bits.
+std::int64_t OnednnPredictionBlockRows();
 
 class OnednnEnsembleForward {
  public:

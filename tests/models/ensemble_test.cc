@@ -283,7 +283,8 @@ TEST(EnsembleTest, OnednnFloat32AgreesWithLibTorch) {
     const BackendPair pair = FittedPair("onednn", "fp32", delta);
     EXPECT_EQ(pair.reference->backend(), "libtorch");
     EXPECT_EQ(pair.other->backend(), "onednn");
-    for (const int rows : {1, 7, 300}) {  // one primitive set per batch size
+    // One primitive set per batch size; the last crosses a block.
+    for (const int rows : {1, 7, static_cast<int>(OnednnPredictionBlockRows()) + 44}) {
       const Batch batch = PendulumBatch(4, rows, 6);
       const torch::Tensor exact = pair.reference->Predict(batch.states, batch.actions);
       const torch::Tensor fast = pair.other->Predict(batch.states, batch.actions);
@@ -311,7 +312,8 @@ TEST(EnsembleTest, OnednnBfloat16StaysClose) {
 TEST(EnsembleTest, OnednnFloat32RepeatsExactly) {
   SKIP_WITHOUT_ONEDNN(false);
   const BackendPair pair = FittedPair("onednn", "fp32", true);
-  const Batch batch = PendulumBatch(4, 257, 8);
+  // A full block and a one-row tail per member: two primitive sets.
+  const Batch batch = PendulumBatch(4, static_cast<int>(OnednnPredictionBlockRows()) + 1, 8);
   const torch::Tensor first = pair.other->Predict(batch.states, batch.actions);
   pair.other->Predict(batch.states.narrow(1, 0, 3), batch.actions.narrow(1, 0, 3));
   EXPECT_TRUE(torch::equal(pair.other->Predict(batch.states, batch.actions), first));
@@ -357,7 +359,9 @@ TEST(EnsembleTest, OnednnBitsDoNotDependOnTheCores) {
   const std::vector<int> cpus = AllowedCpus();
   if (cpus.size() < 2) GTEST_SKIP() << "one CPU allowed: nothing to compare";
   const BackendPair pair = FittedPair("onednn", "fp32", false);
-  const Batch batch = PendulumBatch(4, 700, 12);  // two full blocks and a shorter one per member
+  // Two full blocks and a shorter one per member.
+  const std::int64_t block = OnednnPredictionBlockRows();
+  const Batch batch = PendulumBatch(4, static_cast<int>(2 * block + block / 3), 12);
   const torch::Tensor on_all = pair.other->Predict(batch.states, batch.actions);
   torch::Tensor on_one, on_another_thread;
   std::thread([&] {
