@@ -1,7 +1,6 @@
 #include "bench/learning_bench.h"
 
 #include <torch/torch.h>
-
 #include <unistd.h>
 
 #include <cstdint>
@@ -13,15 +12,16 @@
 #include "bench/bench_util.h"
 #include "bench/ceiling.h"
 #include "bench/kernel_ceiling.h"
-#include "cmbrl/learners/mpc/mpc_agent.h"
 #include "cmbrl/agent/policy.h"
+#include "cmbrl/config/config.h"
 #include "cmbrl/core/check.h"
 #include "cmbrl/core/rng.h"
 #include "cmbrl/core/torch_util.h"
 #include "cmbrl/env/registry.h"
-#include "cmbrl/config/config.h"
+#include "cmbrl/learners/mpc/mpc_agent.h"
 #include "cmbrl/learners/mpc/mpc_parts.h"
 #include "cmbrl/models/ensemble.h"
+#include "cmbrl/models/onednn_forward.h"
 #include "cmbrl/models/xgboost_cost_model.h"
 
 namespace cmbrl::bench {
@@ -327,6 +327,8 @@ void RunPlanBench(const LearningBenchOptions& args, const FigureSink& emit) {
       line["planner"] = planner;
       line["precision"] = variants[p].precision;
       line["backend"] = ensemble.backend();
+      // oneDNN's rows per prediction task on this CPU: it sets both the speed and the bits.
+      if (ensemble.backend() == "onednn") line["block_rows"] = OnednnPredictionBlockRows();
       line["members"] = members;
       line["hidden"] = config.ensemble.hidden_sizes;
       line["population"] = population;
