@@ -140,9 +140,13 @@ float FlatTreeEnsemble::Margin(const float* row) const {
 
 namespace {
 
-// Rows per block: one 512-bit vector of floats, and few enough that a block's transposed rows
-// (num_features x 16 floats) stay in L1.
-constexpr int kBlockRows = 16;
+// Rows per block: two 512-bit vectors of floats (four 256-bit ones), few enough that a block's
+// transposed rows (num_features x 32 floats) stay in L1. Each node's threshold, bitvector and
+// feature are loaded once per block, so a wider block spends less on them per row; 32 rows still
+// keep every lane's bits and sums in registers on AVX2. A row's sum is the same at any width.
+constexpr int kBlockRows = 32;
+constexpr int kAvx512Vectors = kBlockRows / 16;
+constexpr int kAvx2Vectors = kBlockRows / 8;
 
 }  // namespace
 
@@ -186,68 +190,80 @@ void BlockScalar(const BitvectorView& t, const float* columns, float* sums) {
 // GCC 12 warns inside its own intrinsics (the "undefined" source of the gather).
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
-// The same with the 16 rows in one AVX-512 register: per test one compare into a lane mask and
+// The same with the rows in 16-lane AVX-512 registers: per test one compare into a lane mask and
 // one masked AND; the exit leaf's index from the lowest set bit's float exponent; its value by
 // a gather. Lane by lane the same float additions as BlockScalar.
 __attribute__((target("avx512f"))) void BlockAvx512(const BitvectorView& t, const float* columns,
                                                     float* sums) {
-  __m512 sum = _mm512_loadu_ps(sums);
+  __m512 sum[kAvx512Vectors];
+  for (int v = 0; v < kAvx512Vectors; ++v) sum[v] = _mm512_loadu_ps(sums + 16 * v);
   const __m512i all = _mm512_set1_epi32(-1);
   for (int tree = 0; tree < t.trees; ++tree) {
-    __m512i leaves = all;
+    __m512i leaves[kAvx512Vectors];
+    for (__m512i& bits : leaves) bits = all;
     for (int node = t.node_begin[tree]; node < t.node_begin[tree + 1]; ++node) {
-      const __m512 x = _mm512_loadu_ps(columns + t.feature[node] * kBlockRows);
-      __mmask16 right = _mm512_cmp_ps_mask(x, _mm512_set1_ps(t.threshold[node]), _CMP_NLT_UQ);
-      if (t.default_left[node]) right &= _mm512_cmp_ps_mask(x, x, _CMP_ORD_Q);
-      leaves = _mm512_mask_and_epi32(leaves, right, leaves,
-                                     _mm512_set1_epi32(static_cast<int>(t.bitvector[node])));
+      const float* x = columns + t.feature[node] * kBlockRows;
+      const __m512 threshold = _mm512_set1_ps(t.threshold[node]);
+      const __m512i kept = _mm512_set1_epi32(static_cast<int>(t.bitvector[node]));
+      const bool nan_left = t.default_left[node] != 0;
+      for (int v = 0; v < kAvx512Vectors; ++v) {
+        const __m512 value = _mm512_loadu_ps(x + 16 * v);
+        __mmask16 right = _mm512_cmp_ps_mask(value, threshold, _CMP_NLT_UQ);
+        if (nan_left) right &= _mm512_cmp_ps_mask(value, value, _CMP_ORD_Q);
+        leaves[v] = _mm512_mask_and_epi32(leaves[v], right, leaves[v], kept);
+      }
     }
-    const __m512i lowest = _mm512_and_si512(leaves, _mm512_sub_epi32(_mm512_setzero_si512(), leaves));
-    const __m512i exponent =
-        _mm512_srli_epi32(_mm512_castps_si512(_mm512_cvtepu32_ps(lowest)), 23);
-    const __m512i index = _mm512_sub_epi32(exponent, _mm512_set1_epi32(127));
-    sum = _mm512_add_ps(sum, _mm512_i32gather_ps(index, t.leaf_value + t.leaf_begin[tree], 4));
+    const float* values = t.leaf_value + t.leaf_begin[tree];
+    for (int v = 0; v < kAvx512Vectors; ++v) {
+      const __m512i lowest =
+          _mm512_and_si512(leaves[v], _mm512_sub_epi32(_mm512_setzero_si512(), leaves[v]));
+      const __m512i exponent =
+          _mm512_srli_epi32(_mm512_castps_si512(_mm512_cvtepu32_ps(lowest)), 23);
+      const __m512i index = _mm512_sub_epi32(exponent, _mm512_set1_epi32(127));
+      sum[v] = _mm512_add_ps(sum[v], _mm512_i32gather_ps(index, values, 4));
+    }
   }
-  _mm512_storeu_ps(sums, sum);
+  for (int v = 0; v < kAvx512Vectors; ++v) _mm512_storeu_ps(sums + 16 * v, sum[v]);
 }
 
-// The same on AVX2 CPUs: the 16 rows as two 8-lane halves. A compare gives all-ones lanes where
+// The same on AVX2 CPUs, the rows in 8-lane registers. A compare gives all-ones lanes where
 // the row goes right; the exit leaf's index comes from the lowest set bit converted to float
 // (a signed conversion: bit 31 gives -2^31, whose exponent field is still 158 once the sign is
 // masked off).
 __attribute__((target("avx2"))) void BlockAvx2(const BitvectorView& t, const float* columns,
                                                float* sums) {
-  __m256 sum[2] = {_mm256_loadu_ps(sums), _mm256_loadu_ps(sums + 8)};
+  __m256 sum[kAvx2Vectors];
+  for (int v = 0; v < kAvx2Vectors; ++v) sum[v] = _mm256_loadu_ps(sums + 8 * v);
   const __m256i all = _mm256_set1_epi32(-1);
   const __m256i exponent_mask = _mm256_set1_epi32(0xff);
   const __m256i bias = _mm256_set1_epi32(127);
   for (int tree = 0; tree < t.trees; ++tree) {
-    __m256i leaves[2] = {all, all};
+    __m256i leaves[kAvx2Vectors];
+    for (__m256i& bits : leaves) bits = all;
     for (int node = t.node_begin[tree]; node < t.node_begin[tree + 1]; ++node) {
       const float* x = columns + t.feature[node] * kBlockRows;
       const __m256 threshold = _mm256_set1_ps(t.threshold[node]);
       const __m256i cleared = _mm256_set1_epi32(static_cast<int>(~t.bitvector[node]));
       const bool nan_left = t.default_left[node] != 0;
-      for (int half = 0; half < 2; ++half) {
-        const __m256 v = _mm256_loadu_ps(x + 8 * half);
-        __m256 right = _mm256_cmp_ps(v, threshold, _CMP_NLT_UQ);
-        if (nan_left) right = _mm256_and_ps(right, _mm256_cmp_ps(v, v, _CMP_ORD_Q));
-        leaves[half] = _mm256_andnot_si256(
-            _mm256_and_si256(_mm256_castps_si256(right), cleared), leaves[half]);
+      for (int v = 0; v < kAvx2Vectors; ++v) {
+        const __m256 value = _mm256_loadu_ps(x + 8 * v);
+        __m256 right = _mm256_cmp_ps(value, threshold, _CMP_NLT_UQ);
+        if (nan_left) right = _mm256_and_ps(right, _mm256_cmp_ps(value, value, _CMP_ORD_Q));
+        leaves[v] =
+            _mm256_andnot_si256(_mm256_and_si256(_mm256_castps_si256(right), cleared), leaves[v]);
       }
     }
     const float* values = t.leaf_value + t.leaf_begin[tree];
-    for (int half = 0; half < 2; ++half) {
+    for (int v = 0; v < kAvx2Vectors; ++v) {
       const __m256i lowest =
-          _mm256_and_si256(leaves[half], _mm256_sub_epi32(_mm256_setzero_si256(), leaves[half]));
+          _mm256_and_si256(leaves[v], _mm256_sub_epi32(_mm256_setzero_si256(), leaves[v]));
       const __m256i exponent = _mm256_and_si256(
           _mm256_srli_epi32(_mm256_castps_si256(_mm256_cvtepi32_ps(lowest)), 23), exponent_mask);
       const __m256i index = _mm256_sub_epi32(exponent, bias);
-      sum[half] = _mm256_add_ps(sum[half], _mm256_i32gather_ps(values, index, 4));
+      sum[v] = _mm256_add_ps(sum[v], _mm256_i32gather_ps(values, index, 4));
     }
   }
-  _mm256_storeu_ps(sums, sum[0]);
-  _mm256_storeu_ps(sums + 8, sum[1]);
+  for (int v = 0; v < kAvx2Vectors; ++v) _mm256_storeu_ps(sums + 8 * v, sum[v]);
 }
 #pragma GCC diagnostic pop
 #endif

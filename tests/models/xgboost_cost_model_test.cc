@@ -84,7 +84,7 @@ TEST_F(XgbCostModelTest, FlatTreesEqualXgboostBitForBit) {
   EXPECT_EQ(ours_unsafe, model_->XgboostMargins(test_->unsafe.data(), 2000));
 }
 
-// A row count that is not a multiple of the 16-row block, with some missing values (NaN), which
+// A row count that is not a multiple of the 32-row block, with some missing values (NaN), which
 // XGBoost sends along each node's default direction.
 std::vector<float> RowsWithMissingValues(const std::vector<float>& source, int rows) {
   std::vector<float> states(source.begin(), source.begin() + rows * kHazardStateDim);
