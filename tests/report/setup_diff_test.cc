@@ -71,8 +71,7 @@ TEST(ReportTableTest, TheSetupNotesSayTheWindowInEachFamilysUnit) {
   const auto about = [](const std::string& text) { return ::testing::Contains(HasSubstr(text)); };
   const std::string agent_steps = "Table I here counts the first 3000 agent steps";
   const std::string environment_steps =
-      "Model-free runs are counted over their first 3000 "
-      "environment steps";
+      "Model-free runs are counted over their first 3000 environment steps";
   EXPECT_THAT(SetupDifferences({mpc}, 3000, kConfigs), about(agent_steps));
   EXPECT_THAT(SetupDifferences({mpc}, 3000, kConfigs), Not(about(environment_steps)));
   EXPECT_THAT(SetupDifferences({model_free}, 3000, kConfigs), about(environment_steps));
