@@ -2,9 +2,11 @@
 // continuation of a stopped one.
 #include <fmt/format.h>
 #include <fmt/ranges.h>
+#include <signal.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cstdint>
 #include <cstdio>
@@ -30,7 +32,24 @@ struct TrainArgs {
   std::optional<std::uint64_t> seed;
   std::vector<std::string> overrides;  // --set
   std::optional<std::string> device;
+  double checkpoint_seconds = 300.0;
 };
+
+// The signal that asked the run to stop (SIGTERM: Slurm's time limit or preemption, the sweep's
+// end; SIGINT: Ctrl-C), or 0.
+std::atomic<int> stop_signal{0};
+
+extern "C" void OnStopSignal(int signal) { stop_signal.store(signal); }
+
+// The first SIGTERM or SIGINT stops the run at a checkpoint taken after the agent step under
+// way; a second one kills the process at once (SA_RESETHAND).
+void StopAtACheckpointOnSignals() {
+  struct sigaction action {};
+  action.sa_handler = OnStopSignal;
+  sigemptyset(&action.sa_mask);
+  action.sa_flags = SA_RESETHAND;
+  for (const int signal : {SIGTERM, SIGINT}) sigaction(signal, &action, nullptr);
+}
 
 std::string Duration(double seconds) {
   const int total = static_cast<int>(seconds);
@@ -38,7 +57,8 @@ std::string Duration(double seconds) {
                        : fmt::format("{}m{:02}s", total / 60, total % 60);
 }
 
-void RunTrain(const TrainArgs& args) {
+// Returns the signal that stopped the run before its budget was spent, or 0.
+int RunTrain(const TrainArgs& args) {
   std::unique_ptr<Trainer> trainer;
   std::string run_dir;
   if (!args.resume.empty()) {
@@ -83,7 +103,11 @@ void RunTrain(const TrainArgs& args) {
   const auto session_start = std::chrono::steady_clock::now();
   double total_cost = 0.0;
   int units = 0;
-  trainer->Run([&](const ProgressSummary& unit) {
+  RunOptions options;
+  options.checkpoint_seconds = args.checkpoint_seconds;
+  options.stop_requested = [] { return stop_signal.load() != 0; };
+  StopAtACheckpointOnSignals();
+  options.on_unit = [&](const ProgressSummary& unit) {
     ++units;
     total_cost += unit.episode_cost;
     if (!live) return;
@@ -97,7 +121,8 @@ void RunTrain(const TrainArgs& args) {
                      unit.epoch, unit.steps, budget, unit.episode_return, unit.episode_cost, rate,
                      Duration(std::max(0.0, left)))
               << std::flush;
-  });
+  };
+  trainer->Run(options);
   if (live) std::cerr << "\n";
   nlohmann::ordered_json split = nlohmann::ordered_json::object();
   for (const auto& [part, seconds] : trainer->TimeSplit()) split[part] = seconds;
@@ -107,6 +132,15 @@ void RunTrain(const TrainArgs& args) {
                                           {"cost_this_session", total_cost},
                                           {"seconds_this_session", split}};
   std::cout << summary.dump() << std::endl;
+  const int signal = stop_signal.load();
+  if (signal != 0 && !trainer->learner().Finished()) {
+    std::cerr << fmt::format(
+        "cmbrl: {} stopped the run at step {}, after a checkpoint: 'cmbrl train --resume {}' "
+        "goes on from there\n",
+        signal == SIGTERM ? "SIGTERM" : "SIGINT", trainer->steps_done(), run_dir);
+    return signal;
+  }
+  return 0;
 }
 
 }  // namespace
@@ -133,7 +167,18 @@ void AddTrainCommand(CLI::App& parent) {
   command->add_option("--set", args->overrides,
                       "SECTION.KEY=VALUE: change the config's keys for this run (written to its "
                       "config.yaml), e.g. --set planning.population=500 classifier.rounds=100");
-  command->callback([args] { RunTrain(*args); });
+  command
+      ->add_option("--checkpoint-seconds", args->checkpoint_seconds,
+                   "an episode still going this long after the last checkpoint is checkpointed "
+                   "between two agent steps, so a killed run loses at most about this much work "
+                   "(0: after every step); results do not depend on it. SIGTERM or Ctrl-C "
+                   "checkpoints at once and stops")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  command->callback([args] {
+    const int signal = RunTrain(*args);
+    if (signal != 0) throw CLI::RuntimeError(128 + signal);  // as a shell reports a signal
+  });
 }
 
 }  // namespace cmbrl::app

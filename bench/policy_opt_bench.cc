@@ -27,15 +27,16 @@ void RunPolicyOptBench(const PolicyOptBenchOptions& options, const FigureSink& e
   GemmCeilings(cpu, options.runs, emit);
   CeilingProbe probe(cpu, "fp32");
   PolicyOptLearner learner(config);
-  const auto elapsed = [] { return 0.0; };
-  learner.Advance(elapsed);  // warm-up
+  UnitContext whole_epochs;
+  whole_epochs.elapsed_seconds = [] { return 0.0; };
+  learner.Advance(whole_epochs);  // warm-up
   std::vector<double> epochs, rollouts, updates, values, ceilings, physics;
   for (int run = 0; run < options.runs; ++run) {
     ceilings.push_back(probe.Measure());
     physics.push_back(PhysicsCeiling(config.task, config.variant, DeriveSeed(options.seed, run),
                                      static_cast<int>(std::min<std::int64_t>(options.steps,
                                                                              5000))));
-    learner.Advance(elapsed);
+    learner.Advance(whole_epochs);
     const PolicyOptLearner::Timings& t = learner.last_timings();
     rollouts.push_back(t.rollout);
     updates.push_back(t.policy_update);

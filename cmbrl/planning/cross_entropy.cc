@@ -1,5 +1,7 @@
 #include "cmbrl/planning/cross_entropy.h"
 
+#include <fmt/ranges.h>
+
 #include <cmath>
 #include <limits>
 
@@ -22,6 +24,26 @@ CrossEntropyPlanner::CrossEntropyPlanner(PlanningProblem problem, CrossEntropyOp
 }
 
 void CrossEntropyPlanner::Reset() { previous_mean_ = torch::Tensor(); }
+
+torch::Tensor CrossEntropyPlanner::CarriedState() const {
+  return previous_mean_.defined() ? previous_mean_.cpu().clone() : torch::Tensor();
+}
+
+void CrossEntropyPlanner::SetCarriedState(const torch::Tensor& state) {
+  if (!state.defined()) {
+    previous_mean_ = torch::Tensor();
+    return;
+  }
+  Require(options_.warm_start, "a warm-start mean was given to a planner without warm_start");
+  Require(state.dim() == 2 && state.size(0) == problem_.horizon &&
+              state.size(1) == problem_.action_dim && state.scalar_type() == torch::kFloat,
+          "the warm-start mean is {} of shape ({}): expected float32 of shape ({}, {}) (horizon, "
+          "action_dim)",
+          c10::toString(state.scalar_type()), fmt::join(state.sizes(), ", "), problem_.horizon,
+          problem_.action_dim);
+  Require(torch::isfinite(state).all().item<bool>(), "the warm-start mean holds NaN or infinity");
+  previous_mean_ = state.to(device_).clone();
+}
 
 torch::Tensor CrossEntropyPlanner::EliteWeights(const ObjectiveValues& values) const {
   const std::int64_t n = values.reward_cost.size(0);

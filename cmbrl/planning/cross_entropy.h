@@ -30,6 +30,9 @@ class CrossEntropyPlanner final : public Planner {
   void Reset() override;
   torch::Tensor GeneratorState() const override { return generator_.get_state(); }
   void SetGeneratorState(const torch::Tensor& state) override { generator_.set_state(state); }
+  // The warm-start mean (H, A) as float32 on the host, or undefined.
+  torch::Tensor CarriedState() const override;
+  void SetCarriedState(const torch::Tensor& state) override;
 
   // Elite weights (N) for scores: how often each sample counts among the elites.
   torch::Tensor EliteWeights(const ObjectiveValues& values) const;

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "cmbrl/core/check.h"
 #include "cmbrl/planning/planning_options.h"
 
 namespace cmbrl {
@@ -58,6 +59,17 @@ class Planner {
   // The generator's state, for checkpoints.
   virtual torch::Tensor GeneratorState() const = 0;
   virtual void SetGeneratorState(const torch::Tensor& state) = 0;
+
+  // What one plan passes to the next within an episode (the warm-start mean), on the host, for
+  // checkpoints taken in the middle of an episode; undefined when there is none. The next plan
+  // after SetCarriedState(CarriedState()) is the one that would have followed.
+  virtual torch::Tensor CarriedState() const { return {}; }
+  // Throws cmbrl::Error when `state` is not one this planner's CarriedState() could return.
+  virtual void SetCarriedState(const torch::Tensor& state) {
+    Require(!state.defined(),
+            "this planner carries nothing from one plan to the next, but a "
+            "carried state was given (a checkpoint of another planner?)");
+  }
 };
 
 }  // namespace cmbrl

@@ -33,6 +33,16 @@ struct LearnerStep {
   bool models_changed = true;
 };
 
+// What the run offers a learner during a unit of work.
+struct UnitContext {
+  // The run's training time so far (across sessions), for the rows' Time column.
+  std::function<double()> elapsed_seconds;
+  // True when the run wants a checkpoint now. A learner whose units are long (MPC episodes) may
+  // then stop between two steps and return a step without a row; Save must hold the unit as far
+  // as it got, and the next Advance (after Load too) carries it on to the same row.
+  std::function<bool()> checkpoint_due;
+};
+
 // Not thread-safe.
 class Learner {
  public:
@@ -41,12 +51,11 @@ class Learner {
   // The header of its progress.csv (no newline).
   virtual std::string ProgressHeader() const = 0;
 
-  // Whether its budget is spent.
+  // Whether its budget is spent (never in the middle of a unit).
   virtual bool Finished() const = 0;
 
-  // Does the next unit of work. `elapsed_seconds` gives the run's training time so far (across
-  // sessions), for the rows' Time column.
-  virtual LearnerStep Advance(const std::function<double()>& elapsed_seconds) = 0;
+  // Does the next unit of work, or the next part of one (UnitContext::checkpoint_due).
+  virtual LearnerStep Advance(const UnitContext& context) = 0;
 
   // Writes everything it needs to continue into the empty folder `folder`; may hard-link files
   // of `previous` (the last checkpoint, or an empty path) that did not change.

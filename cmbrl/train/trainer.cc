@@ -1,6 +1,7 @@
 #include "cmbrl/train/trainer.h"
 
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <optional>
@@ -10,10 +11,10 @@
 #include "cmbrl/core/files.h"
 #include "cmbrl/core/run_lock.h"
 #include "cmbrl/learners/registry.h"
-#include "cmbrl/run/run_sessions.h"
-#include "cmbrl/train/current_setup.h"
 #include "cmbrl/run/progress_table.h"
 #include "cmbrl/run/run_directory.h"
+#include "cmbrl/run/run_sessions.h"
+#include "cmbrl/train/current_setup.h"
 
 namespace cmbrl {
 namespace fs = std::filesystem;
@@ -112,18 +113,38 @@ const Learner& Trainer::learner() const { return *state_->learner; }
 std::int64_t Trainer::steps_done() const { return state_->learner->steps_done(); }
 
 void Trainer::Run(const std::function<void(const ProgressSummary&)>& on_unit) {
+  RunOptions options;
+  options.on_unit = on_unit;
+  Run(options);
+}
+
+void Trainer::Run(const RunOptions& options) {
+  Require(std::isfinite(options.checkpoint_seconds) && options.checkpoint_seconds >= 0.0,
+          "checkpoint_seconds is {}: expected a number of seconds >= 0",
+          options.checkpoint_seconds);
   State& s = *state_;
-  while (!s.learner->Finished()) {
-    const LearnerStep step = s.learner->Advance([&s] { return s.Elapsed(); });
+  using Clock = std::chrono::steady_clock;
+  Clock::time_point last_checkpoint = Clock::now();
+  bool stop = false;
+  UnitContext context;
+  context.elapsed_seconds = [&s] { return s.Elapsed(); };
+  context.checkpoint_due = [&] {
+    stop = stop || (options.stop_requested && options.stop_requested());
+    return stop || std::chrono::duration<double>(Clock::now() - last_checkpoint).count() >=
+                       options.checkpoint_seconds;
+  };
+  while (!s.learner->Finished() && !stop) {
+    const LearnerStep step = s.learner->Advance(context);
     if (step.row) s.AppendRow(*step.row);
-    if (step.row && on_unit) on_unit(step.summary);
-    const auto start = std::chrono::steady_clock::now();
+    if (step.row && options.on_unit) options.on_unit(step.summary);
+    if (!stop && options.stop_requested) stop = options.stop_requested();
+    const auto start = Clock::now();
     WriteCheckpoint(s.run, s.rows, s.Elapsed(),
                     [&](const fs::path& folder, const fs::path& previous) {
                       s.learner->Save(folder, previous, step.models_changed);
                     });
-    s.checkpoint_seconds +=
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    last_checkpoint = Clock::now();
+    s.checkpoint_seconds += std::chrono::duration<double>(last_checkpoint - start).count();
   }
 }
 

@@ -17,11 +17,25 @@
 namespace cmbrl {
 
 // Files in the run directory: config.yaml (resolved), progress.csv, checkpoint/ (rewritten after
-// every unit of work, swapped in atomically, with a manifest of what it covers), sessions.jsonl
-// (where each session ran, run_sessions.h). Resume checks
-// the checkpoint against its manifest and progress.csv, drops rows written after it and
-// continues; on the CPU the rows then equal an uninterrupted run's (Time aside). Not
+// every unit of work and every RunOptions::checkpoint_seconds within one, swapped in atomically,
+// with a manifest of what it covers), sessions.jsonl (where each session ran, run_sessions.h).
+// Resume checks the checkpoint against its manifest and progress.csv, drops rows written after it
+// and continues; on the CPU the rows then equal an uninterrupted run's (Time aside). Not
 // thread-safe.
+// How one session trains (none of it changes the rows).
+struct RunOptions {
+  // Sees each unit of work's summary after its row is in progress.csv and before the checkpoint
+  // that covers it.
+  std::function<void(const ProgressSummary&)> on_unit;
+  // A unit of work still going this long after the last checkpoint (an MPC episode at the paper's
+  // sizes takes hours) is checkpointed in the middle, between two agent steps, so that an
+  // interruption loses at most about this much work. 0: after every agent step.
+  double checkpoint_seconds = 300.0;
+  // Asked after every agent step; true stops the run at the next checkpoint, taken at once (for
+  // Ctrl-C in Python). Run then returns with the learner not finished.
+  std::function<bool()> stop_requested;
+};
+
 class Trainer {
  public:
   // A new run: validates `config` and builds the learner before anything else, and leaves no
@@ -39,8 +53,9 @@ class Trainer {
 
   ~Trainer();
 
-  // Trains until the learner's budget is spent. `on_unit` sees each unit of work's summary after
-  // its row is in progress.csv and before the checkpoint that covers it.
+  // Trains until the learner's budget is spent, or until options.stop_requested.
+  void Run(const RunOptions& options);
+  // The same with the default checkpoint interval.
   void Run(const std::function<void(const ProgressSummary&)>& on_unit = {});
 
   // How this session's setup differs from the run's previous session (run_sessions.h), one

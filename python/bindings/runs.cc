@@ -160,7 +160,7 @@ py::dict Train(const std::optional<std::vector<std::string>>& config_path,
                const std::optional<std::string>& config_text, const std::optional<std::string>& out,
                const std::optional<std::string>& resume, std::optional<std::int64_t> steps,
                std::optional<std::uint64_t> seed, const std::optional<std::string>& device,
-               const std::function<void(py::dict)>& progress) {
+               const std::function<void(py::dict)>& progress, double checkpoint_seconds) {
   std::unique_ptr<Trainer> trainer;
   std::string run_dir;
   if (resume) {
@@ -185,12 +185,21 @@ py::dict Train(const std::optional<std::vector<std::string>>& config_path,
     py::gil_scoped_release release;
     trainer = Trainer::Start(config, run_dir);
   }
+  // Ctrl-C is seen after every agent step: the run stops at a checkpoint taken then, and the
+  // KeyboardInterrupt it set is raised once training has let go of the run.
+  bool interrupted = false;
+  RunOptions options;
+  options.checkpoint_seconds = checkpoint_seconds;
+  options.stop_requested = [&] {
+    py::gil_scoped_acquire acquire;
+    interrupted = interrupted || PyErr_CheckSignals() != 0;
+    return interrupted;
+  };
   {
     py::gil_scoped_release release;
-    trainer->Run([&](const ProgressSummary& unit) {
+    options.on_unit = [&](const ProgressSummary& unit) {
       py::gil_scoped_acquire acquire;
-      if (PyErr_CheckSignals() != 0) throw py::error_already_set();  // Ctrl-C
-      if (!progress) return;
+      if (interrupted || !progress) return;
       py::dict d;
       d["epoch"] = unit.epoch;
       d["steps"] = unit.steps;
@@ -199,8 +208,10 @@ py::dict Train(const std::optional<std::vector<std::string>>& config_path,
       d["episode_cost"] = unit.episode_cost;
       d["seconds"] = unit.seconds;
       progress(d);  // a Python exception here stops training; the run resumes later
-    });
+    };
+    trainer->Run(options);
   }
+  if (interrupted) throw py::error_already_set();
   py::dict summary;
   summary["run"] = run_dir;
   summary["steps"] = trainer->steps_done();
@@ -228,7 +239,7 @@ void BindRuns(py::module_& m) {
 
   m.def("train", &Train, py::arg("config_path"), py::arg("config_text"), py::arg("out"),
         py::arg("resume"), py::arg("steps"), py::arg("seed"), py::arg("device"),
-        py::arg("progress"));
+        py::arg("progress"), py::arg("checkpoint_seconds"));
 }
 
 }  // namespace cmbrl::python

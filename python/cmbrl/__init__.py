@@ -468,7 +468,8 @@ class VectorCostInInfo(_VectorWrapperBase or _Forwarding):
         return observations, rewards, terminations, truncations, _with_cost(infos, costs)
 
 
-def train(config=None, out=None, steps=None, seed=None, device=None, resume=None, progress=None):
+def train(config=None, out=None, steps=None, seed=None, device=None, resume=None, progress=None,
+          checkpoint_seconds=300.0):
     """Trains a run as `cmbrl train` does, into the run directory `out`.
 
     config: a YAML file (path), a list of them composed in order (a task's paper preset, then a
@@ -476,10 +477,17 @@ def train(config=None, out=None, steps=None, seed=None, device=None, resume=None
     the same keys. steps, seed and device override the config's. resume=RUN_DIR continues a stopped run instead (steps then gives a new budget).
     progress(summary) is called after each unit of work (an MPC episode or a model-free epoch)
     with a dict of epoch, steps, budget, episode_return, episode_cost and seconds. An exception
-    it raises, or Ctrl-C (checked after each unit), stops training; the run resumes later from
-    its last checkpoint.
+    it raises, or Ctrl-C (checked after each agent step of an MPC run, each epoch of a model-free
+    one), stops training; the run resumes later from its last checkpoint.
+    checkpoint_seconds: an MPC episode still going this long after the last checkpoint is
+    checkpointed between two agent steps (0: after every step); it changes no result.
     Returns {"run", "steps", "budget"}.
     """
+    if (isinstance(checkpoint_seconds, (bool, np.bool_))
+            or not isinstance(checkpoint_seconds, (int, float, np.integer, np.floating))
+            or not math.isfinite(checkpoint_seconds) or checkpoint_seconds < 0):
+        raise Error(f"checkpoint_seconds is {checkpoint_seconds!r}: expected a finite number of "
+                    "seconds >= 0")
     config_path = config_text = None
     if isinstance(config, dict):
         if "task" not in config:
@@ -494,7 +502,8 @@ def train(config=None, out=None, steps=None, seed=None, device=None, resume=None
     resume = os.fspath(resume) if resume is not None else None
     return _cmbrl.train(config_path, config_text, out, resume,
                         None if steps is None else _as_int(steps, "steps", 1, 10**10),
-                        None if seed is None else _as_seed(seed), device, progress)
+                        None if seed is None else _as_seed(seed), device, progress,
+                        float(checkpoint_seconds))
 
 
 def _paths(dirs, what):

@@ -129,7 +129,8 @@ class VectorCostInInfo(_Forwarding):
 def train(config: Union[_Path, Sequence[_Path], Mapping[str, Any], None] = ...,
           out: Optional[_Path] = ..., steps: Optional[int] = ..., seed: Optional[int] = ...,
           device: Optional[str] = ..., resume: Optional[_Path] = ...,
-          progress: Optional[Callable[[dict[str, Any]], object]] = ...) -> dict[str, Any]: ...
+          progress: Optional[Callable[[dict[str, Any]], object]] = ...,
+          checkpoint_seconds: float = ...) -> dict[str, Any]: ...
 
 def read_runs(dirs: Union[_Path, Sequence[_Path]]) -> list[dict[str, Any]]: ...
 def report(dirs: Union[_Path, Sequence[_Path]], out: _Path, window: Optional[int] = ...,

@@ -103,6 +103,45 @@ def test_a_progress_callback_that_raises_stops_training_and_the_run_resumes(tmp_
     assert rows(tmp_path / "run") == rows(tmp_path / "whole")
 
 
+def test_ctrl_c_in_the_middle_of_an_episode_stops_at_a_checkpoint_and_the_run_resumes(tmp_path):
+    import os
+    import signal
+    import threading
+
+    timers = []
+
+    def interrupt_soon(summary):  # after the first episode: Ctrl-C lands in a later one
+        if not timers:
+            timers.append(threading.Timer(0.1, os.kill, (os.getpid(), signal.SIGINT)))
+            timers[0].start()
+
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            cmbrl.train(config=TINY, out=tmp_path / "run", steps=400, progress=interrupt_soon,
+                        checkpoint_seconds=1e9)
+    finally:
+        timers[0].join()
+    # The run stopped short of its budget, at a checkpoint of the step it had reached.
+    assert len(rows(tmp_path / "run")) < 4
+    summary = cmbrl.train(resume=tmp_path / "run")
+    assert summary["steps"] >= 400
+    cmbrl.train(config=TINY, out=tmp_path / "whole", steps=400)
+    assert rows(tmp_path / "run") == rows(tmp_path / "whole")
+
+
+@pytest.mark.parametrize("seconds", [-1, float("nan"), float("inf"), "60", True, None])
+def test_a_bad_checkpoint_interval_is_named(tmp_path, seconds):
+    with pytest.raises(cmbrl.Error, match=r"checkpoint_seconds is .*: expected a finite number"):
+        cmbrl.train(config=TINY, out=tmp_path / "run", checkpoint_seconds=seconds)
+    assert not (tmp_path / "run").exists()
+
+
+def test_checkpoints_after_every_step_change_no_row(tmp_path):
+    cmbrl.train(config=TINY, out=tmp_path / "every", steps=200, checkpoint_seconds=0)
+    cmbrl.train(config=TINY, out=tmp_path / "whole", steps=200)
+    assert rows(tmp_path / "every") == rows(tmp_path / "whole")
+
+
 def test_a_model_free_run_acts_with_its_policy_mean(tmp_path):
     config = {"task": "PointGoal1", "variant": "paper-lidar", "algorithm": "trpo-lagrangian",
               "training": {"total_steps": 600},

@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # kill -9 a training run at an arbitrary moment of its life (once its directory holds a run),
 # resume it, and compare its progress.csv with an uninterrupted run's (the wall-clock columns
-# Time and MsPerPlan aside).
+# Time and MsPerPlan aside): with checkpoints after each episode, and after every agent step
+# (--checkpoint-seconds 0, so that the kill lands in the middle of an episode). Then SIGTERM:
+# the run checkpoints where it is, exits with 143, and resumes to the same rows.
 # Usage: kill_resume_test.sh CMBRL CONFIG WORK_DIR
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/progress_rows.sh"
@@ -9,9 +11,11 @@ cmbrl=$1 config=$2 work=$3
 rm -rf "$work" && mkdir -p "$work"
 
 "$cmbrl" train --config "$config" --steps 1200 --out "$work/whole" > /dev/null
-for delay in 0.3 1.5; do
-  run="$work/killed-$delay"
-  "$cmbrl" train --config "$config" --steps 1200 --out "$run" > /dev/null &
+for kill in "0.3 300" "1.5 300" "1.5 0"; do
+  read -r delay every <<< "$kill"
+  run="$work/killed-$delay-$every"
+  "$cmbrl" train --config "$config" --steps 1200 --out "$run" --checkpoint-seconds "$every" \
+    > /dev/null &
   pid=$!
   # The run exists once config.yaml is in place (the program may still be loading LibTorch).
   for _ in $(seq 300); do [ -f "$run/config.yaml" ] && break; sleep 0.1; done
@@ -21,9 +25,29 @@ for delay in 0.3 1.5; do
   "$cmbrl" train --resume "$run" > /dev/null
   if ! diff <(deterministic_rows "$work/whole/progress.csv") \
             <(deterministic_rows "$run/progress.csv"); then
-    echo "FAILED: rows differ after kill -9 at ${delay}s and resume"
+    echo "FAILED: rows differ after kill -9 at ${delay}s (checkpoints every ${every}s) and resume"
     exit 1
   fi
 done
+
+run="$work/terminated"
+"$cmbrl" train --config "$config" --steps 1200 --out "$run" > /dev/null 2> "$work/terminated.err" &
+pid=$!
+for _ in $(seq 300); do [ -f "$run/progress.csv" ] && break; sleep 0.1; done
+sleep 1.5
+kill -TERM "$pid"
+status=0
+wait "$pid" || status=$?
+if [ "$status" -ne 143 ] || ! grep -q "SIGTERM stopped the run at step" "$work/terminated.err"; then
+  echo "FAILED: SIGTERM gave exit status $status (expected 143 after a checkpoint):"
+  cat "$work/terminated.err"
+  exit 1
+fi
+"$cmbrl" train --resume "$run" > /dev/null
+if ! diff <(deterministic_rows "$work/whole/progress.csv") \
+          <(deterministic_rows "$run/progress.csv"); then
+  echo "FAILED: rows differ after SIGTERM and resume"
+  exit 1
+fi
 rows=$(($(wc -l < "$work/whole/progress.csv") - 1))
 echo "kill -9 and resume: identical $rows rows"

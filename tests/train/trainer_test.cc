@@ -9,13 +9,15 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "cmbrl/core/files.h"
+#include "cmbrl/core/torch_util.h"
 #include "cmbrl/learners/mpc/mpc_learner.h"
-#include "cmbrl/run/run_sessions.h"
-#include "cmbrl/train/current_setup.h"
 #include "cmbrl/models/labeled_state_buffer.h"
 #include "cmbrl/models/transition_buffer.h"
 #include "cmbrl/run/progress_table.h"
 #include "cmbrl/run/run_directory.h"
+#include "cmbrl/run/run_sessions.h"
+#include "cmbrl/train/current_setup.h"
 #include "tests/error_message.h"
 
 namespace cmbrl {
@@ -205,6 +207,102 @@ void RewriteCheckpoint(const std::string& dir) {
                       fs::copy_file(file.path(), folder / file.path().filename());
                     }
                   });
+}
+
+// Runs until `stop_at` agent steps are done, when the run stops at a checkpoint taken then;
+// returns the steps done.
+std::int64_t StopAt(std::unique_ptr<Trainer> trainer, std::int64_t stop_at) {
+  RunOptions options;
+  options.checkpoint_seconds = 1e9;  // no checkpoint but the one asked for
+  options.stop_requested = [&] { return trainer->steps_done() >= stop_at; };
+  trainer->Run(options);
+  EXPECT_FALSE(trainer->learner().Finished());
+  return trainer->steps_done();
+}
+
+TEST(TrainerTest, AnEpisodeStoppedBetweenTwoStepsResumesToTheSameRows) {
+  for (const std::string planner : {"rce", "cem", "random"}) {
+    SCOPED_TRACE(planner);
+    TrainConfig config = TinyConfig(planner);
+    config.planning.cross_entropy.warm_start =
+        planner == "cem";               // a mean carried from plan to plan
+    config.training.total_steps = 350;  // spent in the middle of the fourth episode
+    const std::string whole = TempRunDir("open_whole_" + planner);
+    const std::string stopped = TempRunDir("open_stopped_" + planner);
+    Trainer::Start(config, whole)->Run();
+    const fs::path checkpoint = fs::path(stopped) / "checkpoint";
+    // In the second episode (of about 100 steps), then in the last one after the budget is
+    // spent: that episode must still end.
+    EXPECT_EQ(StopAt(Trainer::Start(config, stopped), 150), 150);
+    EXPECT_EQ(RowsWithoutTimes(stopped).size(), 2u);  // header and the first episode
+    const nlohmann::json open = nlohmann::json::parse(std::ifstream(checkpoint / "episode.json"));
+    EXPECT_GT(open.at("steps").get<int>(), 0);
+    EXPECT_LT(open.at("steps").get<int>(), 100);
+    EXPECT_TRUE(fs::exists(checkpoint / "episode_env.bin"));
+    EXPECT_EQ(fs::exists(checkpoint / "planner_carried.pt"), planner == "cem");
+    EXPECT_EQ(StopAt(Trainer::Resume(stopped), 360), 360);
+    Trainer::Resume(stopped)->Run();
+    EXPECT_EQ(RowsWithoutTimes(stopped), RowsWithoutTimes(whole));
+    EXPECT_FALSE(fs::exists(checkpoint / "episode.json"));  // the last checkpoint ends a unit
+    EXPECT_EQ(ReadRunSessions(RunDirectory(stopped)).size(), 3u);
+  }
+}
+
+// A crash between two agent steps, with a checkpoint after every step: the run resumes from the
+// step before and writes the uninterrupted run's rows.
+TEST(TrainerTest, CheckpointsAfterEveryStepSurviveACrashInTheMiddleOfAnEpisode) {
+  const std::string whole = TempRunDir("every_whole"), crashed = TempRunDir("every_crashed");
+  Trainer::Start(TinyConfig("rce"), whole)->Run();
+  struct Crash {};
+  std::unique_ptr<Trainer> trainer = Trainer::Start(TinyConfig("rce"), crashed);
+  RunOptions options;
+  options.checkpoint_seconds = 0.0;
+  options.stop_requested = [&] {
+    if (trainer->steps_done() == 237) throw Crash{};
+    return false;
+  };
+  EXPECT_THROW(trainer->Run(options), Crash);
+  trainer.reset();  // lets go of the run's lock
+  const std::unique_ptr<Trainer> resumed = Trainer::Resume(crashed);
+  EXPECT_EQ(resumed->steps_done(), 236);
+  resumed->Run();
+  EXPECT_EQ(RowsWithoutTimes(crashed), RowsWithoutTimes(whole));
+}
+
+TEST(TrainerTest, ACheckpointOfAnOpenEpisodeIsCheckedWhenRead) {
+  const std::string dir = TempRunDir("open_damaged");
+  TrainConfig config = TinyConfig("cem");
+  config.planning.cross_entropy.warm_start = true;
+  StopAt(Trainer::Start(config, dir), 150);
+  const fs::path checkpoint = fs::path(dir) / "checkpoint";
+  const fs::path saved = TempRunDir("open_damaged_saved");
+  fs::copy(checkpoint, saved);
+  const auto restore = [&] {
+    fs::remove_all(checkpoint);
+    fs::copy(saved, checkpoint);
+  };
+  // Each file replaced by another, or by nothing (RewriteCheckpoint keeps the manifest's sums
+  // true to the damaged files, so that the learner's own checks are what answers).
+  fs::remove(checkpoint / "episode_env.bin");
+  WriteFile(checkpoint / "episode_env.bin", "not a state");
+  RewriteCheckpoint(dir);
+  EXPECT_THAT(ErrorMessage([&] { Trainer::Resume(dir); }),
+              ::testing::AllOf(::testing::HasSubstr("episode_env.bin' is damaged"),
+                               ::testing::HasSubstr("environment state")));
+  restore();
+  WriteFile(checkpoint / "episode.json", R"({"observation": [1, 2], "steps": 3})");
+  RewriteCheckpoint(dir);
+  EXPECT_THAT(ErrorMessage([&] { Trainer::Resume(dir); }),
+              ::testing::AllOf(::testing::HasSubstr("episode.json' is damaged"),
+                               ::testing::HasSubstr("observation has 2 entries")));
+  restore();
+  SaveTensor(torch::zeros({7, 2}), (checkpoint / "planner_carried.pt").string());
+  RewriteCheckpoint(dir);
+  EXPECT_THAT(ErrorMessage([&] { Trainer::Resume(dir); }),
+              ::testing::AllOf(::testing::HasSubstr("planner_carried.pt' does not fit"),
+                               ::testing::HasSubstr("expected float32 of shape (3, 2)")));
+  restore();
+  EXPECT_NO_THROW(Trainer::Resume(dir)->Run());
 }
 
 TEST(TrainerTest, AResumeOnAnotherSetupIsNamed) {

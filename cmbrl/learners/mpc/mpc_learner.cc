@@ -1,19 +1,19 @@
 #include "cmbrl/learners/mpc/mpc_learner.h"
 
-#include <chrono>
-
 #include <fmt/format.h>
 #include <torch/torch.h>
 
+#include <chrono>
 #include <cmath>
 #include <fstream>
 #include <limits>
 #include <nlohmann/json.hpp>
 
-#include "cmbrl/core/torch_util.h"
 #include "cmbrl/agent/policy.h"
 #include "cmbrl/core/check.h"
+#include "cmbrl/core/files.h"
 #include "cmbrl/core/rng.h"
+#include "cmbrl/core/torch_util.h"
 #include "cmbrl/run/learner_state.h"
 
 namespace cmbrl {
@@ -29,6 +29,10 @@ constexpr const char* kEnsembleFile = "ensemble.pt";
 constexpr const char* kClassifierFile = "classifier.json";
 constexpr const char* kPlannerGeneratorFile = "planner_generator.pt";
 constexpr const char* kStateFile = "state.json";
+// Only in a checkpoint taken in the middle of an episode.
+constexpr const char* kOpenEpisodeFile = "episode.json";
+constexpr const char* kOpenEpisodeEnvFile = "episode_env.bin";
+constexpr const char* kPlannerCarriedFile = "planner_carried.pt";
 
 std::string Fixed3(double value) { return fmt::format("{:.3f}", value); }
 
@@ -102,14 +106,14 @@ auto Timed(double& total, Work&& work) {
 MpcLearner::~MpcLearner() = default;
 
 bool MpcLearner::Finished() const {
-  return pretrained_ && total_steps_ >= config_.training.total_steps;
+  return pretrained_ && !open_ && total_steps_ >= config_.training.total_steps;
 }
 
-LearnerStep MpcLearner::Advance(const std::function<double()>& elapsed_seconds) {
+LearnerStep MpcLearner::Advance(const UnitContext& context) {
   LearnerStep step;
   if (!pretrained_) {
     Pretrain();
-    step.summary = {0, total_steps_, budget(), 0.0, 0.0, elapsed_seconds()};
+    step.summary = {0, total_steps_, budget(), 0.0, 0.0, context.elapsed_seconds()};
     return step;
   }
   step.models_changed = models_due_;
@@ -117,7 +121,17 @@ LearnerStep MpcLearner::Advance(const std::function<double()>& elapsed_seconds) 
     FitModels();
     models_due_ = false;
   }
-  last_row_ = Episode(elapsed_seconds);
+  std::optional<ProgressRow> row = Episode(context);
+  if (!row) {  // cut for a checkpoint
+    step.summary = {episodes_ / config_.training.episodes_per_epoch + 1,
+                    total_steps_,
+                    budget(),
+                    open_->row.episode_return,
+                    open_->row.episode_cost,
+                    context.elapsed_seconds()};
+    return step;
+  }
+  last_row_ = std::move(*row);
   step.row = ProgressCsvLine(last_row_);
   if (episodes_ % config_.training.episodes_per_epoch == 0) {
     if (Finished()) {
@@ -182,24 +196,28 @@ void MpcLearner::FitModels() {
   classifier_unsafe_accuracy_ = classifier.unsafe_accuracy;
 }
 
-ProgressRow MpcLearner::Episode(const std::function<double()>& elapsed_seconds) {
+std::optional<ProgressRow> MpcLearner::Episode(const UnitContext& context) {
   Env& env = *parts_.env;
   MpcAgent& agent = *parts_.agent;
-  std::vector<double> observation = config_.training.pretrain_episodes == 0 && episodes_ == 0
-                                        ? env.Reset(DeriveSeed(config_.seed, kEnvSeedStream))
-                                        : env.Reset();
-  agent.BeginEpisode();
-  ProgressRow row;
-  double feasible = 0.0, milliseconds = 0.0;
+  if (!open_) {
+    OpenEpisode episode;
+    episode.observation = config_.training.pretrain_episodes == 0 && episodes_ == 0
+                              ? env.Reset(DeriveSeed(config_.seed, kEnvSeedStream))
+                              : env.Reset();
+    agent.BeginEpisode();
+    open_ = std::move(episode);
+  }
+  OpenEpisode& episode = *open_;
+  ProgressRow& row = episode.row;
   for (;;) {
     const std::vector<double> action =
-        Timed(planning_seconds_, [&] { return agent.Act(observation); });
-    feasible += agent.last_plan().feasible_fraction;
-    milliseconds += agent.last_plan().milliseconds;
+        Timed(planning_seconds_, [&] { return agent.Act(episode.observation); });
+    episode.feasible += agent.last_plan().feasible_fraction;
+    episode.milliseconds += agent.last_plan().milliseconds;
     StepResult step = Timed(environment_seconds_, [&] { return env.Step(action); });
     const bool end = step.terminated || step.truncated;
     const bool kept =
-        transitions_->Add(observation, action, step.observation, step.info.goal_met, end);
+        transitions_->Add(episode.observation, action, step.observation, step.info.goal_met, end);
     AddLabel(step.observation, step.cost, kept);
     ++total_steps_;
     ++row.steps;
@@ -208,9 +226,18 @@ ProgressRow MpcLearner::Episode(const std::function<double()>& elapsed_seconds) 
     row.goals_met += step.info.goal_met;
     row.hazard_steps += step.info.cost_hazards > 0.0;
     row.vase_steps += step.info.cost_vases_contact > 0.0 || step.info.cost_vases_velocity > 0.0;
-    observation = std::move(step.observation);
+    episode.observation = std::move(step.observation);
     if (end) break;
+    if (context.checkpoint_due && context.checkpoint_due()) return std::nullopt;
   }
+  const double feasible = episode.feasible, milliseconds = episode.milliseconds;
+  ProgressRow finished = std::move(row);
+  open_.reset();
+  return FinishRow(std::move(finished), feasible, milliseconds, context);
+}
+
+ProgressRow MpcLearner::FinishRow(ProgressRow row, double feasible, double milliseconds,
+                                  const UnitContext& context) {
   ++episodes_;
   row.episode = episodes_;
   row.epoch = (episodes_ - 1) / config_.training.episodes_per_epoch + 1;
@@ -221,7 +248,7 @@ ProgressRow MpcLearner::Episode(const std::function<double()>& elapsed_seconds) 
   row.classifier_unsafe_accuracy = classifier_unsafe_accuracy_;
   row.feasible_fraction = feasible / row.steps;
   row.ms_per_plan = milliseconds / row.steps;
-  row.time_seconds = elapsed_seconds();
+  row.time_seconds = context.elapsed_seconds();
   return row;
 }
 
@@ -255,6 +282,71 @@ void MpcLearner::Save(const fs::path& folder, const fs::path& previous,
       {"classifier_unsafe_accuracy", ProgressNumber(classifier_unsafe_accuracy_)},
   };
   WriteLearnerState(folder / kStateFile, state);
+  if (open_) SaveOpenEpisode(folder);
+}
+
+void MpcLearner::SaveOpenEpisode(const fs::path& folder) const {
+  const ProgressRow& row = open_->row;
+  const nlohmann::json episode = {
+      {"observation", open_->observation},    {"steps", row.steps},
+      {"episode_return", row.episode_return}, {"episode_cost", row.episode_cost},
+      {"goals_met", row.goals_met},           {"hazard_steps", row.hazard_steps},
+      {"vase_steps", row.vase_steps},         {"feasible", open_->feasible},
+      {"milliseconds", open_->milliseconds},
+  };
+  WriteLearnerState(folder / kOpenEpisodeFile, episode);
+  WriteFile(folder / kOpenEpisodeEnvFile, parts_.env->State());
+  const torch::Tensor carried = parts_.agent->planner().CarriedState();
+  if (carried.defined()) SaveTensor(carried, (folder / kPlannerCarriedFile).string());
+}
+
+void MpcLearner::LoadOpenEpisode(const fs::path& folder) {
+  OpenEpisode episode;
+  const int state_dim = parts_.env->observation_spec().size();
+  ReadLearnerState(folder / kOpenEpisodeFile, [&](const nlohmann::json& json) {
+    episode.observation = json.at("observation").get<std::vector<double>>();
+    RequireFiniteRow(episode.observation, state_dim, "the observation");
+    ProgressRow& row = episode.row;
+    row.steps = json.at("steps").get<int>();
+    row.episode_return = json.at("episode_return").get<double>();
+    row.episode_cost = json.at("episode_cost").get<double>();
+    row.goals_met = json.at("goals_met").get<int>();
+    row.hazard_steps = json.at("hazard_steps").get<int>();
+    row.vase_steps = json.at("vase_steps").get<int>();
+    episode.feasible = json.at("feasible").get<double>();
+    episode.milliseconds = json.at("milliseconds").get<double>();
+    Require(row.steps > 0 && row.goals_met >= 0 && row.hazard_steps >= 0 && row.vase_steps >= 0,
+            "negative counts or no step (steps {}, goals_met {}, hazard_steps {}, vase_steps {})",
+            row.steps, row.goals_met, row.hazard_steps, row.vase_steps);
+  });
+  const fs::path env_path = folder / kOpenEpisodeEnvFile;
+  std::ifstream in(env_path, std::ios::binary);
+  Require(in.is_open(),
+          "'{}' is missing: the checkpoint was taken in the middle of an episode "
+          "({}) and needs the environment's state",
+          env_path.string(), (folder / kOpenEpisodeFile).string());
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  Require(in.good() || in.eof(), "'{}' is damaged: it cannot be read", env_path.string());
+  try {
+    parts_.env->SetState(bytes);
+  } catch (const Error& error) {
+    Fail("'{}' is damaged: {}", env_path.string(), error.what());
+  }
+  const fs::path carried_path = folder / kPlannerCarriedFile;
+  torch::Tensor carried;
+  if (fs::exists(carried_path)) {
+    try {
+      torch::load(carried, carried_path.string());
+    } catch (const c10::Error&) {
+      Fail("'{}' is damaged: not a tensor LibTorch can read", carried_path.string());
+    }
+  }
+  try {
+    parts_.agent->planner().SetCarriedState(carried);
+  } catch (const Error& error) {
+    Fail("'{}' does not fit this run's planner: {}", carried_path.string(), error.what());
+  }
+  open_ = std::move(episode);
 }
 
 void MpcLearner::Load(const fs::path& folder) {
@@ -283,6 +375,8 @@ void MpcLearner::Load(const fs::path& folder) {
   } catch (const c10::Error& error) {
     Fail("'{}' is damaged: not a generator state LibTorch can read", generator_path.string());
   }
+  open_.reset();
+  if (fs::exists(folder / kOpenEpisodeFile)) LoadOpenEpisode(folder);
 }
 
 }  // namespace cmbrl

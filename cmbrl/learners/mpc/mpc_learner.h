@@ -8,6 +8,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -55,10 +56,13 @@ std::string ProgressCsvLine(const ProgressRow& row);
 // cmbrl::Error naming a missing or damaged file.
 void LoadMpcModels(const std::filesystem::path& checkpoint, MpcParts& parts);
 
-// Algorithm 2. Checkpoint files: transitions.bin, labeled_states.bin, ensemble.pt,
-// classifier.json, planner_generator.pt and state.json (counters, the environment's generator,
-// the last fits' figures). On the CPU a resumed run writes the rows an uninterrupted one would
-// (Time aside). Not thread-safe.
+// Algorithm 2. A unit of work is one MPC episode (or the random pre-training), cut between agent
+// steps when the run asks for a checkpoint (UnitContext::checkpoint_due). Checkpoint files:
+// transitions.bin, labeled_states.bin, ensemble.pt, classifier.json, planner_generator.pt and
+// state.json (counters, the environment's generator, the last fits' figures); in the middle of
+// an episode also episode.json (its observation and sums so far), episode_env.bin (the
+// environment's state) and planner_carried.pt (the warm-start mean, when there is one). On the
+// CPU a resumed run writes the rows an uninterrupted one would (Time aside). Not thread-safe.
 class MpcLearner final : public Learner {
  public:
   // Builds everything for a validated `config`; throws cmbrl::Error for settings the components
@@ -68,7 +72,7 @@ class MpcLearner final : public Learner {
 
   std::string ProgressHeader() const override { return ProgressCsvHeader(); }
   bool Finished() const override;
-  LearnerStep Advance(const std::function<double()>& elapsed_seconds) override;
+  LearnerStep Advance(const UnitContext& context) override;
   // planning, environment, dynamics_fits, classifier_fits, data (buffers and labels).
   std::vector<std::pair<std::string, double>> TimeSplit() const override;
   void Save(const std::filesystem::path& folder, const std::filesystem::path& previous,
@@ -85,7 +89,14 @@ class MpcLearner final : public Learner {
   void Pretrain();
   void FitModels();
   void AddLabel(const std::vector<double>& next_state, double cost, bool transition_kept);
-  ProgressRow Episode(const std::function<double()>& elapsed_seconds);
+  // Carries the episode under way (or a new one) on until it ends, giving its row, or until
+  // context.checkpoint_due(), giving nothing.
+  std::optional<ProgressRow> Episode(const UnitContext& context);
+  // The episode's row once it ended: counters, the fits' figures, means over its plans.
+  ProgressRow FinishRow(ProgressRow row, double feasible, double milliseconds,
+                        const UnitContext& context);
+  void SaveOpenEpisode(const std::filesystem::path& folder) const;
+  void LoadOpenEpisode(const std::filesystem::path& folder);
 
   TrainConfig config_;
   MpcParts parts_;
@@ -105,6 +116,15 @@ class MpcLearner final : public Learner {
   double classifier_safe_accuracy_;
   double classifier_unsafe_accuracy_;
   ProgressRow last_row_;
+
+  // An episode cut by a checkpoint: where it stands and its sums so far (in the checkpoint).
+  struct OpenEpisode {
+    std::vector<double> observation;
+    ProgressRow row;  // steps and the sums over them
+    double feasible = 0.0;
+    double milliseconds = 0.0;
+  };
+  std::optional<OpenEpisode> open_;
 };
 
 }  // namespace cmbrl

@@ -392,7 +392,7 @@ double PolicyOptLearner::ValueFitFlops(std::int64_t samples) const {
   return 2.0 * 3.0 * 2.0 * macs * static_cast<double>(samples) * o.value_iterations;
 }
 
-LearnerStep PolicyOptLearner::Advance(const std::function<double()>& elapsed_seconds) {
+LearnerStep PolicyOptLearner::Advance(const UnitContext& context) {
   const PolicyOptimisationOptions& o = config_.policy_optimisation;
   using Clock = std::chrono::steady_clock;
   const auto seconds_since = [](Clock::time_point start) {
@@ -472,7 +472,7 @@ LearnerStep PolicyOptLearner::Advance(const std::function<double()>& elapsed_sec
   row.cumulative_cost = cumulative_cost_;
   row.total_env_interacts = total_steps_;
   row.cost_rate = cumulative_cost_ / static_cast<double>(total_steps_);
-  row.time_seconds = elapsed_seconds();
+  row.time_seconds = context.elapsed_seconds();
 
   LearnerStep step;
   step.row = ProgressLine(PolicyOptProgressColumns(), row);

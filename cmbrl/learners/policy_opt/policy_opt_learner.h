@@ -70,8 +70,9 @@ std::unique_ptr<GaussianMeanPolicy> LoadPolicyOptMeanPolicy(const TrainConfig& c
                                                             const BoxSpec& action_spec);
 
 // Checkpoint files: networks.pt (policy, value functions, the value optimisers' moments, the
-// sampler's generator) and state.json (counters, the penalty, the environments' generators). Not
-// thread-safe.
+// sampler's generator) and state.json (counters, the penalty, the environments' generators). A
+// unit is one epoch, always done whole (it ignores UnitContext::checkpoint_due: an epoch takes
+// minutes, and its rollouts would make a large checkpoint). Not thread-safe.
 class PolicyOptLearner final : public Learner {
  public:
   // `config.algorithm` is trpo, trpo-lagrangian or cpo; the environment is config's task and
@@ -81,7 +82,7 @@ class PolicyOptLearner final : public Learner {
 
   std::string ProgressHeader() const override;
   bool Finished() const override;
-  LearnerStep Advance(const std::function<double()>& elapsed_seconds) override;
+  LearnerStep Advance(const UnitContext& context) override;
   void Save(const std::filesystem::path& folder, const std::filesystem::path& previous,
             bool models_changed) const override;
   void Load(const std::filesystem::path& folder) override;

@@ -24,7 +24,9 @@ TrainConfig TinyTrpoConfig() {
 TEST(PolicyOptLearnerTest, ThePolicyLoadedAloneActsAsTheLearnersPolicy) {
   const TrainConfig config = TinyTrpoConfig();
   PolicyOptLearner learner(config);
-  while (!learner.Finished()) learner.Advance([] { return 0.0; });
+  UnitContext context;
+  context.elapsed_seconds = [] { return 0.0; };
+  while (!learner.Finished()) learner.Advance(context);
   const std::filesystem::path folder = testing::TestTempPath("policy_opt_checkpoint");
   std::filesystem::create_directories(folder);
   learner.Save(folder, {}, /*models_changed=*/true);
