@@ -3,12 +3,13 @@
 #include <fmt/format.h>
 
 #include <charconv>
+#include <cmath>
 #include <string>
 
 namespace cmbrl::app {
 namespace {
 
-// Whether `text` is a decimal integer that from_chars reads whole into T.
+// Whether `text` is a decimal number that from_chars reads whole into T.
 template <typename T>
 bool ReadsWhole(const std::string& text, T& value) {
   const char* first = text.data();
@@ -40,6 +41,18 @@ CLI::Validator SeedInteger() {
                            std::numeric_limits<std::uint64_t>::max());
       },
       "SEED (0 to 2^64-1)");
+}
+
+CLI::Validator NumberIn(double low, double high) {
+  return CLI::Validator(
+      [low, high](std::string& text) -> std::string {
+        double value = 0.0;
+        if (ReadsWhole(text, value) && std::isfinite(value) && value >= low && value <= high) {
+          return "";
+        }
+        return fmt::format("is '{}': expected a number from {} to {}", text, low, high);
+      },
+      fmt::format("NUMBER in [{} - {}]", low, high));
 }
 
 }  // namespace cmbrl::app

@@ -1,4 +1,4 @@
-// Checks of numbers given on the command line: every integer option gets a bound and a message
+// Checks of numbers given on the command line: every number option gets a bound and a message
 // that names the option, the text and the range, instead of being wrapped (-1 as a seed) or
 // clamped (a budget past 2^63) by the conversion.
 #pragma once
@@ -16,6 +16,10 @@ CLI::Validator IntegerIn(std::int64_t low, std::int64_t high);
 
 // The same for seeds: 0 to 2^64 - 1.
 CLI::Validator SeedInteger();
+
+// A validator that accepts only finite decimal numbers in [low, high] (no "nan" or "inf"):
+// "is 'nan': expected a number from 0 to 86400".
+CLI::Validator NumberIn(double low, double high);
 
 // Budgets of agent or environment steps: 1 to 10^10.
 inline constexpr std::int64_t kMaxSteps = 10'000'000'000;

@@ -200,7 +200,7 @@ void AddSweepCommand(CLI::App& parent) {
                     "slurm: follow the array with squeue until every task has left the queue, "
                     "then say which runs finished");
   command->add_option("--poll", args->slurm.poll_seconds, "slurm: seconds between squeue queries")
-      ->check(CLI::Range(0.1, 3600.0))
+      ->check(NumberIn(0.1, 3600.0))
       ->capture_default_str();
   command
       ->add_option("--sbatch", args->slurm.sbatch_args,

@@ -173,7 +173,7 @@ void AddTrainCommand(CLI::App& parent) {
                    "between two agent steps, so a killed run loses at most about this much work "
                    "(0: after every step); results do not depend on it. SIGTERM or Ctrl-C "
                    "checkpoints at once and stops")
-      ->check(CLI::NonNegativeNumber)
+      ->check(NumberIn(0.0, 86400.0))
       ->capture_default_str();
   command->callback([args] {
     const int signal = RunTrain(*args);

@@ -150,6 +150,12 @@ def config_cases(p):
     p.case("cli", "steps 0", [c, "train", "--config", base, "--steps", "0", "--out", out("z")],
            r"steps")
     p.case("cli", "unknown command", [c, "trian"], r"trian")
+    for seconds in ("nan", "-1", "1e12", "soon"):
+        p.case("cli", f"checkpoint seconds {seconds}",
+               [c, "train", "--config", base, "--checkpoint-seconds", seconds,
+                "--out", out("cs-" + seconds)],
+               rf"--checkpoint-seconds.*'{seconds}': expected a number from 0",
+               check=lambda name=seconds: not os.path.exists(out("cs-" + name)))
     # The sweep's engines: options of the other engine, an unknown one, an sbatch option that
     # would change the sweep's own array, and no sbatch on PATH.
     configs = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "configs")
