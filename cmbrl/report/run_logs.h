@@ -46,6 +46,19 @@ struct RunRecord {
   std::vector<RunSession> sessions;
 };
 
+// Which learner families some runs or table cells hold (anything with an `epoch_log` flag):
+// MPC runs count agent steps and episodes, model-free ones environment steps and epochs.
+struct FamiliesPresent {
+  bool mpc = false;
+  bool model_free = false;
+};
+template <typename Item>
+FamiliesPresent FamiliesIn(const std::vector<Item>& items) {
+  FamiliesPresent present;
+  for (const Item& item : items) (item.epoch_log ? present.model_free : present.mpc) = true;
+  return present;
+}
+
 // The epochs of a model-free run's progress.csv as points (see RunRecord), its first `rows`
 // rows only when given (those its checkpoint covers). Throws cmbrl::Error naming the file, the
 // line and the column of a missing column, a value that is not a number, or one outside its

@@ -68,13 +68,10 @@ std::vector<std::string> SetupDifferences(const std::vector<RunRecord>& runs, st
   }
   // The paper's Table I counts MPC agents over 10,000 agent steps and leaves the model-free
   // learners out (Section V-B: their counts are orders of magnitude larger).
-  const bool any_mpc =
-      std::any_of(runs.begin(), runs.end(), [](const RunRecord& r) { return !r.epoch_log; });
-  const bool any_model_free =
-      std::any_of(runs.begin(), runs.end(), [](const RunRecord& r) { return r.epoch_log; });
-  if (any_mpc)
+  const FamiliesPresent families = FamiliesIn(runs);
+  if (families.mpc)
     note(fmt::format("Table I here counts the first {} agent steps; the paper's, 10,000.", window));
-  if (any_model_free)
+  if (families.model_free)
     note(
         fmt::format("Model-free runs are counted over their first {} environment steps; the "
                     "paper's Table I leaves them out (their counts are orders of magnitude "

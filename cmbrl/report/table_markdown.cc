@@ -8,6 +8,7 @@
 #include <map>
 #include <optional>
 
+#include "cmbrl/report/run_logs.h"
 #include "cmbrl/report/statistics.h"
 
 namespace cmbrl {
@@ -172,16 +173,14 @@ struct CountUnits {
   std::string steps, violations, returns;
 };
 CountUnits UnitsOf(const std::vector<TableCell>& cells) {
-  const bool epochs = std::any_of(cells.begin(), cells.end(), [](auto& c) { return c.epoch_log; });
-  const bool episodes =
-      std::any_of(cells.begin(), cells.end(), [](auto& c) { return !c.epoch_log; });
+  const FamiliesPresent families = FamiliesIn(cells);
   const CountUnits mpc{"agent steps", "the EpCost of the episodes that ended in the window",
                        "the mean EpRet of each run's last 10 episodes in it"};
   const CountUnits model_free{"environment steps",
                               "the cumulative cost at the window's end, interpolated in its epoch",
                               "the mean AverageEpRet of each run's last 10 epochs in it"};
-  if (!epochs) return mpc;
-  if (!episodes) return model_free;
+  if (!families.model_free) return mpc;
+  if (!families.mpc) return model_free;
   return {"steps (agent steps for MPC runs, environment steps for model-free ones)",
           mpc.violations + "; for model-free runs " + model_free.violations,
           mpc.returns + "; for model-free runs " + model_free.returns};
