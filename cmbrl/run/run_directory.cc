@@ -92,6 +92,7 @@ void WriteManifest(const fs::path& folder, const CheckpointManifest& m) {
                                  {"sessions", m.sessions},
                                  {"sessions_crc32", m.sessions_crc},
                                  {"files", files}};
+  if (m.steps_done) json["steps_done"] = *m.steps_done;
   json["manifest_crc32"] = ManifestCrc(json);
   WriteFile(folder / kManifest, json.dump(2) + "\n");
 }
@@ -120,6 +121,10 @@ CheckpointManifest ReadManifest(const fs::path& path) {
                          f.at("crc32").get<std::uint32_t>()});
     }
     Require(m.rows >= 0, "rows is {}: expected 0 or more", m.rows);
+    if (json.contains("steps_done")) {
+      m.steps_done = json.at("steps_done").get<std::int64_t>();
+      Require(*m.steps_done >= 0, "steps_done is {}: expected 0 or more", *m.steps_done);
+    }
   } catch (const nlohmann::json::exception& error) {
     Fail("'{}' is damaged: {}", path.string(), error.what());
   } catch (const Error& error) {
@@ -243,7 +248,8 @@ void SwapInCheckpoint(const RunDirectory& run, const fs::path& tmp,
 }  // namespace
 
 void WriteCheckpoint(const RunDirectory& run, std::int64_t rows, double elapsed_seconds,
-                     const std::function<void(const fs::path&, const fs::path&)>& write) {
+                     const std::function<void(const fs::path&, const fs::path&)>& write,
+                     std::optional<std::int64_t> steps_done) {
   const fs::path tmp = TmpCheckpoint(run);
   const fs::path final_dir = run.checkpoint_dir();
   fs::remove_all(tmp);
@@ -253,6 +259,7 @@ void WriteCheckpoint(const RunDirectory& run, std::int64_t rows, double elapsed_
     CheckpointManifest manifest;
     manifest.rows = rows;
     manifest.elapsed_seconds = elapsed_seconds;
+    manifest.steps_done = steps_done;
     manifest.progress_crc = TextCrc(ReadProgressPrefix(run, rows).text);
     CoverRunFiles(run, manifest);
     std::vector<fs::path> files;

@@ -77,17 +77,21 @@ struct CheckpointManifest {
   std::uint32_t config_crc = 0;    // of config.yaml
   std::int64_t sessions = 0;       // whole lines of sessions.jsonl written before it
   std::uint32_t sessions_crc = 0;  // of those lines
+  // The learner's steps of its budget when it was written: ahead of the rows' steps when it was
+  // taken in the middle of a unit of work. Absent from manifests before v0.9.
+  std::optional<std::int64_t> steps_done;
 };
 
 // Writes a checkpoint: `write` fills an empty folder with the learner's files; a manifest for
 // them and the first `rows` rows of progress.csv is added; then the folder replaces the old
 // checkpoint, so that a stop at any moment leaves either the old or the new one whole. `write`
 // may hard-link unchanged files from the previous checkpoint (its second argument; empty path
-// when there is none): files of a checkpoint are never rewritten in place.
-void WriteCheckpoint(
-    const RunDirectory& run, std::int64_t rows, double elapsed_seconds,
-    const std::function<void(const std::filesystem::path& folder,
-                             const std::filesystem::path& previous)>& write);
+// when there is none): files of a checkpoint are never rewritten in place. `steps_done`, when
+// given, is recorded in the manifest (for readers of progress such as `sweep --status`).
+void WriteCheckpoint(const RunDirectory& run, std::int64_t rows, double elapsed_seconds,
+                     const std::function<void(const std::filesystem::path& folder,
+                                              const std::filesystem::path& previous)>& write,
+                     std::optional<std::int64_t> steps_done = std::nullopt);
 
 // Replaces config.yaml of a run that has a checkpoint (a resume given a new budget) together
 // with the manifest that records it: both, or (after a stop, once RecoverInterruptedCheckpoint

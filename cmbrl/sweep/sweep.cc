@@ -181,6 +181,18 @@ RunProgress ProgressOf(const SweepRun& run, std::optional<std::int64_t> budget) 
   if (!episodes.empty() && progress.steps >= progress.budget) {
     progress.status = RunStatus::kFinished;
   }
+  if (!progress.in_report) {
+    // A checkpoint in the middle of an episode (hours long at the paper's sizes) is ahead of
+    // the rows. Its manifest alone is read; a damaged one is for the resume to name.
+    try {
+      const std::optional<CheckpointManifest> checkpoint =
+          VerifiedCheckpoint(*dir, /*files=*/false);
+      if (checkpoint && checkpoint->steps_done && *checkpoint->steps_done > progress.steps) {
+        progress.steps = *checkpoint->steps_done;
+      }
+    } catch (const Error&) {
+    }
+  }
   return progress;
 }
 

@@ -62,9 +62,10 @@ RunStatus StatusOf(const SweepRun& run, std::optional<std::int64_t> budget = std
 // "new", "started" or "finished".
 const char* RunStatusName(RunStatus status);
 
-// How far a run has got: its status, the steps its progress log has reached (agent steps, or
-// environment steps for a model-free run; 0 before its first row, or while a row half written
-// by a killed process is there, which resuming repairs) and the steps it runs to
+// How far a run has got: its status, the steps its progress log or its last checkpoint (which
+// may be taken in the middle of an episode) has reached (agent steps, or environment steps for a
+// model-free run; 0 before either, or while a row half written by a killed process is there,
+// which resuming repairs) and the steps it runs to
 // (`budget`, else its own training.total_steps: from its config.yaml once started, else from
 // its configs and overrides as the sweep would compose them). Reads only; throws cmbrl::Error
 // naming a config that does not load.

@@ -139,10 +139,12 @@ void Trainer::Run(const RunOptions& options) {
     if (step.row && options.on_unit) options.on_unit(step.summary);
     if (!stop && options.stop_requested) stop = options.stop_requested();
     const auto start = Clock::now();
-    WriteCheckpoint(s.run, s.rows, s.Elapsed(),
-                    [&](const fs::path& folder, const fs::path& previous) {
-                      s.learner->Save(folder, previous, step.models_changed);
-                    });
+    WriteCheckpoint(
+        s.run, s.rows, s.Elapsed(),
+        [&](const fs::path& folder, const fs::path& previous) {
+          s.learner->Save(folder, previous, step.models_changed);
+        },
+        s.learner->steps_done());
     last_checkpoint = Clock::now();
     s.checkpoint_seconds += std::chrono::duration<double>(last_checkpoint - start).count();
   }

@@ -7,6 +7,7 @@
 #include <fstream>
 
 #include "cmbrl/learners/mpc/mpc_learner.h"
+#include "cmbrl/run/run_directory.h"
 #include "tests/error_message.h"
 #include "tests/temp_path.h"
 
@@ -207,6 +208,19 @@ TEST(SweepTest, ProgressSaysTheStepsReachedAndTheBudget) {
   std::ofstream(fs::path(runs[1].run_dir) / "progress.csv", std::ios::app) << "1,3,0,0,2";
   EXPECT_EQ(ProgressOf(runs[1]).status, RunStatus::kStarted);
   EXPECT_EQ(ProgressOf(runs[1]).steps, 0);
+  // A checkpoint taken in the middle of an episode is ahead of the rows: its steps count, and
+  // the run is not finished before its episode is, even past its budget.
+  std::ofstream(fs::path(runs[1].run_dir) / "progress.csv")
+      << ProgressCsvHeader() << "\n1,1,0,0,1000,0,0,0,0,0,0,0,1000,0,0,0\n";
+  const auto no_files = [](const fs::path&, const fs::path&) {};
+  WriteCheckpoint(RunDirectory(runs[1].run_dir), 1, 0.0, no_files, 1234);
+  EXPECT_EQ(ProgressOf(runs[1]).steps, 1234);
+  EXPECT_EQ(ProgressOf(runs[1], 1200).status, RunStatus::kStarted);
+  // A manifest without them (before v0.9), or behind the rows, leaves the rows' steps.
+  WriteCheckpoint(RunDirectory(runs[1].run_dir), 1, 0.0, no_files);
+  EXPECT_EQ(ProgressOf(runs[1]).steps, 1000);
+  WriteCheckpoint(RunDirectory(runs[1].run_dir), 1, 0.0, no_files, 900);
+  EXPECT_EQ(ProgressOf(runs[1]).steps, 1000);
 }
 
 // A run's logs as a report keeps them (run-logs/<name>): config.yaml and progress.csv.

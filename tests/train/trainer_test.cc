@@ -239,6 +239,8 @@ TEST(TrainerTest, AnEpisodeStoppedBetweenTwoStepsResumesToTheSameRows) {
     EXPECT_GT(open.at("steps").get<int>(), 0);
     EXPECT_LT(open.at("steps").get<int>(), 100);
     EXPECT_TRUE(fs::exists(checkpoint / "episode_env.bin"));
+    EXPECT_EQ(nlohmann::json::parse(std::ifstream(checkpoint / "manifest.json")).at("steps_done"),
+              150);
     EXPECT_EQ(fs::exists(checkpoint / "planner_carried.pt"), planner == "cem");
     EXPECT_EQ(StopAt(Trainer::Resume(stopped), 360), 360);
     Trainer::Resume(stopped)->Run();
