@@ -7,6 +7,7 @@
 #include <torch/torch.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <functional>
@@ -185,14 +186,21 @@ py::dict Train(const std::optional<std::vector<std::string>>& config_path,
     py::gil_scoped_release release;
     trainer = Trainer::Start(config, run_dir);
   }
-  // Ctrl-C is seen after every agent step: the run stops at a checkpoint taken then, and the
-  // KeyboardInterrupt it set is raised once training has let go of the run.
+  // Ctrl-C is looked for after an agent step at most every 0.1 s (taking the GIL every step
+  // would make a training thread wait on busy Python threads): the run stops at a checkpoint
+  // taken then, and the KeyboardInterrupt it set is raised once training has let go of the run.
   bool interrupted = false;
+  using Clock = std::chrono::steady_clock;
+  Clock::time_point last_look = Clock::now();
   RunOptions options;
   options.checkpoint_seconds = checkpoint_seconds;
   options.stop_requested = [&] {
+    if (interrupted || Clock::now() - last_look < std::chrono::milliseconds(100)) {
+      return interrupted;
+    }
     py::gil_scoped_acquire acquire;
-    interrupted = interrupted || PyErr_CheckSignals() != 0;
+    interrupted = PyErr_CheckSignals() != 0;
+    last_look = Clock::now();
     return interrupted;
   };
   {

@@ -477,8 +477,8 @@ def train(config=None, out=None, steps=None, seed=None, device=None, resume=None
     the same keys. steps, seed and device override the config's. resume=RUN_DIR continues a stopped run instead (steps then gives a new budget).
     progress(summary) is called after each unit of work (an MPC episode or a model-free epoch)
     with a dict of epoch, steps, budget, episode_return, episode_cost and seconds. An exception
-    it raises, or Ctrl-C (checked after each agent step of an MPC run, each epoch of a model-free
-    one), stops training; the run resumes later from its last checkpoint.
+    it raises, or Ctrl-C (seen after the agent step under way in an MPC run, the epoch in a
+    model-free one), stops training at a checkpoint; the run resumes later from there.
     checkpoint_seconds: an MPC episode still going this long after the last checkpoint is
     checkpointed between two agent steps (0: after every step); it changes no result.
     Returns {"run", "steps", "budget"}.
