@@ -28,8 +28,9 @@ struct RunOptions {
   // that covers it.
   std::function<void(const ProgressSummary&)> on_unit;
   // A unit of work still going this long after the last checkpoint (an MPC episode at the paper's
-  // sizes takes hours) is checkpointed in the middle, between two agent steps, so that an
-  // interruption loses at most about this much work. 0: after every agent step.
+  // sizes takes minutes: about 100 agent steps of seconds each) is checkpointed in the middle,
+  // between two agent steps, so that an interruption loses at most about this much work (model
+  // fits, between units, are not cut). 0: after every agent step.
   double checkpoint_seconds = 300.0;
   // Asked after every agent step; true stops the run at the next checkpoint, taken at once (for
   // Ctrl-C in Python). Run then returns with the learner not finished.
