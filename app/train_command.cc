@@ -39,7 +39,16 @@ struct TrainArgs {
 // end; SIGINT: Ctrl-C), or 0.
 std::atomic<int> stop_signal{0};
 
-extern "C" void OnStopSignal(int signal) { stop_signal.store(signal); }
+extern "C" void OnStopSignal(int signal) {
+  stop_signal.store(signal);
+  // write(2) is safe in a handler; a fit under way (up to half an hour at the paper's sizes)
+  // is not cut, so say what happens.
+  static const char kMessage[] =
+      "\ncmbrl: stopping at a checkpoint after the agent step or model fit under way; a second "
+      "signal stops at once, losing the work since the last checkpoint\n";
+  const ssize_t ignored = write(STDERR_FILENO, kMessage, sizeof(kMessage) - 1);
+  (void)ignored;
+}
 
 // The first SIGTERM or SIGINT stops the run at a checkpoint taken after the agent step under
 // way; a second one kills the process at once (SA_RESETHAND).
