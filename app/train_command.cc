@@ -41,11 +41,10 @@ std::atomic<int> stop_signal{0};
 
 extern "C" void OnStopSignal(int signal) {
   stop_signal.store(signal);
-  // write(2) is safe in a handler; a fit under way (up to half an hour at the paper's sizes)
-  // is not cut, so say what happens.
+  // write(2) is safe in a handler.
   static const char kMessage[] =
-      "\ncmbrl: stopping at a checkpoint after the agent step or model fit under way; a second "
-      "signal stops at once, losing the work since the last checkpoint\n";
+      "\ncmbrl: stopping after the agent step (checkpointed) or the fit's epoch under way (the "
+      "unit is then redone on resume); a second signal stops at once\n";
   const ssize_t ignored = write(STDERR_FILENO, kMessage, sizeof(kMessage) - 1);
   (void)ignored;
 }
@@ -137,16 +136,16 @@ int RunTrain(const TrainArgs& args) {
   for (const auto& [part, seconds] : trainer->TimeSplit()) split[part] = seconds;
   const nlohmann::ordered_json summary = {{"run", run_dir},
                                           {"episodes_this_session", units},
-                                          {"total_env_interacts", trainer->steps_done()},
+                                          {"total_env_interacts", trainer->checkpointed_steps()},
                                           {"cost_this_session", total_cost},
                                           {"seconds_this_session", split}};
   std::cout << summary.dump() << std::endl;
   const int signal = stop_signal.load();
   if (signal != 0 && !trainer->learner().Finished()) {
     std::cerr << fmt::format(
-        "cmbrl: {} stopped the run at step {}, after a checkpoint: 'cmbrl train --resume {}' "
-        "goes on from there\n",
-        signal == SIGTERM ? "SIGTERM" : "SIGINT", trainer->steps_done(), run_dir);
+        "cmbrl: {} stopped the run; its last checkpoint is at step {}: 'cmbrl train --resume "
+        "{}' goes on from there\n",
+        signal == SIGTERM ? "SIGTERM" : "SIGINT", trainer->checkpointed_steps(), run_dir);
     return signal;
   }
   return 0;

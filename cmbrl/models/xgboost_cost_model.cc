@@ -73,7 +73,8 @@ XgbCostModel::XgbCostModel(int state_dim, XgbCostModelOptions options, std::uint
 
 XgbCostModel::~XgbCostModel() = default;
 
-CostFitReport XgbCostModel::Fit(const LabeledStateBuffer& data) {
+CostFitReport XgbCostModel::Fit(const LabeledStateBuffer& data,
+                                const std::function<bool()>& keep_going) {
   Require(data.state_dim() == state_dim_, "labeled states have {} dimensions, the model {}",
           data.state_dim(), state_dim_);
   const int unsafe_count = data.unsafe_size();
@@ -82,7 +83,7 @@ CostFitReport XgbCostModel::Fit(const LabeledStateBuffer& data) {
                                       ? data.NewestSafe(safe_count)
                                       : data.LastSafeSlots(safe_count);
   const std::vector<float> unsafe = data.AllUnsafe();
-  return FitArrays(safe.data(), safe_count, unsafe.data(), unsafe_count);
+  return FitArrays(safe.data(), safe_count, unsafe.data(), unsafe_count, keep_going);
 }
 
 CostFitReport XgbCostModel::FitArrays(const float* safe, int safe_count, const float* unsafe,

@@ -42,8 +42,9 @@ class XgbCostModel final : public CostModel {
   bool trained() const { return trained_; }
 
   // Uses every unsafe state and safe_per_unsafe * n_unsafe + 1 safe states, chosen by
-  // safe_selection.
-  CostFitReport Fit(const LabeledStateBuffer& data);
+  // safe_selection. `keep_going` as FitArrays's.
+  CostFitReport Fit(const LabeledStateBuffer& data,
+                    const std::function<bool()>& keep_going = nullptr);
 
   // The same from arrays: (safe_count, S) and (unsafe_count, S) row-major floats. `keep_going`,
   // when given, is asked after each boosting round: false abandons the fit there, leaving the

@@ -31,6 +31,7 @@ struct LearnerStep {
   std::optional<std::string> row;  // a line of progress.csv, no newline
   ProgressSummary summary;
   bool models_changed = true;
+  bool abandoned = false;  // see UnitContext::stop_requested: no row, no checkpoint
 };
 
 // What the run offers a learner during a unit of work.
@@ -41,6 +42,11 @@ struct UnitContext {
   // then stop between two steps and return a step without a row; Save must hold the unit as far
   // as it got, and the next Advance (after Load too) carries it on to the same row.
   std::function<bool()> checkpoint_due;
+  // True when the run is asked to stop (a signal, Ctrl-C in Python). A learner in work that
+  // cannot be cut at a checkpoint (a model fit) may then abandon the unit: it returns a step
+  // with `abandoned`, the run stops without a checkpoint, and a resume redoes the unit from the
+  // last one. The learner is not used again.
+  std::function<bool()> stop_requested;
 };
 
 // Not thread-safe.

@@ -32,6 +32,8 @@ struct Trainer::State {
   std::vector<std::string> setup_changes;  // against the previous session (run_sessions.h)
   std::chrono::steady_clock::time_point session_start = std::chrono::steady_clock::now();
   double checkpoint_seconds = 0.0;  // this session's checkpoint writes
+  std::int64_t checkpointed_steps = 0;  // what the last checkpoint covers
+  bool abandoned = false;  // a unit was given up without a checkpoint: the learner is spent
 
   State(TrainConfig c, RunDirectory r) : config(std::move(c)), run(std::move(r)) {}
 
@@ -79,6 +81,7 @@ std::unique_ptr<Trainer> Trainer::Resume(const std::string& run_dir,
     state->learner->Load(run.checkpoint_dir());
     state->rows = checkpoint->rows;
     state->elapsed_before = checkpoint->elapsed_seconds;
+    state->checkpointed_steps = state->learner->steps_done();
   }
   if (new_budget && *new_budget != old_budget) {
     const std::int64_t done = state->learner->steps_done();
@@ -111,6 +114,7 @@ const std::vector<std::string>& Trainer::setup_changes() const { return state_->
 const TrainConfig& Trainer::config() const { return state_->config; }
 const Learner& Trainer::learner() const { return *state_->learner; }
 std::int64_t Trainer::steps_done() const { return state_->learner->steps_done(); }
+std::int64_t Trainer::checkpointed_steps() const { return state_->checkpointed_steps; }
 
 void Trainer::Run(const std::function<void(const ProgressSummary&)>& on_unit) {
   RunOptions options;
@@ -123,18 +127,30 @@ void Trainer::Run(const RunOptions& options) {
           "checkpoint_seconds is {}: expected a number of seconds >= 0",
           options.checkpoint_seconds);
   State& s = *state_;
+  Require(!s.abandoned,
+          "this trainer gave up a unit of work when it was asked to stop: resume the run from its "
+          "directory ('{}') instead",
+          s.run.root().string());
   using Clock = std::chrono::steady_clock;
   Clock::time_point last_checkpoint = Clock::now();
   bool stop = false;
   UnitContext context;
   context.elapsed_seconds = [&s] { return s.Elapsed(); };
-  context.checkpoint_due = [&] {
+  context.stop_requested = [&] {
     stop = stop || (options.stop_requested && options.stop_requested());
-    return stop || std::chrono::duration<double>(Clock::now() - last_checkpoint).count() >=
-                       options.checkpoint_seconds;
+    return stop;
+  };
+  context.checkpoint_due = [&] {
+    return context.stop_requested() ||
+           std::chrono::duration<double>(Clock::now() - last_checkpoint).count() >=
+               options.checkpoint_seconds;
   };
   while (!s.learner->Finished() && !stop) {
     const LearnerStep step = s.learner->Advance(context);
+    if (step.abandoned) {
+      s.abandoned = true;
+      return;
+    }
     if (step.row) s.AppendRow(*step.row);
     if (step.row && options.on_unit) options.on_unit(step.summary);
     if (!stop && options.stop_requested) stop = options.stop_requested();
@@ -145,6 +161,7 @@ void Trainer::Run(const RunOptions& options) {
           s.learner->Save(folder, previous, step.models_changed);
         },
         s.learner->steps_done());
+    s.checkpointed_steps = s.learner->steps_done();
     last_checkpoint = Clock::now();
     s.checkpoint_seconds += std::chrono::duration<double>(last_checkpoint - start).count();
   }

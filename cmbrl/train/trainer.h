@@ -32,8 +32,11 @@ struct RunOptions {
   // between two agent steps, so that an interruption loses at most about this much work (model
   // fits, between units, are not cut). 0: after every agent step.
   double checkpoint_seconds = 300.0;
-  // Asked after every agent step; true stops the run at the next checkpoint, taken at once (for
-  // Ctrl-C in Python). Run then returns with the learner not finished.
+  // Asked after every agent step and every epoch or round of a model fit; true stops the run:
+  // at a checkpoint taken at once between two agent steps, or, during a fit, by giving up the
+  // unit of work under way without a checkpoint (a resume redoes it from the last one). Run
+  // then returns with the learner not finished; after a unit was given up, Run refuses to go on
+  // (resume from the directory). For SIGTERM and Ctrl-C.
   std::function<bool()> stop_requested;
 };
 
@@ -67,6 +70,9 @@ class Trainer {
   const TrainConfig& config() const;
   const Learner& learner() const;
   std::int64_t steps_done() const;
+  // The steps the run's last checkpoint covers (where a resume goes on from): steps_done()
+  // unless Run gave up a unit of work when asked to stop.
+  std::int64_t checkpointed_steps() const;
   // Where this process's wall time went since Start/Resume: the learner's parts, then
   // "checkpoints" and "other" (the rest of the session, progress rows included), in seconds.
   std::vector<std::pair<std::string, double>> TimeSplit() const;

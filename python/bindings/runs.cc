@@ -222,7 +222,7 @@ py::dict Train(const std::optional<std::vector<std::string>>& config_path,
   if (interrupted) throw py::error_already_set();
   py::dict summary;
   summary["run"] = run_dir;
-  summary["steps"] = trainer->steps_done();
+  summary["steps"] = trainer->checkpointed_steps();
   summary["budget"] = trainer->learner().budget();
   return summary;
 }

@@ -38,7 +38,7 @@ sleep 1.5
 kill -TERM "$pid"
 status=0
 wait "$pid" || status=$?
-if [ "$status" -ne 143 ] || ! grep -q "SIGTERM stopped the run at step" "$work/terminated.err"; then
+if [ "$status" -ne 143 ] || ! grep -q "SIGTERM stopped the run; its last checkpoint is at step" "$work/terminated.err"; then
   echo "FAILED: SIGTERM gave exit status $status (expected 143 after a checkpoint):"
   cat "$work/terminated.err"
   exit 1

@@ -250,6 +250,39 @@ TEST(TrainerTest, AnEpisodeStoppedBetweenTwoStepsResumesToTheSameRows) {
   }
 }
 
+// A stop asked for during a model fit gives the unit up without a checkpoint (a fit cannot be
+// cut): the episode before it and the fit are redone on resume, to the same rows.
+TEST(TrainerTest, AStopDuringAFitGivesTheUnitUpAndTheResumeRedoesIt) {
+  for (const int stop_in_episode : {0, 2}) {  // 0: the pre-training's fit
+    SCOPED_TRACE(stop_in_episode);
+    const std::string whole = TempRunDir("fit_whole"), stopped = TempRunDir("fit_stopped");
+    Trainer::Start(TinyConfig("cem"), whole)->Run();
+    std::unique_ptr<Trainer> trainer = Trainer::Start(TinyConfig("cem"), stopped);
+    const auto& learner = dynamic_cast<const MpcLearner&>(trainer->learner());
+    RunOptions options;
+    options.checkpoint_seconds = 1e9;
+    int asked_in_fit = 0;
+    // The epoch's fit follows its second episode, whose row is then the learner's last.
+    options.stop_requested = [&] {
+      const bool in_fit = stop_in_episode == 0 ? trainer->steps_done() == 0
+                                               : learner.last_row().episode == stop_in_episode;
+      asked_in_fit += in_fit;
+      return in_fit;
+    };
+    trainer->Run(options);
+    EXPECT_EQ(asked_in_fit, 1);  // the fit stopped at its first epoch's question
+    EXPECT_FALSE(trainer->learner().Finished());
+    const std::vector<std::string> rows = RowsWithoutTimes(stopped);
+    // Only the first episode's row: the second's would have followed the fit.
+    EXPECT_EQ(rows.size(), stop_in_episode == 0 ? 1u : 2u);
+    EXPECT_EQ(trainer->checkpointed_steps(), stop_in_episode == 0 ? 0 : 100);
+    EXPECT_THAT(ErrorMessage([&] { trainer->Run(); }), ::testing::HasSubstr("resume the run"));
+    trainer.reset();
+    Trainer::Resume(stopped)->Run();
+    EXPECT_EQ(RowsWithoutTimes(stopped), RowsWithoutTimes(whole));
+  }
+}
+
 // A crash between two agent steps, with a checkpoint after every step: the run resumes from the
 // step before and writes the uninterrupted run's rows.
 TEST(TrainerTest, CheckpointsAfterEveryStepSurviveACrashInTheMiddleOfAnEpisode) {

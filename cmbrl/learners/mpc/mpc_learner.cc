@@ -112,13 +112,14 @@ bool MpcLearner::Finished() const {
 LearnerStep MpcLearner::Advance(const UnitContext& context) {
   LearnerStep step;
   if (!pretrained_) {
-    Pretrain();
+    step.abandoned = !Pretrain(context);
     step.summary = {0, total_steps_, budget(), 0.0, 0.0, context.elapsed_seconds()};
     return step;
   }
   step.models_changed = models_due_;
   if (models_due_) {  // the run was continued past the budget it had stopped at
-    FitModels();
+    step.abandoned = !FitModels(context);
+    if (step.abandoned) return step;
     models_due_ = false;
   }
   std::optional<ProgressRow> row = Episode(context);
@@ -137,7 +138,7 @@ LearnerStep MpcLearner::Advance(const UnitContext& context) {
     if (Finished()) {
       models_due_ = true;
     } else {
-      FitModels();
+      step.abandoned = !FitModels(context);
       step.models_changed = true;
     }
   }
@@ -148,7 +149,7 @@ LearnerStep MpcLearner::Advance(const UnitContext& context) {
 }
 
 // Facts B6: random actions, each episode cut after pretrain_steps stored transitions.
-void MpcLearner::Pretrain() {
+bool MpcLearner::Pretrain(const UnitContext& context) {
   Env& env = *parts_.env;
   RandomPolicy random(env.action_spec(), DeriveSeed(config_.seed, kPretrainSeedStream));
   for (int episode = 0; episode < config_.training.pretrain_episodes; ++episode) {
@@ -168,8 +169,9 @@ void MpcLearner::Pretrain() {
       if (end) break;
     }
   }
-  FitModels();
+  if (!FitModels(context)) return false;
   pretrained_ = true;
+  return true;
 }
 
 // The classifier's label of a step's next state: only beside a stored transition unless
@@ -186,14 +188,19 @@ std::vector<std::pair<std::string, double>> MpcLearner::TimeSplit() const {
           {"classifier_fits", classifier_fit_seconds_}};
 }
 
-void MpcLearner::FitModels() {
-  dynamics_validation_mse_ =
-      Timed(dynamics_fit_seconds_, [&] { return parts_.ensemble->Fit(*transitions_); })
-          .validation_mse;
+bool MpcLearner::FitModels(const UnitContext& context) {
+  std::function<bool()> keep_going;
+  if (context.stop_requested) keep_going = [&context] { return !context.stop_requested(); };
+  const EnsembleFitReport dynamics =
+      Timed(dynamics_fit_seconds_, [&] { return parts_.ensemble->Fit(*transitions_, keep_going); });
+  if (dynamics.interrupted) return false;
   const CostFitReport classifier =
-      Timed(classifier_fit_seconds_, [&] { return parts_.classifier->Fit(*labeled_); });
+      Timed(classifier_fit_seconds_, [&] { return parts_.classifier->Fit(*labeled_, keep_going); });
+  if (classifier.interrupted) return false;
+  dynamics_validation_mse_ = dynamics.validation_mse;
   classifier_safe_accuracy_ = classifier.safe_accuracy;
   classifier_unsafe_accuracy_ = classifier.unsafe_accuracy;
+  return true;
 }
 
 std::optional<ProgressRow> MpcLearner::Episode(const UnitContext& context) {

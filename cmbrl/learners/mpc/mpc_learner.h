@@ -86,8 +86,9 @@ class MpcLearner final : public Learner {
   const ProgressRow& last_row() const { return last_row_; }
 
  private:
-  void Pretrain();
-  void FitModels();
+  bool Pretrain(const UnitContext& context);
+  // False when context.stop_requested abandoned a fit (the models are then not to be saved).
+  bool FitModels(const UnitContext& context);
   void AddLabel(const std::vector<double>& next_state, double cost, bool transition_kept);
   // Carries the episode under way (or a new one) on until it ends, giving its row, or until
   // context.checkpoint_due(), giving nothing.
