@@ -19,6 +19,7 @@
 #include "app/arguments.h"
 #include "app/commands.h"
 #include "cmbrl/core/check.h"
+#include "cmbrl/core/utc_time.h"
 #include "cmbrl/train/trainer.h"
 
 namespace cmbrl::app {
@@ -104,7 +105,8 @@ int RunTrain(const TrainArgs& args) {
     trainer = Trainer::Start(config, run_dir);
   }
 
-  // A live line on the terminal; nothing when stderr is a file or a pipe.
+  // A live line on the terminal; in a file or a pipe (a sweep's log), one line per unit of work
+  // with the time, so that a long run's log says how far it has got.
   const bool live = isatty(STDERR_FILENO) != 0;
   const std::int64_t budget = trainer->learner().budget();
   const std::int64_t start_steps = trainer->steps_done();
@@ -118,17 +120,19 @@ int RunTrain(const TrainArgs& args) {
   options.on_unit = [&](const ProgressSummary& unit) {
     ++units;
     total_cost += unit.episode_cost;
-    if (!live) return;
     const double elapsed =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - session_start).count();
     const double rate = elapsed > 0 ? (unit.steps - start_steps) / elapsed : 0.0;
     const double left = rate > 0 ? (budget - unit.steps) / rate : 0.0;
-    std::cerr << fmt::format(
-                     "\r[epoch {}] steps {}/{} | EpRet {:.2f} | EpCost {:.0f} | {:.1f} steps/s | "
-                     "{} left   ",
-                     unit.epoch, unit.steps, budget, unit.episode_return, unit.episode_cost, rate,
-                     Duration(std::max(0.0, left)))
-              << std::flush;
+    const std::string line = fmt::format(
+        "[epoch {}] steps {}/{} | EpRet {:.2f} | EpCost {:.0f} | {:.1f} steps/s | {} left",
+        unit.epoch, unit.steps, budget, unit.episode_return, unit.episode_cost, rate,
+        Duration(std::max(0.0, left)));
+    if (live) {
+      std::cerr << "\r" << line << "   " << std::flush;
+    } else {
+      std::cerr << UtcTimestamp() << " " << line << std::endl;
+    }
   };
   trainer->Run(options);
   if (live) std::cerr << "\n";
