@@ -44,8 +44,8 @@ extern "C" void OnStopSignal(int signal) {
   stop_signal.store(signal);
   // write(2) is safe in a handler.
   static const char kMessage[] =
-      "\ncmbrl: stopping after the agent step (checkpointed) or the fit's epoch under way (the "
-      "unit is then redone on resume); a second signal stops at once\n";
+      "\ncmbrl: stopping at a checkpoint after the agent step or fit epoch under way; a second "
+      "signal stops at once\n";
   const ssize_t ignored = write(STDERR_FILENO, kMessage, sizeof(kMessage) - 1);
   (void)ignored;
 }

@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 #include "cmbrl/core/check.h"
 #include "cmbrl/core/cpu_features.h"
@@ -32,6 +33,17 @@ struct EnsembleDynamics::State {
   std::unique_ptr<FusedAdam> optimizer;
   at::Generator generator;
   int fits = 0;
+  // A fit paused part-way (Fit's pause_due): where it stands, and the generator's state when it
+  // began, which gives its train/validation split again.
+  struct OpenFit {
+    std::int64_t rows = 0;  // of the data it fits
+    int next_epoch = 1;
+    double validation_mse = 0.0;
+    double best_validation_mse = 0.0;
+    int checks_without_improvement = 0;
+    torch::Tensor split_generator;
+  };
+  std::optional<OpenFit> open_fit;
 };
 
 namespace {
@@ -193,8 +205,11 @@ torch::Tensor EnsembleDynamics::Predict(const torch::Tensor& states,
   return PredictUnchecked(states, actions);
 }
 
+bool EnsembleDynamics::fit_open() const { return state_->open_fit.has_value(); }
+
 EnsembleFitReport EnsembleDynamics::Fit(const TransitionBuffer& data,
-                                        const std::function<bool()>& keep_going) {
+                                        const std::function<bool()>& keep_going,
+                                        const std::function<bool()>& pause_due) {
   const auto start = std::chrono::steady_clock::now();
   Require(data.state_dim() == state_dim_ && data.action_dim() == action_dim_,
           "transition buffer is ({}, {}) but the ensemble is ({}, {}) (state, action)",
@@ -217,11 +232,28 @@ EnsembleFitReport EnsembleDynamics::Fit(const TransitionBuffer& data,
   const torch::Tensor x = s.input_normalizer.Normalize(inputs.to(s.device));
   const torch::Tensor y = s.target_normalizer.Normalize(targets.to(s.device));
 
-  // A fresh train/validation split; at least one row trains.
+  // A fresh train/validation split; at least one row trains. An open fit draws its own again.
   std::int64_t validation_size =
       static_cast<std::int64_t>(std::floor(options_.validation_fraction * n));
   validation_size = std::min(validation_size, n - 1);
-  const torch::Tensor order = torch::randperm(n, s.generator, torch::kLong);
+  std::optional<State::OpenFit> resumed = std::move(s.open_fit);
+  s.open_fit.reset();
+  torch::Tensor order;
+  if (resumed) {
+    Require(resumed->rows == n,
+            "the open dynamics fit was begun on {} transitions, but is given {}: an open fit "
+            "goes on only on its own data",
+            resumed->rows, n);
+    const torch::Tensor now = s.generator.get_state();
+    s.generator.set_state(resumed->split_generator);
+    order = torch::randperm(n, s.generator, torch::kLong);
+    s.generator.set_state(now);
+  } else {
+    resumed = State::OpenFit{};
+    resumed->rows = n;
+    resumed->split_generator = s.generator.get_state();
+    order = torch::randperm(n, s.generator, torch::kLong);
+  }
   const torch::Tensor validation_rows = order.slice(0, 0, validation_size).to(s.device);
   const torch::Tensor train_rows = order.slice(0, validation_size).to(s.device);
   const std::int64_t train_size = n - validation_size;
@@ -234,10 +266,24 @@ EnsembleFitReport EnsembleDynamics::Fit(const TransitionBuffer& data,
   EnsembleFitReport report;
   report.train_size = static_cast<int>(train_size);
   report.validation_size = static_cast<int>(validation_size);
-  report.validation_mse = std::numeric_limits<double>::quiet_NaN();
-  report.best_validation_mse = std::numeric_limits<double>::infinity();
-  int checks_without_improvement = 0;
-  for (int epoch = 1; epoch <= options_.max_epochs; ++epoch) {
+  const bool continued = resumed->next_epoch > 1;
+  report.validation_mse =
+      continued ? resumed->validation_mse : std::numeric_limits<double>::quiet_NaN();
+  report.best_validation_mse =
+      continued ? resumed->best_validation_mse : std::numeric_limits<double>::infinity();
+  int checks_without_improvement = resumed->checks_without_improvement;
+  // Leaves the fit open after `epoch` when pause_due asks (never after its last epoch).
+  const auto pause_after = [&](int epoch) {
+    if (!pause_due || epoch >= options_.max_epochs || !pause_due()) return false;
+    resumed->next_epoch = epoch + 1;
+    resumed->validation_mse = report.validation_mse;
+    resumed->best_validation_mse = report.best_validation_mse;
+    resumed->checks_without_improvement = checks_without_improvement;
+    s.open_fit = std::move(resumed);
+    report.paused = true;
+    return true;
+  };
+  for (int epoch = resumed->next_epoch; epoch <= options_.max_epochs; ++epoch) {
     // Each member's own fresh subset of the train split, without replacement: (E, subset).
     std::vector<torch::Tensor> picks;
     for (std::int64_t m = 0; m < members; ++m) {
@@ -268,16 +314,22 @@ EnsembleFitReport EnsembleDynamics::Fit(const TransitionBuffer& data,
       report.interrupted = true;
       break;
     }
-    if (validation_size == 0 || epoch % options_.validate_every != 0) continue;
-    const torch::NoGradGuard no_grad;
-    report.validation_mse =
-        (Forward(x_val, false) - y_val.unsqueeze(0)).pow(2).mean().item<double>();
-    if (report.validation_mse < report.best_validation_mse) {
-      report.best_validation_mse = report.validation_mse;
-      checks_without_improvement = 0;
-    } else if (++checks_without_improvement >= options_.patience) {
-      report.stopped_early = true;
-      break;
+    if (validation_size > 0 && epoch % options_.validate_every == 0) {
+      const torch::NoGradGuard no_grad;
+      report.validation_mse =
+          (Forward(x_val, false) - y_val.unsqueeze(0)).pow(2).mean().item<double>();
+      if (report.validation_mse < report.best_validation_mse) {
+        report.best_validation_mse = report.validation_mse;
+        checks_without_improvement = 0;
+      } else if (++checks_without_improvement >= options_.patience) {
+        report.stopped_early = true;
+        break;
+      }
+    }
+    if (pause_after(epoch)) {
+      report.seconds =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      return report;
     }
   }
   if (validation_size == 0) report.best_validation_mse = report.validation_mse;
@@ -333,6 +385,16 @@ void EnsembleDynamics::Save(const std::string& path) const {
   torch::serialize::OutputArchive optimizer;
   s.optimizer->Save(optimizer);
   archive.write("adam", optimizer);
+  if (s.open_fit) {
+    const State::OpenFit& f = *s.open_fit;
+    archive.write("open_fit_counts",
+                  torch::tensor({f.rows, static_cast<std::int64_t>(f.next_epoch),
+                                 static_cast<std::int64_t>(f.checks_without_improvement)},
+                                torch::kLong));
+    archive.write("open_fit_mse",
+                  torch::tensor({f.validation_mse, f.best_validation_mse}, torch::kDouble));
+    archive.write("open_fit_split_generator", f.split_generator);
+  }
   SaveArchive(archive, path);
 }
 
@@ -375,6 +437,27 @@ void EnsembleDynamics::Load(const std::string& path) {
                 "read; start a new run"
               : "");
   s.optimizer->Load(optimizer, path);
+  s.open_fit.reset();
+  torch::Tensor counts;
+  if (archive.try_read("open_fit_counts", counts)) {  // saved with a fit open (absent before v0.9)
+    const torch::Tensor mse = read("open_fit_mse");
+    Require(counts.numel() == 3 && counts.scalar_type() == torch::kLong && mse.numel() == 2 &&
+                mse.scalar_type() == torch::kDouble,
+            "'{}' has an open fit of another form", path);
+    State::OpenFit f;
+    f.rows = counts[0].item<std::int64_t>();
+    f.next_epoch = static_cast<int>(counts[1].item<std::int64_t>());
+    f.checks_without_improvement = static_cast<int>(counts[2].item<std::int64_t>());
+    f.validation_mse = mse[0].item<double>();
+    f.best_validation_mse = mse[1].item<double>();
+    f.split_generator = read("open_fit_split_generator");
+    Require(f.rows >= 2 && f.next_epoch >= 2 && f.next_epoch <= options_.max_epochs &&
+                f.checks_without_improvement >= 0,
+            "'{}' has an open fit at epoch {} of {} on {} transitions: not one this ensemble can "
+            "go on with",
+            path, f.next_epoch, options_.max_epochs, f.rows);
+    s.open_fit = std::move(f);
+  }
   RefreshPredictionWeights();
 }
 

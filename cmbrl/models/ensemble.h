@@ -24,6 +24,7 @@ struct EnsembleFitReport {
   double best_validation_mse = 0.0;  // best check of this fit
   bool stopped_early = false;
   bool interrupted = false;  // keep_going said stop
+  bool paused = false;       // pause_due said pause: the fit is open (see Fit)
   double seconds = 0.0;
 };
 
@@ -56,8 +57,16 @@ class EnsembleDynamics final : public DynamicsModel {
   // cmbrl::Error when the buffer has fewer than 2 transitions or other dimensions.
   // `keep_going`, when given, is asked after each epoch: false stops the fit there, keeping the
   // epochs done (report.interrupted; a Python caller's Ctrl-C).
+  // `pause_due`, when given, is asked after each epoch that does not end the fit: true leaves
+  // the fit open there (report.paused) with the epochs done. Save keeps its place, and the next
+  // Fit, on the same data (Load between them allowed), goes on from there to the model an
+  // uninterrupted fit gives; its report covers the whole fit. Throws cmbrl::Error when an open
+  // fit is given other data.
   EnsembleFitReport Fit(const TransitionBuffer& data,
-                        const std::function<bool()>& keep_going = nullptr);
+                        const std::function<bool()>& keep_going = nullptr,
+                        const std::function<bool()>& pause_due = nullptr);
+  // Whether a fit is open (paused by pause_due and not yet finished).
+  bool fit_open() const;
 
   // Weights, normalisers, optimiser state and generator state, in one file. Load checks that
   // the file matches this ensemble's dimensions and throws cmbrl::Error naming the difference.

@@ -43,9 +43,9 @@ struct UnitContext {
   // as it got, and the next Advance (after Load too) carries it on to the same row.
   std::function<bool()> checkpoint_due;
   // True when the run is asked to stop (a signal, Ctrl-C in Python). A learner in work that
-  // cannot be cut at a checkpoint (a model fit) may then abandon the unit: it returns a step
-  // with `abandoned`, the run stops without a checkpoint, and a resume redoes the unit from the
-  // last one. The learner is not used again.
+  // cannot be cut at a checkpoint (the classifier's fit) may then abandon the unit: it returns a
+  // step with `abandoned`, the run stops without a checkpoint, and a resume redoes the unit from
+  // the last one. The learner is not used again.
   std::function<bool()> stop_requested;
 };
 

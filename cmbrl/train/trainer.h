@@ -28,15 +28,16 @@ struct RunOptions {
   // that covers it.
   std::function<void(const ProgressSummary&)> on_unit;
   // A unit of work still going this long after the last checkpoint (an MPC episode at the paper's
-  // sizes takes minutes: about 100 agent steps of seconds each) is checkpointed in the middle,
-  // between two agent steps, so that an interruption loses at most about this much work (model
-  // fits, between units, are not cut). 0: after every agent step.
+  // sizes takes minutes: about 100 agent steps of seconds each; its dynamics fit half an hour)
+  // is checkpointed in the middle, between two agent steps or fit epochs, so that an
+  // interruption loses at most about this much work. 0: after every step and epoch.
   double checkpoint_seconds = 300.0;
   // Asked after every agent step and every epoch or round of a model fit; true stops the run:
-  // at a checkpoint taken at once between two agent steps, or, during a fit, by giving up the
-  // unit of work under way without a checkpoint (a resume redoes it from the last one). Run
-  // then returns with the learner not finished; after a unit was given up, Run refuses to go on
-  // (resume from the directory). For SIGTERM and Ctrl-C.
+  // at a checkpoint taken at once between two agent steps or dynamics-fit epochs, or, during
+  // the classifier's fit, by giving up the unit of work under way without a checkpoint (a
+  // resume redoes it from the last one). Run then returns with the learner not finished; after
+  // a unit was given up, Run refuses to go on (resume from the directory). For SIGTERM and
+  // Ctrl-C.
   std::function<bool()> stop_requested;
 };
 

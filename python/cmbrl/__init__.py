@@ -479,8 +479,9 @@ def train(config=None, out=None, steps=None, seed=None, device=None, resume=None
     with a dict of epoch, steps, budget, episode_return, episode_cost and seconds. An exception
     it raises, or Ctrl-C (seen after the agent step under way in an MPC run, the epoch in a
     model-free one), stops training at a checkpoint; the run resumes later from there.
-    checkpoint_seconds: an MPC episode still going this long after the last checkpoint is
-    checkpointed between two agent steps (0: after every step); it changes no result.
+    checkpoint_seconds: an MPC episode or model fit still going this long after the last
+    checkpoint is checkpointed between two agent steps or fit epochs (0: after every one); it
+    changes no result.
     Returns {"run", "steps", "budget"}.
     """
     if (isinstance(checkpoint_seconds, (bool, np.bool_))

@@ -156,6 +156,53 @@ TEST(EnsembleTest, SaveThenLoadGivesIdenticalPredictionsAndContinuesIdentically)
   std::filesystem::remove(path);
 }
 
+// A fit paused after every epoch and carried on in another ensemble from the saved file gives
+// the uninterrupted fit's model and report, with early stopping in play.
+TEST(EnsembleTest, AFitPausedAndCarriedOnFromAFileEqualsAnUninterruptedOne) {
+  const std::string path = testing::TestTempPath("ensemble_paused_test.pt");
+  const TransitionBuffer data = testing::PendulumData(1000, 4);
+  EnsembleOptions options = SmallOptions();
+  options.max_epochs = 12;
+  options.validate_every = 2;
+  options.patience = 2;
+  EnsembleDynamics whole(2, 1, options, 21);
+  whole.Fit(data);  // a first fit: the second warm-starts, as in a run
+  const EnsembleFitReport uninterrupted = whole.Fit(data);
+  EnsembleDynamics first(2, 1, options, 21);
+  first.Fit(data);
+  EnsembleFitReport report = first.Fit(data, nullptr, [] { return true; });
+  EXPECT_TRUE(report.paused && first.fit_open());
+  EXPECT_EQ(report.epochs, 1);
+  first.Save(path);
+  int pauses = 1;
+  for (;;) {
+    EnsembleDynamics next(2, 1, options, 999);  // everything from the file
+    next.Load(path);
+    EXPECT_TRUE(next.fit_open());
+    report = next.Fit(data, nullptr, [] { return true; });
+    if (!report.paused) {
+      EXPECT_FALSE(next.fit_open());
+      const Batch batch = PendulumBatch(4, 200, 6);
+      EXPECT_TRUE(torch::equal(next.Predict(batch.states, batch.actions),
+                               whole.Predict(batch.states, batch.actions)));
+      break;
+    }
+    ++pauses;
+    next.Save(path);
+  }
+  EXPECT_EQ(pauses, uninterrupted.epochs - 1);  // asked after every epoch but the last
+  EXPECT_EQ(report.epochs, uninterrupted.epochs);
+  EXPECT_EQ(report.stopped_early, uninterrupted.stopped_early);
+  EXPECT_EQ(report.validation_mse, uninterrupted.validation_mse);
+  EXPECT_EQ(report.best_validation_mse, uninterrupted.best_validation_mse);
+  // An open fit goes on only on its own data.
+  EnsembleDynamics open(2, 1, options, 21);
+  open.Fit(data, nullptr, [] { return true; });
+  EXPECT_THAT(ErrorMessage([&] { open.Fit(testing::PendulumData(900, 4)); }),
+              ::testing::HasSubstr("begun on 1000 transitions, but is given 900"));
+  std::filesystem::remove(path);
+}
+
 TEST(EnsembleTest, LoadingAFileOfOtherShapeIsRefused) {
   const std::string path = testing::TestTempPath("ensemble_shape_test.pt");
   EnsembleDynamics small(2, 1, SmallOptions(), 1);

@@ -250,11 +250,16 @@ TEST(TrainerTest, AnEpisodeStoppedBetweenTwoStepsResumesToTheSameRows) {
   }
 }
 
-// A stop asked for during a model fit gives the unit up without a checkpoint (a fit cannot be
-// cut): the episode before it and the fit are redone on resume, to the same rows.
-TEST(TrainerTest, AStopDuringAFitGivesTheUnitUpAndTheResumeRedoesIt) {
-  for (const int stop_in_episode : {0, 2}) {  // 0: the pre-training's fit
-    SCOPED_TRACE(stop_in_episode);
+// A stop asked for during a dynamics fit pauses it after the epoch under way, with a checkpoint
+// that holds the open fit; the resume goes on with it, to the same rows. In the classifier's fit
+// (seconds, not paused) a stop gives the unit up without a checkpoint, and the resume redoes it.
+TEST(TrainerTest, AStopDuringAFitPausesItOrGivesTheUnitUpAndTheResumeGivesTheSameRows) {
+  struct Case {
+    int episode;             // the fit after this episode (0: the pre-training's)
+    int dynamics_questions;  // answered false first: then the stop falls in the classifier's fit
+  };
+  for (const Case c : {Case{0, 0}, Case{2, 0}, Case{2, 2}, Case{2, 4}}) {
+    SCOPED_TRACE(::testing::Message() << c.episode << " " << c.dynamics_questions);
     const std::string whole = TempRunDir("fit_whole"), stopped = TempRunDir("fit_stopped");
     Trainer::Start(TinyConfig("cem"), whole)->Run();
     std::unique_ptr<Trainer> trainer = Trainer::Start(TinyConfig("cem"), stopped);
@@ -264,19 +269,23 @@ TEST(TrainerTest, AStopDuringAFitGivesTheUnitUpAndTheResumeRedoesIt) {
     int asked_in_fit = 0;
     // The epoch's fit follows its second episode, whose row is then the learner's last.
     options.stop_requested = [&] {
-      const bool in_fit = stop_in_episode == 0 ? trainer->steps_done() == 0
-                                               : learner.last_row().episode == stop_in_episode;
-      asked_in_fit += in_fit;
-      return in_fit;
+      const bool in_fit =
+          c.episode == 0 ? trainer->steps_done() == 0 : learner.last_row().episode == c.episode;
+      return in_fit && ++asked_in_fit > c.dynamics_questions;
     };
     trainer->Run(options);
-    EXPECT_EQ(asked_in_fit, 1);  // the fit stopped at its first epoch's question
     EXPECT_FALSE(trainer->learner().Finished());
+    // The tiny ensemble fits 5 epochs and is asked after the first 4.
+    const bool classifier = c.dynamics_questions >= 4;
     const std::vector<std::string> rows = RowsWithoutTimes(stopped);
-    // Only the first episode's row: the second's would have followed the fit.
-    EXPECT_EQ(rows.size(), stop_in_episode == 0 ? 1u : 2u);
-    EXPECT_EQ(trainer->checkpointed_steps(), stop_in_episode == 0 ? 0 : 100);
-    EXPECT_THAT(ErrorMessage([&] { trainer->Run(); }), ::testing::HasSubstr("resume the run"));
+    if (classifier) {  // given up: the second episode's row is not written
+      EXPECT_EQ(rows.size(), 2u);
+      EXPECT_EQ(trainer->checkpointed_steps(), 100);
+      EXPECT_THAT(ErrorMessage([&] { trainer->Run(); }), ::testing::HasSubstr("resume the run"));
+    } else {  // paused: the episode's row and the open fit are checkpointed
+      EXPECT_EQ(rows.size(), c.episode == 0 ? 1u : 3u);
+      EXPECT_EQ(trainer->checkpointed_steps(), trainer->steps_done());
+    }
     trainer.reset();
     Trainer::Resume(stopped)->Run();
     EXPECT_EQ(RowsWithoutTimes(stopped), RowsWithoutTimes(whole));

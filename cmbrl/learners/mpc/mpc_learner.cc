@@ -112,14 +112,23 @@ bool MpcLearner::Finished() const {
 LearnerStep MpcLearner::Advance(const UnitContext& context) {
   LearnerStep step;
   if (!pretrained_) {
-    step.abandoned = !Pretrain(context);
+    step.abandoned = Pretrain(context) == FitOutcome::kAbandoned;
     step.summary = {0, total_steps_, budget(), 0.0, 0.0, context.elapsed_seconds()};
     return step;
   }
   step.models_changed = models_due_;
-  if (models_due_) {  // the run was continued past the budget it had stopped at
-    step.abandoned = !FitModels(context);
-    if (step.abandoned) return step;
+  if (models_due_) {  // a paused refit, or the run continued past the budget it had stopped at
+    const FitOutcome outcome = FitModels(context);
+    step.abandoned = outcome == FitOutcome::kAbandoned;
+    if (outcome != FitOutcome::kDone) {
+      step.summary = {episodes_ / config_.training.episodes_per_epoch + 1,
+                      total_steps_,
+                      budget(),
+                      0.0,
+                      0.0,
+                      context.elapsed_seconds()};
+      return step;
+    }
     models_due_ = false;
   }
   std::optional<ProgressRow> row = Episode(context);
@@ -138,7 +147,9 @@ LearnerStep MpcLearner::Advance(const UnitContext& context) {
     if (Finished()) {
       models_due_ = true;
     } else {
-      step.abandoned = !FitModels(context);
+      const FitOutcome outcome = FitModels(context);
+      step.abandoned = outcome == FitOutcome::kAbandoned;
+      models_due_ = outcome == FitOutcome::kPaused;  // the next Advance goes on with it
       step.models_changed = true;
     }
   }
@@ -149,7 +160,14 @@ LearnerStep MpcLearner::Advance(const UnitContext& context) {
 }
 
 // Facts B6: random actions, each episode cut after pretrain_steps stored transitions.
-bool MpcLearner::Pretrain(const UnitContext& context) {
+MpcLearner::FitOutcome MpcLearner::Pretrain(const UnitContext& context) {
+  if (!pretrain_collected_) CollectRandomData();
+  const FitOutcome outcome = FitModels(context);
+  pretrained_ = outcome == FitOutcome::kDone;
+  return outcome;
+}
+
+void MpcLearner::CollectRandomData() {
   Env& env = *parts_.env;
   RandomPolicy random(env.action_spec(), DeriveSeed(config_.seed, kPretrainSeedStream));
   for (int episode = 0; episode < config_.training.pretrain_episodes; ++episode) {
@@ -169,9 +187,7 @@ bool MpcLearner::Pretrain(const UnitContext& context) {
       if (end) break;
     }
   }
-  if (!FitModels(context)) return false;
-  pretrained_ = true;
-  return true;
+  pretrain_collected_ = true;
 }
 
 // The classifier's label of a step's next state: only beside a stored transition unless
@@ -188,19 +204,22 @@ std::vector<std::pair<std::string, double>> MpcLearner::TimeSplit() const {
           {"classifier_fits", classifier_fit_seconds_}};
 }
 
-bool MpcLearner::FitModels(const UnitContext& context) {
+MpcLearner::FitOutcome MpcLearner::FitModels(const UnitContext& context) {
+  // The dynamics fit (half an hour at the paper's sizes) pauses for checkpoints and stops; the
+  // classifier's (seconds) is given up on a stop.
+  const EnsembleFitReport dynamics = Timed(dynamics_fit_seconds_, [&] {
+    return parts_.ensemble->Fit(*transitions_, nullptr, context.checkpoint_due);
+  });
+  if (dynamics.paused) return FitOutcome::kPaused;
   std::function<bool()> keep_going;
   if (context.stop_requested) keep_going = [&context] { return !context.stop_requested(); };
-  const EnsembleFitReport dynamics =
-      Timed(dynamics_fit_seconds_, [&] { return parts_.ensemble->Fit(*transitions_, keep_going); });
-  if (dynamics.interrupted) return false;
   const CostFitReport classifier =
       Timed(classifier_fit_seconds_, [&] { return parts_.classifier->Fit(*labeled_, keep_going); });
-  if (classifier.interrupted) return false;
+  if (classifier.interrupted) return FitOutcome::kAbandoned;
   dynamics_validation_mse_ = dynamics.validation_mse;
   classifier_safe_accuracy_ = classifier.safe_accuracy;
   classifier_unsafe_accuracy_ = classifier.unsafe_accuracy;
-  return true;
+  return FitOutcome::kDone;
 }
 
 std::optional<ProgressRow> MpcLearner::Episode(const UnitContext& context) {
@@ -279,6 +298,7 @@ void MpcLearner::Save(const fs::path& folder, const fs::path& previous,
              (folder / kPlannerGeneratorFile).string());
   const nlohmann::json state = {
       {"pretrained", pretrained_},
+      {"pretrain_collected", pretrain_collected_},
       {"models_due", models_due_},
       {"episodes", episodes_},
       {"total_steps", total_steps_},
@@ -359,6 +379,8 @@ void MpcLearner::LoadOpenEpisode(const fs::path& folder) {
 void MpcLearner::Load(const fs::path& folder) {
   ReadLearnerState(folder / kStateFile, [&](const nlohmann::json& state) {
     pretrained_ = state.at("pretrained").get<bool>();
+    // Absent before v0.9, whose first checkpoint came after the pre-training's fit.
+    pretrain_collected_ = state.value("pretrain_collected", pretrained_);
     models_due_ = state.value("models_due", false);  // absent before v0.3
     episodes_ = state.at("episodes").get<int>();
     total_steps_ = state.at("total_steps").get<std::int64_t>();

@@ -86,9 +86,14 @@ class MpcLearner final : public Learner {
   const ProgressRow& last_row() const { return last_row_; }
 
  private:
-  bool Pretrain(const UnitContext& context);
-  // False when context.stop_requested abandoned a fit (the models are then not to be saved).
-  bool FitModels(const UnitContext& context);
+  enum class FitOutcome { kDone, kPaused, kAbandoned };
+  // The random pre-training: its data once, then the first fit.
+  FitOutcome Pretrain(const UnitContext& context);
+  void CollectRandomData();
+  // Fits the dynamics, then the classifier. kPaused: the dynamics fit is open for a checkpoint
+  // (context.checkpoint_due), and the next call goes on with it. kAbandoned: a stop gave up the
+  // classifier's fit (the learner is then not to be saved).
+  FitOutcome FitModels(const UnitContext& context);
   void AddLabel(const std::vector<double>& next_state, double cost, bool transition_kept);
   // Carries the episode under way (or a new one) on until it ends, giving its row, or until
   // context.checkpoint_due(), giving nothing.
@@ -106,7 +111,8 @@ class MpcLearner final : public Learner {
 
   // Counters and the last fits' figures, all in the checkpoint.
   bool pretrained_ = false;
-  bool models_due_ = false;  // a refit the budget's end put off
+  bool pretrain_collected_ = false;  // its random data is in the buffers
+  bool models_due_ = false;  // a refit paused for a checkpoint, or one the budget's end put off
   int episodes_ = 0;
   // Wall seconds of this process, per part (TimeSplit).
   double planning_seconds_ = 0.0, environment_seconds_ = 0.0, dynamics_fit_seconds_ = 0.0,
