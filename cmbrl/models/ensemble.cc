@@ -233,25 +233,26 @@ EnsembleFitReport EnsembleDynamics::Fit(const TransitionBuffer& data,
   const torch::Tensor y = s.target_normalizer.Normalize(targets.to(s.device));
 
   // A fresh train/validation split; at least one row trains. An open fit draws its own again.
+  // `place`: where this fit stands (an open one's, or a new one's at its first epoch).
   std::int64_t validation_size =
       static_cast<std::int64_t>(std::floor(options_.validation_fraction * n));
   validation_size = std::min(validation_size, n - 1);
-  std::optional<State::OpenFit> resumed = std::move(s.open_fit);
+  std::optional<State::OpenFit> place = std::move(s.open_fit);
   s.open_fit.reset();
   torch::Tensor order;
-  if (resumed) {
-    Require(resumed->rows == n,
+  if (place) {
+    Require(place->rows == n,
             "the open dynamics fit was begun on {} transitions, but is given {}: an open fit "
             "goes on only on its own data",
-            resumed->rows, n);
+            place->rows, n);
     const torch::Tensor now = s.generator.get_state();
-    s.generator.set_state(resumed->split_generator);
+    s.generator.set_state(place->split_generator);
     order = torch::randperm(n, s.generator, torch::kLong);
     s.generator.set_state(now);
   } else {
-    resumed = State::OpenFit{};
-    resumed->rows = n;
-    resumed->split_generator = s.generator.get_state();
+    place = State::OpenFit{};
+    place->rows = n;
+    place->split_generator = s.generator.get_state();
     order = torch::randperm(n, s.generator, torch::kLong);
   }
   const torch::Tensor validation_rows = order.slice(0, 0, validation_size).to(s.device);
@@ -266,24 +267,24 @@ EnsembleFitReport EnsembleDynamics::Fit(const TransitionBuffer& data,
   EnsembleFitReport report;
   report.train_size = static_cast<int>(train_size);
   report.validation_size = static_cast<int>(validation_size);
-  const bool continued = resumed->next_epoch > 1;
+  const bool continued = place->next_epoch > 1;
   report.validation_mse =
-      continued ? resumed->validation_mse : std::numeric_limits<double>::quiet_NaN();
+      continued ? place->validation_mse : std::numeric_limits<double>::quiet_NaN();
   report.best_validation_mse =
-      continued ? resumed->best_validation_mse : std::numeric_limits<double>::infinity();
-  int checks_without_improvement = resumed->checks_without_improvement;
+      continued ? place->best_validation_mse : std::numeric_limits<double>::infinity();
+  int checks_without_improvement = place->checks_without_improvement;
   // Leaves the fit open after `epoch` when pause_due asks (never after its last epoch).
   const auto pause_after = [&](int epoch) {
     if (!pause_due || epoch >= options_.max_epochs || !pause_due()) return false;
-    resumed->next_epoch = epoch + 1;
-    resumed->validation_mse = report.validation_mse;
-    resumed->best_validation_mse = report.best_validation_mse;
-    resumed->checks_without_improvement = checks_without_improvement;
-    s.open_fit = std::move(resumed);
+    place->next_epoch = epoch + 1;
+    place->validation_mse = report.validation_mse;
+    place->best_validation_mse = report.best_validation_mse;
+    place->checks_without_improvement = checks_without_improvement;
+    s.open_fit = std::move(place);
     report.paused = true;
     return true;
   };
-  for (int epoch = resumed->next_epoch; epoch <= options_.max_epochs; ++epoch) {
+  for (int epoch = place->next_epoch; epoch <= options_.max_epochs; ++epoch) {
     // Each member's own fresh subset of the train split, without replacement: (E, subset).
     std::vector<torch::Tensor> picks;
     for (std::int64_t m = 0; m < members; ++m) {

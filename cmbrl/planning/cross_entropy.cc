@@ -41,7 +41,7 @@ void CrossEntropyPlanner::SetCarriedState(const torch::Tensor& state) {
           "action_dim)",
           c10::toString(state.scalar_type()), fmt::join(state.sizes(), ", "), problem_.horizon,
           problem_.action_dim);
-  Require(torch::isfinite(state).all().item<bool>(), "the warm-start mean holds NaN or infinity");
+  CheckFinite(state, "the warm-start mean");
   previous_mean_ = state.to(device_).clone();
 }
 

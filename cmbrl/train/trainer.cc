@@ -153,7 +153,7 @@ void Trainer::Run(const RunOptions& options) {
     }
     if (step.row) s.AppendRow(*step.row);
     if (step.row && options.on_unit) options.on_unit(step.summary);
-    if (!stop && options.stop_requested) stop = options.stop_requested();
+    context.stop_requested();  // asked once more: a stop during the unit's end ends the run here
     const auto start = Clock::now();
     WriteCheckpoint(
         s.run, s.rows, s.Elapsed(),

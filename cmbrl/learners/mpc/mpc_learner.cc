@@ -116,29 +116,28 @@ LearnerStep MpcLearner::Advance(const UnitContext& context) {
     step.summary = {0, total_steps_, budget(), 0.0, 0.0, context.elapsed_seconds()};
     return step;
   }
+  // The summary of a unit cut for a checkpoint: no episode ended.
+  const auto unfinished = [&](double episode_return, double episode_cost) {
+    return ProgressSummary{episodes_ / config_.training.episodes_per_epoch + 1,
+                           total_steps_,
+                           budget(),
+                           episode_return,
+                           episode_cost,
+                           context.elapsed_seconds()};
+  };
   step.models_changed = models_due_;
   if (models_due_) {  // a paused refit, or the run continued past the budget it had stopped at
     const FitOutcome outcome = FitModels(context);
     step.abandoned = outcome == FitOutcome::kAbandoned;
     if (outcome != FitOutcome::kDone) {
-      step.summary = {episodes_ / config_.training.episodes_per_epoch + 1,
-                      total_steps_,
-                      budget(),
-                      0.0,
-                      0.0,
-                      context.elapsed_seconds()};
+      step.summary = unfinished(0.0, 0.0);
       return step;
     }
     models_due_ = false;
   }
   std::optional<ProgressRow> row = Episode(context);
   if (!row) {  // cut for a checkpoint
-    step.summary = {episodes_ / config_.training.episodes_per_epoch + 1,
-                    total_steps_,
-                    budget(),
-                    open_->row.episode_return,
-                    open_->row.episode_cost,
-                    context.elapsed_seconds()};
+    step.summary = unfinished(open_->row.episode_return, open_->row.episode_cost);
     return step;
   }
   last_row_ = std::move(*row);
