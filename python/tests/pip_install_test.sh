@@ -10,7 +10,9 @@ rm -rf "$venv"
 "$python" -m venv --system-site-packages "$venv"
 CMBRL_BUILD_DIR=$build_dir "$venv/bin/pip" install --quiet --no-build-isolation --no-deps \
   --no-index "$source_dir"
-cd "$(mktemp -d)"  # not the checkout: the installed package must be the one imported
+scratch=$(mktemp -d)
+trap 'rm -rf "$scratch"' EXIT
+cd "$scratch"  # not the checkout: the installed package must be the one imported
 installed=$("$venv/bin/python" -c "import cmbrl, sys; print(cmbrl.__version__); print(cmbrl.__file__, file=sys.stderr)" 2> where)
 case "$(cat where)" in "$venv"/*) ;; *) echo "FAILED: imported $(cat where), not the venv's"; exit 1;; esac
 package=$(dirname "$(cat where)")

@@ -4,7 +4,6 @@
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <cstdint>
 #include <filesystem>
@@ -15,6 +14,7 @@
 #include "cmbrl/config/config.h"
 #include "cmbrl/learners/mpc/mpc_learner.h"
 #include "cmbrl/run/run_directory.h"
+#include "tests/temp_path.h"
 
 namespace cmbrl::testing {
 
@@ -60,12 +60,8 @@ inline void WriteRun(const std::filesystem::path& sweep, const std::string& task
 class ReportTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    // A folder of this test's own: ctest runs the tests of this file as parallel processes.
-    sweep_ =
-        std::filesystem::path(::testing::TempDir()) /
-        fmt::format("report_fixture_{}_{}",
-                    ::testing::UnitTest::GetInstance()->current_test_info()->name(), ::getpid());
-    std::filesystem::remove_all(sweep_);
+    // A folder of this test's own (ctest runs the tests of this file as parallel processes).
+    sweep_ = testing::TestTempPath("sweep");
     // Episodes of 100 steps. With a window of 300 the episodes starting at 0, 100 and 200 count.
     WriteRun(sweep_, "PointGoal1", "rce", 0, 100, {1, 0, 2, 9}, 0);  // 3 in the window
     WriteRun(sweep_, "PointGoal1", "rce", 1, 100, {0, 1, 0, 9}, 1);  // 1
@@ -75,7 +71,6 @@ class ReportTest : public ::testing::Test {
     WriteRun(sweep_, "CarGoal2", "cem", 0, 150, {1, 1, 1}, 0);       // 2
     WriteRun(sweep_, "CarGoal2", "cem", 1, 150, {}, 0);  // just started: no episode, left out
   }
-  void TearDown() override { std::filesystem::remove_all(sweep_); }
 
   // The original's logs in its own format (no Steps column): PointGoal1 RCE seeds 0 and 10 with
   // episodes of 100 steps, and CarGoal2 CEM seed 0 too short for a window of 300.

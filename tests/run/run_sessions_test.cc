@@ -6,7 +6,6 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <torch/version.h>
-#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -15,6 +14,7 @@
 #include "cmbrl/core/build_info.h"
 #include "cmbrl/models/onednn_forward.h"
 #include "tests/error_message.h"
+#include "tests/temp_path.h"
 
 namespace cmbrl {
 namespace {
@@ -25,10 +25,9 @@ using testing::ErrorMessage;
 using ::testing::HasSubstr;
 using ::testing::StartsWith;
 
-// A run directory of this test process's own (ctest runs tests as parallel processes).
+// A run directory in the test's own folder (removed when the test passes).
 RunDirectory TempRun(const std::string& name) {
-  const fs::path dir =
-      fs::path(::testing::TempDir()) / fmt::format("run_sessions_test_{}_{}", name, ::getpid());
+  const fs::path dir = testing::TestTempPath(name);
   fs::remove_all(dir);
   fs::create_directories(dir);
   return RunDirectory(dir);
