@@ -1,7 +1,5 @@
 #include "cmbrl/run/run_sessions.h"
 
-#include "cmbrl/train/current_setup.h"
-
 #include <ATen/Parallel.h>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -13,6 +11,7 @@
 
 #include "cmbrl/core/build_info.h"
 #include "cmbrl/models/onednn_forward.h"
+#include "cmbrl/train/current_setup.h"
 #include "tests/error_message.h"
 #include "tests/temp_path.h"
 
