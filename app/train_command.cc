@@ -44,8 +44,8 @@ extern "C" void OnStopSignal(int signal) {
   stop_signal.store(signal);
   // write(2) is safe in a handler.
   static const char kMessage[] =
-      "\ncmbrl: stopping at a checkpoint after the agent step or fit epoch under way; a second "
-      "signal stops at once\n";
+      "\ncmbrl: stopping at a checkpoint after the agent step, fit epoch or model-free epoch "
+      "under way; a second signal stops at once\n";
   const ssize_t ignored = write(STDERR_FILENO, kMessage, sizeof(kMessage) - 1);
   (void)ignored;
 }

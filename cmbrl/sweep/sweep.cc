@@ -351,12 +351,13 @@ std::string SlurmScript(const std::vector<SweepRun>& runs, const SweepGrid& grid
       "#SBATCH --output={0}/logs/slurm-%a.log\n"
       "#SBATCH --open-mode=append\n"
       "#SBATCH --requeue\n"
+      "#SBATCH --signal=B:USR1@{3}\n"
       "set -euo pipefail\n"
       "# As many BLAS threads as the task has CPUs, unless the caller chose.\n"
       "export OPENBLAS_NUM_THREADS=\"${{OPENBLAS_NUM_THREADS:-${{SLURM_CPUS_PER_TASK:-1}}}}\"\n"
       "cmbrl={2}\n"
       "case \"$SLURM_ARRAY_TASK_ID\" in\n",
-      dir, runs.size() - 1, Quote(program));
+      dir, runs.size() - 1, Quote(program), kSlurmTimeLimitLeadSeconds);
   const std::string steps = grid.steps ? fmt::format(" --steps {}", *grid.steps) : "";
   for (size_t index = 0; index < runs.size(); ++index) {
     SweepRun run = runs[index];
@@ -371,9 +372,42 @@ std::string SlurmScript(const std::vector<SweepRun>& runs, const SweepGrid& grid
   // A run exists once its config file does (RunDirectory::HoldsRun).
   script += fmt::format("if [ -f \"$run_dir/{}\" ]; then\n",
                         RunDirectory("").config_file().filename().string());
-  script += "  exec \"$cmbrl\" train --resume \"$run_dir\"" + steps + "\n";
+  script += "  command=(\"$cmbrl\" train --resume \"$run_dir\"" + steps + ")\n";
+  script += "else\n";
+  script += "  command=(\"$cmbrl\" \"${start[@]}\"" + steps + ")\n";
   script += "fi\n";
-  script += "exec \"$cmbrl\" \"${start[@]}\"" + steps + "\n";
+  // The run is a child, not exec'd, so that the script can requeue the task after it; the
+  // script must then outlive it, or Slurm would end the task with the script.
+  script += fmt::format(
+      "# {0} s before the task's time limit Slurm sends USR1 to this script alone (--signal\n"
+      "# above; another lead: --sbatch=--signal=B:USR1@SECONDS). The script then asks the run to\n"
+      "# stop (SIGTERM: it checkpoints after the agent step, fit epoch or model-free epoch under\n"
+      "# way), waits for it, and requeues the task, which resumes the run. The run is started deaf "
+      "to USR1, so that it\n"
+      "# hears of the limit once. A cancellation or a preemption sends SIGTERM to the run itself:\n"
+      "# the script, which ignores it, waits until the run has checkpointed and stopped.\n"
+      "trap '' USR1\n"
+      "\"${{command[@]}}\" &\n"
+      "pid=$!\n"
+      "near_limit=0\n"
+      "trap 'if [ \"$near_limit\" = 0 ]; then near_limit=1; kill -TERM \"$pid\" 2> /dev/null || "
+      "true; "
+      "fi' USR1\n"
+      "trap ':' TERM\n"
+      "# A trapped signal ends `wait` early: wait until the run is gone, then take its status.\n"
+      "while kill -0 \"$pid\" 2> /dev/null; do wait \"$pid\" || true; done\n"
+      "status=0\n"
+      "wait \"$pid\" || status=$?\n"
+      "if [ \"$near_limit\" = 1 ]; then\n"
+      "  echo \"cmbrl sweep: the time limit is {0} s away or less; the run stopped at a "
+      "checkpoint\" \\\n"
+      "    \"(exit $status) and task $SLURM_ARRAY_TASK_ID requeues itself to go on\"\n"
+      "  scontrol requeue \"$SLURM_JOB_ID\" ||\n"
+      "    echo \"cmbrl sweep: the task could not requeue itself: run the same sweep again to go "
+      "on\"\n"
+      "fi\n"
+      "exit \"$status\"\n",
+      kSlurmTimeLimitLeadSeconds);
   return script;
 }
 

@@ -139,10 +139,16 @@ struct PreparedSweep {
 PreparedSweep PrepareSweep(const SweepGrid& grid, const std::string& sweep_dir,
                            const std::string& program, const SweepEventSink& on_event);
 
+// How long before a task's time limit Slurm warns its slurm.sh, which then stops the run at a
+// checkpoint and requeues the task: longer than a paper-size agent step, fit epoch or model-free
+// epoch on one core (about 10 s, 30 s and 1-3 minutes).
+inline constexpr int kSlurmTimeLimitLeadSeconds = 300;
+
 // sweep_dir/slurm.sh: a job array with one task per run, each resuming or starting its run with
 // `program` (an absolute path), logs in sweep_dir/logs (appended to, so that a requeued task's
 // log keeps its first part). Tasks are requeueable: one stopped by a node failure or preemption
-// (or `scontrol requeue`) starts again and resumes its run from its checkpoint.
+// (or `scontrol requeue`) starts again and resumes its run from its checkpoint, and one that
+// nears its time limit stops its run at a checkpoint and requeues itself.
 std::string SlurmScript(const std::vector<SweepRun>& runs, const SweepGrid& grid,
                         const std::string& sweep_dir, const std::string& program);
 

@@ -2,7 +2,7 @@
 # A sweep through a real Slurm: a single-node cluster on localhost (munged, slurmctld and slurmd,
 # all configured inside WORK_DIR and stopped at the end), a tiny sweep submitted to it with
 # `cmbrl sweep --engine slurm --wait`, one task requeued and one cancelled while they train, and
-# the sweep submitted again. Every run must finish with the rows of the same sweep run locally
+# the sweep submitted again; then a task warned that its time limit is near. Every run must finish with the rows of the same sweep run locally
 # (the wall-clock columns Time and MsPerPlan aside), and the two interrupted runs must have been
 # resumed, not restarted. Exits 77 (skipped), saying why, only where the daemons cannot start.
 # Usage: slurm_sweep_test.sh CMBRL CONFIG WORK_DIR
@@ -161,6 +161,38 @@ for name in pointgoal1-rce-s0 pointgoal1-rce-s1; do
 done
 grep -q 'DUE TO JOB REQUEUE' "$work/slurm/logs/slurm-0.log" ||
   { echo "FAILED: the requeued task's log lost its first part"; exit 1; }
+# A task warned of its time limit (Slurm's USR1 to the script, which --signal in slurm.sh asks
+# for; sent here by hand) stops its run at a checkpoint and requeues itself; the run goes on to
+# the local sweep's rows.
+limit=(sweep --tasks PointGoal1 --planners rce --seeds 0 --config-dir "$work/configs" --steps 2000
+       --out "$work/limit" --engine slurm --wait --poll 0.5 --sbatch=--cpus-per-task=1)
+"$cmbrl" "${limit[@]}" > "$work/limit.log" 2>&1 &
+limiter=$!
+limit_rows="$work/limit/runs/pointgoal1-rce-s0/progress.csv"
+for _ in $(seq 1200); do
+  [ -f "$limit_rows" ] && [ "$(wc -l < "$limit_rows")" -ge 3 ] && break
+  sleep 0.1
+done
+warned=$(sed -n 's/.*"status":"submitted".*"job":"\([0-9_]*\)".*/\1/p' "$work/limit.log")
+[ -n "$warned" ] || { echo "FAILED: the time-limit sweep was not submitted"; cat "$work/limit.log"; exit 1; }
+scancel --batch --signal=USR1 "$warned"
+for _ in $(seq 600); do
+  if [ "$(squeue --noheader --jobs="$warned" --format=%T 2> /dev/null)" = PENDING ]; then
+    scontrol update JobId="$warned" StartTime=now+5 && break
+  fi
+  sleep 0.1
+done
+wait "$limiter" || { echo "FAILED: the warned run did not finish"; cat "$work/limit.log"; exit 1; }
+grep -q '"run":"pointgoal1-rce-s0","status":"requeued"' "$work/limit.log" ||
+  { echo "FAILED: the warned task did not requeue itself"; cat "$work/limit.log"; exit 1; }
+grep -q 'the run stopped at a checkpoint (exit 143) and task 0 requeues itself' \
+  "$work/limit/logs/slurm-0.log" ||
+  { echo "FAILED: the warned task's log"; cat "$work/limit/logs/slurm-0.log"; exit 1; }
+diff <(deterministic_rows "$work/local/runs/pointgoal1-rce-s0/progress.csv") \
+  <(deterministic_rows "$limit_rows") ||
+  { echo "FAILED: the warned run's rows differ from the local sweep's"; exit 1; }
+[ "$(wc -l < "$work/limit/runs/pointgoal1-rce-s0/sessions.jsonl")" -ge 2 ] ||
+  { echo "FAILED: the warned run was not resumed"; exit 1; }
 # Submitted twice, the second submission follows the first's task instead of sending the run again.
 twice=(sweep --tasks PointGoal1 --planners rce --seeds 0 --config-dir "$work/configs" --steps 1000
        --out "$work/twice" --engine slurm --poll 0.5 --sbatch=--cpus-per-task=1)
@@ -181,4 +213,4 @@ grep -q '"status":"already queued"' "$work/twice-2.log" &&
   grep -q '"submitted":0,"already_queued":1,"finished_now":1' "$work/twice-2.log" ||
   { echo "FAILED: a second submission sent a queued run again"; cat "$work/twice-2.log"; exit 1; }
 echo "slurm: $runs runs through a single-node Slurm, one requeued and one cancelled then" \
-  "resubmitted, rows identical to the local sweep"
+  "resubmitted, one warned of its time limit, rows identical to the local sweep"

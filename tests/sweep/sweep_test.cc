@@ -1,5 +1,6 @@
 #include "cmbrl/sweep/sweep.h"
 
+#include <fmt/format.h>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -108,8 +109,12 @@ TEST(SweepTest, SlurmScriptHasOneArrayTaskPerRun) {
   EXPECT_THAT(script, HasSubstr("  7) run_dir='/tmp/sweep/runs/cargoal2-random-s1'; start=('train' "
                                  "'--config' '" CMBRL_SOURCE_DIR "/configs/cargoal2-random.yaml' "
                                  "'--seed' '1' '--out' '/tmp/sweep/runs/cargoal2-random-s1');;\n"));
-  EXPECT_THAT(script, HasSubstr("train --resume \"$run_dir\" --steps 3000\n"));
-  EXPECT_THAT(script, HasSubstr("exec \"$cmbrl\" \"${start[@]}\" --steps 3000\n"));
+  EXPECT_THAT(script, HasSubstr("train --resume \"$run_dir\" --steps 3000)\n"));
+  EXPECT_THAT(script, HasSubstr("command=(\"$cmbrl\" \"${start[@]}\" --steps 3000)\n"));
+  // Warned before the time limit, the task stops its run and requeues itself.
+  EXPECT_THAT(script,
+              HasSubstr(fmt::format("#SBATCH --signal=B:USR1@{}\n", kSlurmTimeLimitLeadSeconds)));
+  EXPECT_THAT(script, HasSubstr("scontrol requeue \"$SLURM_JOB_ID\""));
 }
 
 TEST(SweepTest, ARestartWithOtherSettingsIsRefused) {
