@@ -399,7 +399,7 @@ std::string SlurmScript(const std::vector<SweepRun>& runs, const SweepGrid& grid
       "status=0\n"
       "wait \"$pid\" || status=$?\n"
       "if [ \"$near_limit\" = 1 ]; then\n"
-      "  echo \"cmbrl sweep: the time limit is {0} s away or less; the run stopped at a "
+      "  echo \"cmbrl sweep: Slurm says the time limit is near; the run stopped at a "
       "checkpoint\" \\\n"
       "    \"(exit $status) and task $SLURM_ARRAY_TASK_ID requeues itself to go on\"\n"
       "  scontrol requeue \"$SLURM_JOB_ID\" ||\n"

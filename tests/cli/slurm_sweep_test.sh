@@ -2,9 +2,9 @@
 # A sweep through a real Slurm: a single-node cluster on localhost (munged, slurmctld and slurmd,
 # all configured inside WORK_DIR and stopped at the end), a tiny sweep submitted to it with
 # `cmbrl sweep --engine slurm --wait`, one task requeued and one cancelled while they train, and
-# the sweep submitted again; then a task warned that its time limit is near. Every run must finish with the rows of the same sweep run locally
-# (the wall-clock columns Time and MsPerPlan aside), and the two interrupted runs must have been
-# resumed, not restarted. Exits 77 (skipped), saying why, only where the daemons cannot start.
+# the sweep submitted again; then a task warned that its time limit is near. Every run must
+# finish with the rows of the same sweep run locally (the wall-clock columns Time and MsPerPlan
+# aside), and the interrupted runs must have been resumed, not restarted. Exits 77 (skipped), saying why, only where the daemons cannot start.
 # Usage: slurm_sweep_test.sh CMBRL CONFIG WORK_DIR
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/progress_rows.sh"
