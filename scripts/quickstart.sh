@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The main job on its defaults, from a fresh Debian 12 machine: installs the dependencies,
-# builds, trains the quickstart preset (PointGoal1, RCE, CPU-sized; about 10 minutes on 2 cores)
+# builds, trains the quickstart preset (PointGoal1, RCE, CPU-sized; about 6 minutes on one core)
 # and evaluates the trained agent with a top-down picture. Run again, it resumes or re-evaluates.
 set -euo pipefail
 cd "$(dirname "$0")/.."
