@@ -134,6 +134,10 @@ if wait "$submitter"; then
 fi
 grep -q '"run":"pointgoal1-rce-s1","status":"failed".*"state":"CANCELLED"' "$work/submit-1.log" ||
   { echo "FAILED: the cancelled run was not reported failed"; cat "$work/submit-1.log"; exit 1; }
+# The cancellation's SIGTERM reached the run, which checkpointed and stopped (not killed with
+# its script).
+grep -q "SIGTERM stopped the run" "$work/slurm/logs/slurm-${cancelled#*_}.log" ||
+  { echo "FAILED: the cancelled run did not stop at a checkpoint"; exit 1; }
 grep -q '"run":"pointgoal1-rce-s0","status":"finished"' "$work/submit-1.log" ||
   { echo "FAILED: the requeued run did not finish"; cat "$work/submit-1.log"; exit 1; }
 grep -q '"run":"pointgoal1-rce-s0","status":"requeued"' "$work/submit-1.log" ||
