@@ -379,34 +379,30 @@ std::string SlurmScript(const std::vector<SweepRun>& runs, const SweepGrid& grid
   // The run is a child, not exec'd, so that the script can requeue the task after it; the
   // script must then outlive it, or Slurm would end the task with the script.
   script += fmt::format(
-      "# {0} s before the task's time limit Slurm sends USR1 to this script alone (--signal\n"
-      "# above; another lead: --sbatch=--signal=B:USR1@SECONDS). The script then asks the run to\n"
-      "# stop (SIGTERM: it checkpoints after the agent step, fit epoch or model-free epoch under\n"
-      "# way), waits for it, and requeues the task, which resumes the run. The run is started deaf "
-      "to USR1, so that it\n"
-      "# hears of the limit once. A cancellation or a preemption sends SIGTERM to the run itself:\n"
-      "# the script, which ignores it, waits until the run has checkpointed and stopped.\n"
-      "trap '' USR1\n"
-      "\"${{command[@]}}\" &\n"
-      "pid=$!\n"
-      "near_limit=0\n"
-      "trap 'if [ \"$near_limit\" = 0 ]; then near_limit=1; kill -TERM \"$pid\" 2> /dev/null || "
-      "true; "
-      "fi' USR1\n"
-      "trap ':' TERM\n"
-      "# A trapped signal ends `wait` early: wait until the run is gone, then take its status.\n"
-      "while kill -0 \"$pid\" 2> /dev/null; do wait \"$pid\" || true; done\n"
-      "status=0\n"
-      "wait \"$pid\" || status=$?\n"
-      "if [ \"$near_limit\" = 1 ]; then\n"
-      "  echo \"cmbrl sweep: Slurm says the time limit is near; the run stopped at a "
-      "checkpoint\" \\\n"
-      "    \"(exit $status) and task $SLURM_ARRAY_TASK_ID requeues itself to go on\"\n"
-      "  scontrol requeue \"$SLURM_JOB_ID\" ||\n"
-      "    echo \"cmbrl sweep: the task could not requeue itself: run the same sweep again to go "
-      "on\"\n"
-      "fi\n"
-      "exit \"$status\"\n",
+      R"(# {0} s before the task's time limit Slurm sends USR1 to this script alone (--signal
+# above; another lead: --sbatch=--signal=B:USR1@SECONDS). The script then asks the run to stop
+# (SIGTERM: it checkpoints after the agent step, fit epoch or model-free epoch under way), waits
+# for it, and requeues the task, which resumes the run. The run is started deaf to USR1, so
+# that it hears of the limit once. A cancellation or a preemption sends SIGTERM to the run
+# itself: the script, which ignores it, waits until the run has checkpointed and stopped.
+trap '' USR1
+"${{command[@]}}" &
+pid=$!
+near_limit=0
+trap 'if [ "$near_limit" = 0 ]; then near_limit=1; kill -TERM "$pid" 2> /dev/null || true; fi' USR1
+trap ':' TERM
+# A trapped signal ends `wait` early: wait until the run is gone, then take its status.
+while kill -0 "$pid" 2> /dev/null; do wait "$pid" || true; done
+status=0
+wait "$pid" || status=$?
+if [ "$near_limit" = 1 ]; then
+  echo "cmbrl sweep: Slurm says the time limit is near; the run stopped at a checkpoint" \
+    "(exit $status) and task $SLURM_ARRAY_TASK_ID requeues itself to go on"
+  scontrol requeue "$SLURM_JOB_ID" ||
+    echo "cmbrl sweep: the task could not requeue itself: run the same sweep again to go on"
+fi
+exit "$status"
+)",
       kSlurmTimeLimitLeadSeconds);
   return script;
 }
