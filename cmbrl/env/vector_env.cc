@@ -133,4 +133,27 @@ VectorStep VectorEnv::Step(const std::vector<double>& actions,
   return out;
 }
 
+VectorEnvState VectorEnv::State() const {
+  VectorEnvState state;
+  for (const std::unique_ptr<Env>& env : envs_) state.envs.push_back(env->State());
+  state.needs_reset = needs_reset_;
+  return state;
+}
+
+void VectorEnv::SetState(const VectorEnvState& state) {
+  Require(state.envs.size() == envs_.size() && state.needs_reset.size() == envs_.size(),
+          "a vector state of {} environments and {} reset flags for {} environments: expected one "
+          "of each per environment",
+          state.envs.size(), state.needs_reset.size(), envs_.size());
+  const std::vector<std::string> before = State().envs;
+  size_t k = 0;
+  try {
+    for (; k < envs_.size(); ++k) envs_[k]->SetState(state.envs[k]);
+  } catch (const Error&) {
+    for (size_t j = 0; j < k; ++j) envs_[j]->SetState(before[j]);  // their own: cannot fail
+    throw;
+  }
+  for (k = 0; k < envs_.size(); ++k) needs_reset_[k] = state.needs_reset[k] != 0;
+}
+
 }  // namespace cmbrl

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "cmbrl/core/worker_pool.h"
@@ -31,6 +32,13 @@ struct VectorStep {
 enum class Autoreset {
   kSameStep,  // an ended episode is followed at once by the next one's first observation
   kDisabled,  // an ended environment waits for ResetWhere; stepping it first is an error
+};
+
+// What a checkpoint needs to continue a vector: each environment's whole state (Env::State) and,
+// for Autoreset::kDisabled, whether it waits for a reset.
+struct VectorEnvState {
+  std::vector<std::string> envs;
+  std::vector<std::uint8_t> needs_reset;  // (N) 0/1
 };
 
 // Not thread-safe; it runs its environments on a pool of threads of its own (WorkerPool: they
@@ -70,6 +78,12 @@ class VectorEnv {
   // environments). Throws cmbrl::Error, naming the environment, before any environment steps:
   // for a wrong size, a non-finite action, or (kDisabled) an ended environment not reset since.
   VectorStep Step(const std::vector<double>& actions, const std::vector<std::uint8_t>& active = {});
+
+  // The vector's state, which SetState restores exactly in a vector made the same way: its next
+  // steps and resets then equal this one's. SetState throws cmbrl::Error, changing nothing, for a
+  // state of another number of environments or one that an environment refuses (Env::SetState).
+  VectorEnvState State() const;
+  void SetState(const VectorEnvState& state);
 
  private:
   std::vector<std::unique_ptr<Env>> envs_;

@@ -125,6 +125,46 @@ TEST(VectorEnvTest, DisabledAutoresetWaitsForAMaskedResetAndInactiveEnvironments
   EXPECT_THROW(vector.Step({0.1, 0.1, 0.1, 0.1}, {1}), Error);
 }
 
+// A vector's state, restored into another made the same way, steps and resets as the first
+// does from there, an ended environment still waiting for its reset; a state that does not fit
+// is refused with the vector unchanged.
+TEST(VectorEnvTest, AStateRestoredStepsAndResetsAsTheOriginalDoes) {
+  VectorEnv a(Envs("PointGoal1", 2), 2, VectorEnv::kDefaultSpin, Autoreset::kDisabled);
+  VectorEnv b(Envs("PointGoal1", 2), 2, VectorEnv::kDefaultSpin, Autoreset::kDisabled);
+  a.ResetWhere({1, 1}, {5, 6});
+  for (int t = 0; t < 10; ++t) a.Step({0.9, 0.4, 0.0, 0.0}, {1, 0});  // 0 ends 10 steps early
+  bool ended = false;
+  for (int t = 0; t < 2000 && !ended; ++t) {
+    const VectorStep step = a.Step({0.9, 0.4, 0.2, -0.3}, {1, 1});
+    ended = step.truncated[0] != 0 || step.terminated[0] != 0;
+  }
+  ASSERT_TRUE(ended);  // environment 0 waits for a reset, 1 may go on
+  const VectorEnvState state = a.State();
+  EXPECT_EQ(state.needs_reset, (std::vector<std::uint8_t>{1, 0}));
+  b.SetState(state);
+  EXPECT_THROW(b.Step({0.0, 0.0, 0.1, 0.1}), Error);
+  EXPECT_EQ(b.ResetWhere({1, 0}), a.ResetWhere({1, 0}));  // the generators continue alike
+  for (int t = 0; t < 5; ++t) {
+    const VectorStep x = a.Step({0.1, 0.2, 0.3, 0.4}, {1, 1});
+    const VectorStep y = b.Step({0.1, 0.2, 0.3, 0.4}, {1, 1});
+    EXPECT_EQ(x.observations, y.observations);
+    EXPECT_EQ(x.rewards, y.rewards);
+    EXPECT_EQ(x.costs, y.costs);
+  }
+  VectorEnvState wrong = a.State();
+  const VectorEnvState before = wrong;
+  wrong.needs_reset.pop_back();
+  EXPECT_THAT(testing::ErrorMessage([&] { b.SetState(wrong); }),
+              ::testing::HasSubstr("1 reset flags for 2 environments"));
+  wrong = before;
+  wrong.envs[1] = "not a state";
+  b.SetState(a.State());
+  const VectorEnvState kept = b.State();
+  a.Step({0.1, 0.2, 0.3, 0.4}, {1, 1});
+  EXPECT_THROW(b.SetState(wrong), Error);  // environment 0 was set before 1 refused
+  EXPECT_EQ(b.State().envs, kept.envs);
+}
+
 TEST(VectorEnvTest, BadActionsAreNamedBeforeAnyEnvironmentSteps) {
   VectorEnv vector(Envs("CarGoal1", 2), 2);
   vector.Reset(0);
