@@ -44,8 +44,8 @@ extern "C" void OnStopSignal(int signal) {
   stop_signal.store(signal);
   // write(2) is safe in a handler.
   static const char kMessage[] =
-      "\ncmbrl: stopping at a checkpoint after the agent step, fit epoch or model-free epoch "
-      "under way; a second signal stops at once\n";
+      "\ncmbrl: stopping at a checkpoint after the agent step, fit epoch, rollout round or "
+      "value-fit iteration under way; a second signal stops at once\n";
   const ssize_t ignored = write(STDERR_FILENO, kMessage, sizeof(kMessage) - 1);
   (void)ignored;
 }
@@ -181,10 +181,11 @@ void AddTrainCommand(CLI::App& parent) {
                       "config.yaml), e.g. --set planning.population=500 classifier.rounds=100");
   command
       ->add_option("--checkpoint-seconds", args->checkpoint_seconds,
-                   "an episode still going this long after the last checkpoint is checkpointed "
-                   "between two agent steps, so a killed run loses at most about this much work "
-                   "(0: after every step); results do not depend on it. SIGTERM or Ctrl-C "
-                   "checkpoints at once and stops")
+                   "a unit of work (an episode, a model fit, a model-free epoch) still going "
+                   "this long after the last checkpoint is checkpointed after its agent step, "
+                   "fit epoch, rollout round or value-fit iteration under way, so a killed run "
+                   "loses at most about this much work (0: after every step); results do not "
+                   "depend on it. SIGTERM or Ctrl-C checkpoints at once and stops")
       ->check(NumberIn(0.0, 86400.0))
       ->capture_default_str();
   command->callback([args] {

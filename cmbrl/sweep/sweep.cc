@@ -381,8 +381,8 @@ std::string SlurmScript(const std::vector<SweepRun>& runs, const SweepGrid& grid
   script += fmt::format(
       R"(# {0} s before the task's time limit Slurm sends USR1 to this script alone (--signal
 # above; another lead: --sbatch=--signal=B:USR1@SECONDS). The script then asks the run to stop
-# (SIGTERM: it checkpoints after the agent step, fit epoch or model-free epoch under way), waits
-# for it, and requeues the task, which resumes the run. The run is started deaf to USR1, so
+# (SIGTERM: it checkpoints after the agent step, fit epoch, rollout round or value-fit iteration
+# under way), waits for it, and requeues the task, which resumes the run. The run is started deaf to USR1, so
 # that it hears of the limit once. A cancellation or a preemption sends SIGTERM to the run
 # itself: the script, which ignores it, waits until the run has checkpointed and stopped.
 trap '' USR1

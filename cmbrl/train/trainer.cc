@@ -85,9 +85,10 @@ std::unique_ptr<Trainer> Trainer::Resume(const std::string& run_dir,
   }
   if (new_budget && *new_budget != old_budget) {
     const std::int64_t done = state->learner->steps_done();
-    Require(*new_budget > done,
-            "cannot continue '{}' to {} steps: it has done {} already (its budget was {})",
-            run_dir, *new_budget, done, old_budget);
+    // A unit under way at the new budget (an episode, a model-free epoch's value fits) still ends.
+    Require(*new_budget > done || (*new_budget == done && !state->learner->Finished()),
+            "cannot continue '{}' to {} steps: it has done {} already (its budget was {})", run_dir,
+            *new_budget, done, old_budget);
     state->learner->CheckNewBudget(*new_budget);
     ReplaceCheckpointedConfig(run, TrainConfigToYaml(state->config));
   }

@@ -477,11 +477,12 @@ def train(config=None, out=None, steps=None, seed=None, device=None, resume=None
     the same keys. steps, seed and device override the config's. resume=RUN_DIR continues a stopped run instead (steps then gives a new budget).
     progress(summary) is called after each unit of work (an MPC episode or a model-free epoch)
     with a dict of epoch, steps, budget, episode_return, episode_cost and seconds. An exception
-    it raises, or Ctrl-C (seen after the agent step under way in an MPC run, the epoch in a
-    model-free one), stops training at a checkpoint; the run resumes later from there.
-    checkpoint_seconds: an MPC episode or model fit still going this long after the last
-    checkpoint is checkpointed between two agent steps or fit epochs (0: after every one); it
-    changes no result.
+    it raises, or Ctrl-C (seen after the agent step or fit epoch under way in an MPC run, the
+    rollout round or value-fit iteration in a model-free one), stops training at a checkpoint;
+    the run resumes later from there.
+    checkpoint_seconds: an MPC episode, model fit or model-free epoch still going this long
+    after the last checkpoint is checkpointed after its agent step, fit epoch, rollout round or
+    value-fit iteration under way (0: after every one); it changes no result.
     Returns {"run", "steps", "budget"}.
     """
     if (isinstance(checkpoint_seconds, (bool, np.bool_))

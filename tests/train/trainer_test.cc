@@ -11,6 +11,7 @@
 #include "cmbrl/core/files.h"
 #include "cmbrl/core/torch_util.h"
 #include "cmbrl/learners/mpc/mpc_learner.h"
+#include "cmbrl/learners/policy_opt/policy_opt_learner.h"
 #include "cmbrl/models/labeled_state_buffer.h"
 #include "cmbrl/models/transition_buffer.h"
 #include "cmbrl/run/progress_table.h"
@@ -579,6 +580,26 @@ std::vector<std::string> EpochRowsWithoutTime(const std::string& run_dir) {
   return rows;
 }
 
+// A model-free session's wall time splits into the rollouts, the updates, the value fits and the
+// checkpoints, each measured; the epoch's own split (for benchmarks) lies inside it.
+TEST(TrainerTest, AModelFreeSessionsTimeIsSplitIntoItsParts) {
+  std::unique_ptr<Trainer> trainer =
+      Trainer::Start(TinyModelFree("trpo-lagrangian"), TempRunDir("mf_split"));
+  trainer->Run();
+  std::vector<std::string> parts;
+  for (const auto& [part, seconds] : trainer->TimeSplit()) {
+    parts.push_back(part);
+    if (part != "other") {
+      EXPECT_GT(seconds, 0.0) << part;
+    }
+  }
+  EXPECT_EQ(parts, (std::vector<std::string>{"rollout", "policy_updates", "value_fits",
+                                             "checkpoints", "other"}));
+  const auto& learner = dynamic_cast<const PolicyOptLearner&>(trainer->learner());
+  EXPECT_GT(learner.last_timings().rollout, 0.0);
+  EXPECT_LT(learner.last_timings().rollout, trainer->TimeSplit()[0].second);
+}
+
 TEST(TrainerTest, ModelFreeLearnersResumeToTheSameRows) {
   for (const std::string algorithm : {"trpo", "trpo-lagrangian", "cpo", "ppo-lagrangian"}) {
     SCOPED_TRACE(algorithm);
@@ -625,6 +646,105 @@ TEST(TrainerTest, ModelFreeRowsWithSeveralEnvironmentsDoNotDependOnThreads) {
               ::testing::HasSubstr("steps_per_epoch is 300 and envs 7"));
 }
 
+// A stop in the middle of a model-free epoch pauses it after the rollout's round or the value
+// fits' iteration under way, with a checkpoint that holds the epoch; the resume carries it on to
+// the uninterrupted run's rows, with one environment or several.
+TEST(TrainerTest, AModelFreeEpochStoppedInItsRolloutOrValueFitsResumesToTheSameRows) {
+  for (const int envs : {1, 3}) {
+    for (const std::string algorithm : {"trpo-lagrangian", "ppo-lagrangian"}) {
+      SCOPED_TRACE(::testing::Message() << algorithm << " " << envs);
+      TrainConfig config = TinyModelFree(algorithm);
+      config.policy_optimisation.envs = config.policy_optimisation.env_threads = envs;
+      const std::string whole = TempRunDir("mf_open_whole"), stopped = TempRunDir("mf_open");
+      Trainer::Start(config, whole)->Run();
+      const fs::path checkpoint = fs::path(stopped) / "checkpoint";
+      const auto open_epoch = [&] {
+        return nlohmann::json::parse(std::ifstream(checkpoint / "epoch.json"));
+      };
+      // Half way through the second epoch's rollout.
+      EXPECT_EQ(StopAt(Trainer::Start(config, stopped), 450), 450);
+      EXPECT_EQ(EpochRowsWithoutTime(stopped).size(), 2u);  // header and the first epoch
+      EXPECT_EQ(open_epoch().at("updated"), false);
+      EXPECT_EQ(open_epoch().at("rounds"), 150 / envs);
+      EXPECT_EQ(nlohmann::json::parse(std::ifstream(checkpoint / "manifest.json")).at("steps_done"),
+                450);
+      {
+        // Then, resumed, after the second of its 5 value-fit iterations (the stop is asked after
+        // each but the last, once the rollout's 600 steps are done).
+        std::unique_ptr<Trainer> resumed = Trainer::Resume(stopped);
+        EXPECT_EQ(resumed->steps_done(), 450);
+        int asked = 0;
+        RunOptions options;
+        options.checkpoint_seconds = 1e9;
+        options.stop_requested = [&] { return resumed->steps_done() == 600 && ++asked == 2; };
+        resumed->Run(options);
+        EXPECT_FALSE(resumed->learner().Finished());
+      }
+      EXPECT_EQ(EpochRowsWithoutTime(stopped).size(), 2u);
+      EXPECT_EQ(open_epoch().at("updated"), true);
+      EXPECT_EQ(open_epoch().at("fitted"), 2);
+      Trainer::Resume(stopped)->Run();
+      EXPECT_EQ(EpochRowsWithoutTime(stopped), EpochRowsWithoutTime(whole));
+      EXPECT_FALSE(fs::exists(checkpoint / "epoch.json"));  // the last checkpoint ends an epoch
+    }
+  }
+}
+
+TEST(TrainerTest, ACheckpointOfAnOpenModelFreeEpochIsCheckedWhenRead) {
+  const std::string dir = TempRunDir("mf_open_damaged");
+  TrainConfig config = TinyModelFree("cpo");
+  config.policy_optimisation.envs = config.policy_optimisation.env_threads = 2;
+  StopAt(Trainer::Start(config, dir), 450);
+  const fs::path checkpoint = fs::path(dir) / "checkpoint";
+  const fs::path saved = TempRunDir("mf_open_damaged_saved");
+  fs::copy(checkpoint, saved);
+  const auto restore = [&] {
+    fs::remove_all(checkpoint);
+    fs::copy(saved, checkpoint);
+  };
+  const auto resume_error = [&] {
+    RewriteCheckpoint(dir);
+    return ErrorMessage([&] { Trainer::Resume(dir); });
+  };
+  WriteFile(checkpoint / "epoch.pt", "not an archive");
+  EXPECT_THAT(resume_error(), ::testing::HasSubstr("could not read the epoch under way from"));
+  restore();
+  // epoch.pt with one tensor replaced: a damaged environment state, then actions of another
+  // length.
+  const auto replace = [&](const std::string& key, const torch::Tensor& value) {
+    torch::serialize::InputArchive in;
+    in.load_from((saved / "epoch.pt").string());
+    torch::serialize::OutputArchive out;
+    for (const std::string& name : in.keys()) {
+      torch::Tensor tensor;
+      in.read(name, tensor);
+      out.write(name, name == key ? value : tensor);
+    }
+    SaveArchive(out, (checkpoint / "epoch.pt").string());
+  };
+  replace("env_state1", torch::zeros({5}, torch::kUInt8));
+  EXPECT_THAT(resume_error(), ::testing::AllOf(::testing::HasSubstr("epoch.pt' is damaged"),
+                                               ::testing::HasSubstr("environment state")));
+  restore();
+  replace("actions0", torch::zeros({3}));
+  EXPECT_THAT(resume_error(), ::testing::HasSubstr("actions0 is missing or not 150 Float values"));
+  restore();
+  WriteFile(checkpoint / "epoch.json", R"({"updated": false, "steps": 300, "rounds": 0})");
+  EXPECT_THAT(resume_error(), ::testing::AllOf(::testing::HasSubstr("epoch.json' is damaged"),
+                                               ::testing::HasSubstr("step_cost")));
+  restore();
+  WriteFile(checkpoint / "epoch.json", R"({"updated": false, "steps": 300, "rounds": 150,
+                                            "step_cost": "0", "needs_reset": [0, 0]})");
+  EXPECT_THAT(resume_error(), ::testing::HasSubstr("an epoch of 300 steps at round 150, with 2 "
+                                                   "reset flags: expected 1 to 300 steps"));
+  restore();
+  WriteFile(checkpoint / "epoch.json", R"({"updated": false, "steps": 300, "rounds": 10,
+                                            "step_cost": "0", "needs_reset": [0, 0]})");
+  EXPECT_THAT(resume_error(), ::testing::HasSubstr("environment 0 took 75 steps in 10 rounds"));
+  restore();
+  EXPECT_NO_THROW(Trainer::Resume(dir)->Run());
+}
+
 // A finished run continued to a larger budget writes the rows a run started with that budget
 // writes, and its config.yaml then holds the new budget.
 TEST(TrainerTest, AFinishedRunContinuesToALargerBudget) {
@@ -663,6 +783,33 @@ TEST(TrainerTest, AModelFreeRunContinuesOnlyFromAWholeEpoch) {
   Trainer::Start(shorter, exact)->Run();
   Trainer::Resume(exact, 900)->Run();
   EXPECT_EQ(EpochRowsWithoutTime(exact), EpochRowsWithoutTime(whole));
+  // Stopped in the rollout of an epoch: one the old budget cut cannot become whole; a whole one
+  // goes on under the new budget.
+  const std::string open_cut = TempRunDir("mf_budget_open_cut");
+  shorter.training.total_steps = 450;
+  StopAt(Trainer::Start(shorter, open_cut), 400);
+  EXPECT_THAT(ErrorMessage([&] { Trainer::Resume(open_cut, 900); }),
+              ::testing::HasSubstr("last epoch was cut to 150 of its 300 steps"));
+  const std::string open_whole = TempRunDir("mf_budget_open_whole");
+  shorter.training.total_steps = 600;
+  StopAt(Trainer::Start(shorter, open_whole), 400);
+  Trainer::Resume(open_whole, 900)->Run();
+  EXPECT_EQ(EpochRowsWithoutTime(open_whole), EpochRowsWithoutTime(whole));
+  // Stopped in the second epoch's value fits, its 600 steps taken: a budget of 600 ends it.
+  const std::string in_fits = TempRunDir("mf_budget_in_fits");
+  {
+    std::unique_ptr<Trainer> trainer = Trainer::Start(TinyModelFree("cpo"), in_fits);
+    RunOptions options;
+    options.stop_requested = [&] { return trainer->steps_done() == 600; };
+    trainer->Run(options);
+  }
+  EXPECT_EQ(EpochRowsWithoutTime(in_fits).size(), 2u);
+  Trainer::Resume(in_fits, 600)->Run();
+  std::vector<std::string> two_epochs = EpochRowsWithoutTime(whole);
+  two_epochs.pop_back();
+  EXPECT_EQ(EpochRowsWithoutTime(in_fits), two_epochs);
+  EXPECT_THAT(ErrorMessage([&] { Trainer::Resume(in_fits, 500); }),
+              ::testing::HasSubstr("to 500 steps: it has done 600 already"));
 }
 
 TEST(TrainerTest, ARunDirectoryServesOneProcessAtATime) {

@@ -13,6 +13,7 @@
 #include "cmbrl/core/check.h"
 #include "cmbrl/core/files.h"
 #include "cmbrl/core/rng.h"
+#include "cmbrl/core/timed.h"
 #include "cmbrl/core/torch_util.h"
 #include "cmbrl/run/learner_state.h"
 
@@ -84,24 +85,6 @@ MpcLearner::MpcLearner(TrainConfig config)
   transitions_ = std::make_unique<TransitionBuffer>(state_dim, action_dim, t.transition_capacity);
   labeled_ = std::make_unique<LabeledStateBuffer>(state_dim, t.safe_capacity, t.unsafe_capacity);
 }
-
-namespace {
-
-// Adds the seconds `work` takes to `total` and returns its result.
-template <typename Work>
-auto Timed(double& total, Work&& work) {
-  const auto start = std::chrono::steady_clock::now();
-  struct Add {
-    double& total;
-    std::chrono::steady_clock::time_point start;
-    ~Add() {
-      total += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    }
-  } add{total, start};
-  return work();
-}
-
-}  // namespace
 
 MpcLearner::~MpcLearner() = default;
 

@@ -5,12 +5,13 @@
 
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "cmbrl/agent/policy.h"
+#include "cmbrl/config/config.h"
 #include "cmbrl/env/env.h"
 #include "cmbrl/env/vector_env.h"
-#include "cmbrl/config/config.h"
 #include "cmbrl/policy_opt/lagrange.h"
 #include "cmbrl/policy_opt/networks.h"
 #include "cmbrl/policy_opt/policy_update.h"
@@ -69,10 +70,14 @@ std::unique_ptr<GaussianMeanPolicy> LoadPolicyOptMeanPolicy(const TrainConfig& c
                                                             int observation_dim,
                                                             const BoxSpec& action_spec);
 
-// Checkpoint files: networks.pt (policy, value functions, the value optimisers' moments, the
-// sampler's generator) and state.json (counters, the penalty, the environments' generators). A
-// unit is one epoch, always done whole (it ignores UnitContext::checkpoint_due: an epoch takes
-// minutes, and its rollouts would make a large checkpoint). Not thread-safe.
+// A unit is one epoch. When the run asks for a checkpoint (UnitContext::checkpoint_due, a stop
+// included) it pauses after the rollout's round or the value fits' iteration under way, so that
+// a stop waits for no more than one of those or the policy update (seconds at the paper's sizes),
+// and the next Advance, after Load too, carries the epoch on to the same row. Checkpoint files:
+// networks.pt (policy, value functions, the optimisers' moments, the sampler's generator),
+// state.json (counters, the penalty, the environments' generators) and, for an epoch under way,
+// epoch.json and epoch.pt (its rollout so far with the environments' states, or the value fits'
+// data and progress). Not thread-safe.
 class PolicyOptLearner final : public Learner {
  public:
   // `config.algorithm` is trpo, trpo-lagrangian or cpo; the environment is config's task and
@@ -89,24 +94,46 @@ class PolicyOptLearner final : public Learner {
   // Refuses when the last epoch was cut short by the old budget: a longer run has a whole epoch
   // there.
   void CheckNewBudget(std::int64_t new_budget) const override;
-  std::int64_t steps_done() const override { return total_steps_; }
+  // Environment steps taken, those of an epoch's rollout under way included.
+  std::int64_t steps_done() const override;
   std::int64_t budget() const override { return config_.training.total_steps; }
 
   const EpochRow& last_row() const { return last_row_; }
-  // Wall seconds of the last epoch's parts (for benchmarks).
+  // Wall seconds of the last epoch's parts in this process (for benchmarks).
   struct Timings {
     double rollout = 0.0;        // environment steps with the networks' forwards
     double policy_update = 0.0;  // penalty and trust-region step
     double value_fits = 0.0;     // both value functions' iterations
   };
   const Timings& last_timings() const { return timings_; }
+  // This process's seconds in the rollouts (with the advantages), the penalty and policy updates
+  // and the value fits.
+  std::vector<std::pair<std::string, double>> TimeSplit() const override;
   // Floating-point operations of one epoch's value fits (forward and backward, both networks).
   double ValueFitFlops(std::int64_t samples) const;
   const GaussianPolicy& policy() const { return *policy_; }
 
  private:
   struct Epoch;
-  Epoch Collect();
+  struct OpenEpoch;
+  // Each environment's share of the open epoch's steps.
+  std::vector<std::int64_t> Quota() const;
+  void BeginEpoch();
+  // Resets the environments marked in `mask` (with `seeds`, if any) into the open epoch's traces.
+  void TakeFirstObservations(const std::vector<std::uint8_t>& mask,
+                             const std::vector<std::uint64_t>& seeds);
+  // The rollout's rounds, until its end (true) or a checkpoint due after a round (false).
+  bool Roll(const UnitContext& context);
+  // The rolled-out epoch as a batch with its advantages and value targets.
+  Epoch Gather();
+  // The penalty and policy updates; fills the open epoch's row but for the value losses.
+  void Update(Epoch& epoch);
+  // Both value functions' iterations, side by side, until their end (true) or a checkpoint due
+  // after one (false).
+  bool FitValues(const UnitContext& context);
+  LearnerStep Unfinished(const UnitContext& context) const;
+  void SaveOpenEpoch(const std::filesystem::path& folder) const;
+  void LoadOpenEpoch(const std::filesystem::path& folder);
   std::vector<std::string> EnvGenerators() const;
 
   TrainConfig config_;
@@ -122,8 +149,9 @@ class PolicyOptLearner final : public Learner {
   int epochs_ = 0;
   std::int64_t total_steps_ = 0;
   double cumulative_cost_ = 0.0;
+  std::unique_ptr<OpenEpoch> open_;  // the epoch under way, between two Advance calls
   EpochRow last_row_;
-  Timings timings_;
+  Timings timings_, totals_;
 };
 
 }  // namespace cmbrl
