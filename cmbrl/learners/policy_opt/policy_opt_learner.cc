@@ -439,7 +439,7 @@ PolicyOptLearner::Epoch PolicyOptLearner::Gather() {
   b.episode_length = MeanOf(e.episode_lengths);
   epoch.episode_returns = std::move(e.episode_returns);
   epoch.step_cost = e.step_cost;
-  total_steps_ += offset;  // the epoch's steps
+  total_steps_ += e.steps;
   e.traces.clear();
   return epoch;
 }
