@@ -58,13 +58,14 @@ std::string ResolveBackend(const EnsembleOptions& o) {
 }
 
 // Whether the training products go through oneDNN, given the prediction backend: always with
-// backend onednn; with auto only for layers at most AutoOnednnTrainingWidth() wide. Measured
-// (docs/PERFORMANCE.md): on an AVX2 core (v0.7) oneDNN's epoch was 1.14-1.24x LibTorch's at
-// widths 200 and 256, 0.88x at 512 and 0.81x at 1024 (its products on unreordered weights fall
-// behind OpenBLAS); on an AVX-512 core (v0.8) 1.38x at 200, 1.29x at 256, 1.15x at 512 and
-// 0.98-1.09x at 1024. A fixed rule of the config and the CPU's vector ISA, not a timing, so that
-// a config gives the same bits on one machine.
-int AutoOnednnTrainingWidth() { return CpuHasAvx512() ? 512 : 256; }
+// backend onednn; with auto at any width on a CPU with AVX-512, and elsewhere only for layers at
+// most 256 wide. Measured (docs/PERFORMANCE.md): on an AVX2 core (v0.7) oneDNN's epoch was
+// 1.14-1.24x LibTorch's at widths 200 and 256, 0.88x at 512 and 0.81x at 1024 (its products on
+// unreordered weights fall behind OpenBLAS); on AVX-512 cores 1.15-1.38x up to 512 (v0.8), and
+// at 1024 the paper's epoch (50,000 transitions) 1.09x on an Emerald Rapids and 1.16x on a Zen 4
+// (v0.9). A fixed rule of the config and the CPU's vector ISA, not a timing, so that a config
+// gives the same bits on one machine.
+int AutoOnednnTrainingWidth() { return CpuHasAvx512() ? std::numeric_limits<int>::max() : 256; }
 
 bool TrainsThroughOnednn(const EnsembleOptions& o, const std::string& backend) {
   if (backend != "onednn") return false;

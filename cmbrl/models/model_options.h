@@ -31,9 +31,9 @@ struct EnsembleOptions {
   std::string precision = "fp32";
   // Who computes the predictions and the training products:
   //   auto: onednn where it is available (a build with oneDNN, device cpu, fp32, or bf16 on a
-  //         CPU with AVX-512), libtorch elsewhere; the training products through onednn only
-  //         where every hidden layer is at most 256 wide, 512 on a CPU with AVX-512 (wider,
-  //         OpenBLAS was as fast or faster);
+  //         CPU with AVX-512), libtorch elsewhere; the training products through onednn at
+  //         any width on a CPU with AVX-512, elsewhere only where every hidden layer is at most
+  //         256 wide (wider, OpenBLAS was faster there);
   //   libtorch: LibTorch's batched products and autograd (OpenBLAS for fp32 on the CPU; cuBLAS
   //         on CUDA);
   //   onednn: oneDNN's matrix-product primitives for both (onednn_forward.h,

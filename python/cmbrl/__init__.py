@@ -724,8 +724,8 @@ class Ensemble(_StandaloneModel):
     def fit(self, states, actions, next_states):
         """(N, S), (N, A), (N, S) -> a dict: epochs, train and validation MSE, seconds, and
         whose products ran: backend (the predictions') and training_backend, each "onednn" or
-        "libtorch" (with backend "auto", oneDNN trains only where every hidden layer is at most
-        256 wide, 512 on a CPU with AVX-512).
+        "libtorch" (with backend "auto", oneDNN trains at any width on a CPU with AVX-512, and
+        elsewhere only where every hidden layer is at most 256 wide).
         Ctrl-C (or another signal handler's exception) stops the fit after the epoch in
         progress: the epochs done are kept, and the exception is raised."""
         return self._model.fit(states, actions, next_states)
