@@ -504,11 +504,10 @@ void PolicyOptLearner::Update(Epoch& epoch) {
 bool PolicyOptLearner::FitValues(const UnitContext& context) {
   OpenEpoch& e = *open_;
   const int iterations = config_.policy_optimisation.value_iterations;
-  // The two value functions are independent: each is fitted on one thread, side by side where
-  // the process has two cores, so the numbers do not depend on the cores (the fits were 1.4x
-  // faster on 2 threads than on 1; two fits at once are nearly 2x). One iteration at a time, the
-  // same arithmetic as all at once: each refills the gradients, and Adam keeps its moments.
-  const ScopedSingleThreadedMath single_threaded;
+  // The two value functions are independent: each is fitted on one thread (Advance's math is
+  // single-threaded), side by side where the process has two cores (the fits were 1.4x faster
+  // on 2 threads than on 1; two fits at once are nearly 2x). One iteration at a time, the same
+  // arithmetic as all at once: each refills the gradients, and Adam keeps its moments.
   while (e.fitted < iterations) {
     double losses[2] = {0.0, 0.0};
     ParallelRanges(2, std::min(2, CoreCount()), [&](std::int64_t begin, std::int64_t end) {
@@ -538,6 +537,12 @@ LearnerStep PolicyOptLearner::Unfinished(const UnitContext& context) const {
 }
 
 LearnerStep PolicyOptLearner::Advance(const UnitContext& context) {
+  // LibTorch and OpenBLAS on one thread for the whole epoch, so that its numbers do not depend
+  // on the cores: split over threads, LibTorch's sums (the advantages' statistics, the policy
+  // update's losses and Fisher-vector products) add in another order, and a run on 2 cores
+  // parted from a run on 1 in its first epoch's KL. The environments still step on their own
+  // threads (env_threads), and the two value fits run side by side.
+  const ScopedSingleThreadedMath single_threaded;
   if (!open_) BeginEpoch();
   OpenEpoch& e = *open_;
   if (!e.updated) {
