@@ -210,6 +210,21 @@ void RewriteCheckpoint(const std::string& dir) {
                   });
 }
 
+// A stopped run's checkpoint with an untouched copy beside it, for tests that damage its files
+// one at a time and put them back between two damages.
+struct KeptCheckpoint {
+  KeptCheckpoint(const std::string& dir, const std::string& copy_name)
+      : path(fs::path(dir) / "checkpoint"), saved(TempRunDir(copy_name)) {
+    fs::copy(path, saved);
+  }
+  void Restore() const {
+    fs::remove_all(path);
+    fs::copy(saved, path);
+  }
+  const fs::path path;   // the run's checkpoint
+  const fs::path saved;  // its copy
+};
+
 // Runs until `stop_at` agent steps are done, when the run stops at a checkpoint taken then;
 // returns the steps done.
 std::int64_t StopAt(std::unique_ptr<Trainer> trainer, std::int64_t stop_at) {
@@ -319,13 +334,9 @@ TEST(TrainerTest, ACheckpointOfAnOpenEpisodeIsCheckedWhenRead) {
   TrainConfig config = TinyConfig("cem");
   config.planning.cross_entropy.warm_start = true;
   StopAt(Trainer::Start(config, dir), 150);
-  const fs::path checkpoint = fs::path(dir) / "checkpoint";
-  const fs::path saved = TempRunDir("open_damaged_saved");
-  fs::copy(checkpoint, saved);
-  const auto restore = [&] {
-    fs::remove_all(checkpoint);
-    fs::copy(saved, checkpoint);
-  };
+  const KeptCheckpoint kept(dir, "open_damaged_saved");
+  const fs::path& checkpoint = kept.path;
+  const auto restore = [&] { kept.Restore(); };
   // Each file replaced by another, or by nothing (RewriteCheckpoint keeps the manifest's sums
   // true to the damaged files, so that the learner's own checks are what answers).
   fs::remove(checkpoint / "episode_env.bin");
@@ -695,13 +706,10 @@ TEST(TrainerTest, ACheckpointOfAnOpenModelFreeEpochIsCheckedWhenRead) {
   TrainConfig config = TinyModelFree("cpo");
   config.policy_optimisation.envs = config.policy_optimisation.env_threads = 2;
   StopAt(Trainer::Start(config, dir), 450);
-  const fs::path checkpoint = fs::path(dir) / "checkpoint";
-  const fs::path saved = TempRunDir("mf_open_damaged_saved");
-  fs::copy(checkpoint, saved);
-  const auto restore = [&] {
-    fs::remove_all(checkpoint);
-    fs::copy(saved, checkpoint);
-  };
+  const KeptCheckpoint kept(dir, "mf_open_damaged_saved");
+  const fs::path& checkpoint = kept.path;
+  const fs::path& saved = kept.saved;
+  const auto restore = [&] { kept.Restore(); };
   const auto resume_error = [&] {
     RewriteCheckpoint(dir);
     return ErrorMessage([&] { Trainer::Resume(dir); });
