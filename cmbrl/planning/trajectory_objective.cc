@@ -1,6 +1,7 @@
 #include "cmbrl/planning/trajectory_objective.h"
 
 #include <cmath>
+#include <vector>
 
 #include "cmbrl/core/check.h"
 #include "cmbrl/core/torch_util.h"
@@ -40,29 +41,51 @@ ObjectiveValues TrajectoryObjective::Evaluate(const torch::Tensor& actions) {
   const torch::NoGradGuard no_grad;
   const std::int64_t members = dynamics_.ensemble_size();
   const std::int64_t samples = actions.size(0), horizon = actions.size(1);
-  const std::int64_t state_dim = dynamics_.state_dim();
+  const std::int64_t state_dim = dynamics_.state_dim(), action_dim = actions.size(2);
   const bool per_member = propagation_ == Propagation::kPerMember;
 
+  // The rollout is the one sequential part: each step's states come from the one before. Every
+  // step's actions are laid out for the ensemble at once, (H, E, N, A).
+  const torch::Tensor member_actions = actions.transpose(0, 1)
+                                           .unsqueeze(1)
+                                           .expand({horizon, members, samples, action_dim})
+                                           .contiguous();
   torch::Tensor state =
       state_.to(actions.device()).view({1, 1, state_dim}).expand({members, samples, state_dim});
-  // Per member (E, N) for RCE; one row (1, N) for the mean trajectory.
-  torch::Tensor reward = torch::zeros({per_member ? members : 1, samples}, actions.options());
-  torch::Tensor constraint = torch::zeros_like(reward);
-  last_steps_.clear();
-  double reward_discount = 1.0, constraint_discount = 1.0;
+  std::vector<torch::Tensor> steps;
+  steps.reserve(horizon);
   for (std::int64_t t = 0; t < horizon; ++t) {
-    const torch::Tensor action =
-        actions.select(1, t).unsqueeze(0).expand({members, samples, actions.size(2)});
-    torch::Tensor next = dynamics_.PredictUnchecked(state.contiguous(), action.contiguous());
+    torch::Tensor next = dynamics_.PredictUnchecked(state.contiguous(), member_actions[t]);
     if (!per_member) next = next.mean(0, /*keepdim=*/true).expand({members, samples, state_dim});
-    const torch::Tensor scored = per_member ? next : next.narrow(0, 0, 1);  // (E or 1, N, S)
-    reward = reward + reward_discount * StepCost(scored);
-    constraint = constraint + constraint_discount * cost_.PredictViolation(scored.contiguous());
-    last_steps_.push_back(next);
+    steps.push_back(next);
     state = next;
-    reward_discount *= options_.gamma;
-    constraint_discount *= per_member ? options_.beta : options_.gamma;
   }
+  last_trajectories_ = torch::stack(steps, 0);  // (H, E, N, S)
+
+  // The scores are elementwise in the steps, so they are taken over all H steps at once: the same
+  // numbers as step by step, in a few operations instead of a few per step. Per member (H, E, N)
+  // for RCE; one row (H, 1, N) for the mean trajectory.
+  const torch::Tensor scored =
+      per_member ? last_trajectories_ : last_trajectories_.narrow(1, 0, 1).contiguous();
+  const torch::Tensor step_rewards = StepCost(scored);
+  const torch::Tensor step_violations = cost_.PredictViolation(scored);
+  // sum_t discount^t x_t, added in order of t from zero as a per-step sum would; each discount
+  // is rounded to float32 once, as a float tensor times a double scalar is.
+  const auto discounted_sum = [&](const torch::Tensor& values, double discount) {
+    std::vector<float> factors(horizon);
+    double factor = 1.0;
+    for (std::int64_t t = 0; t < horizon; ++t, factor *= discount) {
+      factors[t] = static_cast<float>(factor);
+    }
+    const torch::Tensor weighted =
+        values * torch::tensor(factors, values.options()).view({horizon, 1, 1});
+    torch::Tensor sum = torch::zeros_like(values[0]);
+    for (std::int64_t t = 0; t < horizon; ++t) sum = sum + weighted[t];
+    return sum;
+  };
+  const torch::Tensor reward = discounted_sum(step_rewards, options_.gamma);
+  const torch::Tensor constraint =
+      discounted_sum(step_violations, per_member ? options_.beta : options_.gamma);
   last_values_ = per_member ? ObjectiveValues{reward.mean(0), std::get<0>(constraint.max(0))}
                             : ObjectiveValues{reward[0], constraint[0]};
   return last_values_;

@@ -3,8 +3,6 @@
 // learned classifier.
 #pragma once
 
-#include <vector>
-
 #include "cmbrl/models/cost_model.h"
 #include "cmbrl/models/dynamics_model.h"
 #include "cmbrl/planning/planner.h"
@@ -24,9 +22,8 @@ class TrajectoryObjective final : public Objective {
   ObjectiveValues Evaluate(const torch::Tensor& actions) override;
 
   // Predicted states of the last Evaluate: (E, N, H, S); with kEnsembleMean every member holds
-  // the mean trajectory. For pictures of the planner's predictions: stacked only when asked, so
-  // planning pays nothing for it.
-  torch::Tensor last_trajectories() const { return torch::stack(last_steps_, 2); }
+  // the mean trajectory. For pictures of the planner's predictions.
+  torch::Tensor last_trajectories() const { return last_trajectories_.permute({1, 2, 0, 3}); }
   // Scores of the last Evaluate, (N) each.
   const ObjectiveValues& last_values() const { return last_values_; }
 
@@ -38,7 +35,7 @@ class TrajectoryObjective final : public Objective {
   Propagation propagation_;
   TrajectoryObjectiveOptions options_;
   torch::Tensor state_;
-  std::vector<torch::Tensor> last_steps_;  // H tensors (E, N, S) of the last Evaluate
+  torch::Tensor last_trajectories_;  // (H, E, N, S) of the last Evaluate
   ObjectiveValues last_values_;
 };
 

@@ -3,6 +3,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include "cmbrl/models/ensemble.h"
+#include "cmbrl/models/xgboost_cost_model.h"
 #include "tests/error_message.h"
 #include "tests/planning/fake_models.h"
 
@@ -91,6 +93,72 @@ TEST(TrajectoryObjectiveTest, ScoresManySamplesAtOnce) {
     const ObjectiveValues one = objective.Evaluate(actions.narrow(0, i, 1));
     EXPECT_NEAR(all.reward_cost[i].item<float>(), one.reward_cost.item<float>(), kTol);
     EXPECT_EQ(all.constraint_cost[i].item<float>(), one.constraint_cost.item<float>());
+  }
+}
+
+// The scores as the objective defined them before it scored all steps at once (v0.9): step by
+// step, the goal distance and the bonuses, then sum += discount * cost with a double discount.
+ObjectiveValues StepByStepScores(const torch::Tensor& trajectories, const CostModel& cost,
+                                 bool per_member, const TrajectoryObjectiveOptions& o) {
+  const std::int64_t members = per_member ? trajectories.size(0) : 1;
+  torch::Tensor reward = torch::zeros({members, trajectories.size(1)});
+  torch::Tensor constraint = torch::zeros_like(reward);
+  double reward_discount = 1.0, constraint_discount = 1.0;
+  for (std::int64_t t = 0; t < trajectories.size(2); ++t) {
+    const torch::Tensor states = trajectories.select(2, t).narrow(0, 0, members);  // (E', N, S)
+    const torch::Tensor distance = states.narrow(-1, o.goal_index, 2).norm(2, -1);
+    const torch::Tensor near = distance - o.near_goal_bonus * (distance < o.near_goal_radius);
+    const torch::Tensor tested = o.at_goal_test_after_near_bonus ? near : distance;
+    reward = reward + reward_discount * (near - o.at_goal_bonus * (tested < o.at_goal_radius));
+    constraint = constraint + constraint_discount * cost.PredictViolation(states.contiguous());
+    reward_discount *= o.gamma;
+    constraint_discount *= per_member ? o.beta : o.gamma;
+  }
+  return per_member ? ObjectiveValues{reward.mean(0), std::get<0>(constraint.max(0))}
+                    : ObjectiveValues{reward[0], constraint[0]};
+}
+
+TEST(TrajectoryObjectiveTest, AllStepsAtOnceGiveTheStepByStepScoresBitForBit) {
+  // Learned models: a random ensemble and a classifier of the half-space state[0] > -0.1.
+  constexpr int kStateDim = 12, kActionDim = 2;
+  EnsembleOptions ensemble_options;
+  ensemble_options.hidden_sizes = {32, 32};
+  ensemble_options.predict_delta = true;
+  EnsembleDynamics dynamics(kStateDim, kActionDim, ensemble_options, 7);
+  torch::manual_seed(7);
+  const torch::Tensor rows = torch::randn({600, kStateDim}) * 0.2;
+  const torch::Tensor unsafe_rows = rows.select(1, 0) > -0.1;
+  const torch::Tensor safe = rows.index({~unsafe_rows}).contiguous();
+  const torch::Tensor unsafe = rows.index({unsafe_rows}).contiguous();
+  XgbCostModel cost(kStateDim, XgbCostModelOptions{}, 7);
+  cost.FitArrays(safe.data_ptr<float>(), static_cast<int>(safe.size(0)), unsafe.data_ptr<float>(),
+                 static_cast<int>(unsafe.size(0)));
+  const torch::Tensor state = torch::randn({kStateDim}) * 0.1;
+  const torch::Tensor actions = torch::rand({300, 10, kActionDim}) * 2 - 1;
+  for (const Propagation propagation : {Propagation::kPerMember, Propagation::kEnsembleMean}) {
+    for (const bool after_near_bonus : {true, false}) {
+      TrajectoryObjectiveOptions options;
+      options.goal_index = 4;
+      // Radii that some predicted states fall within, so that every branch of the cost is taken.
+      options.near_goal_radius = 1.0;
+      options.at_goal_radius = 0.6;
+      options.at_goal_test_after_near_bonus = after_near_bonus;
+      TrajectoryObjective objective(dynamics, cost, propagation, options);
+      objective.SetState(state);
+      const ObjectiveValues all = objective.Evaluate(actions);
+      const ObjectiveValues expected = StepByStepScores(
+          objective.last_trajectories(), cost, propagation == Propagation::kPerMember, options);
+      EXPECT_TRUE(torch::equal(all.reward_cost, expected.reward_cost));
+      EXPECT_TRUE(torch::equal(all.constraint_cost, expected.constraint_cost));
+      // Not a vacuous comparison: some predicted states violate, some do not; some earn both
+      // bonuses, some neither.
+      const torch::Tensor trajectories = objective.last_trajectories();
+      const torch::Tensor violating = cost.PredictViolation(trajectories) > 0;
+      EXPECT_TRUE(violating.any().item<bool>() && (~violating).any().item<bool>());
+      const torch::Tensor distance = trajectories.narrow(-1, options.goal_index, 2).norm(2, -1);
+      EXPECT_TRUE((distance < options.at_goal_radius).any().item<bool>());
+      EXPECT_TRUE((distance > options.near_goal_radius).any().item<bool>());
+    }
   }
 }
 
