@@ -274,6 +274,12 @@ EnsembleFitReport EnsembleDynamics::Fit(const TransitionBuffer& data,
   report.best_validation_mse =
       continued ? place->best_validation_mse : std::numeric_limits<double>::infinity();
   int checks_without_improvement = place->checks_without_improvement;
+  // The report, timed, for the fit's two ends: done, or paused.
+  const auto finish = [&] {
+    report.seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return report;
+  };
   // Leaves the fit open after `epoch` when pause_due asks (never after its last epoch).
   const auto pause_after = [&](int epoch) {
     if (!pause_due || epoch >= options_.max_epochs || !pause_due()) return false;
@@ -328,17 +334,12 @@ EnsembleFitReport EnsembleDynamics::Fit(const TransitionBuffer& data,
         break;
       }
     }
-    if (pause_after(epoch)) {
-      report.seconds =
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-      return report;
-    }
+    if (pause_after(epoch)) return finish();
   }
   if (validation_size == 0) report.best_validation_mse = report.validation_mse;
   ++s.fits;
   RefreshPredictionWeights();
-  report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  return report;
+  return finish();
 }
 
 torch::Tensor EnsembleDynamics::NormalizeInputs(const torch::Tensor& inputs) const {

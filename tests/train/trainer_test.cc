@@ -192,8 +192,6 @@ TEST(TrainerTest, ResumingAfterACrashGivesTheSameRows) {
   EXPECT_EQ(sessions[1].setup, CurrentNumericsSetup("cpu"));
 }
 
-// A run resumed on another machine goes on, and says so: its rows from then on are not the
-// uninterrupted run's.
 // Writes the run's checkpoint again over its files as they are now (the same learner files,
 // rows and seconds): what a run whose files were written so by an older version or on another
 // machine would hold. Through WriteCheckpoint, so that the manifest is one the run would write.
@@ -361,6 +359,8 @@ TEST(TrainerTest, ACheckpointOfAnOpenEpisodeIsCheckedWhenRead) {
   EXPECT_NO_THROW(Trainer::Resume(dir)->Run());
 }
 
+// A run resumed on another machine goes on, and says so: its rows from then on are not the
+// uninterrupted run's.
 TEST(TrainerTest, AResumeOnAnotherSetupIsNamed) {
   const std::string dir = TempRunDir("elsewhere");
   CrashAfterRows(TinyConfig("cem"), dir, 2);
