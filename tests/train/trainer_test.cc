@@ -334,7 +334,6 @@ TEST(TrainerTest, ACheckpointOfAnOpenEpisodeIsCheckedWhenRead) {
   StopAt(Trainer::Start(config, dir), 150);
   const KeptCheckpoint kept(dir, "open_damaged_saved");
   const fs::path& checkpoint = kept.path;
-  const auto restore = [&] { kept.Restore(); };
   // Each file replaced by another, or by nothing (RewriteCheckpoint keeps the manifest's sums
   // true to the damaged files, so that the learner's own checks are what answers).
   fs::remove(checkpoint / "episode_env.bin");
@@ -343,19 +342,19 @@ TEST(TrainerTest, ACheckpointOfAnOpenEpisodeIsCheckedWhenRead) {
   EXPECT_THAT(ErrorMessage([&] { Trainer::Resume(dir); }),
               ::testing::AllOf(::testing::HasSubstr("episode_env.bin' is damaged"),
                                ::testing::HasSubstr("environment state")));
-  restore();
+  kept.Restore();
   WriteFile(checkpoint / "episode.json", R"({"observation": [1, 2], "steps": 3})");
   RewriteCheckpoint(dir);
   EXPECT_THAT(ErrorMessage([&] { Trainer::Resume(dir); }),
               ::testing::AllOf(::testing::HasSubstr("episode.json' is damaged"),
                                ::testing::HasSubstr("observation has 2 entries")));
-  restore();
+  kept.Restore();
   SaveTensor(torch::zeros({7, 2}), (checkpoint / "planner_carried.pt").string());
   RewriteCheckpoint(dir);
   EXPECT_THAT(ErrorMessage([&] { Trainer::Resume(dir); }),
               ::testing::AllOf(::testing::HasSubstr("planner_carried.pt' does not fit"),
                                ::testing::HasSubstr("expected float32 of shape (3, 2)")));
-  restore();
+  kept.Restore();
   EXPECT_NO_THROW(Trainer::Resume(dir)->Run());
 }
 
@@ -709,14 +708,13 @@ TEST(TrainerTest, ACheckpointOfAnOpenModelFreeEpochIsCheckedWhenRead) {
   const KeptCheckpoint kept(dir, "mf_open_damaged_saved");
   const fs::path& checkpoint = kept.path;
   const fs::path& saved = kept.saved;
-  const auto restore = [&] { kept.Restore(); };
   const auto resume_error = [&] {
     RewriteCheckpoint(dir);
     return ErrorMessage([&] { Trainer::Resume(dir); });
   };
   WriteFile(checkpoint / "epoch.pt", "not an archive");
   EXPECT_THAT(resume_error(), ::testing::HasSubstr("could not read the epoch under way from"));
-  restore();
+  kept.Restore();
   // epoch.pt with one tensor replaced: a damaged environment state, then actions of another
   // length.
   const auto replace = [&](const std::string& key, const torch::Tensor& value) {
@@ -733,23 +731,23 @@ TEST(TrainerTest, ACheckpointOfAnOpenModelFreeEpochIsCheckedWhenRead) {
   replace("env_state1", torch::zeros({5}, torch::kUInt8));
   EXPECT_THAT(resume_error(), ::testing::AllOf(::testing::HasSubstr("epoch.pt' is damaged"),
                                                ::testing::HasSubstr("environment state")));
-  restore();
+  kept.Restore();
   replace("actions0", torch::zeros({3}));
   EXPECT_THAT(resume_error(), ::testing::HasSubstr("actions0 is missing or not 150 Float values"));
-  restore();
+  kept.Restore();
   WriteFile(checkpoint / "epoch.json", R"({"updated": false, "steps": 300, "rounds": 0})");
   EXPECT_THAT(resume_error(), ::testing::AllOf(::testing::HasSubstr("epoch.json' is damaged"),
                                                ::testing::HasSubstr("step_cost")));
-  restore();
+  kept.Restore();
   WriteFile(checkpoint / "epoch.json", R"({"updated": false, "steps": 300, "rounds": 150,
                                             "step_cost": "0", "needs_reset": [0, 0]})");
   EXPECT_THAT(resume_error(), ::testing::HasSubstr("an epoch of 300 steps at round 150, with 2 "
                                                    "reset flags: expected 1 to 300 steps"));
-  restore();
+  kept.Restore();
   WriteFile(checkpoint / "epoch.json", R"({"updated": false, "steps": 300, "rounds": 10,
                                             "step_cost": "0", "needs_reset": [0, 0]})");
   EXPECT_THAT(resume_error(), ::testing::HasSubstr("environment 0 took 75 steps in 10 rounds"));
-  restore();
+  kept.Restore();
   EXPECT_NO_THROW(Trainer::Resume(dir)->Run());
 }
 
