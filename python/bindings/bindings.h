@@ -33,6 +33,29 @@ class ObjectLock {
   std::unique_lock<std::mutex> lock_;
 };
 
+// One field of a C++ struct as a Python dict gives it: its key beside the member it reads.
+template <typename Struct, typename Value>
+struct DictField {
+  const char* key;
+  Value Struct::*member;
+};
+
+// The field `key` of a dict, read from `member` (Field("epochs", &FitReport::epochs)).
+template <typename Struct, typename Value>
+DictField<Struct, Value> Field(const char* key, Value Struct::*member) {
+  return {key, member};
+}
+
+// A struct's fields as a dict, each named once beside its member (AsDict(report,
+// Field("epochs", &FitReport::epochs), ...)): the one conversion of the module's reports and
+// summaries.
+template <typename Struct, typename... Values>
+py::dict AsDict(const Struct& value, const DictField<Struct, Values>&... fields) {
+  py::dict d;
+  ((d[fields.key] = value.*(fields.member)), ...);
+  return d;
+}
+
 void BindEnvs(py::module_& m);    // envs.cc: Env, VectorEnv, env_names, bench_env
 void BindModels(py::module_& m);  // models.cc: Ensemble, CostClassifier
 void BindRuns(py::module_& m);    // runs.cc: Agent, train

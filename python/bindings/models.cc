@@ -106,14 +106,12 @@ class PyEnsemble {
       report = dynamics_.Fit(buffer_, NoSignalRaised);
     }
     if (report.interrupted && PyErr_Occurred() != nullptr) throw py::error_already_set();
-    py::dict d;
-    d["epochs"] = report.epochs;
-    d["train_size"] = report.train_size;
-    d["validation_size"] = report.validation_size;
-    d["train_mse"] = report.train_mse;
-    d["validation_mse"] = report.validation_mse;
-    d["stopped_early"] = report.stopped_early;
-    d["seconds"] = report.seconds;
+    using R = EnsembleFitReport;
+    py::dict d = AsDict(report, Field("epochs", &R::epochs), Field("train_size", &R::train_size),
+                        Field("validation_size", &R::validation_size),
+                        Field("train_mse", &R::train_mse),
+                        Field("validation_mse", &R::validation_mse),
+                        Field("stopped_early", &R::stopped_early), Field("seconds", &R::seconds));
     // Whose products ran: the predictions' and the training's (ensemble.backend's auto rule).
     d["backend"] = dynamics_.backend();
     d["training_backend"] = dynamics_.training_backend();
@@ -196,15 +194,11 @@ class PyCostClassifier {
                                      NoSignalRaised);
     }
     if (report.interrupted && PyErr_Occurred() != nullptr) throw py::error_already_set();
-    py::dict d;
-    d["trained"] = report.trained;
-    d["safe_used"] = report.safe_used;
-    d["unsafe_used"] = report.unsafe_used;
-    d["safe_accuracy"] = report.safe_accuracy;
-    d["unsafe_accuracy"] = report.unsafe_accuracy;
-    d["trees"] = report.trees;
-    d["seconds"] = report.seconds;
-    return d;
+    using R = CostFitReport;
+    return AsDict(report, Field("trained", &R::trained), Field("safe_used", &R::safe_used),
+                  Field("unsafe_used", &R::unsafe_used), Field("safe_accuracy", &R::safe_accuracy),
+                  Field("unsafe_accuracy", &R::unsafe_accuracy), Field("trees", &R::trees),
+                  Field("seconds", &R::seconds));
   }
 
   py::array Predict(const py::handle& states) const {

@@ -81,13 +81,10 @@ void BindResults(py::module_& m) {
           py::gil_scoped_release release;
           summary = WriteReport(request);
         }
-        py::dict d;
-        d["report"] = summary.report;
-        d["runs"] = summary.runs;
-        d["window"] = summary.window;
-        d["cells"] = summary.cells;
-        d["left_out"] = summary.left_out;
-        return d;
+        using S = ReportSummary;
+        return AsDict(summary, Field("report", &S::report), Field("runs", &S::runs),
+                      Field("window", &S::window), Field("cells", &S::cells),
+                      Field("left_out", &S::left_out));
       },
       py::arg("dirs"), py::arg("out"), py::arg("window"), py::arg("reference"),
       py::arg("complete"));

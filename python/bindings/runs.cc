@@ -101,11 +101,11 @@ class PyAgent {
     const ObjectLock lock(mutex_);
     RequirePlan("last_plan");
     MpcAgent& agent = run_.mpc_agent();
-    py::dict d;
-    d["milliseconds"] = agent.last_plan().milliseconds;
-    d["iterations"] = agent.last_plan().iterations;
-    d["feasible_fraction"] = agent.last_plan().feasible_fraction;
-    d["infeasible_elite_fraction"] = agent.last_plan().infeasible_elite_fraction;
+    using P = std::decay_t<decltype(agent.last_plan())>;
+    py::dict d = AsDict(agent.last_plan(), Field("milliseconds", &P::milliseconds),
+                        Field("iterations", &P::iterations),
+                        Field("feasible_fraction", &P::feasible_fraction),
+                        Field("infeasible_elite_fraction", &P::infeasible_elite_fraction));
     const torch::Tensor sequence =
         agent.last_result().sequence.to(torch::kCPU, torch::kDouble).contiguous();
     d["actions"] = Own<double>(std::vector<double>(sequence.data_ptr<double>(),

@@ -26,8 +26,25 @@ def _mypy(args, cwd):
 
 def test_the_package_ships_its_stubs():
     package = os.path.dirname(cmbrl.__file__)
-    for name in ("py.typed", "__init__.pyi", "spaces.pyi", "bench.pyi"):
-        assert os.path.isfile(os.path.join(package, name)), name
+    modules = [name[:-3] for name in os.listdir(package) if name.endswith(".py")]
+    assert {"__init__", "envs", "models", "agents", "results"} <= set(modules)
+    assert os.path.isfile(os.path.join(package, "py.typed"))
+    for module in modules:  # every module has its stub beside it, in the same layout
+        assert os.path.isfile(os.path.join(package, module + ".pyi")), module
+
+
+def test_the_package_init_only_reexports():
+    import ast
+    with open(cmbrl.__file__) as source:
+        tree = ast.parse(source.read())
+    allowed = (ast.Import, ast.ImportFrom, ast.Assign)
+    for statement in tree.body[1:]:  # after the docstring
+        assert isinstance(statement, allowed), ast.dump(statement)[:80]
+        if isinstance(statement, ast.Assign):  # only the version and the list of names
+            names = [target.id for target in statement.targets]
+            assert names in (["__version__"], ["__commit__"], ["__all__"]), names
+    for name in cmbrl.__all__:
+        assert getattr(cmbrl, name).__module__.startswith("cmbrl"), name
 
 
 def test_the_stubs_agree_with_the_runtime(tmp_path):

@@ -1,0 +1,22 @@
+// The names of the progress.csv columns that reports and sweeps read (the MPC sheet's, which the
+// original's logs share, and the model-free sheet's). Plain constants: each family's whole list
+// of columns, in order, is its sheet's (run/learner_family.h).
+#pragma once
+
+namespace cmbrl {
+
+inline constexpr const char* kEpRetColumn = "EpRet";
+inline constexpr const char* kEpCostColumn = "EpCost";
+inline constexpr const char* kTotalEnvInteractsColumn = "TotalEnvInteracts";
+inline constexpr const char* kStepsColumn = "Steps";
+inline constexpr const char* kFeasibleFractionColumn = "FeasibleFraction";
+inline constexpr const char* kHazardStepsColumn = "HazardSteps";
+inline constexpr const char* kVaseStepsColumn = "VaseSteps";
+// The run's wall seconds at the row, over all its sessions (the model-free log's column too).
+inline constexpr const char* kTimeColumn = "Time";
+// A model-free epoch's means over the episodes that ended in it, and the run's violations.
+inline constexpr const char* kAverageEpRetColumn = "AverageEpRet";
+inline constexpr const char* kAverageEpCostColumn = "AverageEpCost";
+inline constexpr const char* kCumulativeCostColumn = "CumulativeCost";
+
+}  // namespace cmbrl

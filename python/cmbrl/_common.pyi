@@ -1,0 +1,26 @@
+# Type stubs of cmbrl._common: the error, the shared base classes and the array aliases that the
+# other stubs use.
+import os
+from typing import Any, NoReturn, TypeVar, Union
+
+import numpy as np
+import numpy.typing as npt
+
+_Self = TypeVar("_Self")
+_Path = Union[str, os.PathLike[str]]
+_Floats = npt.NDArray[np.float64]
+_Bools = npt.NDArray[np.bool_]
+
+class Error(ValueError): ...
+
+class _NotCopyable:
+    def __copy__(self) -> NoReturn: ...
+    def __deepcopy__(self, memo: Any) -> NoReturn: ...
+    def __reduce_ex__(self, protocol: Any) -> NoReturn: ...
+
+class _Closable:
+    def close(self) -> None: ...
+    @property
+    def closed(self) -> bool: ...
+    def __enter__(self: _Self) -> _Self: ...
+    def __exit__(self, *exc: object) -> None: ...

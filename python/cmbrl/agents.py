@@ -1,0 +1,129 @@
+"""Training a run (train, as `cmbrl train` does) and the agent of a trained run (load_run,
+Agent)."""
+import json
+import math
+import os
+
+import numpy as np
+
+from . import _cmbrl
+from ._common import Error, _as_int, _as_seed, _box, _json_number, _NotCopyable, _yaml_value
+from .envs import Env
+
+
+def train(config=None, out=None, steps=None, seed=None, device=None, resume=None, progress=None,
+          checkpoint_seconds=300.0):
+    """Trains a run as `cmbrl train` does, into the run directory `out`.
+
+    config: a YAML file (path), a list of them composed in order (a task's paper preset, then a
+    preset family: ["configs/pointgoal1-rce.yaml", "configs/quickstart.yaml"]), or a dict of
+    the same keys. steps, seed and device override the config's. resume=RUN_DIR continues a stopped run instead (steps then gives a new budget).
+    progress(summary) is called after each unit of work (an MPC episode or a model-free epoch)
+    with a dict of epoch, steps, budget, episode_return, episode_cost and seconds. An exception
+    it raises, or Ctrl-C (seen after the agent step or fit epoch under way in an MPC run, the
+    rollout round or value-fit iteration in a model-free one), stops training at a checkpoint;
+    the run resumes later from there.
+    checkpoint_seconds: an MPC episode, model fit or model-free epoch still going this long
+    after the last checkpoint is checkpointed after its agent step, fit epoch, rollout round or
+    value-fit iteration under way (0: after every one); it changes no result.
+    Returns {"run", "steps", "budget"}.
+    """
+    if (isinstance(checkpoint_seconds, (bool, np.bool_))
+            or not isinstance(checkpoint_seconds, (int, float, np.integer, np.floating))
+            or not math.isfinite(checkpoint_seconds) or checkpoint_seconds < 0):
+        raise Error(f"checkpoint_seconds is {checkpoint_seconds!r}: expected a finite number of "
+                    "seconds >= 0")
+    config_path = config_text = None
+    if isinstance(config, dict):
+        if "task" not in config:
+            raise Error("the config dict names no task, so the run would be the defaults' full "
+                        "paper-size PointGoal1 run: name one ({'task': 'PointGoal1', ...})")
+        config_text = json.dumps(config, default=_json_number)  # JSON is YAML
+    elif isinstance(config, (list, tuple)):
+        config_path = [os.fspath(path) for path in config]
+    elif config is not None:
+        config_path = [os.fspath(config)]
+    out = os.fspath(out) if out is not None else None
+    resume = os.fspath(resume) if resume is not None else None
+    return _cmbrl.train(config_path, config_text, out, resume,
+                        None if steps is None else _as_int(steps, "steps", 1, 10**10),
+                        None if seed is None else _as_seed(seed), device, progress,
+                        float(checkpoint_seconds))
+
+
+class Agent(_NotCopyable):
+    """A trained run's agent (load_run): act(observation) gives its action. An MPC run also
+    offers its planner's last plan and predictions and its learned models on numpy arrays.
+    Not copyable or picklable: load the run again (cmbrl.load_run) where another is needed.
+
+    Threads: calls on one object from several threads take turns (one lock per object, taken
+    with the GIL released); distinct objects run in parallel.
+    """
+
+    _instead = "load the run again with cmbrl.load_run(run_dir)"
+
+    def __init__(self, run_dir, seed=0, overrides=()):
+        self._agent = _cmbrl.Agent(os.fspath(run_dir), _as_seed(seed), list(overrides))
+        self.run_dir = os.fspath(run_dir)
+        self.observation_space = _box(self._agent.observation_spec())
+        self.action_space = _box(self._agent.action_spec())
+        self.is_mpc = self._agent.is_mpc
+        environment = self._agent.environment()
+        self.task = environment["task"]
+        self.variant = environment["variant"]
+        self.spawn = environment["spawn"]
+
+    def make_env(self, render_mode=None, render_size=400):
+        """A new environment of the run's task, variant and spawn (what it was trained in)."""
+        return Env(self.task, self.variant, self.spawn, render_mode=render_mode,
+                   render_size=render_size)
+
+    def config(self):
+        """The run's resolved config, as YAML text."""
+        return self._agent.config_yaml()
+
+    def begin_episode(self):
+        """Call at each episode's start (the MPC planner forgets its warm start)."""
+        self._agent.begin_episode()
+
+    def act(self, observation):
+        """The trained agent's action for one observation: the MPC plan's first action, or the
+        model-free policy's mean action."""
+        return self._agent.act(observation)
+
+    def last_plan(self):
+        """MPC only: the executed plan's action sequence (H, A), its planning time, iterations,
+        the feasible fraction of the last population and the share of infeasible elites (RCE's
+        fallback when fewer than its minimum of elites are feasible)."""
+        return self._agent.last_plan()
+
+    def predictions(self, env, samples=8):
+        """MPC only: the last plan's predicted robot paths in world coordinates, for plotting:
+        dicts of points (H + 1, 2), feasible, chosen (the executed plan) and member (the
+        ensemble member that predicted it). `samples` sampled sequences spread over the plan's
+        last population, each as every member predicted it, then the executed plan's: (samples
+        + 1) x members paths (fewer samples when the population is smaller). `env` is the
+        environment the plan was made in (its ground truth places the paths); calls between two
+        act()s give the same plan."""
+        return self._agent.predictions(env.ground_truth(), _as_int(samples, "samples"))
+
+    def predict_next(self, states, actions):
+        """MPC only: every ensemble member's next state, (E, N, S) for (N, S) and (N, A)."""
+        return self._agent.predict_next(states, actions)
+
+    def predict_violation(self, states):
+        """MPC only: the constraint classifier's verdict per state, (N) bool."""
+        return self._agent.predict_violation(states)
+
+
+def load_run(run_dir, seed=0, overrides=None):
+    """The agent of a trained run directory (its last checkpoint); seed seeds the planner.
+
+    overrides: a dict {"section.key": value} or a list of "section.key=value" that changes how
+    the trained models are used, as `cmbrl eval --set` does: planning.*, objective.* and
+    classifier.threshold, e.g. {"classifier.threshold": 0.3}."""
+    if overrides is None:
+        overrides = []
+    elif isinstance(overrides, dict):
+        overrides = [f"{key}={_yaml_value(value)}" for key, value in overrides.items()]
+    return Agent(run_dir, seed=seed, overrides=[str(item) for item in overrides])

@@ -1,0 +1,356 @@
+"""The Safety Gym Goal environments: one (Env, make), vectors of them stepped in C++ threads
+(VectorEnv, make_vec), and Gymnasium's five-value step (CostInInfo, VectorCostInInfo)."""
+import math
+import os
+import re
+
+import numpy as np
+
+from . import _cmbrl
+from ._common import (Error, _as_int, _as_seed, _box, _Closable, _copy_through_state,
+                      _entropy_seed, _NotCopyable)
+from .spaces import Box
+
+try:  # gymnasium is optional: where it is importable, the environments are of its own kinds
+    import gymnasium as _gymnasium
+    import gymnasium.vector  # noqa: F401 (makes _gymnasium.vector available)
+    _EnvBase, _VectorEnvBase = _gymnasium.Env, _gymnasium.vector.VectorEnv
+    _WrapperBase, _VectorWrapperBase = _gymnasium.Wrapper, _gymnasium.vector.VectorWrapper
+except ImportError:  # pragma: no cover - depends on the machine
+    _EnvBase = _VectorEnvBase = object
+    _WrapperBase = _VectorWrapperBase = None
+
+
+def tasks():
+    """The registered task names."""
+    return list(_cmbrl.env_names())
+
+
+class Env(_Closable, _EnvBase):
+    """One Goal environment with Safety-Gymnasium's API (reset, step with a separate cost,
+    observation_space, action_space, render to an RGB array, close). Where gymnasium is
+    importable it is a gymnasium.Env (and its spaces gymnasium's Boxes), as Safety-Gymnasium's
+    environments are; step() returns the cost as Safety-Gymnasium's do.
+
+    ground_truth() gives what the agent does not observe: the robot's pose, the goal, hazards
+    and vases in world coordinates. render() draws the arena from above with the episode's path.
+
+    pickle, copy.copy and copy.deepcopy give an independent environment in the same state: the
+    task, variant and spawn, MuJoCo's whole state, the layout, the episode so far and the
+    generators, so that its next step (and reset) equals the original's.
+
+    Threads: calls on one object from several threads take turns (one lock per object, taken
+    with the GIL released); distinct objects run in parallel.
+    """
+
+    reward_range = (-math.inf, math.inf)
+
+    def __init__(self, task, variant=None, spawn="standing", render_mode=None, render_size=400):
+        if render_mode not in (None, "rgb_array"):
+            raise Error(f"render_mode '{render_mode}': expected None or 'rgb_array'")
+        env_id = task
+        task, variant = _task_and_variant(task, variant)
+        self._env = _cmbrl.Env(task, variant, spawn)
+        self.task, self.variant, self.spawn = task, variant, spawn
+        self.render_mode = render_mode
+        self.render_size = _as_int(render_size, "render_size", 1, 16384)
+        obs_spec, act_spec = self._env.observation_spec(), self._env.action_spec()
+        self.observation_names = list(obs_spec["names"])
+        self.action_names = list(act_spec["names"])
+        self.observation_space = _box(obs_spec)
+        self.action_space = _box(act_spec)
+        self.max_episode_steps = self._env.max_episode_steps
+        self.agent_step_seconds = self._env.agent_step_seconds
+        # Per instance: Gymnasium's wrappers read render_fps, and it follows the agent's step.
+        self.metadata = {"render_modes": ["rgb_array"],
+                         "render_fps": round(1.0 / self.agent_step_seconds)}
+        self.spec = EnvSpec(env_id, self.max_episode_steps,
+                            {"variant": variant, "spawn": spawn})
+        self._np_random = None
+
+    def reset(self, seed=None, options=None):
+        """Starts an episode: (observation, info). A seed re-seeds the layouts' generator;
+        without one the generator continues, and a first reset without one draws its seed from
+        the operating system's entropy (Gymnasium's convention)."""
+        if seed is None and not getattr(self, "_seeded", False):
+            seed = _entropy_seed()
+        if seed is not None:
+            seed = _as_seed(seed)
+            self.action_space.seed(seed)
+            self._np_random = np.random.default_rng(seed)
+        self._seeded = True
+        return self._env.reset(seed)
+
+    @property
+    def np_random(self):
+        """A numpy Generator seeded with the last reset's seed (Gymnasium's env.np_random, for
+        wrappers' own draws). The environment's layouts draw from its C++ generator, seeded with
+        the same seed, not from this one."""
+        if self._np_random is None:
+            self._np_random = np.random.default_rng(_entropy_seed())
+        return self._np_random
+
+    @np_random.setter
+    def np_random(self, generator):
+        self._np_random = generator
+
+    def step(self, action):
+        """(observation, reward, cost, terminated, truncated, info) for one agent step."""
+        return self._env.step(action)
+
+    def ground_truth(self):
+        """What the agent does not observe, in world coordinates: a dict of the robot's position
+        and heading, the goal and its radius, and the hazards' and vases' positions."""
+        return self._env.ground_truth()
+
+    def render(self):
+        """The arena from above as an (H, W, 3) uint8 array."""
+        return self._env.render(self.render_size)
+
+    def save_picture(self, path, caption="", predictions=None):
+        """Writes render()'s picture as PNG, with a caption and, optionally, the planner's
+        predicted paths (Agent.predictions)."""
+        self._env.save_picture(os.fspath(path), self.render_size, caption, list(predictions or []))
+
+    @property
+    def unwrapped(self):
+        """The environment itself (no wrappers inside): Gymnasium's convention."""
+        return self
+
+    def __getstate__(self):
+        if self.closed:
+            raise Error(f"a closed cmbrl.Env ({self.task}) cannot be pickled or copied: "
+                        "it has no state left")
+        return {"id": self.spec.id, "variant": self.variant, "spawn": self.spawn,
+                "render_mode": self.render_mode, "render_size": self.render_size,
+                "observation_space": self.observation_space, "action_space": self.action_space,
+                "np_random": self._np_random, "seeded": getattr(self, "_seeded", False),
+                "state": self._env.state()}
+
+    def __setstate__(self, state):
+        self.__init__(state["id"], state["variant"], state["spawn"], state["render_mode"],
+                      state["render_size"])
+        self._env.set_state(state["state"])
+        self.observation_space = state["observation_space"]
+        self.action_space = state["action_space"]
+        self._np_random = state["np_random"]
+        self._seeded = state["seeded"]
+
+    __copy__ = __deepcopy__ = _copy_through_state
+
+    def __repr__(self):
+        return f"cmbrl.Env({self.task!r}, variant={self.variant!r})"
+
+
+class VectorEnv(_Closable, _NotCopyable, _VectorEnvBase):
+    """num_envs environments stepped together in C++ threads, in Gymnasium's vector API:
+    batched (num_envs, ...) arrays in and out. Resets follow Gymnasium 1.x's autoreset modes:
+    "same-step" (the default: an environment whose episode ended returns its next episode's first
+    observation; the last one is info["final_obs"][k] and its step's info info["final_info"],
+    with info["_final_obs"][k] and info["_final_info"][k] True, Gymnasium 1.x's names) or "disabled" (an ended environment returns its last observation and must be reset with
+    reset(options={"reset_mask": mask}) before it steps again).
+
+    Threads: calls on one object from several threads take turns (one lock per object, taken
+    with the GIL released); distinct objects run in parallel.
+    """
+
+    _instead = "make another with cmbrl.make_vec(...)"
+
+    def __init__(self, task, num_envs, variant=None, spawn="standing", threads=None,
+                 spin_us=2000, autoreset_mode="same-step"):
+        mode = _autoreset_mode(autoreset_mode)
+        task, variant = _task_and_variant(task, variant)
+        # 0: one thread per core this process may use (its affinity mask), at most one per env.
+        num_envs = _as_int(num_envs, "num_envs")
+        threads = 0 if threads is None else _as_int(threads, "threads", 1, 4096)
+        self._env = _cmbrl.VectorEnv(task, num_envs, variant, spawn, threads,
+                                     _as_int(spin_us, "spin_us", 0, 10**9), mode)
+        self.metadata = {"autoreset_mode": mode}
+        self._observations = None
+        self.task, self.variant, self.num_envs = task, variant, num_envs
+        obs_spec, act_spec = self._env.observation_spec(), self._env.action_spec()
+        self.single_observation_space = _box(obs_spec)
+        self.single_action_space = _box(act_spec)
+        self.observation_space = Box(
+            low=np.tile(obs_spec["low"], (self.num_envs, 1)),
+            high=np.tile(obs_spec["high"], (self.num_envs, 1)), dtype=np.float64)
+        self.action_space = Box(
+            low=np.tile(act_spec["low"], (self.num_envs, 1)),
+            high=np.tile(act_spec["high"], (self.num_envs, 1)), dtype=np.float64)
+
+    def reset(self, seed=None, options=None):
+        """Resets all; with a seed, environment k gets seed + k, and a list of seeds may give
+        them as [s, s + 1, ...]. A first reset without a seed draws one from the operating
+        system's entropy, so unseeded environments differ from each other and from run to run.
+        With autoreset "disabled", options={"reset_mask": mask} (num_envs booleans) resets only
+        the environments marked True (with seed + k, or seeds[k], when a seed is given); the
+        others keep their current observation."""
+        options = {} if options is None else options
+        if not isinstance(options, dict) or set(options) - {"reset_mask"}:
+            raise Error(f"options {options!r}: expected None or a dict with only 'reset_mask'")
+        if "reset_mask" in options:
+            return self._reset_where(options["reset_mask"], seed)
+        if isinstance(seed, (list, tuple, np.ndarray)):
+            seeds = [_as_seed(item, "a seed of the list") for item in seed]
+            if len(seeds) != self.num_envs:
+                raise Error(f"{len(seeds)} seeds for {self.num_envs} environments: expected one "
+                            "each")
+            if any(later != seeds[0] + k for k, later in enumerate(seeds)):
+                raise Error(f"seeds {seeds}: this vector seeds environment k with seed + k, so "
+                            "a list must be consecutive; give one seed for other layouts")
+            seed = seeds[0]
+        if seed is None and not getattr(self, "_seeded", False):
+            seed = max(0, _entropy_seed() - self.num_envs)  # room for seed + k
+        if seed is not None:
+            seed = _as_seed(seed)
+            self.action_space.seed(seed)
+        self._seeded = True
+        observations, info = self._env.reset(seed)
+        self._observations = observations.copy()
+        return observations, info
+
+    def _reset_where(self, mask, seed):
+        if self.metadata["autoreset_mode"] != "disabled":
+            raise Error("options['reset_mask'] needs autoreset_mode 'disabled': with 'same-step' "
+                        "the environments reset themselves")
+        mask = np.asarray(mask)
+        if mask.shape != (self.num_envs,) or mask.dtype != np.bool_:
+            raise Error(f"reset_mask has shape {mask.shape} and dtype {mask.dtype}: expected "
+                        f"({self.num_envs},) booleans")
+        if self._observations is None and not mask.all():
+            raise Error("the first reset must reset every environment: reset_mask has False")
+        if isinstance(seed, (list, tuple, np.ndarray)):
+            seeds = [_as_seed(item, "a seed of the list") for item in seed]
+            if len(seeds) != self.num_envs:
+                raise Error(f"{len(seeds)} seeds for {self.num_envs} environments: expected one "
+                            "each")
+        elif seed is not None:
+            first = _as_seed(seed)
+            seeds = [first + k for k in range(self.num_envs)]
+        else:
+            seeds = []
+        first_observations = self._env.reset_where(mask.tolist(), seeds)
+        if self._observations is None:
+            self._observations = first_observations
+        else:
+            self._observations[mask] = first_observations[mask]
+        self._seeded = True
+        return self._observations.copy(), {}
+
+    def step(self, actions):
+        """(num_envs, A) actions -> (observations, rewards, costs, terminations, truncations,
+        infos), each batched over the environments; ended ones reset as the autoreset mode says."""
+        result = self._env.step(actions)
+        self._observations = result[0].copy()
+        return result
+
+
+class EnvSpec:
+    """What made an environment, as gymnasium.envs.registration.EnvSpec names it: id (the name
+    given to make), max_episode_steps and kwargs (variant, spawn)."""
+
+    def __init__(self, id, max_episode_steps, kwargs):  # noqa: A002 (Gymnasium's name)
+        self.id, self.max_episode_steps, self.kwargs = id, max_episode_steps, dict(kwargs)
+
+    def __repr__(self):
+        return f"EnvSpec(id={self.id!r}, max_episode_steps={self.max_episode_steps})"
+
+
+# Safety-Gymnasium's id of a task: "Safety" + its name + a version ("SafetyPointGoal1-v0").
+_SAFETY_GYMNASIUM_ID = re.compile(r"Safety(\w+)-v0")
+
+
+def _task_and_variant(task, variant):
+    """A task name or a Safety-Gymnasium id ("SafetyPointGoal1-v0": that task's stock variant,
+    'standard'), and the variant: the one given, else 'standard' for such an id and 'paper'."""
+    if not isinstance(task, str):
+        raise Error(f"task is {task!r}: expected a task name ({', '.join(tasks())}) or a "
+                    "Safety-Gymnasium id such as 'SafetyPointGoal1-v0'")
+    match = _SAFETY_GYMNASIUM_ID.fullmatch(task)
+    if match and match.group(1) in tasks():  # the task list is the C++ core's, named once
+        return match.group(1), "standard" if variant is None else variant
+    return task, "paper" if variant is None else variant
+
+
+def make(task, variant=None, spawn="standing", render_mode=None, render_size=400):
+    """An environment: task is one of tasks() or a Safety-Gymnasium id ('SafetyPointGoal1-v0',
+    which gives that task's stock variant); variant 'paper' (the default for a task name: the
+    paper's modified suite), 'standard' (Safety-Gymnasium's stock tasks) or 'paper-lidar' (the
+    paper's world as its model-free baselines observed it); spawn 'standing' or
+    'model-origin'."""
+    return Env(task, variant=variant, spawn=spawn, render_mode=render_mode,
+               render_size=render_size)
+
+
+def _autoreset_mode(mode):
+    """'same-step' or 'disabled', also from Gymnasium's AutoresetMode (SAME_STEP, DISABLED)."""
+    value = getattr(mode, "value", mode)
+    names = {"same-step": "same-step", "SameStep": "same-step", "disabled": "disabled",
+             "Disabled": "disabled"}
+    if not isinstance(value, str) or value not in names:
+        raise Error(f"autoreset_mode is {mode!r}: expected 'same-step' or 'disabled' "
+                    "(NEXT_STEP is not offered)")
+    return names[value]
+
+
+def make_vec(task, num_envs, variant=None, spawn="standing", threads=None, spin_us=2000,
+             autoreset_mode="same-step"):
+    """A VectorEnv of num_envs environments on `threads` threads (default: one per core this
+    process may use, at most one per environment). Between steps the threads spin for up to
+    spin_us microseconds before they sleep: the default suits a loop that steps at once again;
+    0 spares the cores of a loop that does much else between steps."""
+    return VectorEnv(task, num_envs, variant=variant, spawn=spawn, threads=threads,
+                     spin_us=spin_us, autoreset_mode=autoreset_mode)
+
+
+class _Forwarding:
+    """Without gymnasium, what its wrappers give: the wrapped environment as .env, and every
+    attribute and method this wrapper does not define taken from it."""
+
+    def __init__(self, env):
+        self.env = env
+
+    def __getattr__(self, name):
+        if name == "env":  # not set yet (unpickling, say): do not recurse
+            raise AttributeError(name)
+        return getattr(self.env, name)
+
+    @property
+    def unwrapped(self):
+        return self.env.unwrapped
+
+    def reset(self, *, seed=None, options=None):
+        return self.env.reset(seed=seed, options=options)
+
+    def close(self):
+        self.env.close()
+
+
+def _with_cost(info, cost):
+    info = dict(info)
+    info["cost"] = cost
+    return info
+
+
+class CostInInfo(_WrapperBase or _Forwarding):
+    """An Env with Gymnasium's five-value step: (observation, reward, terminated, truncated, info),
+    the cost moved into info["cost"], for Gymnasium's own wrappers and the libraries built on
+    them (Safety-Gymnasium's SafetyGymnasium2Gymnasium does the same). Where gymnasium is
+    importable it is a gymnasium.Wrapper. Threads: as the Env it wraps."""
+
+    def step(self, action):
+        """(observation, reward, terminated, truncated, info), the cost in info["cost"]."""
+        observation, reward, cost, terminated, truncated, info = self.env.step(action)
+        return observation, reward, terminated, truncated, _with_cost(info, cost)
+
+
+class VectorCostInInfo(_VectorWrapperBase or _Forwarding):
+    """A VectorEnv with Gymnasium's five-value step, the (num_envs) costs in info["cost"]. Where
+    gymnasium is importable it is a gymnasium.vector.VectorWrapper. Threads: as the VectorEnv it
+    wraps."""
+
+    def step(self, actions):
+        """(observations, rewards, terminations, truncations, infos), the costs in
+        infos["cost"]."""
+        observations, rewards, costs, terminations, truncations, infos = self.env.step(actions)
+        return observations, rewards, terminations, truncations, _with_cost(infos, costs)

@@ -1,0 +1,99 @@
+# Type stubs of cmbrl.envs.
+from typing import Any, Iterable, Mapping, Optional, Sequence, Union
+
+import numpy as np
+import numpy.typing as npt
+
+from ._common import _Bools, _Closable, _Floats, _NotCopyable, _Path
+from .spaces import _Box
+
+def tasks() -> list[str]: ...
+
+class EnvSpec:
+    id: str
+    max_episode_steps: int
+    kwargs: dict[str, Any]
+    def __init__(self, id: str, max_episode_steps: int, kwargs: Mapping[str, Any]) -> None: ...
+
+class Env(_Closable):
+    reward_range: tuple[float, float]
+    task: str
+    variant: str
+    spawn: str
+    render_mode: Optional[str]
+    render_size: int
+    observation_names: list[str]
+    action_names: list[str]
+    observation_space: _Box
+    action_space: _Box
+    max_episode_steps: int
+    agent_step_seconds: float
+    metadata: dict[str, Any]
+    spec: EnvSpec
+    def __init__(self, task: str, variant: Optional[str] = ..., spawn: str = ...,
+                 render_mode: Optional[str] = ..., render_size: int = ...) -> None: ...
+    def reset(self, seed: Optional[int] = ..., options: Optional[Mapping[str, Any]] = ...
+              ) -> tuple[_Floats, dict[str, Any]]: ...
+    @property
+    def np_random(self) -> np.random.Generator: ...
+    @np_random.setter
+    def np_random(self, generator: np.random.Generator) -> None: ...
+    # (observation, reward, cost, terminated, truncated, info): Safety-Gymnasium's six values.
+    def step(self, action: npt.ArrayLike
+             ) -> tuple[_Floats, float, float, bool, bool, dict[str, Any]]: ...
+    def ground_truth(self) -> dict[str, Any]: ...
+    def render(self) -> npt.NDArray[np.uint8]: ...
+    def save_picture(self, path: _Path, caption: str = ...,
+                     predictions: Optional[Iterable[Mapping[str, Any]]] = ...) -> None: ...
+    @property
+    def unwrapped(self) -> Env: ...
+    def __getstate__(self) -> dict[str, Any]: ...
+    def __setstate__(self, state: dict[str, Any]) -> None: ...
+    def __copy__(self, memo: Any = ...) -> Env: ...
+    def __deepcopy__(self, memo: Any = ...) -> Env: ...
+
+class VectorEnv(_Closable, _NotCopyable):
+    metadata: dict[str, Any]
+    task: str
+    variant: str
+    num_envs: int
+    single_observation_space: _Box
+    single_action_space: _Box
+    observation_space: _Box
+    action_space: _Box
+    def __init__(self, task: str, num_envs: int, variant: Optional[str] = ...,
+                 spawn: str = ..., threads: Optional[int] = ..., spin_us: int = ...,
+                 autoreset_mode: Any = ...) -> None: ...
+    def reset(self, seed: Union[int, Sequence[int], None] = ...,
+              options: Optional[Mapping[str, Any]] = ...) -> tuple[_Floats, dict[str, Any]]: ...
+    # (observations, rewards, costs, terminations, truncations, infos), batched.
+    def step(self, actions: npt.ArrayLike
+             ) -> tuple[_Floats, _Floats, _Floats, _Bools, _Bools, dict[str, Any]]: ...
+
+def make(task: str, variant: Optional[str] = ..., spawn: str = ...,
+         render_mode: Optional[str] = ..., render_size: int = ...) -> Env: ...
+def make_vec(task: str, num_envs: int, variant: Optional[str] = ..., spawn: str = ...,
+             threads: Optional[int] = ..., spin_us: int = ...,
+             autoreset_mode: Any = ...) -> VectorEnv: ...
+class _Forwarding:
+    env: Any
+    def __init__(self, env: Any) -> None: ...
+    def __getattr__(self, name: str) -> Any: ...
+    @property
+    def unwrapped(self) -> Any: ...
+    def reset(self, *, seed: Union[int, Sequence[int], None] = ...,
+              options: Optional[Mapping[str, Any]] = ...) -> tuple[_Floats, dict[str, Any]]: ...
+    def close(self) -> None: ...
+
+# Gymnasium's five-value step, the cost in info["cost"] (gymnasium wrappers where importable).
+class CostInInfo(_Forwarding):
+    env: Env
+    def __init__(self, env: Env) -> None: ...
+    def step(self, action: npt.ArrayLike
+             ) -> tuple[_Floats, float, bool, bool, dict[str, Any]]: ...
+
+class VectorCostInInfo(_Forwarding):
+    env: VectorEnv
+    def __init__(self, env: VectorEnv) -> None: ...
+    def step(self, actions: npt.ArrayLike
+             ) -> tuple[_Floats, _Floats, _Bools, _Bools, dict[str, Any]]: ...
