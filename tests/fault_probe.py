@@ -11,7 +11,7 @@ and gets a verdict from what cmbrl did:
   hang          no answer within the case's time
   skipped       the case needs what this machine lacks (root for a tmpfs)
 
-Usage: scripts/fault-probe.py [--cmbrl build/bin/cmbrl] [--work /tmp/cmbrl-probe] [--python-path build/python]
+Usage: tests/fault_probe.py [--cmbrl build/bin/cmbrl] [--work /tmp/cmbrl-probe] [--python-path build/python]
 Prints one line per case and the counts per verdict; exits 1 when any case is not clear (or
 accepted where it should be).
 """

@@ -2,7 +2,7 @@
 """Converts the per-episode and per-epoch logs that the paper's authors published (liuzuxin/
 safe-mbrl, folder data/) into the CSV files under data/reference/ that `cmbrl report` reads.
 
-Usage: scripts/import-reference-logs.py LOGS_DIR [OUT_DIR]
+Usage: data/reference/import_logs.py LOGS_DIR [OUT_DIR]
 
 LOGS_DIR holds {pg1,pg2,cg1,cg2}/... as published. Only numbers are carried over: every column
 of every row, tab-separated values rewritten as CSV, one file per run:
@@ -38,8 +38,8 @@ def main():
     if len(sys.argv) not in (2, 3):
         sys.exit(__doc__)
     logs = sys.argv[1]
-    out = sys.argv[2] if len(sys.argv) == 3 else os.path.join(
-        os.path.dirname(os.path.abspath(__file__)), "..", "data", "reference")
+    # By default beside this script: data/reference.
+    out = sys.argv[2] if len(sys.argv) == 3 else os.path.dirname(os.path.abspath(__file__))
     count = 0
     for short, task in TASKS.items():
         for root, _, files in os.walk(os.path.join(logs, short)):
