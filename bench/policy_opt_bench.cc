@@ -14,7 +14,7 @@ namespace cmbrl::bench {
 
 void RunPolicyOptBench(const PolicyOptBenchOptions& options, const FigureSink& emit) {
   TrainConfig config = LoadTrainConfig(options.config_path);
-  Require(!IsMpcAlgorithm(config.algorithm),
+  Require(&FamilyOf(config.algorithm) == &PolicyOptFamily(),
           "'{}' is an MPC config: bench learn measures the model-free algorithms (bench plan "
           "and bench train measure MPC)",
           options.config_path);

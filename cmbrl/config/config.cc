@@ -366,30 +366,6 @@ void MergeInto(YAML::Node base, const YAML::Node& overlay) {
 
 }  // namespace
 
-std::vector<std::string> AlgorithmNames() {
-  std::vector<std::string> names;
-  for (const AlgorithmEntry& entry : Algorithms()) names.push_back(entry.name);
-  return names;
-}
-
-std::string MethodOf(const TrainConfig& config) {
-  return IsMpcAlgorithm(config.algorithm) ? config.planner : config.algorithm;
-}
-
-std::vector<std::string> MethodNames() {
-  std::vector<std::string> names = PlannerNames();
-  for (const AlgorithmEntry& entry : Algorithms()) {
-    if (entry.family != LearnerFamily::kMpc) names.push_back(entry.name);
-  }
-  return names;
-}
-
-std::string MethodLabel(const std::string& method) {
-  const AlgorithmEntry* algorithm = FindAlgorithmOrNull(method);
-  return algorithm != nullptr && algorithm->family != LearnerFamily::kMpc ? algorithm->label
-                                                                          : PlannerLabel(method);
-}
-
 void SetTrainDevice(TrainConfig& c, const std::string& device) {
   c.device = device;
   c.ensemble.device = device;
@@ -462,8 +438,7 @@ void ValidateTrainConfig(const TrainConfig& c, const std::string& source) {
   InSection(source, "ensemble", [&] { ValidateEnsembleOptions(c.ensemble); });
   InSection(source, "classifier", [&] { ValidateXgbCostModelOptions(c.classifier); });
   InSection(source, "planning", [&] {
-    Require(c.planning.penalty >= 0 && std::isfinite(c.planning.penalty),
-            "penalty is {}: expected a non-negative number", c.planning.penalty);
+    ValidatePenalty(c.planning.penalty);
     ValidateCrossEntropyOptions(c.planning.cross_entropy);
     ValidateRandomShootingOptions(c.planning.random);
     ValidatePlanningProblem(c.planning.problem);
@@ -478,93 +453,22 @@ void ValidateTrainConfig(const TrainConfig& c, const std::string& source) {
             "machine's {:.1f} GiB: lower the sizes named",
             source, memory.total() / kGiB, memory.Describe(), available / kGiB);
   };
-  if (!IsMpcAlgorithm(c.algorithm)) {
-    check_memory(EstimateRunMemory(c, ObservationSize(spec), 2));
-    return;  // the rest concerns the MPC learner's parts
+  if (FamilyOf(c.algorithm).Reads("objective")) {
+    // The planning objective reads the goal from the paper's ego-state vector.
+    Require(spec.observation == ObservationKind::kEgoState,
+            "config '{}': key 'variant' is '{}': training plans on the paper variant's ego-state "
+            "vector (the standard variant observes lidar)",
+            source, VariantName(c.variant));
+    InSection(source, "objective",
+              [&] { ValidateTrajectoryObjectiveOptions(c.objective, ObservationSize(spec)); });
   }
-  // The planning objective reads the goal from the paper's ego-state vector.
-  Require(spec.observation == ObservationKind::kEgoState,
-          "config '{}': key 'variant' is '{}': training plans on the paper variant's ego-state "
-          "vector (the standard variant observes lidar)",
-          source, VariantName(c.variant));
-  InSection(source, "objective",
-            [&] { ValidateTrajectoryObjectiveOptions(c.objective, ObservationSize(spec)); });
   check_memory(EstimateRunMemory(c, ObservationSize(spec), 2));
 }
 
-double RunMemory::total() const {
-  return transitions + labeled_states + ensemble + planning + classifier_fit + policy_networks +
-         epoch_batch;
-}
-
-std::string RunMemory::Describe() const {
-  const auto part = [](const char* name, double bytes) {
-    return fmt::format("{} {:.2f} GiB", name, bytes / kGiB);
-  };
-  if (policy_networks > 0 || epoch_batch > 0) {
-    return fmt::format(
-        "{}, {}",
-        part("policy_optimisation.policy_hidden and value_hidden", policy_networks),
-        part("policy_optimisation.steps_per_epoch (rows x widest layer)", epoch_batch));
-  }
-  return fmt::format("{}, {}, {}, {}, {}", part("training.transition_capacity", transitions),
-                     part("training.safe_capacity and unsafe_capacity", labeled_states),
-                     part("ensemble", ensemble),
-                     part("planning (population x members x horizon)", planning),
-                     part("classifier fit", classifier_fit));
-}
-
 RunMemory EstimateRunMemory(const TrainConfig& c, int state_dim, int action_dim) {
-  constexpr double kFloat = 4.0;
-  const double s = state_dim, a = action_dim;
-  const TrainingLoopOptions& t = c.training;
-  RunMemory m;
-  if (!IsMpcAlgorithm(c.algorithm)) {
-    // Each network's weights, gradients and Adam's two moments, and a few flat copies of the
-    // policy's for the trust-region step (counted as 4 more); the epoch's rows (observations,
-    // actions, targets), and the activations of a pass over all of them with its gradients
-    // (3 copies of each hidden layer's output).
-    const PolicyOptimisationOptions& o = c.policy_optimisation;
-    const auto parameters = [&](const std::vector<int>& hidden, double out) {
-      double count = 0.0, in = s;
-      for (const int width : hidden) {
-        count += (in + 1) * width;
-        in = width;
-      }
-      return count + (in + 1) * out;
-    };
-    const double policy = parameters(o.policy_hidden, a) + a;  // and the log std
-    const double value = parameters(o.value_hidden, 1);
-    m.policy_networks = (8 * policy + 2 * 4 * value) * kFloat;
-    double activations = 0.0;
-    for (const int width : o.policy_hidden) activations += width;
-    for (const int width : o.value_hidden) activations += 2.0 * width;
-    const double rows = o.steps_per_epoch;
-    m.epoch_batch = rows * (s + a + 8) * kFloat + 3 * rows * activations * kFloat;
-    return m;
-  }
-  m.transitions = static_cast<double>(t.transition_capacity) * (2 * s + a) * kFloat;
-  m.labeled_states = (static_cast<double>(t.safe_capacity) + t.unsafe_capacity) * s * kFloat;
-  // Weights, gradients and Adam's two moments of every member, and one batch's activations.
-  double widest = s;
-  for (const int width : c.ensemble.hidden_sizes) widest = std::max(widest, static_cast<double>(width));
-  const double members = c.ensemble.ensemble_size;
-  m.ensemble = EnsembleParameterBytes(c.ensemble, state_dim, action_dim) +
-               members * static_cast<double>(c.ensemble.batch_size) * widest * kFloat *
-                   (c.ensemble.hidden_sizes.size() + 1);
-  // The planner keeps every step's predicted states of the population (E, N, H, S) and the
-  // widest layer's activations; random shooting scores its samples the same way.
-  const double samples =
-      std::max<double>(c.planning.cross_entropy.population, c.planning.random.samples);
-  const double horizon = c.planning.problem.horizon;
-  m.planning = members * samples * (horizon * (s + a) + 2 * widest) * kFloat;
-  // The classifier's training matrix: every unsafe state and up to safe_per_unsafe times as
-  // many safe ones, in XGBoost's copy too.
-  m.classifier_fit = 2.0 *
-                     std::min<double>(t.safe_capacity + t.unsafe_capacity,
-                                      (c.classifier.safe_per_unsafe + 1.0) * t.unsafe_capacity) *
-                     s * kFloat;
-  return m;
+  return FamilyOf(c.algorithm)
+      .estimate_memory({state_dim, action_dim, c.training, c.ensemble, c.classifier, c.planning,
+                        c.policy_optimisation});
 }
 
 std::string TrainConfigToYaml(const TrainConfig& c) {

@@ -12,42 +12,16 @@
 #include "cmbrl/planning/planning_options.h"
 #include "cmbrl/policy_opt/policy_opt_options.h"
 #include "cmbrl/run/algorithms.h"
+#include "cmbrl/run/learner_family.h"
+#include "cmbrl/run/run_options.h"
 
 namespace cmbrl {
-
-// Streams of the run seed (DeriveSeed(seed, stream)), one per consumer of randomness.
-enum SeedStream : std::uint64_t {
-  kEnvSeedStream,
-  kPretrainSeedStream,
-  kEnsembleSeedStream,
-  kClassifierSeedStream,
-  kPlannerSeedStream,
-};
-
-// The outer loop of Algorithm 2 (facts B6).
-struct TrainingLoopOptions {
-  int pretrain_episodes = 1000;      // random-action episodes before the first fit
-  int pretrain_steps = 50;           // stored agent steps per pre-training episode
-  int episodes_per_epoch = 10;       // MPC episodes between refits
-  std::int64_t total_steps = 10000;  // budget of TotalEnvInteracts (MPC agent steps)
-  int transition_capacity = 500000;  // dynamics ring buffer
-  int safe_capacity = 50000;         // classifier rings
-  int unsafe_capacity = 10000;
-  // false (the original's run.py): a violation label is stored only for the agent steps whose
-  // transition is stored, i.e. not on a step that met the goal or ended the episode (facts B4).
-  // true: every agent step's next state is labelled.
-  bool label_every_step = false;
-};
-
-// The training algorithms `cmbrl train` knows (run/algorithms.h): "mpc" (the paper's Algorithm 2
-// with `planner`), the paper's model-free baselines and PPO's variants.
-std::vector<std::string> AlgorithmNames();
 
 struct TrainConfig {
   std::string task = "PointGoal1";
   Variant variant = Variant::kPaper;  // parsed once, where the file is read
   Spawn spawn = Spawn::kStanding;     // environment.spawn
-  std::string algorithm = "mpc";      // AlgorithmNames()
+  std::string algorithm = "mpc";      // AlgorithmNames() (run/algorithms.h)
   std::string planner = "rce";        // rce, cem or random (algorithm mpc)
   std::uint64_t seed = 0;
   std::string device = "cpu";  // models and planner
@@ -59,33 +33,14 @@ struct TrainConfig {
   PolicyOptimisationOptions policy_optimisation;  // the model-free algorithms
 };
 
-// What a run's results are grouped by in sweeps and reports: the planner of an MPC run
-// ("rce"), the algorithm of a model-free one ("cpo").
-std::string MethodOf(const TrainConfig& config);
+// What a run's results are grouped by in sweeps and reports (run/algorithms.h): the planner of
+// an MPC run ("rce"), the algorithm of a model-free one ("cpo").
+inline std::string MethodOf(const TrainConfig& config) {
+  return MethodOf(config.algorithm, config.planner);
+}
 
-// Every method in the paper's order: the planners, then the model-free algorithms.
-std::vector<std::string> MethodNames();
-
-// The paper's name of a method ("MPC-RCE", "TRPO-Lagrangian"), or the name itself when unknown.
-std::string MethodLabel(const std::string& method);
-
-// The largest budget of agent steps a run may have.
-inline constexpr std::int64_t kMaxTotalSteps = 10'000'000'000;
-
-// Bytes a run will hold in memory, part by part (an estimate from the configuration). An MPC
-// run has the first five parts, a model-free run the last two.
-struct RunMemory {
-  double transitions = 0.0;
-  double labeled_states = 0.0;
-  double ensemble = 0.0;
-  double planning = 0.0;
-  double classifier_fit = 0.0;
-  double policy_networks = 0.0;  // policy and the two value functions, with gradients and Adam
-  double epoch_batch = 0.0;      // an epoch's rows and the activations of a pass over them
-  double total() const;
-  std::string Describe() const;  // each part of the run with its config keys and GiB
-};
-
+// Bytes a run will hold in memory, part by part: its family's estimate (run/learner_family.h)
+// from the config's options.
 RunMemory EstimateRunMemory(const TrainConfig& config, int state_dim, int action_dim);
 
 // Reads a YAML file. Throws cmbrl::Error naming the file, the key (as section.key) and the value

@@ -1,5 +1,5 @@
 // Which cmbrl this is: the project's version and the source commit it was built from, for
-// `cmbrl --version` and for the record a run keeps of what made it (experiment/run_sessions.h).
+// `cmbrl --version` and for the record a run keeps of what made it (run/run_sessions.h).
 #pragma once
 
 namespace cmbrl {

@@ -1,4 +1,4 @@
-// The registry of environments: one line per task in registry.cc.
+// The environments of the tasks listed in task_list.h (one line each there), built on MuJoCo.
 #pragma once
 
 #include <memory>
@@ -6,12 +6,10 @@
 #include <vector>
 
 #include "cmbrl/env/env.h"
+#include "cmbrl/env/task_list.h"
 #include "cmbrl/env/variant.h"
 
 namespace cmbrl {
-
-// Names of every registered task.
-std::vector<std::string> EnvNames();
 
 // A new environment for a task ("PointGoal1", ...) and variant. Throws cmbrl::Error naming an
 // unknown task and listing the known ones.

@@ -46,7 +46,7 @@ LoadedRun::LoadedRun(const std::string& run_dir, std::uint64_t seed,
             item, fmt::join(PlanningOverrideKeys(), ", "));
   }
   if (!overrides.empty()) config_ = ApplyConfigOverrides(config_, overrides, "overrides");
-  agent_ = RegistrationOf(FindAlgorithm(config_.algorithm).family)
+  agent_ = RegistrationOf(FamilyOf(config_.algorithm))
                .load_agent(config_, LastCheckpointDir(run), seed);
 }
 

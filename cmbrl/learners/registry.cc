@@ -46,31 +46,31 @@ TrainedAgent LoadPolicyOptAgent(const TrainConfig& config,
 
 const std::vector<LearnerRegistration>& Registrations() {
   static const std::vector<LearnerRegistration> registrations = {
-      {LearnerFamily::kMpc,
+      {&MpcFamily(),
        [](const TrainConfig& config) -> std::unique_ptr<Learner> {
          return std::make_unique<MpcLearner>(config);
        },
-       [] { return ProgressCsvHeader(); }, LoadMpcAgent},
-      {LearnerFamily::kPolicyOptimisation,
+       LoadMpcAgent},
+      {&PolicyOptFamily(),
        [](const TrainConfig& config) -> std::unique_ptr<Learner> {
          return std::make_unique<PolicyOptLearner>(config);
        },
-       [] { return ProgressHeader(PolicyOptProgressColumns()); }, LoadPolicyOptAgent},
+       LoadPolicyOptAgent},
   };
   return registrations;
 }
 
 }  // namespace
 
-const LearnerRegistration& RegistrationOf(LearnerFamily family) {
+const LearnerRegistration& RegistrationOf(const FamilySheet& family) {
   for (const LearnerRegistration& registration : Registrations()) {
-    if (registration.family == family) return registration;
+    if (registration.family == &family) return registration;
   }
-  Fail("no learner is registered for this family");
+  Fail("no learner is registered for the {} family", family.name);
 }
 
 std::unique_ptr<Learner> MakeLearner(const TrainConfig& config) {
-  return RegistrationOf(FindAlgorithm(config.algorithm).family).make(config);
+  return RegistrationOf(FamilyOf(config.algorithm)).make(config);
 }
 
 }  // namespace cmbrl

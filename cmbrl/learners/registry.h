@@ -1,8 +1,9 @@
 // The learners by family: what builds the learner of a run's algorithm. The algorithms
-// themselves, with their names, labels and families, are listed once in run/algorithms.h (free
-// of LibTorch, for reports and sweeps); this adds what needs the learners' code. As MuJoCo MPC
-// lists its planners in one file, a new algorithm is a line there and, for a new family, an
-// entry here; the registry test builds every algorithm's learner.
+// themselves, with their names, labels and families, are listed once in run/algorithms.h, and
+// what the rest of cmbrl knows of a family in its sheet (run/learner_family.h), both free of
+// LibTorch for reports and sweeps; this adds what needs the learners' code. As MuJoCo MPC lists
+// its planners in one file, a new algorithm is a line there and, for a new family, a sheet and
+// an entry here; the registry test builds every algorithm's learner.
 #pragma once
 
 #include <cstdint>
@@ -38,11 +39,9 @@ struct TrainedAgent {
 };
 
 struct LearnerRegistration {
-  LearnerFamily family;
+  const FamilySheet* family;
   // Builds a fresh learner for a validated config (a run's start, or its resume before Load).
   std::function<std::unique_ptr<Learner>(const TrainConfig&)> make;
-  // The header line of its progress.csv (its columns, in order).
-  std::function<std::string()> progress_header;
   // Loads what acts for a trained run from its checkpoint folder, building only that (a
   // model-free run's policy network, not its learner); `seed` seeds the environment and, for
   // MPC, the planner. Throws cmbrl::Error naming a missing or damaged file.
@@ -52,7 +51,7 @@ struct LearnerRegistration {
 };
 
 // The registration of a family; every family has one.
-const LearnerRegistration& RegistrationOf(LearnerFamily family);
+const LearnerRegistration& RegistrationOf(const FamilySheet& family);
 
 // The learner that trains `config.algorithm`; throws cmbrl::Error naming an unknown algorithm.
 std::unique_ptr<Learner> MakeLearner(const TrainConfig& config);

@@ -44,6 +44,58 @@ struct EnsembleDynamics::State {
     torch::Tensor split_generator;
   };
   std::optional<OpenFit> open_fit;
+
+  // The buffer's inputs [state, action] (n, S + A) and targets (n, S), the next state or its
+  // change, normalised on the device by normalisers fitted to them (anew at every fit, over the
+  // whole buffer).
+  std::pair<torch::Tensor, torch::Tensor> NormalizedFitData(const TransitionBuffer& data,
+                                                            const EnsembleOptions& options) {
+    const std::int64_t n = data.size();
+    const auto rows = [n](const float* values, std::int64_t dim) {
+      return torch::from_blob(const_cast<float*>(values), {n, dim}, torch::kFloat).clone();
+    };
+    const torch::Tensor states = rows(data.states(), data.state_dim());
+    const torch::Tensor inputs = torch::cat({states, rows(data.actions(), data.action_dim())}, 1);
+    torch::Tensor targets = rows(data.next_states(), data.state_dim());
+    if (options.predict_delta) targets = targets - states;
+    input_normalizer.Fit(inputs, options.min_std);
+    target_normalizer.Fit(targets, options.min_std);
+    return {input_normalizer.Normalize(inputs.to(device)),
+            target_normalizer.Normalize(targets.to(device))};
+  }
+
+  // A fit's rows of n transitions, shuffled: the first validation_size validate, the rest train.
+  struct Split {
+    OpenFit place;               // where the fit stands (an open one's, or a new one's first epoch)
+    torch::Tensor validation_rows;  // (V) on the device
+    torch::Tensor train_rows;       // (n - V) on the device
+  };
+
+  // A fresh train/validation split, or an open fit's own again (drawn from the generator's state
+  // when it began). Takes the open fit, if any: the fit now runs it.
+  Split TakeSplit(std::int64_t n, std::int64_t validation_size) {
+    Split split;
+    torch::Tensor order;
+    if (open_fit) {
+      split.place = std::move(*open_fit);
+      open_fit.reset();
+      Require(split.place.rows == n,
+              "the open dynamics fit was begun on {} transitions, but is given {}: an open fit "
+              "goes on only on its own data",
+              split.place.rows, n);
+      const torch::Tensor now = generator.get_state();
+      generator.set_state(split.place.split_generator);
+      order = torch::randperm(n, generator, torch::kLong);
+      generator.set_state(now);
+    } else {
+      split.place.rows = n;
+      split.place.split_generator = generator.get_state();
+      order = torch::randperm(n, generator, torch::kLong);
+    }
+    split.validation_rows = order.slice(0, 0, validation_size).to(device);
+    split.train_rows = order.slice(0, validation_size).to(device);
+    return split;
+  }
 };
 
 namespace {
@@ -220,104 +272,33 @@ EnsembleFitReport EnsembleDynamics::Fit(const TransitionBuffer& data,
   State& s = *state_;
   const std::int64_t members = options_.ensemble_size;
 
-  // Data and normalisers (recomputed at every fit over the whole buffer).
-  const auto rows = [n](const float* data, std::int64_t dim) {
-    return torch::from_blob(const_cast<float*>(data), {n, dim}, torch::kFloat).clone();
-  };
-  const torch::Tensor states = rows(data.states(), state_dim_);
-  const torch::Tensor inputs = torch::cat({states, rows(data.actions(), action_dim_)}, 1);
-  torch::Tensor targets = rows(data.next_states(), state_dim_);
-  if (options_.predict_delta) targets = targets - states;
-  s.input_normalizer.Fit(inputs, options_.min_std);
-  s.target_normalizer.Fit(targets, options_.min_std);
-  const torch::Tensor x = s.input_normalizer.Normalize(inputs.to(s.device));
-  const torch::Tensor y = s.target_normalizer.Normalize(targets.to(s.device));
+  const auto [x, y] = s.NormalizedFitData(data, options_);
 
-  // A fresh train/validation split; at least one row trains. An open fit draws its own again.
-  // `place`: where this fit stands (an open one's, or a new one's at its first epoch).
-  std::int64_t validation_size =
-      static_cast<std::int64_t>(std::floor(options_.validation_fraction * n));
-  validation_size = std::min(validation_size, n - 1);
-  std::optional<State::OpenFit> place = std::move(s.open_fit);
-  s.open_fit.reset();
-  torch::Tensor order;
-  if (place) {
-    Require(place->rows == n,
-            "the open dynamics fit was begun on {} transitions, but is given {}: an open fit "
-            "goes on only on its own data",
-            place->rows, n);
-    const torch::Tensor now = s.generator.get_state();
-    s.generator.set_state(place->split_generator);
-    order = torch::randperm(n, s.generator, torch::kLong);
-    s.generator.set_state(now);
-  } else {
-    place = State::OpenFit{};
-    place->rows = n;
-    place->split_generator = s.generator.get_state();
-    order = torch::randperm(n, s.generator, torch::kLong);
-  }
-  const torch::Tensor validation_rows = order.slice(0, 0, validation_size).to(s.device);
-  const torch::Tensor train_rows = order.slice(0, validation_size).to(s.device);
+  // At least one row trains. An open fit draws its own split again.
+  const std::int64_t validation_size = std::min(
+      static_cast<std::int64_t>(std::floor(options_.validation_fraction * n)), n - 1);
+  State::Split split = s.TakeSplit(n, validation_size);
+  State::OpenFit& place = split.place;
   const std::int64_t train_size = n - validation_size;
   const std::int64_t subset = std::max<std::int64_t>(
       1, static_cast<std::int64_t>(options_.member_subset_fraction * train_size));
-  const torch::Tensor x_val =
-      x.index_select(0, validation_rows).unsqueeze(0).expand({members, validation_size, x.size(1)});
-  const torch::Tensor y_val = y.index_select(0, validation_rows);
+  const torch::Tensor x_val = x.index_select(0, split.validation_rows)
+                                  .unsqueeze(0)
+                                  .expand({members, validation_size, x.size(1)});
+  const torch::Tensor y_val = y.index_select(0, split.validation_rows);
 
   EnsembleFitReport report;
   report.train_size = static_cast<int>(train_size);
   report.validation_size = static_cast<int>(validation_size);
-  const bool continued = place->next_epoch > 1;
+  const bool continued = place.next_epoch > 1;
   report.validation_mse =
-      continued ? place->validation_mse : std::numeric_limits<double>::quiet_NaN();
+      continued ? place.validation_mse : std::numeric_limits<double>::quiet_NaN();
   report.best_validation_mse =
-      continued ? place->best_validation_mse : std::numeric_limits<double>::infinity();
-  int checks_without_improvement = place->checks_without_improvement;
-  // The report, timed, for the fit's two ends: done, or paused.
-  const auto finish = [&] {
-    report.seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    return report;
-  };
-  // Leaves the fit open after `epoch` when pause_due asks (never after its last epoch).
-  const auto pause_after = [&](int epoch) {
-    if (!pause_due || epoch >= options_.max_epochs || !pause_due()) return false;
-    place->next_epoch = epoch + 1;
-    place->validation_mse = report.validation_mse;
-    place->best_validation_mse = report.best_validation_mse;
-    place->checks_without_improvement = checks_without_improvement;
-    s.open_fit = std::move(place);
-    report.paused = true;
-    return true;
-  };
-  for (int epoch = place->next_epoch; epoch <= options_.max_epochs; ++epoch) {
-    // Each member's own fresh subset of the train split, without replacement: (E, subset).
-    std::vector<torch::Tensor> picks;
-    for (std::int64_t m = 0; m < members; ++m) {
-      picks.push_back(torch::randperm(train_size, s.generator, torch::kLong).slice(0, 0, subset));
-    }
-    const torch::Tensor member_rows = train_rows.index({torch::stack(picks).to(s.device)});
-    torch::Tensor epoch_loss = torch::zeros({}, torch::TensorOptions(s.device));
-    double onednn_epoch_loss = 0.0;
-    for (std::int64_t begin = 0; begin < subset; begin += options_.batch_size) {
-      const std::int64_t end = std::min(begin + options_.batch_size, subset);
-      const torch::Tensor batch = member_rows.slice(1, begin, end);  // (E, B)
-      // Sum over members of each member's mean: every member gets its own MSE gradient.
-      if (s.onednn_training) {
-        onednn_epoch_loss += s.onednn_training->Gradients(s.weights, s.biases, x, y, batch) *
-                             static_cast<double>(end - begin);
-      } else {
-        const torch::Tensor prediction = Forward(x.index({batch}), false);  // (E, B, S)
-        const torch::Tensor loss = (prediction - y.index({batch})).pow(2).mean({1, 2}).sum();
-        loss.backward();  // Step() drops the gradients: nothing to zero
-        epoch_loss += loss.detach() * static_cast<double>(end - begin);
-      }
-      s.optimizer->Step();
-    }
+      continued ? place.best_validation_mse : std::numeric_limits<double>::infinity();
+  int checks_without_improvement = place.checks_without_improvement;
+  for (int epoch = place.next_epoch; epoch <= options_.max_epochs; ++epoch) {
+    report.train_mse = TrainEpoch(x, y, split.train_rows, subset);
     report.epochs = epoch;
-    report.train_mse = (s.onednn_training ? onednn_epoch_loss : epoch_loss.item<double>()) /
-                       static_cast<double>(subset * members);
     if (keep_going && !keep_going()) {
       report.interrupted = true;
       break;
@@ -334,12 +315,56 @@ EnsembleFitReport EnsembleDynamics::Fit(const TransitionBuffer& data,
         break;
       }
     }
-    if (pause_after(epoch)) return finish();
+    // Leaves the fit open after this epoch when pause_due asks (never after its last epoch).
+    if (pause_due && epoch < options_.max_epochs && pause_due()) {
+      place.next_epoch = epoch + 1;
+      place.validation_mse = report.validation_mse;
+      place.best_validation_mse = report.best_validation_mse;
+      place.checks_without_improvement = checks_without_improvement;
+      s.open_fit = std::move(place);
+      report.paused = true;
+      break;
+    }
   }
-  if (validation_size == 0) report.best_validation_mse = report.validation_mse;
-  ++s.fits;
-  RefreshPredictionWeights();
-  return finish();
+  if (!report.paused) {
+    if (validation_size == 0) report.best_validation_mse = report.validation_mse;
+    ++s.fits;
+    RefreshPredictionWeights();
+  }
+  report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return report;
+}
+
+double EnsembleDynamics::TrainEpoch(const torch::Tensor& x, const torch::Tensor& y,
+                                    const torch::Tensor& train_rows, std::int64_t subset) {
+  State& s = *state_;
+  const std::int64_t members = options_.ensemble_size;
+  // Each member's own fresh subset of the train split, without replacement: (E, subset).
+  std::vector<torch::Tensor> picks;
+  for (std::int64_t m = 0; m < members; ++m) {
+    picks.push_back(
+        torch::randperm(train_rows.size(0), s.generator, torch::kLong).slice(0, 0, subset));
+  }
+  const torch::Tensor member_rows = train_rows.index({torch::stack(picks).to(s.device)});
+  torch::Tensor epoch_loss = torch::zeros({}, torch::TensorOptions(s.device));
+  double onednn_epoch_loss = 0.0;
+  for (std::int64_t begin = 0; begin < subset; begin += options_.batch_size) {
+    const std::int64_t end = std::min(begin + options_.batch_size, subset);
+    const torch::Tensor batch = member_rows.slice(1, begin, end);  // (E, B)
+    // Sum over members of each member's mean: every member gets its own MSE gradient.
+    if (s.onednn_training) {
+      onednn_epoch_loss += s.onednn_training->Gradients(s.weights, s.biases, x, y, batch) *
+                           static_cast<double>(end - begin);
+    } else {
+      const torch::Tensor prediction = Forward(x.index({batch}), false);  // (E, B, S)
+      const torch::Tensor loss = (prediction - y.index({batch})).pow(2).mean({1, 2}).sum();
+      loss.backward();  // Step() drops the gradients: nothing to zero
+      epoch_loss += loss.detach() * static_cast<double>(end - begin);
+    }
+    s.optimizer->Step();
+  }
+  return (s.onednn_training ? onednn_epoch_loss : epoch_loss.item<double>()) /
+         static_cast<double>(subset * members);
 }
 
 torch::Tensor EnsembleDynamics::NormalizeInputs(const torch::Tensor& inputs) const {

@@ -87,6 +87,11 @@ class EnsembleDynamics final : public DynamicsModel {
   // `prediction`: use the prediction precision's weights (bf16 copies) rather than float32.
   torch::Tensor Forward(const torch::Tensor& normalized_inputs, bool prediction) const;
   void RefreshPredictionWeights();  // after the weights change (construction, Fit, Load)
+  // One epoch of Fit: each member's own fresh subset of `subset` of the train rows (train_rows,
+  // (T)) in batches, one optimiser step each, over the normalised inputs x and targets y; the
+  // epoch's train MSE per row and member.
+  double TrainEpoch(const torch::Tensor& x, const torch::Tensor& y,
+                    const torch::Tensor& train_rows, std::int64_t subset);
 
   int state_dim_;
   int action_dim_;

@@ -38,6 +38,44 @@ DMatrixPtr MakeDMatrix(const float* rows, int count, int columns) {
   return DMatrixPtr(handle);
 }
 
+// The training rows, the safe states then the unsafe ones, (safe_count + unsafe_count, width);
+// throws cmbrl::Error naming a non-finite value by its row and column.
+std::vector<float> TrainingRows(const float* safe, int safe_count, const float* unsafe,
+                                int unsafe_count, size_t width) {
+  std::vector<float> features(static_cast<size_t>(safe_count + unsafe_count) * width);
+  std::copy_n(safe, static_cast<size_t>(safe_count) * width, features.begin());
+  std::copy_n(unsafe, static_cast<size_t>(unsafe_count) * width,
+              features.begin() + static_cast<size_t>(safe_count) * width);
+  for (size_t i = 0; i < features.size(); ++i) {
+    Require(std::isfinite(features[i]),
+            "classifier training state {} has a non-finite value {} in column {}", i / width,
+            features[i], i % width);
+  }
+  return features;
+}
+
+// XGBoost's parameters for the options (set up as the original's LightGBM, facts B4), starting
+// from `base_score`.
+std::vector<std::pair<const char*, std::string>> BoosterParams(const XgbCostModelOptions& o,
+                                                               double base_score,
+                                                               std::uint64_t seed) {
+  return {
+      {"objective", "binary:logistic"},
+      {"booster", "gbtree"},
+      {"eta", fmt::format("{}", o.learning_rate)},
+      {"max_depth", std::to_string(o.max_depth)},
+      {"max_leaves", std::to_string(o.max_leaves)},
+      {"grow_policy", o.grow_policy},
+      {"tree_method", o.tree_method},
+      {"lambda", fmt::format("{}", o.l2_regularization)},
+      {"min_child_weight", fmt::format("{}", o.min_child_weight)},
+      {"base_score", fmt::format("{}", base_score)},
+      {"nthread", std::to_string(o.threads)},
+      {"seed", std::to_string(seed % 2147483647ULL)},
+      {"verbosity", "0"},
+  };
+}
+
 }  // namespace
 
 // Owns an XGBoost booster handle.
@@ -99,26 +137,15 @@ CostFitReport XgbCostModel::FitArrays(const float* safe, int safe_count, const f
       return report;
     }
     // Nothing unsafe seen yet: predict everything safe (see the class comment).
-    trained_ = false;
-    booster_.reset();
-    device_trees_.reset();
-    trees_ = FlatTreeEnsemble();
+    Untrain();
     report.safe_accuracy = 1.0;
     report.unsafe_accuracy = std::numeric_limits<double>::quiet_NaN();
     return report;
   }
 
   const int rows = safe_count + unsafe_count;
-  const size_t width = static_cast<size_t>(state_dim_);
-  std::vector<float> features(static_cast<size_t>(rows) * width);
-  std::copy_n(safe, static_cast<size_t>(safe_count) * width, features.begin());
-  std::copy_n(unsafe, static_cast<size_t>(unsafe_count) * width,
-              features.begin() + static_cast<size_t>(safe_count) * width);
-  for (size_t i = 0; i < features.size(); ++i) {
-    Require(std::isfinite(features[i]),
-            "classifier training state {} has a non-finite value {} in column {}", i / width,
-            features[i], i % width);
-  }
+  const std::vector<float> features =
+      TrainingRows(safe, safe_count, unsafe, unsafe_count, static_cast<size_t>(state_dim_));
   std::vector<float> labels(rows, 0.0f);
   std::fill(labels.begin() + safe_count, labels.end(), 1.0f);
   const DMatrixPtr matrix = MakeDMatrix(features.data(), rows, state_dim_);
@@ -133,22 +160,7 @@ CostFitReport XgbCostModel::FitArrays(const float* safe, int safe_count, const f
       options_.boost_from_average
           ? std::clamp(static_cast<double>(unsafe_count) / rows, 1e-6, 1.0 - 1e-6)
           : 0.5;
-  const std::vector<std::pair<const char*, std::string>> params = {
-      {"objective", "binary:logistic"},
-      {"booster", "gbtree"},
-      {"eta", fmt::format("{}", options_.learning_rate)},
-      {"max_depth", std::to_string(options_.max_depth)},
-      {"max_leaves", std::to_string(options_.max_leaves)},
-      {"grow_policy", options_.grow_policy},
-      {"tree_method", options_.tree_method},
-      {"lambda", fmt::format("{}", options_.l2_regularization)},
-      {"min_child_weight", fmt::format("{}", options_.min_child_weight)},
-      {"base_score", fmt::format("{}", base_score)},
-      {"nthread", std::to_string(options_.threads)},
-      {"seed", std::to_string(seed_ % 2147483647ULL)},
-      {"verbosity", "0"},
-  };
-  for (const auto& [key, value] : params) {
+  for (const auto& [key, value] : BoosterParams(options_, base_score, seed_)) {
     XgbCheck(XGBoosterSetParam(booster->handle, key, value.c_str()), key);
   }
   for (int round = 0; round < options_.rounds; ++round) {
@@ -175,6 +187,13 @@ CostFitReport XgbCostModel::FitArrays(const float* safe, int safe_count, const f
   report.unsafe_accuracy = static_cast<double>(unsafe_right) / unsafe_count;
   report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return report;
+}
+
+void XgbCostModel::Untrain() {
+  trained_ = false;
+  booster_.reset();
+  device_trees_.reset();
+  trees_ = FlatTreeEnsemble();
 }
 
 void XgbCostModel::AdoptBoosterJson(const std::string& json) {
@@ -237,10 +256,12 @@ torch::Tensor XgbCostModel::PredictViolation(const torch::Tensor& states) const 
 }
 
 void XgbCostModel::Save(const std::string& path) const {
+  // The threshold is not written: it is a setting of whoever loads the trees (the run's config,
+  // an evaluation's override), not of the trees. Files of earlier versions hold one; it is
+  // ignored.
   nlohmann::json file = {{"format", kFileFormat},
                          {"version", 1},
                          {"state_dim", state_dim_},
-                         {"threshold", options_.threshold},
                          {"trained", trained_}};
   if (trained_) file["booster"] = nlohmann::json::parse(booster_->SaveJson());
   WriteFile(path, file.dump());
@@ -262,10 +283,7 @@ void XgbCostModel::Load(const std::string& path) {
           "cost model file '{}' is for {} state dimensions, this model has {}", path, state_dim,
           state_dim_);
   if (!file.value("trained", false)) {
-    trained_ = false;
-    booster_.reset();
-    device_trees_.reset();
-    trees_ = FlatTreeEnsemble();
+    Untrain();
     return;
   }
   const std::string json = file.at("booster").dump();

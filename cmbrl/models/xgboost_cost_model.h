@@ -63,8 +63,9 @@ class XgbCostModel final : public CostModel {
 
   const FlatTreeEnsemble& trees() const { return trees_; }
 
-  // The booster (XGBoost's JSON) and this model's settings in one JSON file. Load checks the
-  // state dimension and throws cmbrl::Error naming a mismatch.
+  // The booster (XGBoost's JSON) and its state dimension in one JSON file; the options (the
+  // threshold among them) stay this model's. Load checks the state dimension and throws
+  // cmbrl::Error naming a mismatch.
   void Save(const std::string& path) const;
   void Load(const std::string& path);
 
@@ -73,6 +74,8 @@ class XgbCostModel final : public CostModel {
   class DeviceTrees;
 
   void AdoptBoosterJson(const std::string& json);
+  // Back to the untrained state, which predicts every state safe (no unsafe state seen yet).
+  void Untrain();
 
   int state_dim_;
   XgbCostModelOptions options_;

@@ -13,14 +13,16 @@
 namespace cmbrl {
 
 CrossEntropyPlanner::CrossEntropyPlanner(PlanningProblem problem, CrossEntropyOptions options,
-                                         EliteRule rule, std::uint64_t seed)
+                                         EliteRule rule, double penalty, std::uint64_t seed)
     : problem_(std::move(problem)),
       options_(options),
       rule_(rule),
+      penalty_(penalty),
       device_(ParseDevice(problem_.device)),
       generator_(MakeGenerator(device_, seed)) {
   ValidatePlanningProblem(problem_);
   ValidateCrossEntropyOptions(options_);
+  ValidatePenalty(penalty_);
 }
 
 void CrossEntropyPlanner::Reset() { previous_mean_ = torch::Tensor(); }
@@ -55,7 +57,7 @@ torch::Tensor CrossEntropyPlanner::EliteWeights(const ObjectiveValues& values) c
   const torch::Tensor zeros = torch::zeros_like(values.reward_cost);
   if (rule_ == EliteRule::kPenalty) {
     const torch::Tensor order =
-        sorted(values.reward_cost + options_.penalty * values.constraint_cost);
+        sorted(values.reward_cost + penalty_ * values.constraint_cost);
     return zeros.scatter(0, order, (ranks < options_.elites).to(zeros.dtype()));
   }
   const torch::Tensor feasible = values.constraint_cost == 0;

@@ -22,9 +22,10 @@ enum class EliteRule {
 // mean. Not thread-safe.
 class CrossEntropyPlanner final : public Planner {
  public:
-  // Throws cmbrl::Error for bad options or problem.
+  // `penalty` weighs the constraint cost in kPenalty's score (PlannerSettings::penalty); kRobust
+  // reads none. Throws cmbrl::Error for bad options, penalty or problem.
   CrossEntropyPlanner(PlanningProblem problem, CrossEntropyOptions options, EliteRule rule,
-                      std::uint64_t seed);
+                      double penalty, std::uint64_t seed);
 
   PlanResult Plan(Objective& objective) override;
   void Reset() override;
@@ -41,6 +42,7 @@ class CrossEntropyPlanner final : public Planner {
   PlanningProblem problem_;
   CrossEntropyOptions options_;
   EliteRule rule_;
+  double penalty_;
   torch::Device device_;
   at::Generator generator_;
   torch::Tensor previous_mean_;  // (H, A), warm start only

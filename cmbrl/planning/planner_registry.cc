@@ -5,68 +5,57 @@
 namespace cmbrl {
 namespace {
 
-std::unique_ptr<Planner> MakeCrossEntropy(const PlannerSettings& settings, EliteRule rule,
-                                          std::uint64_t seed) {
-  CrossEntropyOptions options = settings.cross_entropy;
-  options.penalty = settings.penalty;
-  return std::make_unique<CrossEntropyPlanner>(settings.problem, options, rule, seed);
-}
-
 PlanWork CrossEntropyWork(const PlannerSettings& s) {
   return {s.cross_entropy.population, s.cross_entropy.max_iterations};
+}
+
+// The factory of a planner's search: the one place that turns a PlannerInfo into code.
+PlannerEntry EntryOf(const PlannerInfo& info) {
+  const auto cross_entropy = [&info](EliteRule rule) {
+    return PlannerEntry{info,
+                        [rule](const PlannerSettings& s, std::uint64_t seed) {
+                          return std::make_unique<CrossEntropyPlanner>(
+                              s.problem, s.cross_entropy, rule, s.penalty, seed);
+                        },
+                        CrossEntropyWork};
+  };
+  switch (info.search) {
+    case PlannerSearch::kRobustCrossEntropy:
+      return cross_entropy(EliteRule::kRobust);
+    case PlannerSearch::kPenaltyCrossEntropy:
+      return cross_entropy(EliteRule::kPenalty);
+    case PlannerSearch::kRandomShooting:
+      return {info,
+              [](const PlannerSettings& s, std::uint64_t seed) -> std::unique_ptr<Planner> {
+                return std::make_unique<RandomShootingPlanner>(s.problem, s.random, s.penalty,
+                                                               seed);
+              },
+              [](const PlannerSettings& s) { return PlanWork{s.random.samples, 1}; }};
+  }
+  Fail("planner '{}' has a search the registry cannot build", info.name);
 }
 
 }  // namespace
 
 const std::vector<PlannerEntry>& Planners() {
-  static const std::vector<PlannerEntry> entries = {
-      {FindPlannerInfo("rce"),
-       [](const PlannerSettings& s, std::uint64_t seed) {
-         return MakeCrossEntropy(s, EliteRule::kRobust, seed);
-       },
-       CrossEntropyWork},
-      {FindPlannerInfo("cem"),
-       [](const PlannerSettings& s, std::uint64_t seed) {
-         return MakeCrossEntropy(s, EliteRule::kPenalty, seed);
-       },
-       CrossEntropyWork},
-      {FindPlannerInfo("random"),
-       [](const PlannerSettings& s, std::uint64_t seed) -> std::unique_ptr<Planner> {
-         RandomShootingOptions options = s.random;
-         options.penalty = s.penalty;
-         return std::make_unique<RandomShootingPlanner>(s.problem, options, seed);
-       },
-       [](const PlannerSettings& s) { return PlanWork{s.random.samples, 1}; }},
-  };
-  // One entry per PlannerInfos() entry, in its order: FindPlanner relies on it.
-  static const bool aligned = [] {
-    bool same = entries.size() == PlannerInfos().size();
-    for (size_t i = 0; same && i < entries.size(); ++i) {
-      same = entries[i].name == PlannerInfos()[i].name;
-    }
-    return same;
+  // Derived from PlannerInfos(), one for one and in its order: FindPlanner relies on it.
+  static const std::vector<PlannerEntry> entries = [] {
+    std::vector<PlannerEntry> built;
+    for (const PlannerInfo& info : PlannerInfos()) built.push_back(EntryOf(info));
+    return built;
   }();
-  Require(aligned, "the planner registry does not follow PlannerInfos() one for one");
   return entries;
 }
 
-namespace {
-
-// The entries follow PlannerInfos() one for one (Planners() checks it), so a planner's entry is
-// found through its info: one lookup, one error message.
-const PlannerEntry& EntryOf(const PlannerInfo& info) {
-  return Planners()[static_cast<size_t>(&info - PlannerInfos().data())];
-}
-
-}  // namespace
-
 const PlannerEntry* FindPlannerOrNull(const std::string& name) {
   const PlannerInfo* info = FindPlannerInfoOrNull(name);
-  return info != nullptr ? &EntryOf(*info) : nullptr;
+  return info != nullptr ? &Planners()[static_cast<size_t>(info - PlannerInfos().data())]
+                         : nullptr;
 }
 
 const PlannerEntry& FindPlanner(const std::string& name) {
-  return EntryOf(FindPlannerInfo(name));
+  const PlannerInfo& info = FindPlannerInfo(name);
+  return Planners()[static_cast<size_t>(&info - PlannerInfos().data())];
 }
 
 std::unique_ptr<Planner> MakePlanner(const std::string& name, const PlannerSettings& settings,

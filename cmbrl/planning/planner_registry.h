@@ -1,4 +1,5 @@
-// The planners by name: one entry each in planner_registry.cc. An entry carries everything the
+// The planners built: one entry for each of PlannerInfos() (planning_options.cc, the one list of
+// planners), made by its search's factory in planner_registry.cc. An entry carries everything the
 // rest of the program asks about a planner, so nothing outside planning/ compares its name.
 #pragma once
 

@@ -34,15 +34,16 @@ void ValidateCrossEntropyOptions(const CrossEntropyOptions& o) {
   Require(o.alpha >= 0 && o.alpha < 1, "alpha is {}: expected a number in [0, 1)", o.alpha);
   Require(o.initial_variance > 0 && std::isfinite(o.initial_variance),
           "initial_variance is {}: expected a positive number", o.initial_variance);
-  Require(o.penalty >= 0 && std::isfinite(o.penalty),
-          "penalty is {}: expected a non-negative number", o.penalty);
 }
 
 void ValidateRandomShootingOptions(const RandomShootingOptions& o) {
   Require(o.samples >= 1 && o.samples <= 10'000'000, "samples is {}: expected 1 to 10000000",
           o.samples);
-  Require(o.penalty >= 0 && std::isfinite(o.penalty),
-          "penalty is {}: expected a non-negative number", o.penalty);
+}
+
+void ValidatePenalty(double penalty) {
+  Require(penalty >= 0 && std::isfinite(penalty), "penalty is {}: expected a non-negative number",
+          penalty);
 }
 
 void ValidateTrajectoryObjectiveOptions(const TrajectoryObjectiveOptions& o, int state_dim) {
@@ -57,9 +58,10 @@ void ValidateTrajectoryObjectiveOptions(const TrajectoryObjectiveOptions& o, int
 
 const std::vector<PlannerInfo>& PlannerInfos() {
   static const std::vector<PlannerInfo> infos = {
-      {"rce", "MPC-RCE", Propagation::kPerMember, /*is_papers_method=*/true},
-      {"cem", "MPC-CEM", Propagation::kEnsembleMean, false},
-      {"random", "MPC-random", Propagation::kEnsembleMean, false},
+      {"rce", "MPC-RCE", PlannerSearch::kRobustCrossEntropy, Propagation::kPerMember,
+       /*is_papers_method=*/true},
+      {"cem", "MPC-CEM", PlannerSearch::kPenaltyCrossEntropy, Propagation::kEnsembleMean, false},
+      {"random", "MPC-random", PlannerSearch::kRandomShooting, Propagation::kEnsembleMean, false},
   };
   return infos;
 }

@@ -1,7 +1,8 @@
 // What a planner is asked to do, as plain data: the planners' names and labels, their options and
 // the objective's, and the checks of each. Free of LibTorch, so that configuration, sweeps and
 // reports can read and check settings without linking the planners; the planners themselves are
-// in planner_registry.h. Adding a planner is one line in PlannerInfos() and one in the registry.
+// in planner_registry.h, one for each of PlannerInfos(): adding a planner of a known search is one
+// line in PlannerInfos().
 #pragma once
 
 #include <string>
@@ -29,7 +30,6 @@ struct CrossEntropyOptions {
   double epsilon = 0.01;          // stop once the largest variance is at most this
   double alpha = 0.1;             // new = alpha * old + (1 - alpha) * elite statistic
   double initial_variance = 1.0;  // the mean starts at 0
-  double penalty = 500.0;         // CEM: elites by reward_cost + penalty * constraint_cost
   bool warm_start = false;        // start from the previous plan shifted one step (paper: off)
 };
 
@@ -37,8 +37,7 @@ struct CrossEntropyOptions {
 void ValidateCrossEntropyOptions(const CrossEntropyOptions& options);
 
 struct RandomShootingOptions {
-  int samples = 5000;      // uniform action sequences
-  double penalty = 500.0;  // best by reward_cost + penalty * constraint_cost
+  int samples = 5000;  // uniform action sequences
 };
 
 // Throws cmbrl::Error naming the first bad field.
@@ -77,14 +76,26 @@ struct PlannerSettings {
   CrossEntropyOptions cross_entropy;  // "cem", "rce"
   RandomShootingOptions random;       // "random"
   // CEM and random: a sample's score is reward_cost + penalty * constraint_cost (facts B2). One
-  // value for both, which their factories hand to the planner's own options.
+  // value for both, handed to the planner by its factory (planner_registry.cc).
   double penalty = 500.0;
+};
+
+// Throws cmbrl::Error naming a penalty that is negative or not finite.
+void ValidatePenalty(double penalty);
+
+// The search a planner runs, which planner_registry.cc builds: a new kind of search is a case
+// there, a new planner of a known kind a line in PlannerInfos() alone.
+enum class PlannerSearch {
+  kRobustCrossEntropy,   // RCE: cross-entropy, elites chosen among the feasible (Algorithm 1)
+  kPenaltyCrossEntropy,  // CEM: cross-entropy, elites by reward_cost + penalty * constraint_cost
+  kRandomShooting,       // the best of uniform action sequences by the same penalised score
 };
 
 // What the rest of the program may know of a planner without building one.
 struct PlannerInfo {
   std::string name;         // "rce": configs and the command line
   std::string label;        // "MPC-RCE": the paper's name, for reports
+  PlannerSearch search;     // what it runs
   Propagation propagation;  // how its samples go through the ensemble (facts B2)
   // The paper's method, whose claim ("violates least at comparable reward") reports check
   // against every other planner.

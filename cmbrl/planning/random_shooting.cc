@@ -9,13 +9,15 @@
 namespace cmbrl {
 
 RandomShootingPlanner::RandomShootingPlanner(PlanningProblem problem, RandomShootingOptions options,
-                                             std::uint64_t seed)
+                                             double penalty, std::uint64_t seed)
     : problem_(std::move(problem)),
       options_(options),
+      penalty_(penalty),
       device_(ParseDevice(problem_.device)),
       generator_(MakeGenerator(device_, seed)) {
   ValidatePlanningProblem(problem_);
   ValidateRandomShootingOptions(options_);
+  ValidatePenalty(penalty_);
 }
 
 PlanResult RandomShootingPlanner::Plan(Objective& objective) {
@@ -29,7 +31,7 @@ PlanResult RandomShootingPlanner::Plan(Objective& objective) {
   const ObjectiveValues values = objective.Evaluate(samples);
   CheckObjectiveValues(values, options_.samples, device_);
   const torch::Tensor best =
-      torch::argmin(values.reward_cost + options_.penalty * values.constraint_cost);
+      torch::argmin(values.reward_cost + penalty_ * values.constraint_cost);
   PlanResult result;
   result.sequence = samples.index_select(0, best.view({1}))[0];
   result.action = result.sequence[0];

@@ -11,7 +11,10 @@ namespace cmbrl {
 // Not thread-safe.
 class RandomShootingPlanner final : public Planner {
  public:
-  RandomShootingPlanner(PlanningProblem problem, RandomShootingOptions options, std::uint64_t seed);
+  // `penalty` weighs the constraint cost in a sample's score (PlannerSettings::penalty). Throws
+  // cmbrl::Error for bad options, penalty or problem.
+  RandomShootingPlanner(PlanningProblem problem, RandomShootingOptions options, double penalty,
+                        std::uint64_t seed);
 
   PlanResult Plan(Objective& objective) override;
   torch::Tensor GeneratorState() const override { return generator_.get_state(); }
@@ -20,6 +23,7 @@ class RandomShootingPlanner final : public Planner {
  private:
   PlanningProblem problem_;
   RandomShootingOptions options_;
+  double penalty_;
   torch::Device device_;
   at::Generator generator_;
 };

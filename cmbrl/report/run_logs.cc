@@ -12,8 +12,8 @@
 #include <thread>
 
 #include "cmbrl/core/check.h"
-#include "cmbrl/env/registry.h"
-#include "cmbrl/learners/mpc/mpc_progress_columns.h"
+#include "cmbrl/env/task_list.h"
+#include "cmbrl/run/progress_columns.h"
 #include "cmbrl/run/progress_table.h"
 #include "cmbrl/run/run_directory.h"
 
@@ -98,9 +98,9 @@ RunRecord ReadRunRecord(const fs::path& dir, std::optional<std::int64_t> rows) {
   run.name = dir.filename().string();
   run.source = dir;
   run.config = LoadTrainConfig(run_dir.config_file().string());
-  const LearnerFamily family = FindAlgorithm(run.config.algorithm).family;
-  run.epoch_log = family != LearnerFamily::kMpc;
-  run.episodes = EpisodeReaderOf(family)(run_dir.progress_file().string(), rows);
+  const ProgressLog log = FamilyOf(run.config.algorithm).log;
+  run.epoch_log = log == ProgressLog::kEpochs;
+  run.episodes = EpisodeReaderOf(log)(run_dir.progress_file().string(), rows);
   run.sessions = ReadRunSessions(run_dir);
   return run;
 }
@@ -366,25 +366,25 @@ std::vector<std::string> LeaveOutRunsShortOf(std::vector<RunRecord>& runs, std::
   return left_out;
 }
 
-EpisodeReader EpisodeReaderOf(LearnerFamily family) {
-  switch (family) {
-    case LearnerFamily::kMpc:
+EpisodeReader EpisodeReaderOf(ProgressLog log) {
+  switch (log) {
+    case ProgressLog::kEpisodes:
       return ReadProgressEpisodes;
-    case LearnerFamily::kPolicyOptimisation:
+    case ProgressLog::kEpochs:
       return ReadEpochLog;
   }
-  Fail("no episode reader for this learner family");
+  Fail("no reader for this kind of progress log");
 }
 
 std::vector<EpisodePoint> ReadEpochLog(const std::string& file, std::optional<std::int64_t> rows) {
   const ProgressTable table = ProgressTable::Read(file, RowLimit(rows));
   const std::string expected =
-      "a model-free progress log with AverageEpRet, AverageEpCost, CumulativeCost and "
-      "TotalEnvInteracts";
-  const size_t ret = table.Column("AverageEpRet", expected);
-  const size_t cost = table.Column("AverageEpCost", expected);
-  const size_t cumulative = table.Column("CumulativeCost", expected);
-  const size_t total = table.Column("TotalEnvInteracts", expected);
+      fmt::format("a model-free progress log with {}, {}, {} and {}", kAverageEpRetColumn,
+                  kAverageEpCostColumn, kCumulativeCostColumn, kTotalEnvInteractsColumn);
+  const size_t ret = table.Column(kAverageEpRetColumn, expected);
+  const size_t cost = table.Column(kAverageEpCostColumn, expected);
+  const size_t cumulative = table.Column(kCumulativeCostColumn, expected);
+  const size_t total = table.Column(kTotalEnvInteractsColumn, expected);
   const bool has_time = table.HasColumn(kTimeColumn);
   const size_t time = has_time ? table.Column(kTimeColumn, expected) : 0;
   std::vector<EpisodePoint> epochs;

@@ -75,11 +75,12 @@ std::vector<EpisodePoint> ReadEpochLog(const std::string& path,
 std::vector<EpisodePoint> ReadProgressEpisodes(const std::string& path,
                                                std::optional<std::int64_t> rows = std::nullopt);
 
-// Each learner family's reader of its progress.csv, the one place that pairs them: MPC runs log
-// a row per episode (ReadProgressEpisodes), model-free runs a row per epoch (ReadEpochLog).
+// The reader of each kind of progress.csv a family's sheet names (run/learner_family.h), the one
+// place that pairs them: a row per episode (ReadProgressEpisodes), a row per epoch
+// (ReadEpochLog).
 using EpisodeReader = std::vector<EpisodePoint> (*)(const std::string& path,
                                                     std::optional<std::int64_t> rows);
-EpisodeReader EpisodeReaderOf(LearnerFamily family);
+EpisodeReader EpisodeReaderOf(ProgressLog log);
 
 // The same from any CSV with the columns EpRet, EpCost and TotalEnvInteracts, and Steps when
 // `has_steps` (without it an episode's steps are the difference of TotalEnvInteracts, as in the

@@ -9,7 +9,6 @@
 #include <set>
 #include <tuple>
 
-#include "cmbrl/env/registry.h"
 #include "cmbrl/report/table_markdown.h"
 
 namespace cmbrl {

@@ -11,7 +11,7 @@
 #include <sstream>
 
 #include "cmbrl/core/check.h"
-#include "cmbrl/env/registry.h"
+#include "cmbrl/env/task_list.h"
 #include "cmbrl/planning/planning_options.h"
 #include "cmbrl/report/reference.h"
 #include "cmbrl/report/statistics.h"

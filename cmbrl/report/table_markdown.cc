@@ -412,40 +412,34 @@ std::string ProtocolCellsMarkdown(const std::vector<TableCell>& cells, std::int6
   return text;
 }
 
-std::string SettingComparisonMarkdown(const std::vector<TableCell>& cells,
-                                      const std::optional<DecisionRule>& rule) {
-  if (std::all_of(cells.begin(), cells.end(),
-                  [](const TableCell& c) { return c.setting.empty(); })) {
-    return "";
+namespace {
+
+// The pairs of one (setting, against) over every task and method, in order of first sight.
+struct PooledPairs {
+  std::string setting, against;
+  int cells = 0;
+  std::vector<double> violations, returns, first_violations, first_returns;
+};
+
+PooledPairs& PoolOf(std::vector<PooledPairs>& pooled, const std::string& setting,
+                    const std::string& against) {
+  for (PooledPairs& p : pooled) {
+    if (p.setting == setting && p.against == against) return p;
   }
-  std::string text =
-      "Each setting against the first of its task and method, paired by seed (the seeds both "
-      "have): the per-seed differences (this setting's minus the first's) of violations and of "
-      "the last-10-episode return, their mean [bootstrap 90% interval], and the two-sided "
-      "p-value of an exact paired sign-flip test (with n pairs it cannot fall below 2/2^n). Where "
-      "one pair of settings is compared in two or more cells, an \"all\" row pools their pairs "
-      "(resampled alike), with the first setting's mean over those pairs beside it.\n\n"
-      "| task | method | setting | against | seeds | violations: differences | mean [90%] | p | "
-      "return: differences | mean [90%] | p |\n|---|---|---|---|---|---|---|---|---|---|---|\n";
-  // The pairs of one (setting, against) over every task and method, in order of first sight.
-  struct Pooled {
-    std::string setting, against;
-    int cells = 0;
-    std::vector<double> violations, returns, first_violations, first_returns;
-  };
-  std::vector<Pooled> pooled;
-  const auto pool_of = [&pooled](const std::string& setting, const std::string& against) {
-    for (Pooled& p : pooled) {
-      if (p.setting == setting && p.against == against) return &p;
-    }
-    Pooled& p = pooled.emplace_back();
-    p.setting = setting;
-    p.against = against;
-    return &p;
-  };
-  const auto p_value = [](const std::vector<double>& d) {
-    return d.empty() ? std::string("-") : fmt::format("{:.3f}", PairedSignFlipP(d));
-  };
+  PooledPairs& p = pooled.emplace_back();
+  p.setting = setting;
+  p.against = against;
+  return p;
+}
+
+std::string PValue(const std::vector<double>& differences) {
+  return differences.empty() ? std::string("-")
+                             : fmt::format("{:.3f}", PairedSignFlipP(differences));
+}
+
+// One row per setting against the first of its task and method, its pairs added to `pooled`.
+std::string PairRows(const std::vector<TableCell>& cells, std::vector<PooledPairs>& pooled) {
+  std::string text;
   for (const TableCell& first : cells) {
     // The first cell of its task and method in the table's order is the one compared against.
     const auto same_pair = [&](const TableCell& c) {
@@ -456,7 +450,7 @@ std::string SettingComparisonMarkdown(const std::vector<TableCell>& cells,
       if (&other == &first || !same_pair(other)) continue;
       std::vector<std::uint64_t> seeds;
       std::vector<double> violations, returns;
-      Pooled& pool = *pool_of(other.setting, first.setting);
+      PooledPairs& pool = PoolOf(pooled, other.setting, first.setting);
       for (size_t i = 0; i < other.seeds.size(); ++i) {
         const auto it = std::find(first.seeds.begin(), first.seeds.end(), other.seeds[i]);
         if (it == first.seeds.end()) continue;
@@ -477,47 +471,81 @@ std::string SettingComparisonMarkdown(const std::vector<TableCell>& cells,
           MethodLabel(first.planner), other.setting.empty() ? "-" : other.setting,
           first.setting.empty() ? "-" : first.setting,
           seeds.empty() ? std::string("none") : fmt::format("{}", fmt::join(seeds, ", ")),
-          PerSeed(violations, 1), MeanWithInterval(violations, 1), p_value(violations),
-          PerSeed(returns, 2), MeanWithInterval(returns, 2), p_value(returns));
+          PerSeed(violations, 1), MeanWithInterval(violations, 1), PValue(violations),
+          PerSeed(returns, 2), MeanWithInterval(returns, 2), PValue(returns));
     }
   }
-  for (const Pooled& pool : pooled) {
+  return text;
+}
+
+// An "all" row for each pair of settings compared in two or more cells.
+std::string PooledRows(const std::vector<PooledPairs>& pooled) {
+  std::string text;
+  for (const PooledPairs& pool : pooled) {
     if (pool.cells < 2) continue;
     text += fmt::format(
         "| all | all | {} | {} | {} pairs in {} cells | (mean of {}: {}) | {} | {} | "
         "(mean of {}: {}) | {} | {} |\n",
         pool.setting.empty() ? "-" : pool.setting, pool.against.empty() ? "-" : pool.against,
         pool.violations.size(), pool.cells, pool.against, Figure(Mean(pool.first_violations), 1),
-        MeanWithInterval(pool.violations, 1), p_value(pool.violations), pool.against,
+        MeanWithInterval(pool.violations, 1), PValue(pool.violations), pool.against,
         Figure(Mean(pool.first_returns), 2), MeanWithInterval(pool.returns, 2),
-        p_value(pool.returns));
+        PValue(pool.returns));
   }
-  if (!rule) return text;
-  text += fmt::format(
+  return text;
+}
+
+// The experiment's declared rule applied to every pair of settings over all their pairs.
+std::string DecisionMarkdown(const DecisionRule& rule, const std::vector<PooledPairs>& pooled) {
+  std::string text = fmt::format(
       "\n**Decision**, by the rule `experiment.yaml` declares ({}{}), over all the pairs of each "
       "setting and the one it is compared against:\n\n"
       "| setting | against | pairs | violations | return | decision |\n"
       "|---|---|---|---|---|---|\n",
-      KindName(rule->kind),
-      rule->kind == DecisionRule::Kind::kEquivalence
+      KindName(rule.kind),
+      rule.kind == DecisionRule::Kind::kEquivalence
           ? fmt::format(": the 90% interval of the mean paired difference holds 0 and lies "
                         "within +-{:.0f}% of the first setting's mean",
-                        100.0 * rule->band)
+                        100.0 * rule.band)
           : std::string(": the 90% interval of the mean paired difference wholly below or above "
                         "0"));
-  for (const Pooled& pool : pooled) {
+  for (const PooledPairs& pool : pooled) {
     if (pool.cells == 0) continue;
     const MeasureVerdict violations =
-        DecideMeasure(*rule, BootstrapMeanInterval(pool.violations), Mean(pool.first_violations));
+        DecideMeasure(rule, BootstrapMeanInterval(pool.violations), Mean(pool.first_violations));
     const MeasureVerdict returns =
-        DecideMeasure(*rule, BootstrapMeanInterval(pool.returns), Mean(pool.first_returns));
+        DecideMeasure(rule, BootstrapMeanInterval(pool.returns), Mean(pool.first_returns));
     text += fmt::format("| {} | {} | {} in {} cell{} | {} | {} | {} |\n",
                         pool.setting.empty() ? "-" : pool.setting,
                         pool.against.empty() ? "-" : pool.against, pool.violations.size(),
                         pool.cells, pool.cells == 1 ? "" : "s", violations.Text(), returns.Text(),
-                        OverallVerdict(*rule, violations, returns));
+                        OverallVerdict(rule, violations, returns));
   }
   return text;
+}
+
+}  // namespace
+
+std::string SettingComparisonMarkdown(const std::vector<TableCell>& cells,
+                                      const std::optional<DecisionRule>& rule) {
+  if (std::all_of(cells.begin(), cells.end(),
+                  [](const TableCell& c) { return c.setting.empty(); })) {
+    return "";
+  }
+  std::string text =
+      "Each setting against the first of its task and method, paired by seed (the seeds both "
+      "have): the per-seed differences (this setting's minus the first's) of violations and of "
+      "the last-10-episode return, their mean [bootstrap 90% interval], and the two-sided "
+      "p-value of an exact paired sign-flip test (with n pairs it cannot fall below 2/2^n). Where "
+      "one pair of settings is compared in two or more cells, an \"all\" row pools their pairs "
+      "(resampled alike), with the first setting's mean over those pairs beside it.\n\n"
+      "| task | method | setting | against | seeds | violations: differences | mean [90%] | p | "
+      "return: differences | mean [90%] | p |\n|---|---|---|---|---|---|---|---|---|---|---|\n";
+  std::vector<PooledPairs> pooled;
+  text += PairRows(cells, pooled);
+  text += PooledRows(pooled);
+  if (!rule) return text;
+  return text + DecisionMarkdown(*rule, pooled);
 }
 
 std::string RunCount(std::size_t runs) {

@@ -11,16 +11,20 @@ namespace cmbrl {
 
 const std::vector<AlgorithmEntry>& Algorithms() {
   static const std::vector<AlgorithmEntry> entries = {
-      {"mpc", "MPC", LearnerFamily::kMpc},
-      {"trpo", "TRPO", LearnerFamily::kPolicyOptimisation, ConstraintRule::kNone},
-      {"trpo-lagrangian", "TRPO-Lagrangian", LearnerFamily::kPolicyOptimisation,
-       ConstraintRule::kLagrangian},
-      {"cpo", "CPO", LearnerFamily::kPolicyOptimisation, ConstraintRule::kCpo},
-      {"ppo", "PPO", LearnerFamily::kPolicyOptimisation, ConstraintRule::kNone, true},
-      {"ppo-lagrangian", "PPO-Lagrangian", LearnerFamily::kPolicyOptimisation,
-       ConstraintRule::kLagrangian, true},
+      {"mpc", "MPC", &MpcFamily()},
+      {"trpo", "TRPO", &PolicyOptFamily(), ConstraintRule::kNone},
+      {"trpo-lagrangian", "TRPO-Lagrangian", &PolicyOptFamily(), ConstraintRule::kLagrangian},
+      {"cpo", "CPO", &PolicyOptFamily(), ConstraintRule::kCpo},
+      {"ppo", "PPO", &PolicyOptFamily(), ConstraintRule::kNone, true},
+      {"ppo-lagrangian", "PPO-Lagrangian", &PolicyOptFamily(), ConstraintRule::kLagrangian, true},
   };
   return entries;
+}
+
+std::vector<std::string> AlgorithmNames() {
+  std::vector<std::string> names;
+  for (const AlgorithmEntry& entry : Algorithms()) names.push_back(entry.name);
+  return names;
 }
 
 const AlgorithmEntry* FindAlgorithmOrNull(const std::string& name) {
@@ -32,9 +36,34 @@ const AlgorithmEntry* FindAlgorithmOrNull(const std::string& name) {
 
 const AlgorithmEntry& FindAlgorithm(const std::string& name) {
   if (const AlgorithmEntry* entry = FindAlgorithmOrNull(name)) return *entry;
+  Fail("unknown algorithm '{}': expected one of {}", name, fmt::join(AlgorithmNames(), ", "));
+}
+
+const FamilySheet& FamilyOf(const std::string& algorithm) {
+  return *FindAlgorithm(algorithm).family;
+}
+
+std::string MethodOf(const std::string& algorithm, const std::string& planner) {
+  return FamilyOf(algorithm).method_axis == MethodAxis::kPlanner ? planner : algorithm;
+}
+
+std::vector<std::string> MethodNames() {
   std::vector<std::string> names;
-  for (const AlgorithmEntry& entry : Algorithms()) names.push_back(entry.name);
-  Fail("unknown algorithm '{}': expected one of {}", name, fmt::join(names, ", "));
+  for (const AlgorithmEntry& entry : Algorithms()) {
+    if (entry.family->method_axis == MethodAxis::kAlgorithm) {
+      names.push_back(entry.name);
+    } else if (std::find(names.begin(), names.end(), PlannerNames().front()) == names.end()) {
+      for (const std::string& planner : PlannerNames()) names.push_back(planner);
+    }
+  }
+  return names;
+}
+
+std::string MethodLabel(const std::string& method) {
+  const AlgorithmEntry* algorithm = FindAlgorithmOrNull(method);
+  return algorithm != nullptr && algorithm->family->method_axis == MethodAxis::kAlgorithm
+             ? algorithm->label
+             : PlannerLabel(method);
 }
 
 }  // namespace cmbrl

@@ -1,4 +1,4 @@
-// The seam between a run and its training algorithm. A run (experiment/trainer.h) owns the
+// The seam between a run and its training algorithm. A run (train/trainer.h) owns the
 // directory, the lock, progress.csv, checkpoints and resume; a learner owns its environment,
 // models and counters, and says what its progress rows and checkpoints hold. MPC with learned
 // models (the paper's Algorithm 2) is one learner; model-free policy optimisers are others.

@@ -24,7 +24,7 @@ class RunDirectory {
   // One row per unit of work (an MPC episode, a policy-optimisation epoch).
   std::filesystem::path progress_file() const { return root_ / "progress.csv"; }
   // One line per session of the run (its start, each resume): when, and on what setup
-  // (experiment/run_sessions.h).
+  // (run/run_sessions.h).
   std::filesystem::path sessions_file() const { return root_ / "sessions.jsonl"; }
   // The last whole checkpoint; a learner's files and manifest.json.
   std::filesystem::path checkpoint_dir() const { return root_ / "checkpoint"; }

@@ -13,7 +13,7 @@
 #include <sstream>
 
 #include "cmbrl/core/check.h"
-#include "cmbrl/env/registry.h"
+#include "cmbrl/env/task_list.h"
 #include "cmbrl/run/run_directory.h"
 
 namespace cmbrl {
@@ -126,15 +126,11 @@ std::string Sha256OfFile(const fs::path& path) {
   return hex;
 }
 
-Experiment LoadExperiment(const fs::path& dir, const fs::path& configs_dir) {
-  Experiment e;
-  e.dir = dir.lexically_normal();
-  fs::path absolute = fs::absolute(dir).lexically_normal();
-  if (absolute.filename().empty()) absolute = absolute.parent_path();  // "experiments/x/"
-  e.name = absolute.filename().string();
-  const std::string source = e.file().string();
-  Require(IsExperimentDir(dir), "'{}' is not an experiment: expected a folder holding {}",
-          dir.string(), kExperimentFile);
+namespace {
+
+// experiment.yaml as a mapping of known keys; throws cmbrl::Error naming bad YAML or an unknown
+// key.
+YAML::Node LoadExperimentDocument(const std::string& source) {
   YAML::Node document;
   try {
     document = YAML::LoadFile(source);
@@ -149,6 +145,68 @@ Experiment LoadExperiment(const fs::path& dir, const fs::path& configs_dir) {
     Require(known.count(key) == 1, "experiment '{}': unknown key '{}': expected one of {}",
             source, key, fmt::join(known, ", "));
   }
+  return document;
+}
+
+// The names listed at `key`, each one of `known` (the registries' tasks or methods).
+std::vector<std::string> KnownNamesAt(const YAML::Node& document, const char* key,
+                                      const std::vector<std::string>& known,
+                                      const std::string& source) {
+  std::vector<std::string> names = ListAt<std::string>(document, key, source);
+  for (const std::string& name : names) {
+    Require(std::find(known.begin(), known.end(), name) != known.end(),
+            "experiment '{}': key '{}' holds '{}': expected some of {}", source, key, name,
+            fmt::join(known, ", "));
+  }
+  return names;
+}
+
+// The agent steps counted (key `window`).
+std::int64_t WindowOf(const YAML::Node& window, const std::string& source) {
+  std::int64_t steps = 0;
+  try {
+    Require(window && window.IsScalar(), "");
+    steps = window.as<std::int64_t>();
+  } catch (const std::exception&) {
+    Fail("experiment '{}': key 'window' is {}: expected the number of agent steps counted "
+         "(3000, or the paper's 10000)",
+         source, window ? fmt::format("'{}'", FlowText(window)) : std::string("missing"));
+  }
+  Require(steps >= 1 && steps <= kMaxTotalSteps,
+          "experiment '{}': key 'window' is {}: expected 1 to {}", source, steps, kMaxTotalSteps);
+  return steps;
+}
+
+// The axes of overrides (key `axes`: config keys to lists of values), none when absent.
+std::vector<SweepAxis> AxesOf(const YAML::Node& axes, const std::string& source) {
+  std::vector<SweepAxis> list;
+  if (!axes || axes.IsNull()) return list;
+  Require(axes.IsMap(), "experiment '{}': key 'axes' is '{}': expected a mapping of config "
+          "keys to lists of values", source, FlowText(axes));
+  for (const auto& entry : axes) {
+    SweepAxis axis;
+    axis.key = entry.first.as<std::string>();
+    Require(entry.second.IsSequence() && entry.second.size() > 0,
+            "experiment '{}': axis '{}' is '{}': expected a non-empty list of values", source,
+            axis.key, FlowText(entry.second));
+    for (const YAML::Node& value : entry.second) axis.values.push_back(FlowText(value));
+    list.push_back(axis);
+  }
+  return list;
+}
+
+}  // namespace
+
+Experiment LoadExperiment(const fs::path& dir, const fs::path& configs_dir) {
+  Experiment e;
+  e.dir = dir.lexically_normal();
+  fs::path absolute = fs::absolute(dir).lexically_normal();
+  if (absolute.filename().empty()) absolute = absolute.parent_path();  // "experiments/x/"
+  e.name = absolute.filename().string();
+  const std::string source = e.file().string();
+  Require(IsExperimentDir(dir), "'{}' is not an experiment: expected a folder holding {}",
+          dir.string(), kExperimentFile);
+  const YAML::Node document = LoadExperimentDocument(source);
 
   e.configs_dir =
       configs_dir.empty() ? absolute.parent_path().parent_path() / "configs" : configs_dir;
@@ -160,52 +218,15 @@ Experiment LoadExperiment(const fs::path& dir, const fs::path& configs_dir) {
           "experiment '{}': key 'family' is '{}': expected 'paper' or a family with a file "
           "{}/<family>.yaml",
           source, e.family, e.configs_dir.string());
-
-  e.tasks = ListAt<std::string>(document, "tasks", source);
-  for (const std::string& task : e.tasks) {
-    const std::vector<std::string>& known_tasks = EnvNames();
-    Require(std::find(known_tasks.begin(), known_tasks.end(), task) != known_tasks.end(),
-            "experiment '{}': key 'tasks' holds '{}': expected some of {}", source, task,
-            fmt::join(known_tasks, ", "));
-  }
-  e.methods = ListAt<std::string>(document, "methods", source);
-  const std::vector<std::string> known_methods = MethodNames();
-  for (const std::string& method : e.methods) {
-    Require(std::find(known_methods.begin(), known_methods.end(), method) != known_methods.end(),
-            "experiment '{}': key 'methods' holds '{}': expected some of {}", source, method,
-            fmt::join(known_methods, ", "));
-  }
+  e.tasks = KnownNamesAt(document, "tasks", EnvNames(), source);
+  e.methods = KnownNamesAt(document, "methods", MethodNames(), source);
   e.seeds = ListAt<std::uint64_t>(document, "seeds", source);
   Require(std::set<std::uint64_t>(e.seeds.begin(), e.seeds.end()).size() == e.seeds.size(),
           "experiment '{}': key 'seeds' repeats a seed in [{}]: each run needs its own", source,
           fmt::join(e.seeds, ", "));
-  const YAML::Node window = document["window"];
-  try {
-    Require(window && window.IsScalar(), "");
-    e.window = window.as<std::int64_t>();
-  } catch (const std::exception&) {
-    Fail("experiment '{}': key 'window' is {}: expected the number of agent steps counted "
-         "(3000, or the paper's 10000)",
-         source, window ? fmt::format("'{}'", FlowText(window)) : std::string("missing"));
-  }
-  Require(e.window >= 1 && e.window <= kMaxTotalSteps,
-          "experiment '{}': key 'window' is {}: expected 1 to {}", source, e.window,
-          kMaxTotalSteps);
+  e.window = WindowOf(document["window"], source);
   e.overrides = OverridesOf(document["set"], "set", source);
-  const YAML::Node axes = document["axes"];
-  if (axes && !axes.IsNull()) {
-    Require(axes.IsMap(), "experiment '{}': key 'axes' is '{}': expected a mapping of config "
-            "keys to lists of values", source, FlowText(axes));
-    for (const auto& entry : axes) {
-      SweepAxis axis;
-      axis.key = entry.first.as<std::string>();
-      Require(entry.second.IsSequence() && entry.second.size() > 0,
-              "experiment '{}': axis '{}' is '{}': expected a non-empty list of values", source,
-              axis.key, FlowText(entry.second));
-      for (const YAML::Node& value : entry.second) axis.values.push_back(FlowText(value));
-      e.axes.push_back(axis);
-    }
-  }
+  e.axes = AxesOf(document["axes"], source);
   e.decision = DecisionOf(document["decision"], source);
   e.sha256 = Sha256OfFile(e.file());
   if (!e.family_file().empty()) e.family_sha256 = Sha256OfFile(e.family_file());

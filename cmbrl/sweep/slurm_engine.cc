@@ -113,9 +113,11 @@ bool IsFinalSlurmState(const std::string& state) {
   return std::find(kFinal.begin(), kFinal.end(), state) != kFinal.end();
 }
 
-SweepOutcome SubmitSweep(const SweepGrid& grid, const std::string& sweep_dir,
-                         const std::string& program, const SlurmOptions& options,
-                         const SweepEventSink& on_event) {
+namespace {
+
+// Throws cmbrl::Error naming a bad poll interval, task limit or an sbatch option the sweep sets
+// itself.
+void CheckSlurmOptions(const SlurmOptions& options) {
   Require(options.poll_seconds > 0 && options.poll_seconds <= 3600,
           "the poll interval is {} s: expected more than 0 and at most 3600", options.poll_seconds);
   Require(options.max_running >= 0, "max_running is {}: expected 0 (no limit) or more",
@@ -130,36 +132,28 @@ SweepOutcome SubmitSweep(const SweepGrid& grid, const std::string& sweep_dir,
             "(limit the tasks at a time with --jobs)",
             arg);
   }
-  const PreparedSweep prepared = PrepareSweep(grid, sweep_dir, program, on_event);
-  const std::vector<SweepRun>& runs = prepared.runs;
-  SweepOutcome outcome;
-  outcome.runs = static_cast<int>(runs.size());
-  outcome.already_finished = prepared.already_finished;
-  std::vector<size_t> pending = prepared.unfinished;
-  if (pending.empty()) return outcome;
+}
 
-  const auto log_of = [&](size_t index) {
-    return (fs::path(sweep_dir) / "logs" / fmt::format("slurm-{}.log", index)).string();
-  };
-  // The job each followed run's task belongs to: an earlier submission's where its task is still
-  // in the queue (submitting it again would start a second writer of the run), else the new one.
-  std::map<size_t, std::string> job_of;
-  const auto task_of = [&](size_t index) { return fmt::format("{}_{}", job_of[index], index); };
-  // An event of run `index`'s array task.
-  const auto report = [&](size_t index, const char* status, const std::string& state) {
-    on_event({runs[index].name,
-              status,
-              log_of(index),
-              {},
-              std::nullopt,
-              std::nullopt,
-              task_of(index),
-              state});
-  };
-  std::vector<size_t> to_submit;
-  {
+// One submission of a sweep's unfinished runs as a Slurm array, and the following of its tasks
+// to their end. Each run is the array task of its index; job_of_ says which job holds it.
+class SlurmSweep {
+ public:
+  SlurmSweep(const SweepGrid& grid, const std::string& sweep_dir, const SlurmOptions& options,
+             const std::vector<SweepRun>& runs, const SweepEventSink& on_event,
+             SweepOutcome& outcome)
+      : grid_(grid),
+        sweep_dir_(sweep_dir),
+        options_(options),
+        runs_(runs),
+        on_event_(on_event),
+        outcome_(outcome) {}
+
+  // The runs of `pending` whose task an earlier submission still has in the queue (submitting
+  // them again would start a second writer of the run), reported as already queued; returns
+  // the others.
+  std::vector<size_t> LeaveOutQueued(const std::vector<size_t>& pending) {
     std::map<size_t, std::pair<std::string, std::string>> live;  // index -> (job, state)
-    for (const std::string& job : RecordedJobs(sweep_dir)) {
+    for (const std::string& job : RecordedJobs(sweep_dir_)) {
       std::string failure;
       const std::optional<std::map<size_t, std::string>> queued = QueuedTasks(job, failure);
       Require(queued.has_value(),
@@ -170,102 +164,147 @@ SweepOutcome SubmitSweep(const SweepGrid& grid, const std::string& sweep_dir,
         if (!IsFinalSlurmState(state)) live[index] = {job, state};
       }
     }
+    std::vector<size_t> to_submit;
     for (const size_t index : pending) {
       const auto found = live.find(index);
       if (found == live.end()) {
         to_submit.push_back(index);
         continue;
       }
-      job_of[index] = found->second.first;
-      ++outcome.already_queued;
-      report(index, "already queued", found->second.second);
+      job_of_[index] = found->second.first;
+      ++outcome_.already_queued;
+      Report(index, "already queued", found->second.second);
     }
+    return to_submit;
   }
 
-  if (!to_submit.empty()) {
-    const fs::path script = fs::absolute(fs::path(sweep_dir) / "slurm.sh");
-    std::string array = ArrayIndexList(to_submit);
-    if (options.max_running > 0) array += fmt::format("%{}", options.max_running);
+  // Submits the runs of `indices` as one array job and records it in the sweep's jobs file.
+  void Submit(const std::vector<size_t>& indices) {
+    const fs::path script = fs::absolute(fs::path(sweep_dir_) / "slurm.sh");
+    std::string array = ArrayIndexList(indices);
+    if (options_.max_running > 0) array += fmt::format("%{}", options_.max_running);
     std::vector<std::string> args = {"--parsable", "--array=" + array};
-    args.insert(args.end(), options.sbatch_args.begin(), options.sbatch_args.end());
+    args.insert(args.end(), options_.sbatch_args.begin(), options_.sbatch_args.end());
     args.push_back(script.string());
     const ProgramOutput answer = RunProgram("sbatch", args);
     Require(answer.exit_code == 0, "'{}' exited with {}: {}", CommandLine("sbatch", args),
             answer.exit_code, Trimmed(answer.errors + answer.output));
-    outcome.job = ParseSubmittedJob(answer.output);
-    outcome.submitted = static_cast<int>(to_submit.size());
-    AppendToFile(fs::path(sweep_dir) / kSlurmJobsFile,
-                 nlohmann::ordered_json{{"job", outcome.job},
+    outcome_.job = ParseSubmittedJob(answer.output);
+    outcome_.submitted = static_cast<int>(indices.size());
+    AppendToFile(fs::path(sweep_dir_) / kSlurmJobsFile,
+                 nlohmann::ordered_json{{"job", outcome_.job},
                                         {"array", array},
                                         {"submitted", UtcTimestamp()},
-                                        {"sbatch_args", options.sbatch_args}}
+                                        {"sbatch_args", options_.sbatch_args}}
                          .dump() +
                      "\n");
-    for (const size_t index : to_submit) {
-      job_of[index] = outcome.job;
-      report(index, "submitted", "");
+    for (const size_t index : indices) {
+      job_of_[index] = outcome_.job;
+      Report(index, "submitted", "");
     }
   }
-  if (!options.wait) return outcome;
 
-  // Follow the tasks: one has ended once it is in a final state or has left the queue.
-  std::map<size_t, std::string> last_state;
-  std::set<size_t> running;  // tasks seen running since they last waited in the queue
-  int failures_in_a_row = 0;
-  while (!pending.empty()) {
-    std::this_thread::sleep_for(std::chrono::duration<double>(options.poll_seconds));
-    std::map<std::string, std::map<size_t, std::string>> queued_by_job;
-    std::string failure, failed_job;
-    for (const size_t index : pending) {
-      const std::string& job = job_of[index];
-      if (queued_by_job.count(job) != 0 || !failed_job.empty()) continue;
-      std::optional<std::map<size_t, std::string>> queued = QueuedTasks(job, failure);
-      if (queued) {
-        queued_by_job[job] = std::move(*queued);
-      } else {
-        failed_job = job;
-      }
-    }
-    if (!failed_job.empty()) {
-      Require(++failures_in_a_row < kSqueueFailuresTolerated,
-              "lost track of Slurm job {}: {} ({} times in a row); its tasks may still run: "
-              "follow them with squeue, or run the sweep again once they have ended",
-              failed_job, failure, failures_in_a_row);
-      continue;
-    }
-    failures_in_a_row = 0;
-    std::vector<size_t> still_pending;
-    for (const size_t index : pending) {
-      const std::map<size_t, std::string>& queued = queued_by_job[job_of[index]];
-      const auto queued_task = queued.find(index);
-      if (queued_task != queued.end()) {
-        // Say when a task starts running, and when it waits in the queue again after running (a
-        // requeue: its run resumes when it starts again). States in between (COMPLETING while
-        // the old step is killed) may or may not be seen between two polls.
-        const std::string& state = queued_task->second;
-        if (state == "RUNNING" && running.insert(index).second) {
-          report(index, "running", state);
-        } else if (IsWaitingSlurmState(state) && running.erase(index) != 0) {
-          report(index, "requeued", state);
+  // Follows the tasks of `pending` until each has ended: in a final state, or gone from the
+  // queue. Throws cmbrl::Error once squeue has failed kSqueueFailuresTolerated times in a row.
+  void Follow(std::vector<size_t> pending) {
+    int failures_in_a_row = 0;
+    while (!pending.empty()) {
+      std::this_thread::sleep_for(std::chrono::duration<double>(options_.poll_seconds));
+      std::map<std::string, std::map<size_t, std::string>> queued_by_job;
+      std::string failure, failed_job;
+      for (const size_t index : pending) {
+        const std::string& job = job_of_[index];
+        if (queued_by_job.count(job) != 0 || !failed_job.empty()) continue;
+        std::optional<std::map<size_t, std::string>> queued = QueuedTasks(job, failure);
+        if (queued) {
+          queued_by_job[job] = std::move(*queued);
+        } else {
+          failed_job = job;
         }
-        last_state[index] = state;
       }
-      if (queued_task != queued.end() && !IsFinalSlurmState(queued_task->second)) {
-        still_pending.push_back(index);
+      if (!failed_job.empty()) {
+        Require(++failures_in_a_row < kSqueueFailuresTolerated,
+                "lost track of Slurm job {}: {} ({} times in a row); its tasks may still run: "
+                "follow them with squeue, or run the sweep again once they have ended",
+                failed_job, failure, failures_in_a_row);
         continue;
       }
-      const SweepRun& run = runs[index];
-      const bool finished = StatusOf(run, grid.steps) == RunStatus::kFinished;
-      if (finished) {
-        ++outcome.finished_now;
-      } else {
-        outcome.failed.push_back(run.name);
+      failures_in_a_row = 0;
+      std::vector<size_t> still_pending;
+      for (const size_t index : pending) {
+        if (!Ended(index, queued_by_job[job_of_[index]])) still_pending.push_back(index);
       }
-      report(index, finished ? "finished" : "failed",
-             last_state.count(index) != 0 ? last_state[index] : "UNKNOWN");
+      pending = std::move(still_pending);
     }
-    pending = std::move(still_pending);
   }
+
+ private:
+  // An event of run `index`'s array task.
+  void Report(size_t index, const char* status, const std::string& state) {
+    on_event_({runs_[index].name,
+               status,
+               (fs::path(sweep_dir_) / "logs" / fmt::format("slurm-{}.log", index)).string(),
+               {},
+               std::nullopt,
+               std::nullopt,
+               fmt::format("{}_{}", job_of_[index], index),
+               state});
+  }
+
+  // Whether run `index`'s task has ended, given its job's tasks in the queue (`queued`), and if
+  // so whether its run finished. Says when a task starts running, and when it waits in the
+  // queue again after running (a requeue: its run resumes when it starts again); states in
+  // between (COMPLETING while the old step is killed) may or may not be seen between two polls.
+  bool Ended(size_t index, const std::map<size_t, std::string>& queued) {
+    const auto queued_task = queued.find(index);
+    if (queued_task != queued.end()) {
+      const std::string& state = queued_task->second;
+      if (state == "RUNNING" && running_.insert(index).second) {
+        Report(index, "running", state);
+      } else if (IsWaitingSlurmState(state) && running_.erase(index) != 0) {
+        Report(index, "requeued", state);
+      }
+      last_state_[index] = state;
+      if (!IsFinalSlurmState(state)) return false;
+    }
+    const SweepRun& run = runs_[index];
+    const bool finished = StatusOf(run, grid_.steps) == RunStatus::kFinished;
+    if (finished) {
+      ++outcome_.finished_now;
+    } else {
+      outcome_.failed.push_back(run.name);
+    }
+    Report(index, finished ? "finished" : "failed",
+           last_state_.count(index) != 0 ? last_state_[index] : "UNKNOWN");
+    return true;
+  }
+
+  const SweepGrid& grid_;
+  const std::string& sweep_dir_;
+  const SlurmOptions& options_;
+  const std::vector<SweepRun>& runs_;
+  const SweepEventSink& on_event_;
+  SweepOutcome& outcome_;
+  std::map<size_t, std::string> job_of_;
+  std::map<size_t, std::string> last_state_;
+  std::set<size_t> running_;  // tasks seen running since they last waited in the queue
+};
+
+}  // namespace
+
+SweepOutcome SubmitSweep(const SweepGrid& grid, const std::string& sweep_dir,
+                         const std::string& program, const SlurmOptions& options,
+                         const SweepEventSink& on_event) {
+  CheckSlurmOptions(options);
+  const PreparedSweep prepared = PrepareSweep(grid, sweep_dir, program, on_event);
+  SweepOutcome outcome;
+  outcome.runs = static_cast<int>(prepared.runs.size());
+  outcome.already_finished = prepared.already_finished;
+  if (prepared.unfinished.empty()) return outcome;
+  SlurmSweep sweep(grid, sweep_dir, options, prepared.runs, on_event, outcome);
+  const std::vector<size_t> to_submit = sweep.LeaveOutQueued(prepared.unfinished);
+  if (!to_submit.empty()) sweep.Submit(to_submit);
+  if (options.wait) sweep.Follow(prepared.unfinished);
   return outcome;
 }
 

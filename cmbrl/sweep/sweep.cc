@@ -12,7 +12,7 @@
 #include "cmbrl/config/config.h"
 #include "cmbrl/core/check.h"
 #include "cmbrl/core/files.h"
-#include "cmbrl/env/registry.h"
+#include "cmbrl/env/task_list.h"
 #include "cmbrl/report/run_logs.h"
 #include "cmbrl/run/run_directory.h"
 
@@ -49,9 +49,9 @@ std::string PathWord(const std::string& value) {
   return word.empty() ? "_" : word;
 }
 
-}  // namespace
-
-std::vector<SweepRun> PlanSweep(const SweepGrid& grid, const std::string& sweep_dir) {
+// Throws cmbrl::Error naming an unknown or repeated task, method or seed, a bad --steps or a
+// missing overlay: a repeated one would name one run twice, and two processes would train it.
+void CheckGrid(const SweepGrid& grid) {
   Require(!grid.tasks.empty() && !grid.planners.empty() && !grid.seeds.empty(),
           "a sweep needs at least one task, one planner and one seed");
   const std::vector<std::string>& known_tasks = EnvNames();
@@ -66,8 +66,6 @@ std::vector<SweepRun> PlanSweep(const SweepGrid& grid, const std::string& sweep_
             "unknown planner or algorithm '{}': expected some of {}", method,
             fmt::join(known_methods, ", "));
   }
-
-  // A repeated task or method would name one run twice, and two processes would train it.
   Require(std::set<std::string>(grid.tasks.begin(), grid.tasks.end()).size() == grid.tasks.size(),
           "tasks {} repeat a task: each run of the grid needs its own", fmt::join(grid.tasks, " "));
   Require(std::set<std::string>(grid.planners.begin(), grid.planners.end()).size() ==
@@ -83,10 +81,16 @@ std::vector<SweepRun> PlanSweep(const SweepGrid& grid, const std::string& sweep_
     Require(fs::is_regular_file(overlay), "no config '{}': expected a YAML file to compose over "
             "each run's preset", overlay);
   }
-  // Every combination of the axes' values, as (setting, overrides): the setting names the
-  // values ("population=500", several joined by '-'; SweepRunName).
-  std::vector<std::pair<std::string, std::vector<std::string>>> points = {{"", {}}};
-  for (const SweepAxis& axis : grid.axes) {
+}
+
+// A setting of the axes: its name ("population=500", several joined by '-'; SweepRunName) and
+// its overrides.
+using AxisPoint = std::pair<std::string, std::vector<std::string>>;
+
+// Every combination of the axes' values, in the axes' order; one empty point for no axes.
+std::vector<AxisPoint> AxisPoints(const std::vector<SweepAxis>& axes) {
+  std::vector<AxisPoint> points = {{"", {}}};
+  for (const SweepAxis& axis : axes) {
     Require(!axis.values.empty(), "axis '{}' has no values: expected a list of at least one",
             axis.key);
     Require(std::set<std::string>(axis.values.begin(), axis.values.end()).size() ==
@@ -94,7 +98,7 @@ std::vector<SweepRun> PlanSweep(const SweepGrid& grid, const std::string& sweep_
             "axis '{}' repeats a value in {}: each value makes its own runs", axis.key,
             fmt::join(axis.values, ", "));
     const std::string short_key = axis.key.substr(axis.key.rfind('.') + 1);
-    std::vector<std::pair<std::string, std::vector<std::string>>> longer;
+    std::vector<AxisPoint> longer;
     for (const auto& [name, overrides] : points) {
       for (const std::string& value : axis.values) {
         std::vector<std::string> with = overrides;
@@ -105,6 +109,14 @@ std::vector<SweepRun> PlanSweep(const SweepGrid& grid, const std::string& sweep_
     }
     points = longer;
   }
+  return points;
+}
+
+}  // namespace
+
+std::vector<SweepRun> PlanSweep(const SweepGrid& grid, const std::string& sweep_dir) {
+  CheckGrid(grid);
+  const std::vector<AxisPoint> points = AxisPoints(grid.axes);
   std::vector<SweepRun> runs;
   for (const std::string& task : grid.tasks) {
     for (const std::string& planner : grid.planners) {
@@ -170,7 +182,7 @@ RunProgress ProgressOf(const SweepRun& run, std::optional<std::int64_t> budget) 
   progress.status = progress.in_report ? RunStatus::kNew : RunStatus::kStarted;
   std::vector<EpisodePoint> episodes;
   try {
-    episodes = EpisodeReaderOf(FindAlgorithm(config.algorithm).family)(
+    episodes = EpisodeReaderOf(FamilyOf(config.algorithm).log)(
         dir->progress_file().string(), std::nullopt);
   } catch (const Error&) {
     // A process killed while writing a row leaves it half written; resuming repairs that.

@@ -11,6 +11,7 @@
 #include "cmbrl/agent/policy.h"
 #include "cmbrl/core/check.h"
 #include "cmbrl/env/goal_env.h"
+#include "cmbrl/env/tasks/goal_spec.h"
 #include "tests/env/test_scenes.h"
 #include "tests/error_message.h"
 
@@ -18,6 +19,25 @@ namespace cmbrl {
 namespace {
 
 using testing::ErrorMessage;
+
+// The task list is the one list: every name, spec and environment is derived from its entries.
+TEST(RegistryTest, EveryListOfTasksIsTheTaskList) {
+  std::vector<std::string> listed;
+  for (const TaskEntry& task : Tasks()) listed.push_back(task.name);
+  EXPECT_EQ(EnvNames(), listed);
+  EXPECT_EQ(listed, (std::vector<std::string>{"PointGoal1", "PointGoal2", "CarGoal1", "CarGoal2"}));
+  for (const TaskEntry& task : Tasks()) {
+    SCOPED_TRACE(task.name);
+    EXPECT_EQ(&FindTask(task.name), &task);
+    const GoalTaskSpec spec = GoalTaskSpecByName(task.name, Variant::kPaper);
+    EXPECT_EQ(spec.name, task.name);
+    EXPECT_EQ(spec.robot, task.robot);
+    EXPECT_EQ(spec.level, task.level);
+  }
+  EXPECT_THAT(ErrorMessage([] { FindTask("PointGoal9"); }),
+              ::testing::HasSubstr("unknown task 'PointGoal9': expected one of PointGoal1, "
+                                   "PointGoal2, CarGoal1, CarGoal2"));
+}
 
 // Every registered task in both variants: resets, runs a random episode of up to 200 steps with
 // finite observations of the declared size, 0/1 costs and a consistent ground truth.

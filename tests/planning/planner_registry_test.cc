@@ -72,6 +72,28 @@ TEST(PlannerTest, SameSeedSameActionOtherSeedOtherAction) {
   }
 }
 
+// Wants the first action's x as high as possible, and violates wherever it is positive: the one
+// penalty of PlannerSettings decides which side CEM and random shooting choose.
+class PositiveXViolates : public Objective {
+ public:
+  ObjectiveValues Evaluate(const torch::Tensor& actions) override {
+    const torch::Tensor x = actions.select(1, 0).select(1, 0);  // (N)
+    return {-x, (x > 0).to(torch::kFloat)};
+  }
+};
+
+TEST(PlannerFactoryTest, CemAndRandomScoreWithTheSettingsPenalty) {
+  for (const std::string name : {"cem", "random"}) {
+    SCOPED_TRACE(name);
+    PlannerSettings settings;
+    settings.penalty = 0.0;  // the reward alone: as far right as the box allows
+    PositiveXViolates objective;
+    EXPECT_GT(MakePlanner(name, settings, 2)->Plan(objective).action[0].item<float>(), 0.5f);
+    settings.penalty = 100.0;  // a violation costs more than any reward: stay left of 0
+    EXPECT_LE(MakePlanner(name, settings, 2)->Plan(objective).action[0].item<float>(), 0.0f);
+  }
+}
+
 TEST(PlannerFactoryTest, BadSettingsAreNamed) {
   PlannerSettings settings;
   settings.cross_entropy.elites = 600;
@@ -83,6 +105,13 @@ TEST(PlannerFactoryTest, BadSettingsAreNamed) {
             "horizon is 0: expected 1 to 1000 steps");
   EXPECT_EQ(ErrorMessage([&] { MakePlanner("mppi", PlannerSettings{}, 0); }),
             "unknown planner 'mppi': expected one of rce, cem, random");
+  for (const std::string name : {"rce", "cem", "random"}) {
+    settings = PlannerSettings{};
+    settings.penalty = -1.0;
+    EXPECT_EQ(ErrorMessage([&] { MakePlanner(name, settings, 0); }),
+              "penalty is -1: expected a non-negative number")
+        << name;
+  }
   settings = PlannerSettings{};
   settings.random.samples = 0;
   EXPECT_EQ(ErrorMessage([&] { MakePlanner("random", settings, 0); }),

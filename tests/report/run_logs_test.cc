@@ -28,10 +28,10 @@ using testing::ReportTest;
 TEST(ReportEpisodesTest, EveryLearnerFamilyHasItsEpisodeReader) {
   for (const AlgorithmEntry& entry : Algorithms()) {
     SCOPED_TRACE(entry.name);
-    EXPECT_NE(EpisodeReaderOf(entry.family), nullptr);
+    EXPECT_NE(EpisodeReaderOf(entry.family->log), nullptr);
   }
-  EXPECT_EQ(EpisodeReaderOf(LearnerFamily::kMpc), &ReadProgressEpisodes);
-  EXPECT_EQ(EpisodeReaderOf(LearnerFamily::kPolicyOptimisation), &ReadEpochLog);
+  EXPECT_EQ(EpisodeReaderOf(MpcFamily().log), &ReadProgressEpisodes);
+  EXPECT_EQ(EpisodeReaderOf(PolicyOptFamily().log), &ReadEpochLog);
 }
 
 TEST_F(ReportTest, AReportsLogsMakeItAgainWithoutTheRuns) {

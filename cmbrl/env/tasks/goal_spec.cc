@@ -7,14 +7,17 @@
 
 namespace cmbrl {
 
-GoalTaskSpec MakeGoalTaskSpec(RobotKind robot, int level, Variant variant) {
-  Require(level == 1 || level == 2, "Goal task level {} is not supported: expected 1 or 2", level);
+GoalTaskSpec MakeGoalTaskSpec(const TaskEntry& task, Variant variant) {
+  const RobotKind robot = task.robot;
+  const int level = task.level;
+  Require(level == 1 || level == 2, "task '{}': Goal task level {} is not supported: expected 1 or 2",
+          task.name, level);
   const bool paper = IsPaperWorld(variant);
   GoalTaskSpec spec;
   spec.robot = robot;
   spec.level = level;
   spec.variant = variant;
-  spec.name = fmt::format("{}Goal{}", robot == RobotKind::kPoint ? "Point" : "Car", level);
+  spec.name = task.name;
 
   const double half_width = level == 1 ? 1.5 : 2.0;
   spec.placement = {-half_width, -half_width, half_width, half_width};
@@ -59,20 +62,8 @@ int ObservationSize(const GoalTaskSpec& spec) {
   return sensors + lidars * spec.lidar_bins;
 }
 
-const std::vector<std::string>& GoalTaskNames() {
-  static const std::vector<std::string> names = {"PointGoal1", "PointGoal2", "CarGoal1",
-                                                 "CarGoal2"};
-  return names;
-}
-
 GoalTaskSpec GoalTaskSpecByName(const std::string& task, Variant variant) {
-  for (const RobotKind robot : {RobotKind::kPoint, RobotKind::kCar}) {
-    for (const int level : {1, 2}) {
-      GoalTaskSpec spec = MakeGoalTaskSpec(robot, level, variant);
-      if (spec.name == task) return spec;
-    }
-  }
-  Fail("unknown task '{}': expected one of {}", task, fmt::join(GoalTaskNames(), ", "));
+  return MakeGoalTaskSpec(FindTask(task), variant);
 }
 
 }  // namespace cmbrl

@@ -5,11 +5,10 @@
 #include <vector>
 
 #include "cmbrl/env/scene.h"
+#include "cmbrl/env/task_list.h"
 #include "cmbrl/env/variant.h"
 
 namespace cmbrl {
-
-enum class RobotKind { kPoint, kCar };
 
 enum class ObservationKind {
   kLidar,     // stock: sensors and 16-bin pseudo-lidars, keys in alphabetical order
@@ -65,15 +64,13 @@ struct GoalTaskSpec {
   double lidar_max_dist = 3.0;  // m
 };
 
-// The spec of a task for robot, level (1 or 2) and variant. Throws cmbrl::Error for other levels.
-GoalTaskSpec MakeGoalTaskSpec(RobotKind robot, int level, Variant variant);
+// The spec of a task (task_list.h) in a variant. Throws cmbrl::Error for a level other than 1
+// or 2.
+GoalTaskSpec MakeGoalTaskSpec(const TaskEntry& task, Variant variant);
 
 // Size of the observation vector: the ego-state's 8 + 2 per vase and hazard (facts B1), or the
 // lidar observation's sensors and bins (facts A5).
 int ObservationSize(const GoalTaskSpec& spec);
-
-// "PointGoal1", "PointGoal2", "CarGoal1", "CarGoal2".
-const std::vector<std::string>& GoalTaskNames();
 
 // The spec of a named task; throws cmbrl::Error naming the task and the valid ones otherwise.
 GoalTaskSpec GoalTaskSpecByName(const std::string& task, Variant variant);

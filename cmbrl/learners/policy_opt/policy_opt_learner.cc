@@ -13,6 +13,7 @@
 #include "cmbrl/policy_opt/advantages.h"
 #include "cmbrl/run/algorithms.h"
 #include "cmbrl/run/learner_state.h"
+#include "cmbrl/run/progress_columns.h"
 
 namespace cmbrl {
 namespace {
@@ -20,7 +21,7 @@ namespace {
 // The constraint rule of a model-free algorithm (run/algorithms.h) as the update applies it.
 ConstraintHandling HandlingOf(const std::string& algorithm) {
   const AlgorithmEntry& entry = FindAlgorithm(algorithm);
-  Require(entry.family == LearnerFamily::kPolicyOptimisation,
+  Require(entry.family == &PolicyOptFamily(),
           "algorithm '{}' is not a model-free one", algorithm);
   switch (entry.constraint) {
     case ConstraintRule::kNone:
@@ -51,11 +52,11 @@ const std::vector<ProgressColumn<EpochRow>>& PolicyOptProgressColumns() {
   using R = EpochRow;
   static const std::vector<ProgressColumn<EpochRow>> columns = {
       {"Epoch", [](const R& r) { return std::to_string(r.epoch); }},
-      {"AverageEpRet", [](const R& r) { return ProgressNumber(r.average_episode_return); }},
-      {"AverageEpCost", [](const R& r) { return ProgressNumber(r.average_episode_cost); }},
+      {kAverageEpRetColumn, [](const R& r) { return ProgressNumber(r.average_episode_return); }},
+      {kAverageEpCostColumn, [](const R& r) { return ProgressNumber(r.average_episode_cost); }},
       {"EpLen", [](const R& r) { return ProgressNumber(r.average_episode_length); }},
       {"Episodes", [](const R& r) { return std::to_string(r.episodes); }},
-      {"CumulativeCost", [](const R& r) { return ProgressNumber(r.cumulative_cost); }},
+      {kCumulativeCostColumn, [](const R& r) { return ProgressNumber(r.cumulative_cost); }},
       {"CostRate", [](const R& r) { return ProgressNumber(r.cost_rate); }},
       {"Penalty", [](const R& r) { return ProgressNumber(r.penalty); }},
       {"KL", [](const R& r) { return ProgressNumber(r.kl); }},
@@ -66,8 +67,8 @@ const std::vector<ProgressColumn<EpochRow>>& PolicyOptProgressColumns() {
       {"LossV", [](const R& r) { return ProgressNumber(r.loss_v); }},
       {"LossVC", [](const R& r) { return ProgressNumber(r.loss_vc); }},
       {"Entropy", [](const R& r) { return ProgressNumber(r.entropy); }},
-      {"TotalEnvInteracts", [](const R& r) { return std::to_string(r.total_env_interacts); }},
-      {"Time", [](const R& r) { return fmt::format("{:.3f}", r.time_seconds); }},
+      {kTotalEnvInteractsColumn, [](const R& r) { return std::to_string(r.total_env_interacts); }},
+      {kTimeColumn, [](const R& r) { return fmt::format("{:.3f}", r.time_seconds); }},
   };
   return columns;
 }

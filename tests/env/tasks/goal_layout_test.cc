@@ -117,7 +117,7 @@ INSTANTIATE_TEST_SUITE_P(AllTasks, GoalLayoutTest,
                          });
 
 TEST(GoalLayoutErrorTest, ImpossibleLayoutIsReportedNotLooped) {
-  GoalTaskSpec spec = MakeGoalTaskSpec(RobotKind::kPoint, 1, Variant::kPaper);
+  GoalTaskSpec spec = GoalTaskSpecByName("PointGoal1", Variant::kPaper);
   spec.num_hazards = 200;  // cannot fit in 3 x 3 m with 0.36 m between centres
   spec.layout_tries = 20;
   Rng rng(0);
@@ -126,7 +126,7 @@ TEST(GoalLayoutErrorTest, ImpossibleLayoutIsReportedNotLooped) {
 }
 
 TEST(GoalLayoutErrorTest, GoalThatCannotFitLeavesTheLayoutAlone) {
-  GoalTaskSpec spec = MakeGoalTaskSpec(RobotKind::kPoint, 1, Variant::kPaper);
+  GoalTaskSpec spec = GoalTaskSpecByName("PointGoal1", Variant::kPaper);
   Rng rng(0);
   GoalLayout layout = SampleGoalLayout(spec, rng);
   const Vec2 goal = layout.goal;

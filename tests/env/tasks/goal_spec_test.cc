@@ -53,7 +53,7 @@ TEST(GoalSpecTest, UnknownTaskAndLevelAreNamed) {
   EXPECT_EQ(ErrorMessage([&] { GoalTaskSpecByName("PointGoal3", Variant::kPaper); }),
             "unknown task 'PointGoal3': expected one of PointGoal1, PointGoal2, CarGoal1, "
             "CarGoal2");
-  EXPECT_THROW(MakeGoalTaskSpec(RobotKind::kCar, 0, Variant::kPaper), Error);
+  EXPECT_THROW(MakeGoalTaskSpec({"CarGoal0", RobotKind::kCar, 0}, Variant::kPaper), Error);
 }
 
 TEST(GoalSpecTest, VariantNamesRoundTripAndUnknownOnesAreNamed) {

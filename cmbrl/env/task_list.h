@@ -1,0 +1,28 @@
+// Every task cmbrl can build, listed once (task_list.cc): its name, robot and level. The task
+// specs (tasks/goal_spec.h), the environments (registry.h) and every list of task names derive
+// from it. Plain data, so that configuration, sweeps and reports know the tasks without MuJoCo.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace cmbrl {
+
+enum class RobotKind { kPoint, kCar };
+
+struct TaskEntry {
+  std::string name;  // "PointGoal1": configs, the command line, run names
+  RobotKind robot = RobotKind::kPoint;
+  int level = 1;  // Safety Gym's difficulty: 1 or 2 for the Goal tasks
+};
+
+// Every task, in the paper's order: PointGoal1, PointGoal2, CarGoal1, CarGoal2.
+const std::vector<TaskEntry>& Tasks();
+
+// The names of Tasks(), in its order.
+std::vector<std::string> EnvNames();
+
+// The task called `name`; throws cmbrl::Error naming it and the known ones otherwise.
+const TaskEntry& FindTask(const std::string& name);
+
+}  // namespace cmbrl
