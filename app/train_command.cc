@@ -66,44 +66,48 @@ std::string Duration(double seconds) {
                        : fmt::format("{}m{:02}s", total / 60, total % 60);
 }
 
+// The trainer of the run --resume names, after saying on stderr when it goes on on another setup.
+std::unique_ptr<Trainer> ResumeRun(const TrainArgs& args) {
+  Require(args.config.empty() && args.out.empty() && !args.seed && !args.device &&
+              args.overrides.empty(),
+          "--resume continues a run with its own config: give no --config, --out, --seed, "
+          "--device or --set with it (--steps gives it a new budget)");
+  std::unique_ptr<Trainer> trainer = Trainer::Resume(args.resume, args.steps);
+  if (!trainer->setup_changes().empty()) {
+    std::cerr << fmt::format(
+        "cmbrl: warning: '{}' goes on at step {} on another setup than its last session ({}): "
+        "from here on its rows are not those an uninterrupted run would have written "
+        "(sessions.jsonl)\n",
+        args.resume, trainer->steps_done(), fmt::join(trainer->setup_changes(), ", "));
+  }
+  return trainer;
+}
+
+// The trainer of a new run in --out, from --config with --set, --steps, --seed and --device.
+std::unique_ptr<Trainer> StartRun(const TrainArgs& args) {
+  Require(!args.config.empty() && !args.out.empty(),
+          "a new run needs --config FILE and --out RUN_DIR (or --resume RUN_DIR)");
+  TrainConfig config = LoadTrainConfig(args.config);
+  const std::string source = fmt::format("{}", fmt::join(args.config, "' + '"));
+  // Defaults alone are the paper's full PointGoal1 RCE run (hours): only when asked for.
+  const bool task_set = std::any_of(args.overrides.begin(), args.overrides.end(),
+                                    [](const std::string& o) { return o.rfind("task=", 0) == 0; });
+  Require(task_set || ConfigFilesNameKey(args.config, "task"),
+          "'{}' names no task, so the run would be the defaults' full paper-size PointGoal1 "
+          "run: name one (task: PointGoal1 in the file, or --set task=PointGoal1)",
+          source);
+  if (!args.overrides.empty()) config = ApplyConfigOverrides(config, args.overrides, "--set");
+  if (args.steps) config.training.total_steps = *args.steps;
+  if (args.seed) config.seed = *args.seed;
+  if (args.device) SetTrainDevice(config, *args.device);
+  ValidateTrainConfig(config, source);
+  return Trainer::Start(config, args.out);
+}
+
 // Returns the signal that stopped the run before its budget was spent, or 0.
 int RunTrain(const TrainArgs& args) {
-  std::unique_ptr<Trainer> trainer;
-  std::string run_dir;
-  if (!args.resume.empty()) {
-    Require(args.config.empty() && args.out.empty() && !args.seed && !args.device &&
-                args.overrides.empty(),
-            "--resume continues a run with its own config: give no --config, --out, --seed, "
-            "--device or --set with it (--steps gives it a new budget)");
-    run_dir = args.resume;
-    trainer = Trainer::Resume(run_dir, args.steps);
-    if (!trainer->setup_changes().empty()) {
-      std::cerr << fmt::format(
-          "cmbrl: warning: '{}' goes on at step {} on another setup than its last session ({}): "
-          "from here on its rows are not those an uninterrupted run would have written "
-          "(sessions.jsonl)\n",
-          run_dir, trainer->steps_done(), fmt::join(trainer->setup_changes(), ", "));
-    }
-  } else {
-    Require(!args.config.empty() && !args.out.empty(),
-            "a new run needs --config FILE and --out RUN_DIR (or --resume RUN_DIR)");
-    TrainConfig config = LoadTrainConfig(args.config);
-    const std::string source = fmt::format("{}", fmt::join(args.config, "' + '"));
-    // Defaults alone are the paper's full PointGoal1 RCE run (hours): only when asked for.
-    const bool task_set = std::any_of(args.overrides.begin(), args.overrides.end(),
-                                      [](const std::string& o) { return o.rfind("task=", 0) == 0; });
-    Require(task_set || ConfigFilesNameKey(args.config, "task"),
-            "'{}' names no task, so the run would be the defaults' full paper-size PointGoal1 "
-            "run: name one (task: PointGoal1 in the file, or --set task=PointGoal1)",
-            source);
-    if (!args.overrides.empty()) config = ApplyConfigOverrides(config, args.overrides, "--set");
-    if (args.steps) config.training.total_steps = *args.steps;
-    if (args.seed) config.seed = *args.seed;
-    if (args.device) SetTrainDevice(config, *args.device);
-    ValidateTrainConfig(config, source);
-    run_dir = args.out;
-    trainer = Trainer::Start(config, run_dir);
-  }
+  const std::string run_dir = args.resume.empty() ? args.out : args.resume;
+  std::unique_ptr<Trainer> trainer = args.resume.empty() ? StartRun(args) : ResumeRun(args);
 
   // A live line on the terminal; in a file or a pipe (a sweep's log), one line per unit of work
   // with the time, so that a long run's log says how far it has got.

@@ -90,8 +90,8 @@ class EnsembleDynamics final : public DynamicsModel {
   // One epoch of Fit: each member's own fresh subset of `subset` of the train rows (train_rows,
   // (T)) in batches, one optimiser step each, over the normalised inputs x and targets y; the
   // epoch's train MSE per row and member.
-  double TrainEpoch(const torch::Tensor& x, const torch::Tensor& y,
-                    const torch::Tensor& train_rows, std::int64_t subset);
+  double TrainEpoch(const torch::Tensor& x, const torch::Tensor& y, const torch::Tensor& train_rows,
+                    std::int64_t subset);
 
   int state_dim_;
   int action_dim_;

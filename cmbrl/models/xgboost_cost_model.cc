@@ -259,10 +259,8 @@ void XgbCostModel::Save(const std::string& path) const {
   // The threshold is not written: it is a setting of whoever loads the trees (the run's config,
   // an evaluation's override), not of the trees. Files of earlier versions hold one; it is
   // ignored.
-  nlohmann::json file = {{"format", kFileFormat},
-                         {"version", 1},
-                         {"state_dim", state_dim_},
-                         {"trained", trained_}};
+  nlohmann::json file = {
+      {"format", kFileFormat}, {"version", 1}, {"state_dim", state_dim_}, {"trained", trained_}};
   if (trained_) file["booster"] = nlohmann::json::parse(booster_->SaveJson());
   WriteFile(path, file.dump());
 }

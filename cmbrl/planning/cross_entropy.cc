@@ -56,8 +56,7 @@ torch::Tensor CrossEntropyPlanner::EliteWeights(const ObjectiveValues& values) c
   };
   const torch::Tensor zeros = torch::zeros_like(values.reward_cost);
   if (rule_ == EliteRule::kPenalty) {
-    const torch::Tensor order =
-        sorted(values.reward_cost + penalty_ * values.constraint_cost);
+    const torch::Tensor order = sorted(values.reward_cost + penalty_ * values.constraint_cost);
     return zeros.scatter(0, order, (ranks < options_.elites).to(zeros.dtype()));
   }
   const torch::Tensor feasible = values.constraint_cost == 0;

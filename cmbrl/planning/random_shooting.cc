@@ -30,8 +30,7 @@ PlanResult RandomShootingPlanner::Plan(Objective& objective) {
       low;
   const ObjectiveValues values = objective.Evaluate(samples);
   CheckObjectiveValues(values, options_.samples, device_);
-  const torch::Tensor best =
-      torch::argmin(values.reward_cost + penalty_ * values.constraint_cost);
+  const torch::Tensor best = torch::argmin(values.reward_cost + penalty_ * values.constraint_cost);
   PlanResult result;
   result.sequence = samples.index_select(0, best.view({1}))[0];
   result.action = result.sequence[0];

@@ -20,8 +20,7 @@ std::string RunMemory::Describe() const {
   };
   if (policy_networks > 0 || epoch_batch > 0) {
     return fmt::format(
-        "{}, {}",
-        part("policy_optimisation.policy_hidden and value_hidden", policy_networks),
+        "{}, {}", part("policy_optimisation.policy_hidden and value_hidden", policy_networks),
         part("policy_optimisation.steps_per_epoch (rows x widest layer)", epoch_batch));
   }
   return fmt::format("{}, {}, {}, {}, {}", part("training.transition_capacity", transitions),

@@ -21,9 +21,9 @@ RunMemory MpcMemory(const RunSizes& sizes) {
   double widest = s;
   for (const int width : e.hidden_sizes) widest = std::max(widest, static_cast<double>(width));
   const double members = e.ensemble_size;
-  m.ensemble = EnsembleParameterBytes(e, sizes.state_dim, sizes.action_dim) +
-               members * static_cast<double>(e.batch_size) * widest * kFloat *
-                   (e.hidden_sizes.size() + 1);
+  m.ensemble =
+      EnsembleParameterBytes(e, sizes.state_dim, sizes.action_dim) +
+      members * static_cast<double>(e.batch_size) * widest * kFloat * (e.hidden_sizes.size() + 1);
   // The planner keeps every step's predicted states of the population (E, N, H, S) and the
   // widest layer's activations; random shooting scores its samples the same way.
   const double samples = std::max<double>(p.cross_entropy.population, p.random.samples);

@@ -122,12 +122,8 @@ LegendLayout LayOutLegend(const std::map<std::string, Style>& styles, double wid
   return layout;
 }
 
-std::vector<PanelArea> Draw(cairo_t* cr, const std::vector<PlotPanel>& panels,
-                            const PlotOptions& o, const std::map<std::string, Style>& styles,
-                            const LegendLayout& legend) {
-  cairo_set_source_rgb(cr, 1, 1, 1);
-  cairo_paint(cr);
-  SelectFont(cr);
+void DrawLegend(cairo_t* cr, const std::map<std::string, Style>& styles,
+                const LegendLayout& legend) {
   for (const LegendPlace& place : legend.places) {
     const Style& style = styles.at(place.label);
     cairo_set_source_rgb(cr, style.colour.r, style.colour.g, style.colour.b);
@@ -140,88 +136,118 @@ std::vector<PanelArea> Draw(cairo_t* cr, const std::vector<PlotPanel>& panels,
     cairo_set_source_rgb(cr, 0.1, 0.1, 0.1);
     Text(cr, place.label, place.x + kSwatch + kSwatchGap, place.y, kLegendFont, 0, 0.5);
   }
-  const double legend_height = legend.height;
+}
+
+// The band's edges at point k (the line itself without a band); the lower stops at the floor.
+double BandLow(const PlotSeries& s, size_t k, double floor) {
+  return std::max(s.y[k] - (s.band.empty() ? 0.0 : s.band[k]), floor);
+}
+double BandHigh(const PlotSeries& s, size_t k) {
+  return s.y[k] + (s.band.empty() ? 0.0 : s.band[k]);
+}
+
+// A panel's data ranges (x from 0 at most, y padded by 5%) and where they land in its area.
+struct PanelAxes {
+  PanelArea area;
+  double x_low, x_high, y_low, y_high;
+  double px(double x) const { return area.x + (x - x_low) / (x_high - x_low) * area.width; }
+  double py(double y) const {
+    return area.y + area.height - (y - y_low) / (y_high - y_low) * area.height;
+  }
+};
+
+PanelAxes AxesOf(const PlotPanel& panel, const PanelArea& area) {
+  double x_low = std::numeric_limits<double>::infinity(), x_high = -x_low;
+  double y_low = x_low, y_high = -x_low;
+  for (const PlotSeries& s : panel.series) {
+    for (size_t k = 0; k < s.x.size(); ++k) {
+      x_low = std::min(x_low, s.x[k]);
+      x_high = std::max(x_high, s.x[k]);
+      y_low = std::min(y_low, BandLow(s, k, panel.y_floor));
+      y_high = std::max(y_high, BandHigh(s, k));
+    }
+  }
+  if (!std::isfinite(x_low)) x_low = 0, x_high = 1, y_low = 0, y_high = 1;
+  if (x_high <= x_low) x_high = x_low + 1;
+  if (y_high <= y_low) y_high = y_low + 1;
+  x_low = std::min(x_low, 0.0);
+  const double pad = 0.05 * (y_high - y_low);
+  return {area, x_low, x_high, y_low - pad, y_high + pad};
+}
+
+void DrawGrid(cairo_t* cr, const PanelAxes& a) {
+  const PanelArea& area = a.area;
+  cairo_set_line_width(cr, 1);
+  for (double t : Ticks(a.x_low, a.x_high)) {
+    cairo_set_source_rgb(cr, 0.9, 0.9, 0.9);
+    cairo_move_to(cr, a.px(t), area.y);
+    cairo_line_to(cr, a.px(t), area.y + area.height);
+    cairo_stroke(cr);
+    cairo_set_source_rgb(cr, 0.25, 0.25, 0.25);
+    Text(cr, TickLabel(t), a.px(t), area.y + area.height + 6, 12, 0.5, 0);
+  }
+  for (double t : Ticks(a.y_low, a.y_high)) {
+    cairo_set_source_rgb(cr, 0.9, 0.9, 0.9);
+    cairo_move_to(cr, area.x, a.py(t));
+    cairo_line_to(cr, area.x + area.width, a.py(t));
+    cairo_stroke(cr);
+    cairo_set_source_rgb(cr, 0.25, 0.25, 0.25);
+    Text(cr, TickLabel(t), area.x - 6, a.py(t), 12, 1, 0.5);
+  }
+}
+
+// The bands, then the lines, clipped to the plotting area.
+void DrawSeries(cairo_t* cr, const PlotPanel& panel, const std::map<std::string, Style>& styles,
+                const PanelAxes& a) {
+  cairo_save(cr);
+  cairo_rectangle(cr, a.area.x, a.area.y, a.area.width, a.area.height);
+  cairo_clip(cr);
+  for (const PlotSeries& s : panel.series) {
+    const Rgb c = styles.at(s.label).colour;
+    if (!s.band.empty() && s.x.size() > 1) {
+      cairo_move_to(cr, a.px(s.x[0]), a.py(BandHigh(s, 0)));
+      for (size_t k = 1; k < s.x.size(); ++k) cairo_line_to(cr, a.px(s.x[k]), a.py(BandHigh(s, k)));
+      for (size_t k = s.x.size(); k-- > 0;) {
+        cairo_line_to(cr, a.px(s.x[k]), a.py(BandLow(s, k, panel.y_floor)));
+      }
+      cairo_close_path(cr);
+      cairo_set_source_rgba(cr, c.r, c.g, c.b, 0.2);
+      cairo_fill(cr);
+    }
+  }
+  for (const PlotSeries& s : panel.series) {
+    const Rgb c = styles.at(s.label).colour;
+    cairo_set_source_rgb(cr, c.r, c.g, c.b);
+    cairo_set_line_width(cr, 2);
+    SetDash(cr, s.dashed);
+    for (size_t k = 0; k < s.x.size(); ++k) {
+      k == 0 ? cairo_move_to(cr, a.px(s.x[k]), a.py(s.y[k]))
+             : cairo_line_to(cr, a.px(s.x[k]), a.py(s.y[k]));
+    }
+    if (s.x.size() == 1) cairo_rectangle(cr, a.px(s.x[0]) - 2, a.py(s.y[0]) - 2, 4, 4);
+    cairo_stroke(cr);
+    SetDash(cr, false);
+  }
+  cairo_restore(cr);
+}
+
+std::vector<PanelArea> Draw(cairo_t* cr, const std::vector<PlotPanel>& panels,
+                            const PlotOptions& o, const std::map<std::string, Style>& styles,
+                            const LegendLayout& legend) {
+  cairo_set_source_rgb(cr, 1, 1, 1);
+  cairo_paint(cr);
+  SelectFont(cr);
+  DrawLegend(cr, styles, legend);
   std::vector<PanelArea> areas;
   for (size_t i = 0; i < panels.size(); ++i) {
     const PlotPanel& panel = panels[i];
     const double left = (i % o.columns) * o.panel_width_px;
-    const double top = legend_height + (i / o.columns) * o.panel_height_px;
+    const double top = legend.height + (i / o.columns) * o.panel_height_px;
     const PanelArea area{left + 64, top + 34, o.panel_width_px - 84.0, o.panel_height_px - 84.0};
     areas.push_back(area);
-    // The band's edges at point k (the line itself without a band); the lower stops at the floor.
-    const auto band_low = [&](const PlotSeries& s, size_t k) {
-      return std::max(s.y[k] - (s.band.empty() ? 0.0 : s.band[k]), panel.y_floor);
-    };
-    const auto band_high = [](const PlotSeries& s, size_t k) {
-      return s.y[k] + (s.band.empty() ? 0.0 : s.band[k]);
-    };
-    double x_low = std::numeric_limits<double>::infinity(), x_high = -x_low;
-    double y_low = x_low, y_high = -x_low;
-    for (const PlotSeries& s : panel.series) {
-      for (size_t k = 0; k < s.x.size(); ++k) {
-        x_low = std::min(x_low, s.x[k]);
-        x_high = std::max(x_high, s.x[k]);
-        y_low = std::min(y_low, band_low(s, k));
-        y_high = std::max(y_high, band_high(s, k));
-      }
-    }
-    if (!std::isfinite(x_low)) x_low = 0, x_high = 1, y_low = 0, y_high = 1;
-    if (x_high <= x_low) x_high = x_low + 1;
-    if (y_high <= y_low) y_high = y_low + 1;
-    x_low = std::min(x_low, 0.0);
-    const double pad = 0.05 * (y_high - y_low);
-    y_low -= pad;
-    y_high += pad;
-    const auto px = [&](double x) { return area.x + (x - x_low) / (x_high - x_low) * area.width; };
-    const auto py = [&](double y) {
-      return area.y + area.height - (y - y_low) / (y_high - y_low) * area.height;
-    };
-    // Grid and ticks.
-    cairo_set_line_width(cr, 1);
-    for (double t : Ticks(x_low, x_high)) {
-      cairo_set_source_rgb(cr, 0.9, 0.9, 0.9);
-      cairo_move_to(cr, px(t), area.y);
-      cairo_line_to(cr, px(t), area.y + area.height);
-      cairo_stroke(cr);
-      cairo_set_source_rgb(cr, 0.25, 0.25, 0.25);
-      Text(cr, TickLabel(t), px(t), area.y + area.height + 6, 12, 0.5, 0);
-    }
-    for (double t : Ticks(y_low, y_high)) {
-      cairo_set_source_rgb(cr, 0.9, 0.9, 0.9);
-      cairo_move_to(cr, area.x, py(t));
-      cairo_line_to(cr, area.x + area.width, py(t));
-      cairo_stroke(cr);
-      cairo_set_source_rgb(cr, 0.25, 0.25, 0.25);
-      Text(cr, TickLabel(t), area.x - 6, py(t), 12, 1, 0.5);
-    }
-    // Bands, then lines, clipped to the plotting area.
-    cairo_save(cr);
-    cairo_rectangle(cr, area.x, area.y, area.width, area.height);
-    cairo_clip(cr);
-    for (const PlotSeries& s : panel.series) {
-      const Rgb c = styles.at(s.label).colour;
-      if (!s.band.empty() && s.x.size() > 1) {
-        cairo_move_to(cr, px(s.x[0]), py(band_high(s, 0)));
-        for (size_t k = 1; k < s.x.size(); ++k) cairo_line_to(cr, px(s.x[k]), py(band_high(s, k)));
-        for (size_t k = s.x.size(); k-- > 0;) cairo_line_to(cr, px(s.x[k]), py(band_low(s, k)));
-        cairo_close_path(cr);
-        cairo_set_source_rgba(cr, c.r, c.g, c.b, 0.2);
-        cairo_fill(cr);
-      }
-    }
-    for (const PlotSeries& s : panel.series) {
-      const Rgb c = styles.at(s.label).colour;
-      cairo_set_source_rgb(cr, c.r, c.g, c.b);
-      cairo_set_line_width(cr, 2);
-      SetDash(cr, s.dashed);
-      for (size_t k = 0; k < s.x.size(); ++k) {
-        k == 0 ? cairo_move_to(cr, px(s.x[k]), py(s.y[k])) : cairo_line_to(cr, px(s.x[k]), py(s.y[k]));
-      }
-      if (s.x.size() == 1) cairo_rectangle(cr, px(s.x[0]) - 2, py(s.y[0]) - 2, 4, 4);
-      cairo_stroke(cr);
-      SetDash(cr, false);
-    }
-    cairo_restore(cr);
+    const PanelAxes axes = AxesOf(panel, area);
+    DrawGrid(cr, axes);
+    DrawSeries(cr, panel, styles, axes);
     // Frame, title and axis labels.
     cairo_set_source_rgb(cr, 0.1, 0.1, 0.1);
     cairo_set_line_width(cr, 1.2);

@@ -167,8 +167,10 @@ TEST(RobustCrossEntropyTest, ReturnsFeasiblePlansAndDrawsFewerInfeasibleElitesTh
 TEST(EliteWeightsTest, RobustRuleKeepsOnlyFeasibleSamplesWhenEnough) {
   CrossEntropyOptions options;
   options.population = 20;
-  CrossEntropyPlanner rce(PlanningProblem{}, options, EliteRule::kRobust, PlannerSettings{}.penalty, 0);
-  CrossEntropyPlanner cem(PlanningProblem{}, options, EliteRule::kPenalty, PlannerSettings{}.penalty, 0);
+  CrossEntropyPlanner rce(PlanningProblem{}, options, EliteRule::kRobust, PlannerSettings{}.penalty,
+                          0);
+  CrossEntropyPlanner cem(PlanningProblem{}, options, EliteRule::kPenalty,
+                          PlannerSettings{}.penalty, 0);
   // Samples 0..6 feasible with reward cost 10 + i; 7..19 infeasible but rewarding (cost i).
   torch::Tensor reward = torch::arange(20, torch::kFloat);
   reward.slice(0, 0, 7) += 10;
@@ -186,7 +188,8 @@ TEST(EliteWeightsTest, RobustRulePadsWithTheLeastViolatingWhenTooFew) {
   CrossEntropyOptions options;
   options.population = 10;
   options.elites = 5;
-  CrossEntropyPlanner rce(PlanningProblem{}, options, EliteRule::kRobust, PlannerSettings{}.penalty, 0);
+  CrossEntropyPlanner rce(PlanningProblem{}, options, EliteRule::kRobust, PlannerSettings{}.penalty,
+                          0);
   // Two feasible samples (3 and 8); constraint costs rise with the index otherwise.
   const torch::Tensor reward = torch::zeros({10});
   torch::Tensor constraint = torch::arange(1, 11, torch::kFloat);

@@ -10,8 +10,8 @@ namespace cmbrl {
 GoalTaskSpec MakeGoalTaskSpec(const TaskEntry& task, Variant variant) {
   const RobotKind robot = task.robot;
   const int level = task.level;
-  Require(level == 1 || level == 2, "task '{}': Goal task level {} is not supported: expected 1 or 2",
-          task.name, level);
+  Require(level == 1 || level == 2,
+          "task '{}': Goal task level {} is not supported: expected 1 or 2", task.name, level);
   const bool paper = IsPaperWorld(variant);
   GoalTaskSpec spec;
   spec.robot = robot;

@@ -14,10 +14,10 @@
 
 #include "cmbrl/config/config.h"
 #include "cmbrl/learners/mpc/mpc_parts.h"
-#include "cmbrl/run/progress_columns.h"
 #include "cmbrl/models/labeled_state_buffer.h"
 #include "cmbrl/models/transition_buffer.h"
 #include "cmbrl/run/learner.h"
+#include "cmbrl/run/progress_columns.h"
 #include "cmbrl/run/progress_table.h"
 
 namespace cmbrl {

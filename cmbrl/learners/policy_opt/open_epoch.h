@@ -41,6 +41,15 @@ struct PolicyOptLearner::OpenEpoch {
   torch::Tensor observations, returns, cost_returns;
   int fitted = 0;
   Timings before;  // the process's totals when it began (zero when loaded)
+
+  // Adds environment k's step of round t (of its `quota` this epoch) to its trace: the
+  // observation it acted on and the action (rows of observation_dim and action_dim floats), and
+  // from `step` its reward, cost and next observation; where its path ends (a terminal state, a
+  // time limit or its quota's end), the path's end and what it bootstraps from, and an ended
+  // episode's sums. Returns whether the environment must be reset before its next round.
+  bool RecordStep(int k, std::int64_t t, std::int64_t quota, const float* observation,
+                  const float* action, const VectorStep& step, std::int64_t observation_dim,
+                  std::int64_t action_dim);
 };
 
 }  // namespace cmbrl

@@ -214,6 +214,36 @@ void PolicyOptLearner::SaveOpenEpoch(const fs::path& folder) const {
   WriteLearnerState(folder / kEpochFile, state);
 }
 
+namespace {
+
+// Environment k's trace of an open epoch after `rounds` rounds, as SaveOpenEpoch wrote it to
+// `file`; throws cmbrl::Error naming a damaged file.
+EnvTrace ReadTrace(torch::serialize::InputArchive& tensors, const fs::path& file, int k,
+                   std::int64_t rounds, std::int64_t observation_dim, std::int64_t action_dim) {
+  EnvTrace trace;
+  const auto name = [k](const char* what) { return fmt::format("{}{}", what, k); };
+  trace.observation = ReadValues<double>(tensors, name("observation"), observation_dim, file);
+  trace.rewards = ReadValues<double>(tensors, name("rewards"), -1, file);
+  const auto steps = static_cast<std::int64_t>(trace.rewards.size());
+  Require(steps <= rounds, "'{}' is damaged: environment {} took {} steps in {} rounds",
+          file.string(), k, steps, rounds);
+  trace.costs = ReadValues<double>(tensors, name("costs"), steps, file);
+  trace.observations =
+      ReadValues<float>(tensors, name("observations"), steps * observation_dim, file);
+  trace.actions = ReadValues<float>(tensors, name("actions"), steps * action_dim, file);
+  trace.path_ends = ReadValues<std::int64_t>(tensors, name("path_ends"), -1, file);
+  trace.bootstrap_rows =
+      ReadValues<std::int64_t>(tensors, name("bootstrap_rows"), trace.path_ends.size(), file);
+  trace.bootstrap_observations =
+      ReadValues<float>(tensors, name("bootstrap_observations"), -1, file);
+  Require(trace.bootstrap_observations.size() % observation_dim == 0,
+          "'{}' is damaged: environment {}'s bootstrap states are not rows of {}", file.string(), k,
+          observation_dim);
+  return trace;
+}
+
+}  // namespace
+
 void PolicyOptLearner::LoadOpenEpoch(const fs::path& folder) {
   auto e = std::make_unique<OpenEpoch>();
   const int env_count = envs_->size();
@@ -270,30 +300,12 @@ void PolicyOptLearner::LoadOpenEpoch(const fs::path& folder) {
   const std::vector<double> costs =
       ReadValues<double>(tensors, "open_episode_costs", env_count, file);
   for (int k = 0; k < env_count; ++k) {
-    EnvTrace& trace = e->traces[k];
-    const auto name = [k](const char* what) { return fmt::format("{}{}", what, k); };
-    trace.observation = ReadValues<double>(tensors, name("observation"), observation_dim, file);
-    trace.rewards = ReadValues<double>(tensors, name("rewards"), -1, file);
-    const auto steps = static_cast<std::int64_t>(trace.rewards.size());
-    Require(steps <= e->rounds, "'{}' is damaged: environment {} took {} steps in {} rounds",
-            file.string(), k, steps, e->rounds);
-    trace.costs = ReadValues<double>(tensors, name("costs"), steps, file);
-    trace.observations =
-        ReadValues<float>(tensors, name("observations"), steps * observation_dim, file);
-    trace.actions = ReadValues<float>(tensors, name("actions"), steps * action_dim, file);
-    trace.path_ends = ReadValues<std::int64_t>(tensors, name("path_ends"), -1, file);
-    trace.bootstrap_rows =
-        ReadValues<std::int64_t>(tensors, name("bootstrap_rows"), trace.path_ends.size(), file);
-    trace.bootstrap_observations =
-        ReadValues<float>(tensors, name("bootstrap_observations"), -1, file);
-    Require(trace.bootstrap_observations.size() % observation_dim == 0,
-            "'{}' is damaged: environment {}'s bootstrap states are not rows of {}", file.string(),
-            k, observation_dim);
+    e->traces[k] = ReadTrace(tensors, file, k, e->rounds, observation_dim, action_dim);
     const std::vector<std::uint8_t> bytes =
-        ReadValues<std::uint8_t>(tensors, name("env_state"), -1, file);
+        ReadValues<std::uint8_t>(tensors, fmt::format("env_state{}", k), -1, file);
     envs.envs.emplace_back(bytes.begin(), bytes.end());
-    trace.episode_return = returns[k];
-    trace.episode_cost = costs[k];
+    e->traces[k].episode_return = returns[k];
+    e->traces[k].episode_cost = costs[k];
   }
   e->episode_returns = ReadValues<double>(tensors, "episode_returns", -1, file);
   e->episode_costs = ReadValues<double>(tensors, "episode_costs", e->episode_returns.size(), file);

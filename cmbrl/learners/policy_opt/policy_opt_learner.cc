@@ -46,6 +46,39 @@ torch::Tensor Row(const std::vector<double>& values) {
   return torch::tensor(values, torch::kDouble).to(torch::kFloat).view({1, -1});
 }
 
+// GAE advantages and value targets of every path of the epoch, the environments in order
+// (`quota` rows each in `values`), of the reward or (`of_cost`) the cost: each path's values,
+// then the value of the state it bootstraps from (`bootstrap_values` from the environment's
+// `bootstrap_offsets` on), or 0 after a terminal state.
+PathTargets EpochGae(const std::vector<EnvTrace>& traces, const std::vector<std::int64_t>& quota,
+                     const std::vector<double>& values,
+                     const std::vector<double>& bootstrap_values,
+                     const std::vector<std::int64_t>& bootstrap_offsets, bool of_cost,
+                     double gamma, double lambda) {
+  PathTargets all;
+  std::int64_t offset = 0;  // the environment's first row in the batch
+  for (size_t k = 0; k < traces.size(); ++k) {
+    const EnvTrace& trace = traces[k];
+    const std::vector<double>& signal = of_cost ? trace.costs : trace.rewards;
+    std::int64_t start = 0;
+    for (size_t p = 0; p < trace.path_ends.size(); ++p) {
+      const std::int64_t end = trace.path_ends[p];
+      const std::int64_t row = trace.bootstrap_rows[p];
+      std::vector<double> path_values(values.begin() + offset + start,
+                                      values.begin() + offset + end);
+      path_values.push_back(row < 0 ? 0.0 : bootstrap_values[bootstrap_offsets[k] + row]);
+      const PathTargets path = GaeTargets(
+          std::vector<double>(signal.begin() + start, signal.begin() + end), path_values, gamma,
+          lambda);
+      all.advantages.insert(all.advantages.end(), path.advantages.begin(), path.advantages.end());
+      all.returns.insert(all.returns.end(), path.returns.begin(), path.returns.end());
+      start = end;
+    }
+    offset += quota[k];
+  }
+  return all;
+}
+
 }  // namespace
 
 const std::vector<ProgressColumn<EpochRow>>& PolicyOptProgressColumns() {
@@ -198,6 +231,45 @@ void PolicyOptLearner::BeginEpoch() {
   TakeFirstObservations(std::vector<std::uint8_t>(env_count, 1), seeds);
 }
 
+bool PolicyOptLearner::OpenEpoch::RecordStep(int k, std::int64_t t, std::int64_t quota,
+                                              const float* observation, const float* action,
+                                              const VectorStep& step,
+                                              std::int64_t observation_dim,
+                                              std::int64_t action_dim) {
+  EnvTrace& trace = traces[k];
+  trace.observations.insert(trace.observations.end(), observation, observation + observation_dim);
+  trace.actions.insert(trace.actions.end(), action, action + action_dim);
+  trace.rewards.push_back(step.rewards[k]);
+  trace.costs.push_back(step.costs[k]);
+  trace.episode_return += step.rewards[k];
+  trace.episode_cost += step.costs[k];
+  step_cost += step.costs[k];
+  trace.observation.assign(step.observations.begin() + k * observation_dim,
+                           step.observations.begin() + (k + 1) * observation_dim);
+  const bool terminated = step.terminated[k] != 0;
+  const bool terminal = terminated || step.truncated[k] != 0;
+  if (!terminal && t != quota - 1) return false;
+  trace.path_ends.push_back(t + 1);
+  // A time limit or the epoch's end bootstraps from the value of the state reached.
+  if (terminated) {
+    trace.bootstrap_rows.push_back(-1);
+  } else {
+    trace.bootstrap_rows.push_back(
+        static_cast<std::int64_t>(trace.bootstrap_observations.size() / observation_dim));
+    trace.bootstrap_observations.insert(trace.bootstrap_observations.end(),
+                                        trace.observation.begin(), trace.observation.end());
+  }
+  if (terminal) {
+    const std::int64_t start =
+        trace.path_ends.size() > 1 ? trace.path_ends[trace.path_ends.size() - 2] : 0;
+    episode_returns.push_back(trace.episode_return);
+    episode_costs.push_back(trace.episode_cost);
+    episode_lengths.push_back(static_cast<double>(t + 1 - start));
+  }
+  trace.episode_return = trace.episode_cost = 0.0;
+  return terminal && t + 1 < quota;
+}
+
 bool PolicyOptLearner::Roll(const UnitContext& context) {
   OpenEpoch& e = *open_;
   VectorEnv& envs = *envs_;
@@ -236,43 +308,8 @@ bool PolicyOptLearner::Roll(const UnitContext& context) {
     std::fill(reset.begin(), reset.end(), 0);
     for (size_t i = 0; i < stepping.size(); ++i) {
       const int k = stepping[i];
-      EnvTrace& trace = e.traces[k];
-      trace.observations.insert(trace.observations.end(),
-                                round_observations.begin() + i * observation_dim,
-                                round_observations.begin() + (i + 1) * observation_dim);
-      trace.actions.insert(trace.actions.end(), action_rows + i * action_dim,
-                           action_rows + (i + 1) * action_dim);
-      trace.rewards.push_back(step.rewards[k]);
-      trace.costs.push_back(step.costs[k]);
-      trace.episode_return += step.rewards[k];
-      trace.episode_cost += step.costs[k];
-      e.step_cost += step.costs[k];
-      trace.observation.assign(step.observations.begin() + k * observation_dim,
-                               step.observations.begin() + (k + 1) * observation_dim);
-      const bool terminated = step.terminated[k] != 0;
-      const bool terminal = terminated || step.truncated[k] != 0;
-      if (terminal || t == quota[k] - 1) {
-        trace.path_ends.push_back(t + 1);
-        // A time limit or the epoch's end bootstraps from the value of the state reached.
-        if (terminated) {
-          trace.bootstrap_rows.push_back(-1);
-        } else {
-          trace.bootstrap_rows.push_back(static_cast<std::int64_t>(
-              trace.bootstrap_observations.size() / observation_dim));
-          trace.bootstrap_observations.insert(trace.bootstrap_observations.end(),
-                                              trace.observation.begin(), trace.observation.end());
-        }
-        if (terminal) {
-          const std::int64_t start = trace.path_ends.size() > 1
-                                         ? trace.path_ends[trace.path_ends.size() - 2]
-                                         : 0;
-          e.episode_returns.push_back(trace.episode_return);
-          e.episode_costs.push_back(trace.episode_cost);
-          e.episode_lengths.push_back(static_cast<double>(t + 1 - start));
-        }
-        trace.episode_return = trace.episode_cost = 0.0;
-        reset[k] = terminal && t + 1 < quota[k];
-      }
+      reset[k] = e.RecordStep(k, t, quota[k], round_observations.data() + i * observation_dim,
+                              action_rows + i * action_dim, step, observation_dim, action_dim);
     }
     if (std::find(reset.begin(), reset.end(), 1) != reset.end()) TakeFirstObservations(reset, {});
     ++e.rounds;
@@ -316,43 +353,19 @@ PolicyOptLearner::Epoch PolicyOptLearner::Gather() {
   const std::vector<double> cost_values = values_of(*cost_value_, b.observations);
   const std::vector<double> bootstrap_values = values_of(*value_, bootstrap_batch);
   const std::vector<double> bootstrap_cost_values = values_of(*cost_value_, bootstrap_batch);
-  // GAE over each path.
-  std::vector<double> advantages, cost_advantages, returns, cost_returns;
-  const auto append = [](std::vector<double>& to, const std::vector<double>& from) {
-    to.insert(to.end(), from.begin(), from.end());
+  // GAE over each path, for the reward and for the cost.
+  const auto targets = [&](bool of_cost) {
+    return EpochGae(e.traces, quota, of_cost ? cost_values : values,
+                    of_cost ? bootstrap_cost_values : bootstrap_values, bootstrap_offsets,
+                    of_cost, o.gamma, o.lambda);
   };
-  std::int64_t offset = 0;  // the environment's first row in the batch
-  for (size_t k = 0; k < e.traces.size(); ++k) {
-    const EnvTrace& trace = e.traces[k];
-    std::int64_t start = 0;
-    for (size_t p = 0; p < trace.path_ends.size(); ++p) {
-      const std::int64_t end = trace.path_ends[p];
-      const std::int64_t row = trace.bootstrap_rows[p];
-      const std::vector<double> rewards(trace.rewards.begin() + start, trace.rewards.begin() + end);
-      const std::vector<double> costs(trace.costs.begin() + start, trace.costs.begin() + end);
-      std::vector<double> path_values(values.begin() + offset + start,
-                                      values.begin() + offset + end);
-      std::vector<double> path_cost_values(cost_values.begin() + offset + start,
-                                           cost_values.begin() + offset + end);
-      path_values.push_back(row < 0 ? 0.0 : bootstrap_values[bootstrap_offsets[k] + row]);
-      path_cost_values.push_back(row < 0 ? 0.0
-                                         : bootstrap_cost_values[bootstrap_offsets[k] + row]);
-      const PathTargets reward = GaeTargets(rewards, path_values, o.gamma, o.lambda);
-      const PathTargets cost = GaeTargets(costs, path_cost_values, o.gamma, o.lambda);
-      append(advantages, reward.advantages);
-      append(returns, reward.returns);
-      append(cost_advantages, cost.advantages);
-      append(cost_returns, cost.returns);
-      start = end;
-    }
-    offset += quota[k];
-  }
-  NormaliseAdvantages(advantages, /*scale=*/true);
-  NormaliseAdvantages(cost_advantages, /*scale=*/false);
-  b.advantages = torch::tensor(advantages, torch::kDouble).to(torch::kFloat);
-  b.cost_advantages = torch::tensor(cost_advantages, torch::kDouble).to(torch::kFloat);
-  epoch.returns = torch::tensor(returns, torch::kDouble).to(torch::kFloat);
-  epoch.cost_returns = torch::tensor(cost_returns, torch::kDouble).to(torch::kFloat);
+  PathTargets reward = targets(false), cost = targets(true);
+  NormaliseAdvantages(reward.advantages, /*scale=*/true);
+  NormaliseAdvantages(cost.advantages, /*scale=*/false);
+  b.advantages = torch::tensor(reward.advantages, torch::kDouble).to(torch::kFloat);
+  b.cost_advantages = torch::tensor(cost.advantages, torch::kDouble).to(torch::kFloat);
+  epoch.returns = torch::tensor(reward.returns, torch::kDouble).to(torch::kFloat);
+  epoch.cost_returns = torch::tensor(cost.returns, torch::kDouble).to(torch::kFloat);
   b.episode_cost = MeanOf(e.episode_costs);
   b.episode_length = MeanOf(e.episode_lengths);
   epoch.episode_returns = std::move(e.episode_returns);
