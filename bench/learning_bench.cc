@@ -220,8 +220,10 @@ nlohmann::ordered_json PrecisionErrors(const TrainConfig& config, const std::str
   }
   const double horizon_error = MeanAbs(ours - theirs) / MeanAbs(theirs - start);
 
-  MpcAgent reference_agent(reference, classifier, planner, settings, config.objective, seed);
-  MpcAgent reduced_agent(reduced, classifier, planner, settings, config.objective, seed);
+  MpcAgent reference_agent(reference, classifier, planner, settings, config.objective,
+                           RewardTermFor(config), seed);
+  MpcAgent reduced_agent(reduced, classifier, planner, settings, config.objective,
+                         RewardTermFor(config), seed);
   double difference = 0.0;
   int close = 0;
   const int states = static_cast<int>(std::min<std::int64_t>(agreement_states, data.size()));
@@ -280,7 +282,7 @@ void RunPlanBench(const LearningBenchOptions& args, const FigureSink& emit) {
     for (size_t p = 0; p < variants.size(); ++p) {
       const EnsembleDynamics& ensemble = *ensembles[p];
       MpcAgent agent(ensemble, *classifier, planner, settings, config.objective,
-                     DeriveSeed(args.seed, kPlannerSeedStream));
+                     RewardTermFor(config), DeriveSeed(args.seed, kPlannerSeedStream));
       const PlannerEntry& entry = FindPlanner(planner);
       const PlanWork work = entry.work(settings);
       const std::int64_t population = work.samples;

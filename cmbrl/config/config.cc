@@ -164,6 +164,7 @@ void VisitConfig(Config& c, Visitor& v) {
   v.Field("planning", "warm_start", ce.warm_start);
   v.Field("planning", "random_samples", c.planning.random.samples);
   auto& o = c.objective;
+  v.Field("objective", "reward", o.reward);
   v.Field("objective", "goal_index", o.goal_index);
   v.Field("objective", "gamma", o.gamma);
   v.Field("objective", "beta", o.beta);
@@ -461,6 +462,11 @@ void ValidateTrainConfig(const TrainConfig& c, const std::string& source) {
             source, VariantName(c.variant));
     InSection(source, "objective",
               [&] { ValidateTrajectoryObjectiveOptions(c.objective, ObservationSize(spec)); });
+    const std::vector<std::string> forms = AnalyticRewardNames();
+    const std::string& form = FindTask(c.task).analytic_reward;
+    Require(std::find(forms.begin(), forms.end(), form) != forms.end(),
+            "config '{}': task '{}' names the analytic reward '{}': expected one of {}", source,
+            c.task, form, fmt::join(forms, ", "));
   }
   check_memory(EstimateRunMemory(c, ObservationSize(spec), 2));
 }

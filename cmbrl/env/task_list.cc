@@ -9,10 +9,10 @@ namespace cmbrl {
 
 const std::vector<TaskEntry>& Tasks() {
   static const std::vector<TaskEntry> tasks = {
-      {"PointGoal1", RobotKind::kPoint, 1},
-      {"PointGoal2", RobotKind::kPoint, 2},
-      {"CarGoal1", RobotKind::kCar, 1},
-      {"CarGoal2", RobotKind::kCar, 2},
+      {"PointGoal1", RobotKind::kPoint, 1, "goal-distance"},
+      {"PointGoal2", RobotKind::kPoint, 2, "goal-distance"},
+      {"CarGoal1", RobotKind::kCar, 1, "goal-distance"},
+      {"CarGoal2", RobotKind::kCar, 2, "goal-distance"},
   };
   return tasks;
 }

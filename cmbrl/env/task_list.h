@@ -14,6 +14,9 @@ struct TaskEntry {
   std::string name;  // "PointGoal1": configs, the command line, run names
   RobotKind robot = RobotKind::kPoint;
   int level = 1;  // Safety Gym's difficulty: 1 or 2 for the Goal tasks
+  // The analytic reward its MPC runs plan with (objective.reward: analytic): one of
+  // planning's AnalyticRewardNames().
+  std::string analytic_reward = "goal-distance";
 };
 
 // Every task, in the paper's order: PointGoal1, PointGoal2, CarGoal1, CarGoal2.

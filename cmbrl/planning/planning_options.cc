@@ -2,6 +2,7 @@
 
 #include <fmt/ranges.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -46,7 +47,16 @@ void ValidatePenalty(double penalty) {
           penalty);
 }
 
+std::vector<std::string> RewardSourceNames() { return {"analytic"}; }
+
+std::vector<std::string> AnalyticRewardNames() { return {kGoalDistanceReward}; }
+
 void ValidateTrajectoryObjectiveOptions(const TrajectoryObjectiveOptions& o, int state_dim) {
+  const std::vector<std::string> sources = RewardSourceNames();
+  Require(std::find(sources.begin(), sources.end(), o.reward) != sources.end(),
+          "reward is '{}': expected one of {} (analytic: the task's own form of the predicted "
+          "states)",
+          o.reward, fmt::join(sources, ", "));
   Require(o.goal_index >= 0 && o.goal_index + 1 < state_dim,
           "goal_index is {}: expected 0 to {} for a state of {} dimensions", o.goal_index,
           state_dim - 2, state_dim);

@@ -43,7 +43,17 @@ struct RandomShootingOptions {
 // Throws cmbrl::Error naming the first bad field.
 void ValidateRandomShootingOptions(const RandomShootingOptions& options);
 
+// Where the objective's reward term comes from (objective.reward): "analytic", the task's own
+// form of its predicted states (env/task_list.h names it; planning/reward_term.h builds it).
+std::vector<std::string> RewardSourceNames();
+
+// The analytic reward forms: "goal-distance" (the Goal tasks', facts B2).
+inline constexpr const char* kGoalDistanceReward = "goal-distance";
+std::vector<std::string> AnalyticRewardNames();
+
 struct TrajectoryObjectiveOptions {
+  std::string reward = "analytic";  // RewardSourceNames()
+  // The goal-distance form's parameters.
   int goal_index = 6;             // state[goal_index], state[goal_index + 1]: goal in ego XY
   double gamma = 0.98;            // discount of the reward cost (and of CEM's constraint cost)
   double beta = 0.4;              // RCE: discount of the constraint count

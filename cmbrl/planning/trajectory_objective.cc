@@ -10,8 +10,14 @@ namespace cmbrl {
 
 TrajectoryObjective::TrajectoryObjective(const DynamicsModel& dynamics, const CostModel& cost,
                                          Propagation propagation,
-                                         TrajectoryObjectiveOptions options)
-    : dynamics_(dynamics), cost_(cost), propagation_(propagation), options_(options) {
+                                         TrajectoryObjectiveOptions options,
+                                         std::unique_ptr<RewardTerm> reward)
+    : dynamics_(dynamics),
+      cost_(cost),
+      propagation_(propagation),
+      options_(options),
+      reward_(std::move(reward)) {
+  Require(reward_ != nullptr, "the planning objective needs a reward term");
   Require(dynamics.state_dim() == cost.state_dim(),
           "the dynamics model predicts {} state dimensions, the cost model reads {}",
           dynamics.state_dim(), cost.state_dim());
@@ -25,12 +31,21 @@ void TrajectoryObjective::SetState(const torch::Tensor& state) {
   state_ = state.to(torch::kFloat);
 }
 
-torch::Tensor TrajectoryObjective::StepCost(const torch::Tensor& states) const {
-  const torch::Tensor goal = states.narrow(-1, options_.goal_index, 2);
-  const torch::Tensor distance = goal.norm(2, -1);
-  const torch::Tensor near = distance - options_.near_goal_bonus * (distance < options_.near_goal_radius);
-  const torch::Tensor tested = options_.at_goal_test_after_near_bonus ? near : distance;
-  return near - options_.at_goal_bonus * (tested < options_.at_goal_radius);
+torch::Tensor TrajectoryObjective::StepCosts(const torch::Tensor& trajectories,
+                                             const torch::Tensor& actions) const {
+  if (!reward_->reads_states_and_actions()) {
+    return reward_->Cost(torch::Tensor(), torch::Tensor(), trajectories);
+  }
+  // The state each step starts from: the planning state, then the step before's prediction.
+  const std::int64_t horizon = trajectories.size(0), rows = trajectories.size(1);
+  const torch::Tensor start = state_.to(trajectories.device())
+                                  .view({1, 1, 1, -1})
+                                  .expand({1, rows, trajectories.size(2), trajectories.size(3)});
+  const torch::Tensor states =
+      torch::cat({start, trajectories.narrow(0, 0, horizon - 1)}, 0);  // (H, E', N, S)
+  const torch::Tensor step_actions =
+      actions.transpose(0, 1).unsqueeze(1).expand({horizon, rows, actions.size(0), actions.size(2)});
+  return reward_->Cost(states, step_actions, trajectories);
 }
 
 ObjectiveValues TrajectoryObjective::Evaluate(const torch::Tensor& actions) {
@@ -67,7 +82,7 @@ ObjectiveValues TrajectoryObjective::Evaluate(const torch::Tensor& actions) {
   // for RCE; one row (H, 1, N) for the mean trajectory.
   const torch::Tensor scored =
       per_member ? last_trajectories_ : last_trajectories_.narrow(1, 0, 1).contiguous();
-  const torch::Tensor step_rewards = StepCost(scored);
+  const torch::Tensor step_rewards = StepCosts(scored, actions);
   const torch::Tensor step_violations = cost_.PredictViolation(scored);
   // sum_t discount^t x_t, added in order of t from zero as a per-step sum would; each discount
   // is rounded to float32 once, as a float tensor times a double scalar is.

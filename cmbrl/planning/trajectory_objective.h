@@ -1,20 +1,25 @@
 // The paper's planning objective (Section IV-B; facts B2): roll the learned dynamics forward
-// under each action sequence, score the goal distance analytically and the constraint with the
-// learned classifier.
+// under each action sequence, score every predicted step with the run's reward term (the Goal
+// tasks' goal distance, analytically) and the constraint with the learned classifier.
 #pragma once
+
+#include <memory>
 
 #include "cmbrl/models/cost_model.h"
 #include "cmbrl/models/dynamics_model.h"
 #include "cmbrl/planning/planner.h"
+#include "cmbrl/planning/reward_term.h"
 
 namespace cmbrl {
 
-// Scores (N, H, A) action sequences from the current state. d_t is the goal distance of the
-// predicted state minus the bonuses. Borrows the models, which must outlive it; not thread-safe.
+// Scores (N, H, A) action sequences from the current state. d_t is the reward term's cost of
+// the predicted step. Borrows the models, which must outlive it, and owns the reward term; not
+// thread-safe.
 class TrajectoryObjective final : public Objective {
  public:
+  // Throws cmbrl::Error for models of different state sizes, bad options or no reward term.
   TrajectoryObjective(const DynamicsModel& dynamics, const CostModel& cost, Propagation propagation,
-                      TrajectoryObjectiveOptions options);
+                      TrajectoryObjectiveOptions options, std::unique_ptr<RewardTerm> reward);
 
   // The state to plan from: (S) float32 on the models' device.
   void SetState(const torch::Tensor& state);
@@ -28,12 +33,14 @@ class TrajectoryObjective final : public Objective {
   const ObjectiveValues& last_values() const { return last_values_; }
 
  private:
-  torch::Tensor StepCost(const torch::Tensor& states) const;  // (..., S) -> (...)
+  // Each step's cost under the reward term: trajectories (H, E', N, S) of `actions` (N, H, A).
+  torch::Tensor StepCosts(const torch::Tensor& trajectories, const torch::Tensor& actions) const;
 
   const DynamicsModel& dynamics_;
   const CostModel& cost_;
   Propagation propagation_;
   TrajectoryObjectiveOptions options_;
+  std::unique_ptr<RewardTerm> reward_;
   torch::Tensor state_;
   torch::Tensor last_trajectories_;  // (H, E, N, S) of the last Evaluate
   ObjectiveValues last_values_;

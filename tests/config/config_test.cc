@@ -36,6 +36,20 @@ TEST(ConfigTest, AnEmptyFileGivesThePapersSettings) {
   EXPECT_TRUE(config.objective.at_goal_test_after_near_bonus);
 }
 
+// objective.reward: the Goal tasks plan with their own analytic form; every task names a form
+// that planning knows, and a source that is not offered is named by its key.
+TEST(ConfigTest, TheRewardTermIsTheTasksAnalyticForm) {
+  EXPECT_EQ(ParseTrainConfig("{}", "empty").objective.reward, "analytic");
+  const std::vector<std::string> forms = AnalyticRewardNames();
+  for (const TaskEntry& task : Tasks()) {
+    EXPECT_NE(std::find(forms.begin(), forms.end(), task.analytic_reward), forms.end())
+        << task.name;
+  }
+  EXPECT_THAT(ErrorMessage([] { ParseTrainConfig("objective: {reward: learned}", "c"); }),
+              ::testing::HasSubstr(
+                  "config 'c': objective.reward is 'learned': expected one of analytic"));
+}
+
 TEST(ConfigTest, EveryYamlFileUnderConfigsLoads) {
   int files = 0;
   for (const auto& entry :

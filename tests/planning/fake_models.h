@@ -5,6 +5,7 @@
 
 #include "cmbrl/models/cost_model.h"
 #include "cmbrl/models/dynamics_model.h"
+#include "cmbrl/planning/reward_term.h"
 
 namespace cmbrl::testing {
 
@@ -49,6 +50,11 @@ class HalfPlaneCost final : public CostModel {
 };
 
 // The robot at the origin with the goal at ego (goal_x, 0).
+// The Goal tasks' analytic reward term with the objective's options.
+inline std::unique_ptr<RewardTerm> GoalTerm(const TrajectoryObjectiveOptions& options = {}) {
+  return MakeAnalyticReward(kGoalDistanceReward, options);
+}
+
 inline torch::Tensor StateWithGoal(float goal_x) {
   torch::Tensor state = torch::zeros({8});
   state[6] = goal_x;

@@ -12,6 +12,7 @@ namespace cmbrl {
 namespace {
 
 using testing::ErrorMessage;
+using testing::GoalTerm;
 using testing::HalfPlaneCost;
 using testing::LinearDynamics;
 using testing::StateWithGoal;
@@ -23,10 +24,63 @@ torch::Tensor Repeat(float x, float y, int horizon) {
 
 constexpr float kTol = 1e-5f;  // float32 arithmetic on values of order 1
 
+// A reward term that reads every argument and records them: the cost of a step is its action's
+// first component.
+class RecordingTerm final : public RewardTerm {
+ public:
+  explicit RecordingTerm(std::vector<torch::Tensor>* seen) : seen_(seen) {}
+  torch::Tensor Cost(const torch::Tensor& states, const torch::Tensor& actions,
+                     const torch::Tensor& next_states) const override {
+    *seen_ = {states, actions, next_states};
+    return actions.select(-1, 0);
+  }
+  bool reads_states_and_actions() const override { return true; }
+
+ private:
+  std::vector<torch::Tensor>* seen_;
+};
+
+// A term that reads states and actions gets, for every step t, the state it starts from (the
+// planning state at t = 0, the prediction of step t - 1 after), its action and its prediction,
+// laid out (H, E', N, ...) as the trajectories are; its costs are summed like the goal's.
+TEST(TrajectoryObjectiveTest, ATermThatReadsStatesAndActionsGetsEachStepsStartActionAndEnd) {
+  LinearDynamics dynamics(2);
+  HalfPlaneCost cost;
+  for (const Propagation propagation : {Propagation::kPerMember, Propagation::kEnsembleMean}) {
+    std::vector<torch::Tensor> seen;
+    TrajectoryObjective objective(dynamics, cost, propagation, {},
+                                  std::make_unique<RecordingTerm>(&seen));
+    const torch::Tensor start = StateWithGoal(1.0f);
+    objective.SetState(start);
+    const int horizon = 3, samples = 4;
+    const torch::Tensor actions =
+        torch::linspace(-0.9, 0.9, samples * horizon * 2).view({samples, horizon, 2});
+    const ObjectiveValues values = objective.Evaluate(actions);
+    ASSERT_EQ(seen.size(), 3u);
+    const torch::Tensor& states = seen[0];
+    const torch::Tensor& step_actions = seen[1];
+    const torch::Tensor& next_states = seen[2];
+    const std::int64_t rows = propagation == Propagation::kPerMember ? 2 : 1;
+    EXPECT_EQ(states.sizes(), next_states.sizes());
+    EXPECT_EQ(states.sizes(), (torch::IntArrayRef{horizon, rows, samples, start.size(0)}));
+    EXPECT_TRUE(torch::equal(states[0][0][0], start));
+    EXPECT_TRUE(
+        torch::equal(states.narrow(0, 1, horizon - 1), next_states.narrow(0, 0, horizon - 1)));
+    for (int t = 0; t < horizon; ++t) {
+      EXPECT_TRUE(torch::equal(step_actions[t][0], actions.select(1, t))) << t;
+    }
+    // The reward cost is the discounted sum of the first action components (gamma 0.98).
+    const torch::Tensor expected =
+        actions.select(2, 0).select(1, 0) + 0.98f * actions.select(2, 0).select(1, 1) +
+        static_cast<float>(0.98 * 0.98) * actions.select(2, 0).select(1, 2);
+    EXPECT_TRUE(torch::allclose(values.reward_cost, expected, kTol, kTol));
+  }
+}
+
 TEST(TrajectoryObjectiveTest, PerMemberRolloutsAverageRewardAndTakeTheWorstConstraint) {
   LinearDynamics dynamics(2);
   HalfPlaneCost cost;
-  TrajectoryObjective objective(dynamics, cost, Propagation::kPerMember, {});
+  TrajectoryObjective objective(dynamics, cost, Propagation::kPerMember, {}, GoalTerm());
   objective.SetState(StateWithGoal(1.2f));
   // Two steps of (1, 0). Member 0 (gain 1): goal x 0.9, 0.6; robot x 0.3, 0.6 (unsafe at t 1).
   // Member 1 (gain 1.5): goal x 0.75, 0.3; robot x 0.45, 0.9 (unsafe at t 1).
@@ -39,8 +93,8 @@ TEST(TrajectoryObjectiveTest, PerMemberRolloutsAverageRewardAndTakeTheWorstConst
 TEST(TrajectoryObjectiveTest, TheWorstMemberMakesASampleInfeasibleWhereTheMeanDoesNot) {
   LinearDynamics dynamics(2);
   HalfPlaneCost cost;
-  TrajectoryObjective robust(dynamics, cost, Propagation::kPerMember, {});
-  TrajectoryObjective mean(dynamics, cost, Propagation::kEnsembleMean, {});
+  TrajectoryObjective robust(dynamics, cost, Propagation::kPerMember, {}, GoalTerm());
+  TrajectoryObjective mean(dynamics, cost, Propagation::kEnsembleMean, {}, GoalTerm());
   robust.SetState(StateWithGoal(1.2f));
   mean.SetState(StateWithGoal(1.2f));
   // Two steps of (0.6, 0): member 0 reaches x 0.36 (safe), member 1 x 0.54 (unsafe); their mean
@@ -52,7 +106,7 @@ TEST(TrajectoryObjectiveTest, TheWorstMemberMakesASampleInfeasibleWhereTheMeanDo
 TEST(TrajectoryObjectiveTest, MeanPropagationDiscountsTheConstraintWithGamma) {
   LinearDynamics dynamics(2);
   HalfPlaneCost cost;
-  TrajectoryObjective objective(dynamics, cost, Propagation::kEnsembleMean, {});
+  TrajectoryObjective objective(dynamics, cost, Propagation::kEnsembleMean, {}, GoalTerm());
   objective.SetState(StateWithGoal(1.2f));
   // Mean gain 1.25: robot x 0.375, 0.75 (unsafe at t 1); goal x 0.825, 0.45.
   const ObjectiveValues v = objective.Evaluate(Repeat(1, 0, 2));
@@ -66,7 +120,7 @@ TEST(TrajectoryObjectiveTest, MeanPropagationDiscountsTheConstraintWithGamma) {
 TEST(TrajectoryObjectiveTest, GoalBonusesApplyNearTheGoal) {
   LinearDynamics dynamics(2);
   HalfPlaneCost cost;
-  TrajectoryObjective objective(dynamics, cost, Propagation::kPerMember, {});
+  TrajectoryObjective objective(dynamics, cost, Propagation::kPerMember, {}, GoalTerm());
   objective.SetState(StateWithGoal(0.3f));
   // One step of (1, 0): member 0 lands on the goal (d 0), member 1 overshoots to d 0.15. As the
   // original's code ran, the at-goal test sees 0.15 - 5 < 0.1: both get -13.
@@ -75,7 +129,8 @@ TEST(TrajectoryObjectiveTest, GoalBonusesApplyNearTheGoal) {
   // The written rule: -13 only below 0.1, -5 between 0.1 and 0.2.
   TrajectoryObjectiveOptions written;
   written.at_goal_test_after_near_bonus = false;
-  TrajectoryObjective as_written(dynamics, cost, Propagation::kPerMember, written);
+  TrajectoryObjective as_written(dynamics, cost, Propagation::kPerMember, written,
+                                 GoalTerm(written));
   as_written.SetState(StateWithGoal(0.3f));
   EXPECT_NEAR(as_written.Evaluate(Repeat(1, 0, 1)).reward_cost.item<float>(),
               ((0.0 - 13.0) + (0.15 - 5.0)) / 2, kTol);
@@ -84,7 +139,7 @@ TEST(TrajectoryObjectiveTest, GoalBonusesApplyNearTheGoal) {
 TEST(TrajectoryObjectiveTest, ScoresManySamplesAtOnce) {
   LinearDynamics dynamics(3);
   HalfPlaneCost cost;
-  TrajectoryObjective objective(dynamics, cost, Propagation::kPerMember, {});
+  TrajectoryObjective objective(dynamics, cost, Propagation::kPerMember, {}, GoalTerm());
   objective.SetState(StateWithGoal(2.0f));
   const torch::Tensor actions = torch::rand({50, 4, 2}) * 2 - 1;
   const ObjectiveValues all = objective.Evaluate(actions);
@@ -143,7 +198,7 @@ TEST(TrajectoryObjectiveTest, AllStepsAtOnceGiveTheStepByStepScoresBitForBit) {
       options.near_goal_radius = 1.0;
       options.at_goal_radius = 0.6;
       options.at_goal_test_after_near_bonus = after_near_bonus;
-      TrajectoryObjective objective(dynamics, cost, propagation, options);
+      TrajectoryObjective objective(dynamics, cost, propagation, options, GoalTerm(options));
       objective.SetState(state);
       const ObjectiveValues all = objective.Evaluate(actions);
       const ObjectiveValues expected = StepByStepScores(
@@ -167,10 +222,12 @@ TEST(TrajectoryObjectiveTest, BadSettingsAndInputsAreNamed) {
   HalfPlaneCost cost;
   TrajectoryObjectiveOptions options;
   options.goal_index = 7;
-  EXPECT_EQ(
-      ErrorMessage([&] { TrajectoryObjective(dynamics, cost, Propagation::kPerMember, options); }),
-      "goal_index is 7: expected 0 to 6 for a state of 8 dimensions");
-  TrajectoryObjective objective(dynamics, cost, Propagation::kPerMember, {});
+  EXPECT_EQ(ErrorMessage([&] {
+              TrajectoryObjective(dynamics, cost, Propagation::kPerMember, options,
+                                  GoalTerm(options));
+            }),
+            "goal_index is 7: expected 0 to 6 for a state of 8 dimensions");
+  TrajectoryObjective objective(dynamics, cost, Propagation::kPerMember, {}, GoalTerm());
   EXPECT_THAT(ErrorMessage([&] { objective.Evaluate(Repeat(1, 0, 2)); }),
               ::testing::HasSubstr("before SetState"));
   EXPECT_THAT(ErrorMessage([&] { objective.SetState(torch::zeros({5})); }),

@@ -10,6 +10,11 @@ MpcPartSeeds RunSeeds(std::uint64_t seed) {
           DeriveSeed(seed, kPlannerSeedStream)};
 }
 
+std::unique_ptr<RewardTerm> RewardTermFor(const TrainConfig& config) {
+  // objective.reward is "analytic", the one source RewardSourceNames() offers (validated).
+  return MakeAnalyticReward(FindTask(config.task).analytic_reward, config.objective);
+}
+
 PlannerSettings PlannerSettingsFor(const TrainConfig& config, int action_dim) {
   PlannerSettings settings = config.planning;
   settings.problem.action_dim = action_dim;
@@ -27,7 +32,8 @@ MpcParts AssembleMpc(const TrainConfig& config, const MpcPartSeeds& seeds) {
       std::make_unique<XgbCostModel>(state_dim, config.classifier, seeds.classifier);
   parts.agent = std::make_unique<MpcAgent>(*parts.ensemble, *parts.classifier, config.planner,
                                            PlannerSettingsFor(config, action_dim),
-                                           config.objective, seeds.planner);
+                                           config.objective, RewardTermFor(config),
+                                           seeds.planner);
   return parts;
 }
 

@@ -38,6 +38,10 @@ MpcPartSeeds RunSeeds(std::uint64_t seed);
 // the components refuse.
 MpcParts AssembleMpc(const TrainConfig& config, const MpcPartSeeds& seeds);
 
+// The planning objective's reward term of `config` (objective.reward): for "analytic", its task's
+// own form (env/task_list.h) with the objective's options.
+std::unique_ptr<RewardTerm> RewardTermFor(const TrainConfig& config);
+
 // The planner settings of `config` for an environment with `action_dim` actions.
 PlannerSettings PlannerSettingsFor(const TrainConfig& config, int action_dim);
 

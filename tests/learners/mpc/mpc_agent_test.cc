@@ -12,6 +12,7 @@ namespace cmbrl {
 namespace {
 
 using testing::ErrorMessage;
+using testing::GoalTerm;
 using testing::HalfPlaneCost;
 using testing::LinearDynamics;
 
@@ -26,7 +27,7 @@ TEST(MpcAgentTest, EveryPlannerHeadsForAGoalInTheSafeHalf) {
   LinearDynamics dynamics(2);
   HalfPlaneCost cost;
   for (const std::string& planner : PlannerNames()) {
-    MpcAgent agent(dynamics, cost, planner, PlannerSettings{}, {}, 1);
+    MpcAgent agent(dynamics, cost, planner, PlannerSettings{}, {}, GoalTerm(), 1);
     agent.BeginEpisode();
     // Goal 1.5 m to the left (+y), nowhere near the unsafe half-plane x > 0.5.
     const std::vector<double> action = agent.Act(Observation(0.0, 1.5));
@@ -43,7 +44,7 @@ TEST(MpcAgentTest, EveryPlannerHeadsForAGoalInTheSafeHalf) {
 TEST(MpcAgentTest, RceKeepsEveryMembersPredictionOutOfTheUnsafeHalf) {
   LinearDynamics dynamics(2);
   HalfPlaneCost cost;
-  MpcAgent agent(dynamics, cost, "rce", PlannerSettings{}, {}, 2);
+  MpcAgent agent(dynamics, cost, "rce", PlannerSettings{}, {}, GoalTerm(), 2);
   // Goal straight ahead beyond the boundary x = 0.5: the robot may approach but no member's
   // trajectory of the final plan may cross.
   agent.Act(Observation(2.0, 0.0));
@@ -73,7 +74,7 @@ TEST(MpcAgentTest, NanPredictionsAreReportedNotExecuted) {
   HalfPlaneCost cost;
   // The elite mean of finite samples would still be a finite action: the scores are checked.
   for (const std::string& planner : PlannerNames()) {
-    MpcAgent agent(dynamics, cost, planner, PlannerSettings{}, {}, 3);
+    MpcAgent agent(dynamics, cost, planner, PlannerSettings{}, {}, GoalTerm(), 3);
     EXPECT_THAT(ErrorMessage([&] { agent.Act(Observation(1.0, 0.0)); }),
                 ::testing::HasSubstr("predicted NaN or infinity while planning"))
         << planner;
@@ -83,7 +84,7 @@ TEST(MpcAgentTest, NanPredictionsAreReportedNotExecuted) {
 TEST(MpcAgentTest, BadObservationsAreNamed) {
   LinearDynamics dynamics(2);
   HalfPlaneCost cost;
-  MpcAgent agent(dynamics, cost, "random", PlannerSettings{}, {}, 4);
+  MpcAgent agent(dynamics, cost, "random", PlannerSettings{}, {}, GoalTerm(), 4);
   EXPECT_EQ(ErrorMessage([&] { agent.Act(std::vector<double>(5, 0.0)); }),
             "observation has 5 entries, the dynamics model expects 8");
   std::vector<double> bad = Observation(1.0, 0.0);
@@ -95,8 +96,8 @@ TEST(MpcAgentTest, BadObservationsAreNamed) {
 TEST(MpcAgentTest, SameSeedSameActions) {
   LinearDynamics dynamics(2);
   HalfPlaneCost cost;
-  MpcAgent a(dynamics, cost, "rce", PlannerSettings{}, {}, 5);
-  MpcAgent b(dynamics, cost, "rce", PlannerSettings{}, {}, 5);
+  MpcAgent a(dynamics, cost, "rce", PlannerSettings{}, {}, GoalTerm(), 5);
+  MpcAgent b(dynamics, cost, "rce", PlannerSettings{}, {}, GoalTerm(), 5);
   for (int step = 0; step < 3; ++step) {
     EXPECT_EQ(a.Act(Observation(1.0, 0.5)), b.Act(Observation(1.0, 0.5)));
   }

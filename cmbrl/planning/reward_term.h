@@ -1,0 +1,46 @@
+// The reward term of the planning objective (paper Section IV-B: d_t of every predicted step), as
+// a cost to minimise. Which one a run plans with is its config's objective.reward; an analytic
+// term is its task's own form (env/task_list.h names it, AnalyticRewardNames() lists the forms).
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "cmbrl/models/tensor_fwd.h"
+#include "cmbrl/planning/planning_options.h"
+
+namespace cmbrl {
+
+// Batched over any leading shape. Implementations are immutable once built: thread-safe.
+class RewardTerm {
+ public:
+  virtual ~RewardTerm() = default;
+  // The cost of each predicted step from `states` (..., S) under `actions` (..., A) to
+  // `next_states` (..., S): (...). The objective passes undefined states and actions to a term
+  // that does not read them (reads_states_and_actions() false).
+  virtual torch::Tensor Cost(const torch::Tensor& states, const torch::Tensor& actions,
+                             const torch::Tensor& next_states) const = 0;
+  // Whether Cost reads `states` and `actions` (the objective then stacks them for it).
+  virtual bool reads_states_and_actions() const = 0;
+};
+
+// The Goal tasks' analytic term ("goal-distance", facts B2): the distance of the goal in the
+// predicted state's ego frame (next_states[goal_index], next_states[goal_index + 1]) minus the
+// near- and at-goal bonuses of `options`.
+class GoalDistanceTerm final : public RewardTerm {
+ public:
+  explicit GoalDistanceTerm(TrajectoryObjectiveOptions options);
+  torch::Tensor Cost(const torch::Tensor& states, const torch::Tensor& actions,
+                     const torch::Tensor& next_states) const override;
+  bool reads_states_and_actions() const override { return false; }
+
+ private:
+  TrajectoryObjectiveOptions options_;
+};
+
+// The analytic term called `form` (one of AnalyticRewardNames()) with the objective's options.
+// Throws cmbrl::Error naming an unknown form and the known ones.
+std::unique_ptr<RewardTerm> MakeAnalyticReward(const std::string& form,
+                                               const TrajectoryObjectiveOptions& options);
+
+}  // namespace cmbrl
