@@ -407,6 +407,28 @@ TrainConfig LoadTrainConfig(const std::vector<std::string>& paths) {
   return ParseTrainConfig(out.c_str(), fmt::format("{}", fmt::join(paths, "' + '")));
 }
 
+namespace {
+
+// The objective a run that plans reads: the ego-state the goal distance reads, the objective's
+// options and the task's analytic reward form.
+void ValidatePlanningObjective(const TrainConfig& c, const GoalTaskSpec& spec,
+                               const std::string& source) {
+  // The planning objective reads the goal from the paper's ego-state vector.
+  Require(spec.observation == ObservationKind::kEgoState,
+          "config '{}': key 'variant' is '{}': training plans on the paper variant's ego-state "
+          "vector (the standard variant observes lidar)",
+          source, VariantName(c.variant));
+  InSection(source, "objective",
+            [&] { ValidateTrajectoryObjectiveOptions(c.objective, ObservationSize(spec)); });
+  const std::vector<std::string> forms = AnalyticRewardNames();
+  const std::string& form = FindTask(c.task).analytic_reward;
+  Require(std::find(forms.begin(), forms.end(), form) != forms.end(),
+          "config '{}': task '{}' names the analytic reward '{}': expected one of {}", source,
+          c.task, form, fmt::join(forms, ", "));
+}
+
+}  // namespace
+
 void ValidateTrainConfig(const TrainConfig& c, const std::string& source) {
   AtKey(source, "task", [&] { GoalTaskSpecByName(c.task, c.variant); });
   const std::vector<std::string>& algorithms = AlgorithmNames();
@@ -454,20 +476,7 @@ void ValidateTrainConfig(const TrainConfig& c, const std::string& source) {
             "machine's {:.1f} GiB: lower the sizes named",
             source, memory.total() / kGiB, memory.Describe(), available / kGiB);
   };
-  if (FamilyOf(c.algorithm).Reads("objective")) {
-    // The planning objective reads the goal from the paper's ego-state vector.
-    Require(spec.observation == ObservationKind::kEgoState,
-            "config '{}': key 'variant' is '{}': training plans on the paper variant's ego-state "
-            "vector (the standard variant observes lidar)",
-            source, VariantName(c.variant));
-    InSection(source, "objective",
-              [&] { ValidateTrajectoryObjectiveOptions(c.objective, ObservationSize(spec)); });
-    const std::vector<std::string> forms = AnalyticRewardNames();
-    const std::string& form = FindTask(c.task).analytic_reward;
-    Require(std::find(forms.begin(), forms.end(), form) != forms.end(),
-            "config '{}': task '{}' names the analytic reward '{}': expected one of {}", source,
-            c.task, form, fmt::join(forms, ", "));
-  }
+  if (FamilyOf(c.algorithm).Reads("objective")) ValidatePlanningObjective(c, spec, source);
   check_memory(EstimateRunMemory(c, ObservationSize(spec), 2));
 }
 

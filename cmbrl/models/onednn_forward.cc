@@ -118,6 +118,50 @@ struct OnednnEnsembleForward::Impl {
   mutable std::map<std::int64_t, std::shared_ptr<const Plan>> plans;
 
   std::shared_ptr<const Plan> PlanFor(std::int64_t rows, bool bf16) const;
+
+  // Writes `count` normalised [state, action] rows (the states `s`, the actions `a`) to `out`,
+  // each value through `convert` into the first product's type (float, or bfloat16's bits).
+  template <typename T, typename Convert>
+  void NormalizedInputs(T* out, const float* s, const float* a, std::int64_t count,
+                        Convert convert) const {
+    const float* mean = input_mean.data();
+    const float* std = input_std.data();
+    const std::int64_t width = state_dim + action_dim;
+    for (std::int64_t r = 0; r < count; ++r) {
+      T* row = out + r * width;
+      const float* state = s + r * state_dim;
+      const float* action = a + r * action_dim;
+      for (std::int64_t j = 0; j < state_dim; ++j) {
+        row[j] = convert((state[j] - mean[j]) / std[j]);
+      }
+      for (std::int64_t j = 0; j < action_dim; ++j) {
+        row[state_dim + j] = convert((action[j] - mean[state_dim + j]) / std[state_dim + j]);
+      }
+    }
+  }
+
+  // Member m's products of `plan` over the rows in `ping`, alternating with `pong`, the last
+  // one written to `destination`.
+  void RunLayers(const Plan& plan, std::int64_t m, std::uint8_t* ping, std::uint8_t* pong,
+                 float* destination, const memory& scratch, dnnl::stream& stream) const {
+    std::uint8_t* source = ping;
+    std::uint8_t* spare = pong;
+    for (std::size_t l = 0; l < layers.size(); ++l) {
+      const bool last = l + 1 == layers.size();
+      void* out = last ? static_cast<void*>(destination) : spare;
+      const memory src(plan.sources[l], engine, source);
+      const memory dst(plan.destinations[l], engine, out);
+      const Layer& layer = layers[l];
+      const memory bias(plan.biases[l], engine, layer.bias.data_ptr<float>() + m * layer.out);
+      plan.primitives[l].execute(stream, {{DNNL_ARG_SRC, src},
+                                          {DNNL_ARG_WEIGHTS, plan.weights[l][m]},
+                                          {DNNL_ARG_BIAS, bias},
+                                          {DNNL_ARG_DST, dst},
+                                          {DNNL_ARG_SCRATCHPAD, scratch}});
+      std::swap(source, spare);
+    }
+    stream.wait();
+  }
 };
 
 std::shared_ptr<const OnednnEnsembleForward::Impl::Plan> OnednnEnsembleForward::Impl::PlanFor(
@@ -250,8 +294,6 @@ torch::Tensor OnednnEnsembleForward::Predict(const torch::Tensor& states_in,
   const int workers = multiply_adds >= kParallelMultiplyAdds
                           ? static_cast<int>(std::min<std::int64_t>(CoreCount(), tasks))
                           : 1;
-  const float* mean = impl.input_mean.data();
-  const float* std = impl.input_std.data();
   const float* all_states = states.data_ptr<float>();
   const float* all_actions = actions.data_ptr<float>();
   float* all_next = next.data_ptr<float>();
@@ -277,45 +319,16 @@ torch::Tensor OnednnEnsembleForward::Predict(const torch::Tensor& states_in,
       const std::int64_t first_row = b * block;
       const std::int64_t count = std::min(block, rows - first_row);
       const Impl::Plan& plan = count == block ? *full_plan : *tail_plan;
-      // Normalised [state, action] rows, in the first product's type.
       const std::int64_t offset = m * rows + first_row;
       const float* s = all_states + offset * s_dim;
       const float* a = all_actions + offset * a_dim;
       if (bf16_) {
-        auto* out = reinterpret_cast<std::uint16_t*>(ping);
-        for (std::int64_t r = 0; r < count; ++r, out += width, s += s_dim, a += a_dim) {
-          for (std::int64_t j = 0; j < s_dim; ++j) out[j] = ToBf16((s[j] - mean[j]) / std[j]);
-          for (std::int64_t j = 0; j < a_dim; ++j) {
-            out[s_dim + j] = ToBf16((a[j] - mean[s_dim + j]) / std[s_dim + j]);
-          }
-        }
+        impl.NormalizedInputs(reinterpret_cast<std::uint16_t*>(ping), s, a, count, ToBf16);
       } else {
-        auto* out = reinterpret_cast<float*>(ping);
-        for (std::int64_t r = 0; r < count; ++r, out += width, s += s_dim, a += a_dim) {
-          for (std::int64_t j = 0; j < s_dim; ++j) out[j] = (s[j] - mean[j]) / std[j];
-          for (std::int64_t j = 0; j < a_dim; ++j) {
-            out[s_dim + j] = (a[j] - mean[s_dim + j]) / std[s_dim + j];
-          }
-        }
+        impl.NormalizedInputs(reinterpret_cast<float*>(ping), s, a, count,
+                              [](float value) { return value; });
       }
-      std::uint8_t* source = ping;
-      std::uint8_t* spare = pong;
-      for (std::size_t l = 0; l < impl.layers.size(); ++l) {
-        const bool last = l + 1 == impl.layers.size();
-        void* destination = last ? static_cast<void*>(all_next + offset * s_dim) : spare;
-        const memory src(plan.sources[l], impl.engine, source);
-        const memory dst(plan.destinations[l], impl.engine, destination);
-        const Impl::Layer& layer = impl.layers[l];
-        const memory bias(plan.biases[l], impl.engine,
-                          layer.bias.data_ptr<float>() + m * layer.out);
-        plan.primitives[l].execute(stream, {{DNNL_ARG_SRC, src},
-                                            {DNNL_ARG_WEIGHTS, plan.weights[l][m]},
-                                            {DNNL_ARG_BIAS, bias},
-                                            {DNNL_ARG_DST, dst},
-                                            {DNNL_ARG_SCRATCHPAD, scratch}});
-        std::swap(source, spare);
-      }
-      stream.wait();
+      impl.RunLayers(plan, m, ping, pong, all_next + offset * s_dim, scratch, stream);
     }
   });
   return next;

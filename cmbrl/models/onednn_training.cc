@@ -48,6 +48,23 @@ void MaskByRelu(const float* __restrict output, std::int64_t count, float* __res
   for (std::int64_t i = 0; i < count; ++i) grad[i] = output[i] > 0.0f ? grad[i] : 0.0f;
 }
 
+// The mean squared error of `rows` predictions (rows, out_dim) against the targets of the
+// picked rows, and its gradient times `scale` written to `grad` (rows, out_dim).
+double SquaredErrorGradient(const float* prediction, const float* all_targets,
+                            const std::int64_t* picks, std::int64_t rows, std::int64_t out_dim,
+                            float scale, float* grad) {
+  double squares = 0.0;
+  for (std::int64_t r = 0; r < rows; ++r) {
+    const float* target = all_targets + picks[r] * out_dim;
+    for (std::int64_t j = 0; j < out_dim; ++j) {
+      const float error = prediction[r * out_dim + j] - target[j];
+      squares += static_cast<double>(error) * error;
+      grad[r * out_dim + j] = scale * error;
+    }
+  }
+  return squares / static_cast<double>(rows * out_dim);
+}
+
 }  // namespace
 
 struct OnednnEnsembleTraining::Impl {
@@ -67,6 +84,64 @@ struct OnednnEnsembleTraining::Impl {
 
   std::size_t layers() const { return sizes.size() - 1; }
   const Plan& PlanFor(std::int64_t rows);
+
+  memory Wrap(std::int64_t rows, std::int64_t columns, const void* data, Tag tag = Tag::ab) const {
+    return memory(Matrix(rows, columns, tag), engine, const_cast<void*>(data));
+  }
+
+  // Member m's forward pass over the `rows` gathered inputs at the start of `hidden`, each
+  // layer's output written after its input; returns every layer's input, then the prediction.
+  std::vector<float*> Forward(const Plan& plan, std::int64_t m, std::int64_t rows,
+                              const std::vector<torch::Tensor>& weights,
+                              const std::vector<torch::Tensor>& biases, float* hidden,
+                              const memory& scratch, dnnl::stream& stream) const {
+    std::vector<float*> inputs = {hidden};
+    for (std::size_t l = 0; l < layers(); ++l) {
+      const std::int64_t in = sizes[l], out = sizes[l + 1];
+      float* output = inputs.back() + rows * in;
+      plan.forward[l].execute(
+          stream, {{DNNL_ARG_SRC, Wrap(rows, in, inputs.back())},
+                   {DNNL_ARG_WEIGHTS, Wrap(in, out, weights[l].data_ptr<float>() + m * in * out)},
+                   {DNNL_ARG_BIAS, Wrap(1, out, biases[l].data_ptr<float>() + m * out)},
+                   {DNNL_ARG_DST, Wrap(rows, out, output)},
+                   {DNNL_ARG_SCRATCHPAD, scratch}});
+      inputs.push_back(output);
+    }
+    stream.wait();
+    return inputs;
+  }
+
+  // Member m's backward pass from `grad`, the loss's gradient at the top (rows, out), through
+  // every layer (`layer_inputs` from Forward): its weight and bias gradients written to
+  // weight_grads and bias_grads; `spare` (as large as grad) holds the gradient below a layer.
+  void Backward(const Plan& plan, std::int64_t m, std::int64_t rows,
+                const std::vector<torch::Tensor>& weights, const std::vector<float*>& layer_inputs,
+                float* grad, float* spare, const memory& scratch, dnnl::stream& stream) {
+    // grad holds the gradient of the layer's output (before its ReLU).
+    for (std::size_t l = layers(); l-- > 0;) {
+      const std::int64_t in = sizes[l], out = sizes[l + 1];
+      float* bias_grad = bias_grads[l].data_ptr<float>() + m * out;
+      SumRows(grad, rows, out, bias_grad);
+      plan.weight_grads[l].execute(
+          stream,
+          {{DNNL_ARG_SRC, Wrap(in, rows, layer_inputs[l], Tag::ba)},
+           {DNNL_ARG_WEIGHTS, Wrap(rows, out, grad)},
+           {DNNL_ARG_DST, Wrap(in, out, weight_grads[l].data_ptr<float>() + m * in * out)},
+           {DNNL_ARG_SCRATCHPAD, scratch}});
+      if (l == 0) break;
+      plan.input_grads[l].execute(
+          stream, {{DNNL_ARG_SRC, Wrap(rows, out, grad)},
+                   {DNNL_ARG_WEIGHTS,
+                    Wrap(out, in, weights[l].data_ptr<float>() + m * in * out, Tag::ba)},
+                   {DNNL_ARG_DST, Wrap(rows, in, spare)},
+                   {DNNL_ARG_SCRATCHPAD, scratch}});
+      stream.wait();
+      // Through the ReLU below: zero where its output was zero.
+      MaskByRelu(layer_inputs[l], rows * in, spare);
+      std::swap(grad, spare);
+    }
+    stream.wait();
+  }
 };
 
 const OnednnEnsembleTraining::Impl::Plan& OnednnEnsembleTraining::Impl::PlanFor(std::int64_t rows) {
@@ -168,70 +243,21 @@ double OnednnEnsembleTraining::Gradients(std::vector<torch::Tensor>& weights,
     const memory scratch(
         {{static_cast<memory::dim>(scratch_bytes.size())}, memory::data_type::u8, Tag::a},
         impl.engine, scratch_bytes.data());
-    const auto wrap = [&](std::int64_t r, std::int64_t c, const void* data, Tag tag = Tag::ab) {
-      return memory(Matrix(r, c, tag), impl.engine, const_cast<void*>(data));
-    };
     for (std::int64_t m = first; m < end; ++m) {
       // The member's rows, gathered.
-      float* layer_input = hidden.data();
       const std::int64_t* picks = all_rows + m * rows;
       for (std::int64_t r = 0; r < rows; ++r) {
         Require(picks[r] >= 0 && picks[r] < n, "oneDNN training: row {} of {}", picks[r], n);
-        std::copy_n(all_inputs + picks[r] * in_dim, in_dim, layer_input + r * in_dim);
+        std::copy_n(all_inputs + picks[r] * in_dim, in_dim, hidden.data() + r * in_dim);
       }
-      // Forward, keeping every layer's input.
-      std::vector<float*> layer_inputs;
-      for (std::size_t l = 0; l < layers; ++l) {
-        const std::int64_t in = impl.sizes[l], out = impl.sizes[l + 1];
-        float* output = layer_input + rows * in;
-        layer_inputs.push_back(layer_input);
-        plan.forward[l].execute(
-            stream, {{DNNL_ARG_SRC, wrap(rows, in, layer_input)},
-                     {DNNL_ARG_WEIGHTS, wrap(in, out, weights[l].data_ptr<float>() + m * in * out)},
-                     {DNNL_ARG_BIAS, wrap(1, out, biases[l].data_ptr<float>() + m * out)},
-                     {DNNL_ARG_DST, wrap(rows, out, output)},
-                     {DNNL_ARG_SCRATCHPAD, scratch}});
-        layer_input = output;
-      }
-      stream.wait();
-      // The loss and its gradient at the top.
-      const float* prediction = layer_input;
-      float* grad = grad_a.data();
-      double squares = 0.0;
-      for (std::int64_t r = 0; r < rows; ++r) {
-        const float* target = all_targets + picks[r] * out_dim;
-        for (std::int64_t j = 0; j < out_dim; ++j) {
-          const float error = prediction[r * out_dim + j] - target[j];
-          squares += static_cast<double>(error) * error;
-          grad[r * out_dim + j] = scale * error;
-        }
-      }
-      member_loss[static_cast<std::size_t>(m)] = squares / static_cast<double>(rows * out_dim);
-      // Backward: grad holds the gradient of the layer's output (before its ReLU).
-      float* spare = grad_b.data();
-      for (std::size_t l = layers; l-- > 0;) {
-        const std::int64_t in = impl.sizes[l], out = impl.sizes[l + 1];
-        float* bias_grad = impl.bias_grads[l].data_ptr<float>() + m * out;
-        SumRows(grad, rows, out, bias_grad);
-        plan.weight_grads[l].execute(
-            stream,
-            {{DNNL_ARG_SRC, wrap(in, rows, layer_inputs[l], Tag::ba)},
-             {DNNL_ARG_WEIGHTS, wrap(rows, out, grad)},
-             {DNNL_ARG_DST, wrap(in, out, impl.weight_grads[l].data_ptr<float>() + m * in * out)},
-             {DNNL_ARG_SCRATCHPAD, scratch}});
-        if (l == 0) break;
-        plan.input_grads[l].execute(
-            stream, {{DNNL_ARG_SRC, wrap(rows, out, grad)},
-                     {DNNL_ARG_WEIGHTS,
-                      wrap(out, in, weights[l].data_ptr<float>() + m * in * out, Tag::ba)},
-                     {DNNL_ARG_DST, wrap(rows, in, spare)},
-                     {DNNL_ARG_SCRATCHPAD, scratch}});
-        stream.wait();
-        // Through the ReLU below: zero where its output was zero.
-        MaskByRelu(layer_inputs[l], rows * in, spare);
-        std::swap(grad, spare);
-      }
-      stream.wait();
+      std::vector<float*> layer_inputs =
+          impl.Forward(plan, m, rows, weights, biases, hidden.data(), scratch, stream);
+      const float* prediction = layer_inputs.back();
+      layer_inputs.pop_back();
+      member_loss[static_cast<std::size_t>(m)] = SquaredErrorGradient(
+          prediction, all_targets, picks, rows, out_dim, scale, grad_a.data());
+      impl.Backward(plan, m, rows, weights, layer_inputs, grad_a.data(), grad_b.data(), scratch,
+                    stream);
     }
   });
   const torch::NoGradGuard no_grad;

@@ -43,8 +43,8 @@ torch::Tensor TrajectoryObjective::StepCosts(const torch::Tensor& trajectories,
                                   .expand({1, rows, trajectories.size(2), trajectories.size(3)});
   const torch::Tensor states =
       torch::cat({start, trajectories.narrow(0, 0, horizon - 1)}, 0);  // (H, E', N, S)
-  const torch::Tensor step_actions =
-      actions.transpose(0, 1).unsqueeze(1).expand({horizon, rows, actions.size(0), actions.size(2)});
+  const torch::Tensor step_actions = actions.transpose(0, 1).unsqueeze(1).expand(
+      {horizon, rows, actions.size(0), actions.size(2)});  // (H, E', N, A)
   return reward_->Cost(states, step_actions, trajectories);
 }
 

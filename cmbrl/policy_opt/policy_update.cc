@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 
 #include "cmbrl/core/check.h"
 #include "cmbrl/policy_opt/trust_region.h"
@@ -29,11 +30,9 @@ Surrogates Evaluate(const GaussianPolicy& policy, const PolicyBatch& batch,
   return {-objective, surrogate_cost};
 }
 
-}  // namespace
+using FisherProduct = std::function<torch::Tensor(const torch::Tensor&)>;
 
-PolicyUpdateReport TrustRegionUpdate(GaussianPolicy& policy, const PolicyBatch& batch,
-                                     ConstraintHandling handling, double penalty,
-                                     const TrustRegionOptions& o) {
+void CheckTrustRegionInputs(const PolicyBatch& batch, const TrustRegionOptions& o) {
   const std::int64_t n = batch.observations.size(0);
   Require(batch.actions.size(0) == n && batch.advantages.numel() == n &&
               batch.cost_advantages.numel() == n && batch.log_probs.numel() == n,
@@ -46,49 +45,39 @@ PolicyUpdateReport TrustRegionUpdate(GaussianPolicy& policy, const PolicyBatch& 
           "trust region options: target_kl {}, damping {}, backtrack {} x {}: expected a "
           "positive target, non-negative damping, a coefficient in (0, 1) and at least one step",
           o.target_kl, o.damping, o.backtrack_coefficient, o.backtrack_iterations);
-  const std::vector<torch::Tensor> parameters = policy.parameters();
-  torch::Tensor old_mean, old_log_std;
-  {
-    const torch::NoGradGuard no_grad;
-    old_mean = policy.Mean(batch.observations);
-    old_log_std = policy.log_std().clone();
-  }
-  const Surrogates before = Evaluate(policy, batch, handling, penalty);
-  const torch::Tensor g = FlatGradient(before.loss, parameters).to(torch::kDouble);
-  // The Fisher-vector product: the Hessian of the KL at the old policy, damped.
-  const auto kl_hessian = policy.KlHessianProduct(batch.observations);
-  const auto fisher = [&](const torch::Tensor& v) {
-    return kl_hessian(v.to(torch::kFloat)).to(torch::kDouble) + o.damping * v;
-  };
+}
 
-  PolicyUpdateReport report;
-  report.loss_before = before.loss.item<double>();
-  report.surrogate_cost_before = before.cost.item<double>();
-  const torch::Tensor v = ConjugateGradient(fisher, g, o.cg_iterations);
-  torch::Tensor step;
-  double c = 0.0;
-  if (handling == ConstraintHandling::kCpo) {
-    const torch::Tensor b = FlatGradient(before.cost, parameters).to(torch::kDouble);
-    c = (batch.episode_cost - o.cost_limit + o.cpo_margin) / (batch.episode_length + kEps);
-    CpoDualInputs dual;
-    dual.q = v.dot(fisher(v)).item<double>();
-    dual.c = c;
-    dual.target_kl = o.target_kl;
-    dual.cost_gradient_vanishes = b.dot(b).item<double>() <= 1e-8;
-    torch::Tensor w = torch::zeros_like(v);
-    if (!(dual.cost_gradient_vanishes && c < 0)) {
-      w = ConjugateGradient(fisher, b, o.cg_iterations);
-      dual.r = w.dot(fisher(v)).item<double>();
-      dual.s = w.dot(fisher(w)).item<double>();
-    }
-    const CpoDualSolution solution = SolveCpoDual(dual);
-    report.optim_case = solution.optim_case;
-    report.cpo_nu = solution.nu;
-    step = solution.v_coefficient * v + solution.w_coefficient * w;
-  } else {
-    step = v * std::sqrt(2 * o.target_kl / (v.dot(fisher(v)).item<double>() + kEps));
+// CPO's step from the natural gradient v = F^-1 g and the cost's gradient b, with c the
+// episode cost's excess over the limit per step: the dual's solution (Achiam et al.), its case
+// and multiplier written to `report`.
+torch::Tensor CpoStep(const FisherProduct& fisher, const torch::Tensor& v, const torch::Tensor& b,
+                      double c, const TrustRegionOptions& o, PolicyUpdateReport& report) {
+  CpoDualInputs dual;
+  dual.q = v.dot(fisher(v)).item<double>();
+  dual.c = c;
+  dual.target_kl = o.target_kl;
+  dual.cost_gradient_vanishes = b.dot(b).item<double>() <= 1e-8;
+  torch::Tensor w = torch::zeros_like(v);
+  if (!(dual.cost_gradient_vanishes && c < 0)) {
+    w = ConjugateGradient(fisher, b, o.cg_iterations);
+    dual.r = w.dot(fisher(v)).item<double>();
+    dual.s = w.dot(fisher(w)).item<double>();
   }
+  const CpoDualSolution solution = SolveCpoDual(dual);
+  report.optim_case = solution.optim_case;
+  report.cpo_nu = solution.nu;
+  return solution.v_coefficient * v + solution.w_coefficient * w;
+}
 
+// The backtracking line search along `step` from the policy's parameters: the first fraction
+// whose KL to the old policy (old_mean, old_log_std) is within the target and whose losses
+// pass (CPO: the cost may not rise past max(-c, 0)) is kept and reported; if none is, the old
+// policy is kept and the report says so.
+PolicyUpdateReport LineSearch(GaussianPolicy& policy, const PolicyBatch& batch,
+                              ConstraintHandling handling, double penalty,
+                              const TrustRegionOptions& o, const torch::Tensor& step, double c,
+                              const torch::Tensor& old_mean, const torch::Tensor& old_log_std,
+                              PolicyUpdateReport report) {
   const torch::Tensor old_parameters = policy.FlatParameters();
   for (int j = 0; j < o.backtrack_iterations; ++j) {
     const double scale = std::pow(o.backtrack_coefficient, j);
@@ -120,6 +109,43 @@ PolicyUpdateReport TrustRegionUpdate(GaussianPolicy& policy, const PolicyBatch& 
   report.loss_after = report.loss_before;
   report.surrogate_cost_after = report.surrogate_cost_before;
   return report;
+}
+
+}  // namespace
+
+PolicyUpdateReport TrustRegionUpdate(GaussianPolicy& policy, const PolicyBatch& batch,
+                                     ConstraintHandling handling, double penalty,
+                                     const TrustRegionOptions& o) {
+  CheckTrustRegionInputs(batch, o);
+  const std::vector<torch::Tensor> parameters = policy.parameters();
+  torch::Tensor old_mean, old_log_std;
+  {
+    const torch::NoGradGuard no_grad;
+    old_mean = policy.Mean(batch.observations);
+    old_log_std = policy.log_std().clone();
+  }
+  const Surrogates before = Evaluate(policy, batch, handling, penalty);
+  const torch::Tensor g = FlatGradient(before.loss, parameters).to(torch::kDouble);
+  // The Fisher-vector product: the Hessian of the KL at the old policy, damped.
+  const auto kl_hessian = policy.KlHessianProduct(batch.observations);
+  const FisherProduct fisher = [&](const torch::Tensor& v) {
+    return kl_hessian(v.to(torch::kFloat)).to(torch::kDouble) + o.damping * v;
+  };
+
+  PolicyUpdateReport report;
+  report.loss_before = before.loss.item<double>();
+  report.surrogate_cost_before = before.cost.item<double>();
+  const torch::Tensor v = ConjugateGradient(fisher, g, o.cg_iterations);
+  torch::Tensor step;
+  double c = 0.0;
+  if (handling == ConstraintHandling::kCpo) {
+    const torch::Tensor b = FlatGradient(before.cost, parameters).to(torch::kDouble);
+    c = (batch.episode_cost - o.cost_limit + o.cpo_margin) / (batch.episode_length + kEps);
+    step = CpoStep(fisher, v, b, c, o, report);
+  } else {
+    step = v * std::sqrt(2 * o.target_kl / (v.dot(fisher(v)).item<double>() + kEps));
+  }
+  return LineSearch(policy, batch, handling, penalty, o, step, c, old_mean, old_log_std, report);
 }
 
 PolicyUpdateReport PpoUpdate(GaussianPolicy& policy, torch::optim::Adam& optimizer,
