@@ -32,7 +32,7 @@ const std::vector<std::string>& LoadedRun::PlanningOverrideKeys() {
 }
 
 LoadedRun::LoadedRun(const std::string& run_dir, std::uint64_t seed,
-                     const std::vector<std::string>& overrides) {
+                     const std::vector<std::string>& overrides, const LearnerInputs& inputs) {
   const RunDirectory run(run_dir);
   Require(run.HoldsRun(), "'{}' holds no run (no {})", run_dir,
           run.config_file().filename().string());
@@ -47,7 +47,7 @@ LoadedRun::LoadedRun(const std::string& run_dir, std::uint64_t seed,
   }
   if (!overrides.empty()) config_ = ApplyConfigOverrides(config_, overrides, "overrides");
   agent_ = RegistrationOf(FamilyOf(config_.algorithm))
-               .load_agent(config_, LastCheckpointDir(run), seed);
+               .load_agent(config_, LastCheckpointDir(run), seed, inputs);
 }
 
 LoadedRun::~LoadedRun() = default;

@@ -26,8 +26,9 @@ class LoadedRun {
   // the MPC planner. `overrides` ("section.key=value", ApplyConfigOverrides) change how the
   // trained models are used, never the models: only keys of PlanningOverrideKeys() are
   // accepted. Throws cmbrl::Error when run_dir holds no trained run or for a bad override.
+  // `inputs`: what the agent needs beside the run's config (a Python reward function).
   LoadedRun(const std::string& run_dir, std::uint64_t seed,
-            const std::vector<std::string>& overrides = {});
+            const std::vector<std::string>& overrides = {}, const LearnerInputs& inputs = {});
 
   // What an override may name: "planning.*", "objective.*", "classifier.threshold",
   // "classifier.predict_threads" and "planner" (the planner, its settings and objective, and how

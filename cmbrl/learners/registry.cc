@@ -22,10 +22,11 @@ TrainedAgent& TrainedAgent::operator=(TrainedAgent&&) noexcept = default;
 namespace {
 
 TrainedAgent LoadMpcAgent(const TrainConfig& config, const std::filesystem::path& checkpoint,
-                          std::uint64_t seed) {
+                          std::uint64_t seed, const LearnerInputs& inputs) {
   TrainedAgent loaded;
   loaded.mpc = std::make_unique<MpcParts>(
-      AssembleMpc(config, MpcPartSeeds{seed, seed, DeriveSeed(seed, kPlannerSeedStream)}));
+      AssembleMpc(config, MpcPartSeeds{seed, seed, DeriveSeed(seed, kPlannerSeedStream)},
+                  inputs.python_reward));
   LoadMpcModels(checkpoint, *loaded.mpc);
   loaded.env = loaded.mpc->env.get();
   loaded.policy = loaded.mpc->agent.get();
@@ -33,7 +34,8 @@ TrainedAgent LoadMpcAgent(const TrainConfig& config, const std::filesystem::path
 }
 
 TrainedAgent LoadPolicyOptAgent(const TrainConfig& config,
-                                const std::filesystem::path& checkpoint, std::uint64_t) {
+                                const std::filesystem::path& checkpoint, std::uint64_t,
+                                const LearnerInputs&) {
   TrainedAgent loaded;
   loaded.owned_env = MakeEnv(config.task, config.variant, config.spawn);
   loaded.owned_policy = LoadPolicyOptMeanPolicy(config, checkpoint,
@@ -47,12 +49,12 @@ TrainedAgent LoadPolicyOptAgent(const TrainConfig& config,
 const std::vector<LearnerRegistration>& Registrations() {
   static const std::vector<LearnerRegistration> registrations = {
       {&MpcFamily(),
-       [](const TrainConfig& config) -> std::unique_ptr<Learner> {
-         return std::make_unique<MpcLearner>(config);
+       [](const TrainConfig& config, const LearnerInputs& inputs) -> std::unique_ptr<Learner> {
+         return std::make_unique<MpcLearner>(config, inputs.python_reward);
        },
        LoadMpcAgent},
       {&PolicyOptFamily(),
-       [](const TrainConfig& config) -> std::unique_ptr<Learner> {
+       [](const TrainConfig& config, const LearnerInputs&) -> std::unique_ptr<Learner> {
          return std::make_unique<PolicyOptLearner>(config);
        },
        LoadPolicyOptAgent},
@@ -69,8 +71,8 @@ const LearnerRegistration& RegistrationOf(const FamilySheet& family) {
   Fail("no learner is registered for the {} family", family.name);
 }
 
-std::unique_ptr<Learner> MakeLearner(const TrainConfig& config) {
-  return RegistrationOf(FamilyOf(config.algorithm)).make(config);
+std::unique_ptr<Learner> MakeLearner(const TrainConfig& config, const LearnerInputs& inputs) {
+  return RegistrationOf(FamilyOf(config.algorithm)).make(config, inputs);
 }
 
 }  // namespace cmbrl

@@ -20,6 +20,7 @@ namespace cmbrl {
 
 class Env;
 class Policy;
+class RewardTerm;
 struct MpcParts;
 
 // A trained run's acting parts, loaded from its checkpoint: an environment of its task and the
@@ -38,22 +39,30 @@ struct TrainedAgent {
   std::unique_ptr<Policy> owned_policy;
 };
 
+// What a learner may be given beside its config by the program that trains or loads the run:
+// parts that a config file cannot hold. Empty from the command line.
+struct LearnerInputs {
+  // The planning objective's reward term of a run whose objective.reward is "python".
+  std::function<std::unique_ptr<RewardTerm>()> python_reward;
+};
+
 struct LearnerRegistration {
   const FamilySheet* family;
   // Builds a fresh learner for a validated config (a run's start, or its resume before Load).
-  std::function<std::unique_ptr<Learner>(const TrainConfig&)> make;
+  std::function<std::unique_ptr<Learner>(const TrainConfig&, const LearnerInputs&)> make;
   // Loads what acts for a trained run from its checkpoint folder, building only that (a
   // model-free run's policy network, not its learner); `seed` seeds the environment and, for
   // MPC, the planner. Throws cmbrl::Error naming a missing or damaged file.
   std::function<TrainedAgent(const TrainConfig&, const std::filesystem::path& checkpoint_dir,
-                             std::uint64_t seed)>
+                             std::uint64_t seed, const LearnerInputs&)>
       load_agent;
 };
 
 // The registration of a family; every family has one.
 const LearnerRegistration& RegistrationOf(const FamilySheet& family);
 
-// The learner that trains `config.algorithm`; throws cmbrl::Error naming an unknown algorithm.
-std::unique_ptr<Learner> MakeLearner(const TrainConfig& config);
+// The learner that trains `config.algorithm`; throws cmbrl::Error naming an unknown algorithm,
+// or a part the run needs that `inputs` lacks.
+std::unique_ptr<Learner> MakeLearner(const TrainConfig& config, const LearnerInputs& inputs = {});
 
 }  // namespace cmbrl

@@ -47,7 +47,7 @@ void ValidatePenalty(double penalty) {
           penalty);
 }
 
-std::vector<std::string> RewardSourceNames() { return {"analytic"}; }
+std::vector<std::string> RewardSourceNames() { return {"analytic", "python"}; }
 
 std::vector<std::string> AnalyticRewardNames() { return {kGoalDistanceReward}; }
 
@@ -55,7 +55,7 @@ void ValidateTrajectoryObjectiveOptions(const TrajectoryObjectiveOptions& o, int
   const std::vector<std::string> sources = RewardSourceNames();
   Require(std::find(sources.begin(), sources.end(), o.reward) != sources.end(),
           "reward is '{}': expected one of {} (analytic: the task's own form of the predicted "
-          "states)",
+          "states; python: a function given from Python)",
           o.reward, fmt::join(sources, ", "));
   Require(o.goal_index >= 0 && o.goal_index + 1 < state_dim,
           "goal_index is {}: expected 0 to {} for a state of {} dimensions", o.goal_index,

@@ -44,7 +44,9 @@ struct RandomShootingOptions {
 void ValidateRandomShootingOptions(const RandomShootingOptions& options);
 
 // Where the objective's reward term comes from (objective.reward): "analytic", the task's own
-// form of its predicted states (env/task_list.h names it; planning/reward_term.h builds it).
+// form of its predicted states (env/task_list.h names it; planning/reward_term.h builds it), or
+// "python", a vectorised Python function that the program training the run gives
+// (cmbrl.train(..., reward=f)).
 std::vector<std::string> RewardSourceNames();
 
 // The analytic reward forms: "goal-distance" (the Goal tasks', facts B2).

@@ -49,12 +49,13 @@ struct Trainer::State {
   }
 };
 
-std::unique_ptr<Trainer> Trainer::Start(const TrainConfig& config, const std::string& run_dir) {
+std::unique_ptr<Trainer> Trainer::Start(const TrainConfig& config, const std::string& run_dir,
+                                        const LearnerInputs& inputs) {
   ValidateTrainConfig(config, "(command line)");
   RunDirectory(run_dir).RefuseExistingRun();  // before the costly learner is built
   // The learner first: should building it (and taking its memory) fail, nothing is on disk yet.
   auto state = std::make_unique<State>(config, RunDirectory(run_dir));
-  state->learner = MakeLearner(config);
+  state->learner = MakeLearner(config, inputs);
   RunDirectory::Create(run_dir, TrainConfigToYaml(config), state->learner->ProgressHeader(),
                        [&] { state->lock = std::make_unique<RunLock>(run_dir); });
   RecordRunSession(state->run, 0, CurrentNumericsSetup(config.device));
@@ -62,7 +63,8 @@ std::unique_ptr<Trainer> Trainer::Start(const TrainConfig& config, const std::st
 }
 
 std::unique_ptr<Trainer> Trainer::Resume(const std::string& run_dir,
-                                         std::optional<std::int64_t> new_budget) {
+                                         std::optional<std::int64_t> new_budget,
+                                         const LearnerInputs& inputs) {
   RunDirectory run(run_dir);
   Require(run.HoldsRun(), "'{}' holds no run (no {}): start one with --config", run_dir,
           run.config_file().filename().string());
@@ -76,7 +78,7 @@ std::unique_ptr<Trainer> Trainer::Resume(const std::string& run_dir,
     state->config.training.total_steps = *new_budget;
     ValidateTrainConfig(state->config, run.config_file().string());
   }
-  state->learner = MakeLearner(state->config);
+  state->learner = MakeLearner(state->config, inputs);
   if (checkpoint) {
     state->learner->Load(run.checkpoint_dir());
     state->rows = checkpoint->rows;

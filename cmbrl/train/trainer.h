@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "cmbrl/config/config.h"
+#include "cmbrl/learners/registry.h"
 #include "cmbrl/run/learner.h"
 
 namespace cmbrl {
@@ -46,7 +47,9 @@ class Trainer {
   // A new run: validates `config` and builds the learner before anything else, and leaves no
   // directory or file behind when that fails. Throws cmbrl::Error when run_dir already holds a
   // run, or another process works in it.
-  static std::unique_ptr<Trainer> Start(const TrainConfig& config, const std::string& run_dir);
+  // `inputs`: what the learner needs beside its config (a Python reward function).
+  static std::unique_ptr<Trainer> Start(const TrainConfig& config, const std::string& run_dir,
+                                        const LearnerInputs& inputs = {});
 
   // Continues the run in run_dir from its last checkpoint (or from the start when it stopped
   // before the first one). Throws cmbrl::Error when run_dir holds no run, or its parts disagree
@@ -54,7 +57,8 @@ class Trainer {
   // instead, as if started with that budget, and its config.yaml says so; refused when the run
   // has done that many steps already or its learner cannot (Learner::CheckNewBudget).
   static std::unique_ptr<Trainer> Resume(const std::string& run_dir,
-                                         std::optional<std::int64_t> new_budget = std::nullopt);
+                                         std::optional<std::int64_t> new_budget = std::nullopt,
+                                         const LearnerInputs& inputs = {});
 
   ~Trainer();
 

@@ -21,6 +21,8 @@
 #include "cmbrl/eval/loaded_run.h"
 #include "cmbrl/learners/mpc/mpc_agent.h"
 #include "cmbrl/models/ensemble.h"
+#include "cmbrl/planning/reward_term.h"
+#include "cmbrl/run/run_directory.h"
 #include "cmbrl/train/trainer.h"
 #include "python/bindings/arrays.h"
 #include "python/bindings/bindings.h"
@@ -28,12 +30,94 @@
 namespace cmbrl::python {
 namespace {
 
+// A float32 tensor's rows as a new (rows, width) float64 numpy array: what a Python reward reads.
+py::array_t<double> RowsArray(const torch::Tensor& values, std::int64_t rows) {
+  const torch::Tensor host = values.to(torch::kCPU, torch::kDouble).contiguous();
+  py::array_t<double> array(
+      {static_cast<py::ssize_t>(rows), static_cast<py::ssize_t>(host.numel() / rows)});
+  std::copy_n(host.data_ptr<double>(), host.numel(), array.mutable_data());
+  return array;
+}
+
+// objective.reward: python. The planning objective's reward term from a vectorised Python
+// function reward(states, actions, next_states) -> (N,) rewards, called once per evaluation (a
+// planner iteration) on every predicted step at once: N = H x E' x samples rows, states and
+// next_states (N, S), actions (N, A), float64. The cost is minus the reward. Holds the GIL only
+// for the call. Throws cmbrl::Error naming the function for an exception it raises, or a result
+// that is not N finite numbers.
+class PythonRewardTerm final : public RewardTerm {
+ public:
+  explicit PythonRewardTerm(py::function reward) : reward_(std::move(reward)) {}
+  ~PythonRewardTerm() override {
+    py::gil_scoped_acquire acquire;
+    reward_ = py::function();
+  }
+
+  torch::Tensor Cost(const torch::Tensor& states, const torch::Tensor& actions,
+                     const torch::Tensor& next_states) const override {
+    const std::int64_t rows = next_states.numel() / next_states.size(-1);
+    std::vector<double> rewards;
+    {
+      py::gil_scoped_acquire acquire;
+      py::object result;
+      try {
+        result = reward_(RowsArray(states, rows), RowsArray(actions, rows),
+                         RowsArray(next_states, rows));
+      } catch (py::error_already_set& error) {
+        Fail("the reward function {} raised {}", Name(), error.what());
+      }
+      const std::string what = fmt::format("the reward function {}'s result", Name());
+      rewards = RealValues(result, {static_cast<py::ssize_t>(rows)}, what.c_str());
+    }
+    for (const double reward : rewards) {
+      Require(std::isfinite(reward), "the reward function {} returned {}: expected finite rewards",
+              Name(), reward);
+    }
+    std::vector<std::int64_t> shape(next_states.sizes().begin(), next_states.sizes().end() - 1);
+    return -torch::tensor(rewards, torch::kDouble)
+                .to(next_states.device(), torch::kFloat)
+                .view(shape);
+  }
+  bool reads_states_and_actions() const override { return true; }
+
+ private:
+  std::string Name() const {
+    py::gil_scoped_acquire acquire;
+    return std::string(py::str(py::getattr(reward_, "__qualname__", py::repr(reward_))));
+  }
+
+  py::function reward_;
+};
+
+// LearnerInputs with a Python reward function, when one is given.
+LearnerInputs InputsWith(const std::optional<py::function>& reward) {
+  LearnerInputs inputs;
+  if (reward) {
+    inputs.python_reward = [function = *reward]() -> std::unique_ptr<RewardTerm> {
+      py::gil_scoped_acquire acquire;
+      return std::make_unique<PythonRewardTerm>(function);
+    };
+  }
+  return inputs;
+}
+
+// A run's reward and the function given must agree: a function for objective.reward python,
+// none otherwise.
+void CheckRewardGiven(const TrainConfig& config, bool given, const std::string& run) {
+  Require(!given || config.objective.reward == "python",
+          "{} plans with objective.reward '{}': give no reward function", run,
+          config.objective.reward);
+}
+
 // A trained run's agent (LoadedRun). Thread-safe: calls from several Python threads take turns
 // (ObjectLock), as its planner, models and environment are one state.
 class PyAgent {
  public:
-  PyAgent(const std::string& run_dir, std::uint64_t seed, const std::vector<std::string>& overrides)
-      : run_(run_dir, seed, overrides) {}
+  PyAgent(const std::string& run_dir, std::uint64_t seed, const std::vector<std::string>& overrides,
+          const std::optional<py::function>& reward)
+      : run_(run_dir, seed, overrides, InputsWith(reward)) {
+    CheckRewardGiven(run_.config(), reward.has_value(), fmt::format("run '{}'", run_dir));
+  }
 
   void BeginEpisode() {
     const ObjectLock lock(mutex_);
@@ -147,8 +231,7 @@ class PyAgent {
   void RequirePlan(const char* call) {
     const torch::Tensor& sequence = run_.mpc_agent().last_result().sequence;
     Require(sequence.defined() && sequence.numel() > 0,
-            "{}() before act(): the agent has made no plan yet; call act(observation) first",
-            call);
+            "{}() before act(): the agent has made no plan yet; call act(observation) first", call);
   }
 
   mutable std::mutex mutex_;  // ObjectLock: one call at a time
@@ -161,7 +244,9 @@ py::dict Train(const std::optional<std::vector<std::string>>& config_path,
                const std::optional<std::string>& config_text, const std::optional<std::string>& out,
                const std::optional<std::string>& resume, std::optional<std::int64_t> steps,
                std::optional<std::uint64_t> seed, const std::optional<std::string>& device,
-               const std::function<void(py::dict)>& progress, double checkpoint_seconds) {
+               const std::function<void(py::dict)>& progress, double checkpoint_seconds,
+               const std::optional<py::function>& reward) {
+  const LearnerInputs inputs = InputsWith(reward);
   std::unique_ptr<Trainer> trainer;
   std::string run_dir;
   if (resume) {
@@ -169,8 +254,10 @@ py::dict Train(const std::optional<std::vector<std::string>>& config_path,
             "resume continues a run with its own config: give no config, out, seed or device "
             "with it (steps gives it a new budget)");
     run_dir = *resume;
+    CheckRewardGiven(LoadTrainConfig((RunDirectory(run_dir).config_file()).string()),
+                     reward.has_value(), fmt::format("run '{}'", run_dir));
     py::gil_scoped_release release;
-    trainer = Trainer::Resume(run_dir, steps);
+    trainer = Trainer::Resume(run_dir, steps, inputs);
   } else {
     Require((config_path.has_value() != config_text.has_value()) && out.has_value(),
             "a new run needs a config (a YAML file or a dict) and out (the run directory)");
@@ -181,10 +268,11 @@ py::dict Train(const std::optional<std::vector<std::string>>& config_path,
     if (steps) config.training.total_steps = *steps;
     if (seed) config.seed = *seed;
     if (device) SetTrainDevice(config, *device);
+    if (reward) config.objective.reward = "python";  // recorded in the run's config.yaml
     ValidateTrainConfig(config, source);
     run_dir = *out;
     py::gil_scoped_release release;
-    trainer = Trainer::Start(config, run_dir);
+    trainer = Trainer::Start(config, run_dir, inputs);
   }
   // Ctrl-C is looked for after an agent step at most every 0.1 s (taking the GIL every step
   // would make a training thread wait on busy Python threads): the run stops at a checkpoint
@@ -231,8 +319,9 @@ py::dict Train(const std::optional<std::vector<std::string>>& config_path,
 
 void BindRuns(py::module_& m) {
   py::class_<PyAgent>(m, "Agent")
-      .def(py::init<const std::string&, std::uint64_t, const std::vector<std::string>&>(),
-           py::arg("run_dir"), py::arg("seed"), py::arg("overrides"))
+      .def(py::init<const std::string&, std::uint64_t, const std::vector<std::string>&,
+                    const std::optional<py::function>&>(),
+           py::arg("run_dir"), py::arg("seed"), py::arg("overrides"), py::arg("reward"))
       .def("begin_episode", &PyAgent::BeginEpisode)
       .def("act", &PyAgent::Act, py::arg("observation"))
       .def("predictions", &PyAgent::Predictions, py::arg("scene"), py::arg("samples"))
@@ -247,7 +336,7 @@ void BindRuns(py::module_& m) {
 
   m.def("train", &Train, py::arg("config_path"), py::arg("config_text"), py::arg("out"),
         py::arg("resume"), py::arg("steps"), py::arg("seed"), py::arg("device"),
-        py::arg("progress"), py::arg("checkpoint_seconds"));
+        py::arg("progress"), py::arg("checkpoint_seconds"), py::arg("reward"));
 }
 
 }  // namespace cmbrl::python

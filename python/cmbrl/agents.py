@@ -11,8 +11,16 @@ from ._common import Error, _as_int, _as_seed, _box, _json_number, _NotCopyable,
 from .envs import Env
 
 
+def _reward_function(reward):
+    """reward as the bindings take it: None, or a callable (refused by name otherwise)."""
+    if reward is not None and not callable(reward):
+        raise Error(f"reward is {reward!r}: expected a function reward(states, actions, "
+                    "next_states) -> (N,) rewards, or None")
+    return reward
+
+
 def train(config=None, out=None, steps=None, seed=None, device=None, resume=None, progress=None,
-          checkpoint_seconds=300.0):
+          checkpoint_seconds=300.0, reward=None):
     """Trains a run as `cmbrl train` does, into the run directory `out`.
 
     config: a YAML file (path), a list of them composed in order (a task's paper preset, then a
@@ -26,6 +34,13 @@ def train(config=None, out=None, steps=None, seed=None, device=None, resume=None
     checkpoint_seconds: an MPC episode, model fit or model-free epoch still going this long
     after the last checkpoint is checkpointed after its agent step, fit epoch, rollout round or
     value-fit iteration under way (0: after every one); it changes no result.
+    reward: an MPC run's planning reward as a vectorised function reward(states, actions,
+    next_states) -> rewards, in place of its task's analytic one (the run's config then says
+    objective.reward: python). It is called once per planner iteration with every predicted step
+    at once: N rows of float64 states (N, S), actions (N, A) and next states (N, S), N = horizon
+    x rolled trajectories x samples; it returns N finite rewards (higher is better). A run
+    planned so is resumed and loaded with the same function given again (resume=..., reward=f;
+    load_run(..., reward=f)); the command line cannot.
     Returns {"run", "steps", "budget"}.
     """
     if (isinstance(checkpoint_seconds, (bool, np.bool_))
@@ -48,7 +63,7 @@ def train(config=None, out=None, steps=None, seed=None, device=None, resume=None
     return _cmbrl.train(config_path, config_text, out, resume,
                         None if steps is None else _as_int(steps, "steps", 1, 10**10),
                         None if seed is None else _as_seed(seed), device, progress,
-                        float(checkpoint_seconds))
+                        float(checkpoint_seconds), _reward_function(reward))
 
 
 class Agent(_NotCopyable):
@@ -62,8 +77,9 @@ class Agent(_NotCopyable):
 
     _instead = "load the run again with cmbrl.load_run(run_dir)"
 
-    def __init__(self, run_dir, seed=0, overrides=()):
-        self._agent = _cmbrl.Agent(os.fspath(run_dir), _as_seed(seed), list(overrides))
+    def __init__(self, run_dir, seed=0, overrides=(), reward=None):
+        self._agent = _cmbrl.Agent(os.fspath(run_dir), _as_seed(seed), list(overrides),
+                                   _reward_function(reward))
         self.run_dir = os.fspath(run_dir)
         self.observation_space = _box(self._agent.observation_spec())
         self.action_space = _box(self._agent.action_spec())
@@ -116,14 +132,15 @@ class Agent(_NotCopyable):
         return self._agent.predict_violation(states)
 
 
-def load_run(run_dir, seed=0, overrides=None):
+def load_run(run_dir, seed=0, overrides=None, reward=None):
     """The agent of a trained run directory (its last checkpoint); seed seeds the planner.
 
     overrides: a dict {"section.key": value} or a list of "section.key=value" that changes how
     the trained models are used, as `cmbrl eval --set` does: planning.*, objective.* and
-    classifier.threshold, e.g. {"classifier.threshold": 0.3}."""
+    classifier.threshold, e.g. {"classifier.threshold": 0.3}.
+    reward: the planning reward function of a run trained with one (train(..., reward=f))."""
     if overrides is None:
         overrides = []
     elif isinstance(overrides, dict):
         overrides = [f"{key}={_yaml_value(value)}" for key, value in overrides.items()]
-    return Agent(run_dir, seed=seed, overrides=[str(item) for item in overrides])
+    return Agent(run_dir, seed=seed, overrides=[str(item) for item in overrides], reward=reward)

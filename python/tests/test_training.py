@@ -189,3 +189,66 @@ def test_the_gymnasium_loop_example_runs(source_dir):
                            "--num-envs", "2", "--steps", "1001"], check=True,
                           env=dict(os.environ), stdout=subprocess.PIPE, text=True)
     assert "(PointGoal1, standard): 2 episodes ended in 1001 steps" in done.stdout
+
+
+def _goal_reward(calls):
+    """A Python planning reward: minus the goal distance of the predicted state (the Goal tasks'
+    analytic term without its bonuses), recording each call's array shapes."""
+    def reward(states, actions, next_states):
+        calls.append((states.shape, actions.shape, next_states.shape, states.dtype))
+        return -np.linalg.norm(next_states[:, 6:8], axis=1)
+    return reward
+
+
+def test_a_python_reward_is_called_once_per_planner_iteration_on_every_predicted_step(tmp_path):
+    config = tiny_config(60)
+    config["ensemble"]["ensemble_size"] = 3
+    calls = []
+    summary = cmbrl.train(config=config, out=tmp_path / "run", reward=_goal_reward(calls))
+    # RCE (2 iterations a plan, none skipped) rolls every member: horizon 3 x 3 members x 24.
+    assert len(calls) == 2 * summary["steps"]
+    assert set(calls) == {((216, 24), (216, 2), (216, 24), np.dtype(np.float64))}  # PointGoal1: S 24
+    with open(tmp_path / "run" / "config.yaml") as f:
+        assert "reward: python" in f.read()
+    # The run needs its function again to go on or to act, and the command line has none.
+    with pytest.raises(cmbrl.Error, match="objective.reward is 'python': the run plans with a "
+                                          "reward function given from Python"):
+        cmbrl.train(resume=tmp_path / "run", steps=summary["steps"] + 50)
+    with pytest.raises(cmbrl.Error, match="objective.reward is 'python'"):
+        cmbrl.load_run(tmp_path / "run")
+    cmbrl.train(resume=tmp_path / "run", steps=summary["steps"] + 50, reward=_goal_reward(calls))
+    agent = cmbrl.load_run(tmp_path / "run", reward=_goal_reward(calls))
+    before = len(calls)
+    agent.begin_episode()
+    action = agent.act(agent.make_env().reset(seed=0)[0])
+    assert action.shape == (2,) and len(calls) == before + 2
+    # A run with its task's analytic reward takes none.
+    cmbrl.train(config=tiny_config(20), out=tmp_path / "analytic")
+    with pytest.raises(cmbrl.Error, match="plans with objective.reward 'analytic': give no "
+                                          "reward function"):
+        cmbrl.load_run(tmp_path / "analytic", reward=_goal_reward([]))
+
+
+def test_a_bad_python_reward_is_named(tmp_path):
+    with pytest.raises(cmbrl.Error, match="reward is 3: expected a function"):
+        cmbrl.train(config=tiny_config(20), out=tmp_path / "number", reward=3)
+
+    def wrong_shape(states, actions, next_states):
+        return np.zeros((2, 2))
+
+    with pytest.raises(cmbrl.Error, match=r"the reward function .*wrong_shape's result has shape "
+                                          r"\(2, 2\): expected \(\d+,\)"):
+        cmbrl.train(config=tiny_config(20), out=tmp_path / "shape", reward=wrong_shape)
+
+    def raises(states, actions, next_states):
+        raise RuntimeError("no reward here")
+
+    with pytest.raises(cmbrl.Error, match="the reward function .*raises raised RuntimeError: no "
+                                          "reward here"):
+        cmbrl.train(config=tiny_config(20), out=tmp_path / "raises", reward=raises)
+
+    def not_finite(states, actions, next_states):
+        return np.full(len(states), np.nan)
+
+    with pytest.raises(cmbrl.Error, match="returned nan: expected finite rewards"):
+        cmbrl.train(config=tiny_config(20), out=tmp_path / "nan", reward=not_finite)

@@ -3,6 +3,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include "cmbrl/planning/reward_term.h"
 #include "tests/error_message.h"
 
 namespace cmbrl {
@@ -36,6 +37,28 @@ TEST(LearnerRegistryTest, EveryAlgorithmBuildsItsFamilysLearner) {
   unknown.algorithm = "sac";
   EXPECT_THAT(testing::ErrorMessage([&] { MakeLearner(unknown); }),
               ::testing::HasSubstr("unknown algorithm 'sac'"));
+}
+
+// objective.reward: python needs the reward term from the program (Python): without one the
+// learner is refused by its key before anything is built; with one it plans with it.
+TEST(LearnerRegistryTest, APythonRewardRunNeedsItsRewardTermGiven) {
+  const TrainConfig config = ParseTrainConfig(
+      "task: PointGoal1\ntraining: {pretrain_episodes: 2, pretrain_steps: 5, total_steps: 20}\n"
+      "ensemble: {hidden_sizes: [8]}\nclassifier: {rounds: 2}\nplanning: {population: 12, "
+      "elites: 4, min_feasible_elites: 2, max_iterations: 1, horizon: 2}\n"
+      "objective: {reward: python}\n",
+      "registry test");
+  EXPECT_THAT(testing::ErrorMessage([&] { MakeLearner(config); }),
+              ::testing::HasSubstr("objective.reward is 'python': the run plans with a reward "
+                                   "function given from Python"));
+  int made = 0;
+  LearnerInputs inputs;
+  inputs.python_reward = [&made]() -> std::unique_ptr<RewardTerm> {
+    ++made;
+    return MakeAnalyticReward(kGoalDistanceReward, TrajectoryObjectiveOptions{});
+  };
+  EXPECT_NE(MakeLearner(config, inputs), nullptr);
+  EXPECT_EQ(made, 1);
 }
 
 }  // namespace

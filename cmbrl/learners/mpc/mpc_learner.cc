@@ -73,9 +73,9 @@ void LoadMpcModels(const fs::path& checkpoint, MpcParts& parts) {
   parts.classifier->Load((checkpoint / kClassifierFile).string());
 }
 
-MpcLearner::MpcLearner(TrainConfig config)
+MpcLearner::MpcLearner(TrainConfig config, const RewardTermMaker& python_reward)
     : config_(std::move(config)),
-      parts_(AssembleMpc(config_, RunSeeds(config_.seed))),
+      parts_(AssembleMpc(config_, RunSeeds(config_.seed), python_reward)),
       dynamics_validation_mse_(kNaN),
       classifier_safe_accuracy_(kNaN),
       classifier_unsafe_accuracy_(kNaN) {

@@ -1,5 +1,6 @@
 #include "cmbrl/learners/mpc/mpc_parts.h"
 
+#include "cmbrl/core/check.h"
 #include "cmbrl/core/rng.h"
 #include "cmbrl/env/registry.h"
 
@@ -10,8 +11,16 @@ MpcPartSeeds RunSeeds(std::uint64_t seed) {
           DeriveSeed(seed, kPlannerSeedStream)};
 }
 
-std::unique_ptr<RewardTerm> RewardTermFor(const TrainConfig& config) {
-  // objective.reward is "analytic", the one source RewardSourceNames() offers (validated).
+std::unique_ptr<RewardTerm> RewardTermFor(const TrainConfig& config,
+                                          const RewardTermMaker& python) {
+  if (config.objective.reward == "python") {
+    Require(static_cast<bool>(python),
+            "objective.reward is 'python': the run plans with a reward function given from "
+            "Python (cmbrl.train(..., reward=f), cmbrl.load_run(..., reward=f)); the command "
+            "line has none");
+    return python();
+  }
+  // "analytic": the task's own form (validated with the config).
   return MakeAnalyticReward(FindTask(config.task).analytic_reward, config.objective);
 }
 
@@ -21,7 +30,8 @@ PlannerSettings PlannerSettingsFor(const TrainConfig& config, int action_dim) {
   return settings;
 }
 
-MpcParts AssembleMpc(const TrainConfig& config, const MpcPartSeeds& seeds) {
+MpcParts AssembleMpc(const TrainConfig& config, const MpcPartSeeds& seeds,
+                     const RewardTermMaker& python_reward) {
   MpcParts parts;
   parts.env = MakeEnv(config.task, config.variant, config.spawn);
   const int state_dim = parts.env->observation_spec().size();
@@ -32,7 +42,8 @@ MpcParts AssembleMpc(const TrainConfig& config, const MpcPartSeeds& seeds) {
       std::make_unique<XgbCostModel>(state_dim, config.classifier, seeds.classifier);
   parts.agent = std::make_unique<MpcAgent>(*parts.ensemble, *parts.classifier, config.planner,
                                            PlannerSettingsFor(config, action_dim),
-                                           config.objective, RewardTermFor(config),
+                                           config.objective,
+                                           RewardTermFor(config, python_reward),
                                            seeds.planner);
   return parts;
 }

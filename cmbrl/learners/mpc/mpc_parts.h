@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 
 #include "cmbrl/learners/mpc/mpc_agent.h"
@@ -23,6 +24,10 @@ struct MpcParts {
   std::unique_ptr<MpcAgent> agent;
 };
 
+// Makes the reward term of a run whose objective.reward is "python" (the bindings' Python
+// function); empty where the program has none.
+using RewardTermMaker = std::function<std::unique_ptr<RewardTerm>()>;
+
 // The seeds of the parts. Training derives them from the run seed (DeriveSeed with the
 // SeedStream of each); evaluation and benchmarks choose their own.
 struct MpcPartSeeds {
@@ -34,13 +39,16 @@ struct MpcPartSeeds {
 // The run's own streams of `seed`.
 MpcPartSeeds RunSeeds(std::uint64_t seed);
 
-// Builds everything for `config` (a validated configuration). Throws cmbrl::Error for settings
-// the components refuse.
-MpcParts AssembleMpc(const TrainConfig& config, const MpcPartSeeds& seeds);
+// Builds everything for `config` (a validated configuration), the reward term by RewardTermFor.
+// Throws cmbrl::Error for settings the components refuse.
+MpcParts AssembleMpc(const TrainConfig& config, const MpcPartSeeds& seeds,
+                     const RewardTermMaker& python_reward = {});
 
 // The planning objective's reward term of `config` (objective.reward): for "analytic", its task's
-// own form (env/task_list.h) with the objective's options.
-std::unique_ptr<RewardTerm> RewardTermFor(const TrainConfig& config);
+// own form (env/task_list.h) with the objective's options; for "python", `python`'s. Throws
+// cmbrl::Error naming the key when the run needs a Python function and none is given.
+std::unique_ptr<RewardTerm> RewardTermFor(const TrainConfig& config,
+                                          const RewardTermMaker& python = {});
 
 // The planner settings of `config` for an environment with `action_dim` actions.
 PlannerSettings PlannerSettingsFor(const TrainConfig& config, int action_dim);
