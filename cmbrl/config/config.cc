@@ -165,6 +165,7 @@ void VisitConfig(Config& c, Visitor& v) {
   v.Field("planning", "random_samples", c.planning.random.samples);
   auto& o = c.objective;
   v.Field("objective", "reward", o.reward);
+  v.Field("objective", "termination", o.termination);
   v.Field("objective", "goal_index", o.goal_index);
   v.Field("objective", "gamma", o.gamma);
   v.Field("objective", "beta", o.beta);

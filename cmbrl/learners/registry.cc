@@ -26,7 +26,7 @@ TrainedAgent LoadMpcAgent(const TrainConfig& config, const std::filesystem::path
   TrainedAgent loaded;
   loaded.mpc = std::make_unique<MpcParts>(
       AssembleMpc(config, MpcPartSeeds{seed, seed, DeriveSeed(seed, kPlannerSeedStream)},
-                  inputs.python_reward));
+                  inputs));
   LoadMpcModels(checkpoint, *loaded.mpc);
   loaded.env = loaded.mpc->env.get();
   loaded.policy = loaded.mpc->agent.get();
@@ -50,7 +50,7 @@ const std::vector<LearnerRegistration>& Registrations() {
   static const std::vector<LearnerRegistration> registrations = {
       {&MpcFamily(),
        [](const TrainConfig& config, const LearnerInputs& inputs) -> std::unique_ptr<Learner> {
-         return std::make_unique<MpcLearner>(config, inputs.python_reward);
+         return std::make_unique<MpcLearner>(config, inputs);
        },
        LoadMpcAgent},
       {&PolicyOptFamily(),

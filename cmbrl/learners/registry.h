@@ -13,6 +13,7 @@
 #include <string>
 
 #include "cmbrl/config/config.h"
+#include "cmbrl/learners/learner_inputs.h"
 #include "cmbrl/run/algorithms.h"
 #include "cmbrl/run/learner.h"
 
@@ -20,7 +21,6 @@ namespace cmbrl {
 
 class Env;
 class Policy;
-class RewardTerm;
 struct MpcParts;
 
 // A trained run's acting parts, loaded from its checkpoint: an environment of its task and the
@@ -37,13 +37,6 @@ struct TrainedAgent {
   std::unique_ptr<MpcParts> mpc;  // MPC runs only
   std::unique_ptr<Env> owned_env;  // model-free runs: what env and policy point to
   std::unique_ptr<Policy> owned_policy;
-};
-
-// What a learner may be given beside its config by the program that trains or loads the run:
-// parts that a config file cannot hold. Empty from the command line.
-struct LearnerInputs {
-  // The planning objective's reward term of a run whose objective.reward is "python".
-  std::function<std::unique_ptr<RewardTerm>()> python_reward;
 };
 
 struct LearnerRegistration {

@@ -51,12 +51,20 @@ std::vector<std::string> RewardSourceNames() { return {"analytic", "python"}; }
 
 std::vector<std::string> AnalyticRewardNames() { return {kGoalDistanceReward}; }
 
+std::vector<std::string> TerminationSourceNames() { return {"none", "python"}; }
+
 void ValidateTrajectoryObjectiveOptions(const TrajectoryObjectiveOptions& o, int state_dim) {
   const std::vector<std::string> sources = RewardSourceNames();
   Require(std::find(sources.begin(), sources.end(), o.reward) != sources.end(),
           "reward is '{}': expected one of {} (analytic: the task's own form of the predicted "
           "states; python: a function given from Python)",
           o.reward, fmt::join(sources, ", "));
+  const std::vector<std::string> terminations = TerminationSourceNames();
+  Require(std::find(terminations.begin(), terminations.end(), o.termination) !=
+              terminations.end(),
+          "termination is '{}': expected one of {} (none: the task has no terminal state; "
+          "python: a function given from Python)",
+          o.termination, fmt::join(terminations, ", "));
   Require(o.goal_index >= 0 && o.goal_index + 1 < state_dim,
           "goal_index is {}: expected 0 to {} for a state of {} dimensions", o.goal_index,
           state_dim - 2, state_dim);

@@ -53,8 +53,14 @@ std::vector<std::string> RewardSourceNames();
 inline constexpr const char* kGoalDistanceReward = "goal-distance";
 std::vector<std::string> AnalyticRewardNames();
 
+// Where the objective's termination signal comes from (objective.termination): "none" (the
+// task has none: the Goal tasks' episodes end by time alone, which the horizon never reaches), or
+// "python", a vectorised Python function (cmbrl.train(..., termination=f)).
+std::vector<std::string> TerminationSourceNames();
+
 struct TrajectoryObjectiveOptions {
   std::string reward = "analytic";  // RewardSourceNames()
+  std::string termination = "none";  // TerminationSourceNames()
   // The goal-distance form's parameters.
   int goal_index = 6;             // state[goal_index], state[goal_index + 1]: goal in ego XY
   double gamma = 0.98;            // discount of the reward cost (and of CEM's constraint cost)

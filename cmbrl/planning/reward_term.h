@@ -38,6 +38,17 @@ class GoalDistanceTerm final : public RewardTerm {
   TrajectoryObjectiveOptions options_;
 };
 
+// Where a predicted step ends the episode (a task's termination signal, objective.termination):
+// the objective's discounted sums count no step after it. Batched; thread-safe once built.
+class TerminationTerm {
+ public:
+  virtual ~TerminationTerm() = default;
+  // 1 where the step from `states` (..., S) under `actions` (..., A) to `next_states` (..., S)
+  // ends the episode, 0 elsewhere: (...) float32.
+  virtual torch::Tensor Terminal(const torch::Tensor& states, const torch::Tensor& actions,
+                                 const torch::Tensor& next_states) const = 0;
+};
+
 // The analytic term called `form` (one of AnalyticRewardNames()) with the objective's options.
 // Throws cmbrl::Error naming an unknown form and the known ones.
 std::unique_ptr<RewardTerm> MakeAnalyticReward(const std::string& form,

@@ -11,12 +11,14 @@ namespace cmbrl {
 TrajectoryObjective::TrajectoryObjective(const DynamicsModel& dynamics, const CostModel& cost,
                                          Propagation propagation,
                                          TrajectoryObjectiveOptions options,
-                                         std::unique_ptr<RewardTerm> reward)
+                                         std::unique_ptr<RewardTerm> reward,
+                                         std::unique_ptr<TerminationTerm> termination)
     : dynamics_(dynamics),
       cost_(cost),
       propagation_(propagation),
       options_(options),
-      reward_(std::move(reward)) {
+      reward_(std::move(reward)),
+      termination_(std::move(termination)) {
   Require(reward_ != nullptr, "the planning objective needs a reward term");
   Require(dynamics.state_dim() == cost.state_dim(),
           "the dynamics model predicts {} state dimensions, the cost model reads {}",
@@ -31,11 +33,8 @@ void TrajectoryObjective::SetState(const torch::Tensor& state) {
   state_ = state.to(torch::kFloat);
 }
 
-torch::Tensor TrajectoryObjective::StepCosts(const torch::Tensor& trajectories,
-                                             const torch::Tensor& actions) const {
-  if (!reward_->reads_states_and_actions()) {
-    return reward_->Cost(torch::Tensor(), torch::Tensor(), trajectories);
-  }
+std::pair<torch::Tensor, torch::Tensor> TrajectoryObjective::StepStartsAndActions(
+    const torch::Tensor& trajectories, const torch::Tensor& actions) const {
   // The state each step starts from: the planning state, then the step before's prediction.
   const std::int64_t horizon = trajectories.size(0), rows = trajectories.size(1);
   const torch::Tensor start = state_.to(trajectories.device())
@@ -45,7 +44,7 @@ torch::Tensor TrajectoryObjective::StepCosts(const torch::Tensor& trajectories,
       torch::cat({start, trajectories.narrow(0, 0, horizon - 1)}, 0);  // (H, E', N, S)
   const torch::Tensor step_actions = actions.transpose(0, 1).unsqueeze(1).expand(
       {horizon, rows, actions.size(0), actions.size(2)});  // (H, E', N, A)
-  return reward_->Cost(states, step_actions, trajectories);
+  return {states, step_actions};
 }
 
 ObjectiveValues TrajectoryObjective::Evaluate(const torch::Tensor& actions) {
@@ -82,8 +81,25 @@ ObjectiveValues TrajectoryObjective::Evaluate(const torch::Tensor& actions) {
   // for RCE; one row (H, 1, N) for the mean trajectory.
   const torch::Tensor scored =
       per_member ? last_trajectories_ : last_trajectories_.narrow(1, 0, 1).contiguous();
-  const torch::Tensor step_rewards = StepCosts(scored, actions);
-  const torch::Tensor step_violations = cost_.PredictViolation(scored);
+  // Start states and actions only for the terms that read them: the goal distance does not.
+  const bool stacked = reward_->reads_states_and_actions() || termination_ != nullptr;
+  const auto [starts, step_actions] =
+      stacked ? StepStartsAndActions(scored, actions)
+              : std::pair<torch::Tensor, torch::Tensor>();
+  torch::Tensor step_rewards = reward_->reads_states_and_actions()
+                                   ? reward_->Cost(starts, step_actions, scored)
+                                   : reward_->Cost(torch::Tensor(), torch::Tensor(), scored);
+  torch::Tensor step_violations = cost_.PredictViolation(scored);
+  if (termination_) {
+    // A step counts while no step before it ended the episode: 1, then the running product of
+    // (1 - terminal) shifted one step.
+    const torch::Tensor ongoing = 1 - termination_->Terminal(starts, step_actions, scored);
+    const torch::Tensor counted = torch::cat(
+        {torch::ones_like(ongoing.narrow(0, 0, 1)), ongoing.narrow(0, 0, horizon - 1).cumprod(0)},
+        0);
+    step_rewards = step_rewards * counted;
+    step_violations = step_violations * counted;
+  }
   // sum_t discount^t x_t, added in order of t from zero as a per-step sum would; each discount
   // is rounded to float32 once, as a float tensor times a double scalar is.
   const auto discounted_sum = [&](const torch::Tensor& values, double discount) {

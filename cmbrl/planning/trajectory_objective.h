@@ -17,9 +17,12 @@ namespace cmbrl {
 // thread-safe.
 class TrajectoryObjective final : public Objective {
  public:
-  // Throws cmbrl::Error for models of different state sizes, bad options or no reward term.
+  // `termination`, when given, cuts both discounted sums after a predicted terminal step (the
+  // terminal step itself counts). Throws cmbrl::Error for models of different state sizes, bad
+  // options or no reward term.
   TrajectoryObjective(const DynamicsModel& dynamics, const CostModel& cost, Propagation propagation,
-                      TrajectoryObjectiveOptions options, std::unique_ptr<RewardTerm> reward);
+                      TrajectoryObjectiveOptions options, std::unique_ptr<RewardTerm> reward,
+                      std::unique_ptr<TerminationTerm> termination = nullptr);
 
   // The state to plan from: (S) float32 on the models' device.
   void SetState(const torch::Tensor& state);
@@ -33,14 +36,17 @@ class TrajectoryObjective final : public Objective {
   const ObjectiveValues& last_values() const { return last_values_; }
 
  private:
-  // Each step's cost under the reward term: trajectories (H, E', N, S) of `actions` (N, H, A).
-  torch::Tensor StepCosts(const torch::Tensor& trajectories, const torch::Tensor& actions) const;
+  // Each step's start states and actions, laid out as `trajectories` (H, E', N, S) of `actions`
+  // (N, H, A): (H, E', N, S) and (H, E', N, A).
+  std::pair<torch::Tensor, torch::Tensor> StepStartsAndActions(const torch::Tensor& trajectories,
+                                                               const torch::Tensor& actions) const;
 
   const DynamicsModel& dynamics_;
   const CostModel& cost_;
   Propagation propagation_;
   TrajectoryObjectiveOptions options_;
   std::unique_ptr<RewardTerm> reward_;
+  std::unique_ptr<TerminationTerm> termination_;  // none: no step ends the episode
   torch::Tensor state_;
   torch::Tensor last_trajectories_;  // (H, E, N, S) of the last Evaluate
   ObjectiveValues last_values_;

@@ -39,58 +39,102 @@ py::array_t<double> RowsArray(const torch::Tensor& values, std::int64_t rows) {
   return array;
 }
 
-// objective.reward: python. The planning objective's reward term from a vectorised Python
-// function reward(states, actions, next_states) -> (N,) rewards, called once per evaluation (a
-// planner iteration) on every predicted step at once: N = H x E' x samples rows, states and
-// next_states (N, S), actions (N, A), float64. The cost is minus the reward. Holds the GIL only
-// for the call. Throws cmbrl::Error naming the function for an exception it raises, or a result
-// that is not N finite numbers.
+// A vectorised Python function of every predicted step of an evaluation at once, f(states,
+// actions, next_states) -> (N,): N = H x E' x samples rows, states and next_states (N, S),
+// actions (N, A), float64. Holds the GIL only for the call. Not thread-safe.
+class PythonStepFunction {
+ public:
+  PythonStepFunction(py::function function, const char* kind)
+      : function_(std::move(function)), kind_(kind) {}
+  ~PythonStepFunction() {
+    py::gil_scoped_acquire acquire;
+    function_ = py::function();
+  }
+
+  // The function's N values for the steps (leading shape of next_states); throws cmbrl::Error
+  // naming the function for an exception it raises or a result that is not N real numbers.
+  std::vector<double> Call(const torch::Tensor& states, const torch::Tensor& actions,
+                           const torch::Tensor& next_states) const {
+    const std::int64_t rows = next_states.numel() / next_states.size(-1);
+    py::gil_scoped_acquire acquire;
+    py::object result;
+    try {
+      result = function_(RowsArray(states, rows), RowsArray(actions, rows),
+                         RowsArray(next_states, rows));
+    } catch (py::error_already_set& error) {
+      Fail("the {} function {} raised {}", kind_, Name(), error.what());
+    }
+    // Booleans (a termination's) read as 0 and 1.
+    const py::array array = py::array::ensure(result);
+    if (array && array.dtype().kind() == 'b') result = array.attr("astype")("float64");
+    const std::string what = fmt::format("the {} function {}'s result", kind_, Name());
+    return RealValues(result, {static_cast<py::ssize_t>(rows)}, what.c_str());
+  }
+
+  // Values shaped as the steps, on their device.
+  static torch::Tensor AsSteps(const std::vector<double>& values, const torch::Tensor& steps) {
+    std::vector<std::int64_t> shape(steps.sizes().begin(), steps.sizes().end() - 1);
+    return torch::tensor(values, torch::kDouble).to(steps.device(), torch::kFloat).view(shape);
+  }
+
+  std::string Name() const {
+    py::gil_scoped_acquire acquire;
+    return std::string(py::str(py::getattr(function_, "__qualname__", py::repr(function_))));
+  }
+
+ private:
+  py::function function_;
+  const char* kind_;
+};
+
+// objective.reward: python. The planning objective's reward term from a reward function (see
+// PythonStepFunction), called once per evaluation (a planner iteration); the cost is minus the
+// reward. Throws cmbrl::Error naming the function for a reward that is not finite.
 class PythonRewardTerm final : public RewardTerm {
  public:
-  explicit PythonRewardTerm(py::function reward) : reward_(std::move(reward)) {}
-  ~PythonRewardTerm() override {
-    py::gil_scoped_acquire acquire;
-    reward_ = py::function();
-  }
+  explicit PythonRewardTerm(py::function reward) : reward_(std::move(reward), "reward") {}
 
   torch::Tensor Cost(const torch::Tensor& states, const torch::Tensor& actions,
                      const torch::Tensor& next_states) const override {
-    const std::int64_t rows = next_states.numel() / next_states.size(-1);
-    std::vector<double> rewards;
-    {
-      py::gil_scoped_acquire acquire;
-      py::object result;
-      try {
-        result = reward_(RowsArray(states, rows), RowsArray(actions, rows),
-                         RowsArray(next_states, rows));
-      } catch (py::error_already_set& error) {
-        Fail("the reward function {} raised {}", Name(), error.what());
-      }
-      const std::string what = fmt::format("the reward function {}'s result", Name());
-      rewards = RealValues(result, {static_cast<py::ssize_t>(rows)}, what.c_str());
-    }
+    const std::vector<double> rewards = reward_.Call(states, actions, next_states);
     for (const double reward : rewards) {
       Require(std::isfinite(reward), "the reward function {} returned {}: expected finite rewards",
-              Name(), reward);
+              reward_.Name(), reward);
     }
-    std::vector<std::int64_t> shape(next_states.sizes().begin(), next_states.sizes().end() - 1);
-    return -torch::tensor(rewards, torch::kDouble)
-                .to(next_states.device(), torch::kFloat)
-                .view(shape);
+    return -PythonStepFunction::AsSteps(rewards, next_states);
   }
   bool reads_states_and_actions() const override { return true; }
 
  private:
-  std::string Name() const {
-    py::gil_scoped_acquire acquire;
-    return std::string(py::str(py::getattr(reward_, "__qualname__", py::repr(reward_))));
-  }
-
-  py::function reward_;
+  PythonStepFunction reward_;
 };
 
-// LearnerInputs with a Python reward function, when one is given.
-LearnerInputs InputsWith(const std::optional<py::function>& reward) {
+// objective.termination: python. Where predicted steps end the episode, from a function (see
+// PythonStepFunction) that returns N booleans or 0/1 numbers. Throws cmbrl::Error naming the
+// function for another value.
+class PythonTerminationTerm final : public TerminationTerm {
+ public:
+  explicit PythonTerminationTerm(py::function termination)
+      : termination_(std::move(termination), "termination") {}
+
+  torch::Tensor Terminal(const torch::Tensor& states, const torch::Tensor& actions,
+                         const torch::Tensor& next_states) const override {
+    const std::vector<double> terminal = termination_.Call(states, actions, next_states);
+    for (const double value : terminal) {
+      Require(value == 0.0 || value == 1.0,
+              "the termination function {} returned {}: expected booleans (or 0 and 1)",
+              termination_.Name(), value);
+    }
+    return PythonStepFunction::AsSteps(terminal, next_states);
+  }
+
+ private:
+  PythonStepFunction termination_;
+};
+
+// LearnerInputs with the Python reward and termination functions that are given.
+LearnerInputs InputsWith(const std::optional<py::function>& reward,
+                         const std::optional<py::function>& termination) {
   LearnerInputs inputs;
   if (reward) {
     inputs.python_reward = [function = *reward]() -> std::unique_ptr<RewardTerm> {
@@ -98,15 +142,25 @@ LearnerInputs InputsWith(const std::optional<py::function>& reward) {
       return std::make_unique<PythonRewardTerm>(function);
     };
   }
+  if (termination) {
+    inputs.python_termination = [function = *termination]() -> std::unique_ptr<TerminationTerm> {
+      py::gil_scoped_acquire acquire;
+      return std::make_unique<PythonTerminationTerm>(function);
+    };
+  }
   return inputs;
 }
 
-// A run's reward and the function given must agree: a function for objective.reward python,
-// none otherwise.
-void CheckRewardGiven(const TrainConfig& config, bool given, const std::string& run) {
-  Require(!given || config.objective.reward == "python",
+// A run's objective and the functions given must agree: a function where the objective names
+// python, none otherwise.
+void CheckFunctionsGiven(const TrainConfig& config, bool reward, bool termination,
+                         const std::string& run) {
+  Require(!reward || config.objective.reward == "python",
           "{} plans with objective.reward '{}': give no reward function", run,
           config.objective.reward);
+  Require(!termination || config.objective.termination == "python",
+          "{} plans with objective.termination '{}': give no termination function", run,
+          config.objective.termination);
 }
 
 // A trained run's agent (LoadedRun). Thread-safe: calls from several Python threads take turns
@@ -114,9 +168,10 @@ void CheckRewardGiven(const TrainConfig& config, bool given, const std::string& 
 class PyAgent {
  public:
   PyAgent(const std::string& run_dir, std::uint64_t seed, const std::vector<std::string>& overrides,
-          const std::optional<py::function>& reward)
-      : run_(run_dir, seed, overrides, InputsWith(reward)) {
-    CheckRewardGiven(run_.config(), reward.has_value(), fmt::format("run '{}'", run_dir));
+          const std::optional<py::function>& reward, const std::optional<py::function>& termination)
+      : run_(run_dir, seed, overrides, InputsWith(reward, termination)) {
+    CheckFunctionsGiven(run_.config(), reward.has_value(), termination.has_value(),
+                        fmt::format("run '{}'", run_dir));
   }
 
   void BeginEpisode() {
@@ -245,8 +300,9 @@ py::dict Train(const std::optional<std::vector<std::string>>& config_path,
                const std::optional<std::string>& resume, std::optional<std::int64_t> steps,
                std::optional<std::uint64_t> seed, const std::optional<std::string>& device,
                const std::function<void(py::dict)>& progress, double checkpoint_seconds,
-               const std::optional<py::function>& reward) {
-  const LearnerInputs inputs = InputsWith(reward);
+               const std::optional<py::function>& reward,
+               const std::optional<py::function>& termination) {
+  const LearnerInputs inputs = InputsWith(reward, termination);
   std::unique_ptr<Trainer> trainer;
   std::string run_dir;
   if (resume) {
@@ -254,8 +310,9 @@ py::dict Train(const std::optional<std::vector<std::string>>& config_path,
             "resume continues a run with its own config: give no config, out, seed or device "
             "with it (steps gives it a new budget)");
     run_dir = *resume;
-    CheckRewardGiven(LoadTrainConfig((RunDirectory(run_dir).config_file()).string()),
-                     reward.has_value(), fmt::format("run '{}'", run_dir));
+    CheckFunctionsGiven(LoadTrainConfig(RunDirectory(run_dir).config_file().string()),
+                        reward.has_value(), termination.has_value(),
+                        fmt::format("run '{}'", run_dir));
     py::gil_scoped_release release;
     trainer = Trainer::Resume(run_dir, steps, inputs);
   } else {
@@ -268,7 +325,9 @@ py::dict Train(const std::optional<std::vector<std::string>>& config_path,
     if (steps) config.training.total_steps = *steps;
     if (seed) config.seed = *seed;
     if (device) SetTrainDevice(config, *device);
-    if (reward) config.objective.reward = "python";  // recorded in the run's config.yaml
+    // Recorded in the run's config.yaml.
+    if (reward) config.objective.reward = "python";
+    if (termination) config.objective.termination = "python";
     ValidateTrainConfig(config, source);
     run_dir = *out;
     py::gil_scoped_release release;
@@ -320,8 +379,9 @@ py::dict Train(const std::optional<std::vector<std::string>>& config_path,
 void BindRuns(py::module_& m) {
   py::class_<PyAgent>(m, "Agent")
       .def(py::init<const std::string&, std::uint64_t, const std::vector<std::string>&,
-                    const std::optional<py::function>&>(),
-           py::arg("run_dir"), py::arg("seed"), py::arg("overrides"), py::arg("reward"))
+                    const std::optional<py::function>&, const std::optional<py::function>&>(),
+           py::arg("run_dir"), py::arg("seed"), py::arg("overrides"), py::arg("reward"),
+           py::arg("termination"))
       .def("begin_episode", &PyAgent::BeginEpisode)
       .def("act", &PyAgent::Act, py::arg("observation"))
       .def("predictions", &PyAgent::Predictions, py::arg("scene"), py::arg("samples"))
@@ -336,7 +396,8 @@ void BindRuns(py::module_& m) {
 
   m.def("train", &Train, py::arg("config_path"), py::arg("config_text"), py::arg("out"),
         py::arg("resume"), py::arg("steps"), py::arg("seed"), py::arg("device"),
-        py::arg("progress"), py::arg("checkpoint_seconds"), py::arg("reward"));
+        py::arg("progress"), py::arg("checkpoint_seconds"), py::arg("reward"),
+        py::arg("termination"));
 }
 
 }  // namespace cmbrl::python

@@ -11,16 +11,16 @@ from ._common import Error, _as_int, _as_seed, _box, _json_number, _NotCopyable,
 from .envs import Env
 
 
-def _reward_function(reward):
-    """reward as the bindings take it: None, or a callable (refused by name otherwise)."""
-    if reward is not None and not callable(reward):
-        raise Error(f"reward is {reward!r}: expected a function reward(states, actions, "
-                    "next_states) -> (N,) rewards, or None")
-    return reward
+def _step_function(function, name, returns):
+    """A planning function as the bindings take it: None, or a callable (refused by name)."""
+    if function is not None and not callable(function):
+        raise Error(f"{name} is {function!r}: expected a function {name}(states, actions, "
+                    f"next_states) -> (N,) {returns}, or None")
+    return function
 
 
 def train(config=None, out=None, steps=None, seed=None, device=None, resume=None, progress=None,
-          checkpoint_seconds=300.0, reward=None):
+          checkpoint_seconds=300.0, reward=None, termination=None):
     """Trains a run as `cmbrl train` does, into the run directory `out`.
 
     config: a YAML file (path), a list of them composed in order (a task's paper preset, then a
@@ -41,6 +41,9 @@ def train(config=None, out=None, steps=None, seed=None, device=None, resume=None
     x rolled trajectories x samples; it returns N finite rewards (higher is better). A run
     planned so is resumed and loaded with the same function given again (resume=..., reward=f;
     load_run(..., reward=f)); the command line cannot.
+    termination: likewise termination(states, actions, next_states) -> N booleans, True where a
+    predicted step ends the episode (objective.termination: python): the planning objective
+    counts no step after it.
     Returns {"run", "steps", "budget"}.
     """
     if (isinstance(checkpoint_seconds, (bool, np.bool_))
@@ -63,7 +66,8 @@ def train(config=None, out=None, steps=None, seed=None, device=None, resume=None
     return _cmbrl.train(config_path, config_text, out, resume,
                         None if steps is None else _as_int(steps, "steps", 1, 10**10),
                         None if seed is None else _as_seed(seed), device, progress,
-                        float(checkpoint_seconds), _reward_function(reward))
+                        float(checkpoint_seconds), _step_function(reward, "reward", "rewards"),
+                        _step_function(termination, "termination", "booleans"))
 
 
 class Agent(_NotCopyable):
@@ -77,9 +81,10 @@ class Agent(_NotCopyable):
 
     _instead = "load the run again with cmbrl.load_run(run_dir)"
 
-    def __init__(self, run_dir, seed=0, overrides=(), reward=None):
+    def __init__(self, run_dir, seed=0, overrides=(), reward=None, termination=None):
         self._agent = _cmbrl.Agent(os.fspath(run_dir), _as_seed(seed), list(overrides),
-                                   _reward_function(reward))
+                                   _step_function(reward, "reward", "rewards"),
+                                   _step_function(termination, "termination", "booleans"))
         self.run_dir = os.fspath(run_dir)
         self.observation_space = _box(self._agent.observation_spec())
         self.action_space = _box(self._agent.action_spec())
@@ -132,15 +137,17 @@ class Agent(_NotCopyable):
         return self._agent.predict_violation(states)
 
 
-def load_run(run_dir, seed=0, overrides=None, reward=None):
+def load_run(run_dir, seed=0, overrides=None, reward=None, termination=None):
     """The agent of a trained run directory (its last checkpoint); seed seeds the planner.
 
     overrides: a dict {"section.key": value} or a list of "section.key=value" that changes how
     the trained models are used, as `cmbrl eval --set` does: planning.*, objective.* and
     classifier.threshold, e.g. {"classifier.threshold": 0.3}.
-    reward: the planning reward function of a run trained with one (train(..., reward=f))."""
+    reward, termination: the planning functions of a run trained with them (train(...,
+    reward=f, termination=g))."""
     if overrides is None:
         overrides = []
     elif isinstance(overrides, dict):
         overrides = [f"{key}={_yaml_value(value)}" for key, value in overrides.items()]
-    return Agent(run_dir, seed=seed, overrides=[str(item) for item in overrides], reward=reward)
+    return Agent(run_dir, seed=seed, overrides=[str(item) for item in overrides], reward=reward,
+                 termination=termination)

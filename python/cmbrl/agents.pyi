@@ -5,10 +5,11 @@ import numpy.typing as npt
 
 from ._common import _Bools, _Floats, _NotCopyable, _Path
 
-# reward(states (N, S), actions (N, A), next_states (N, S)) -> (N,) rewards, float64 arrays.
-_Reward = Callable[[_Floats, _Floats, _Floats], npt.ArrayLike]
+# f(states (N, S), actions (N, A), next_states (N, S)) -> (N,): rewards, or terminal booleans.
+_StepFunction = Callable[[_Floats, _Floats, _Floats], npt.ArrayLike]
 
-def _reward_function(reward: Optional[_Reward]) -> Optional[_Reward]: ...
+def _step_function(function: Optional[_StepFunction], name: str,
+                   returns: str) -> Optional[_StepFunction]: ...
 from .envs import Env
 from .spaces import _Box
 
@@ -16,7 +17,8 @@ def train(config: Union[_Path, Sequence[_Path], Mapping[str, Any], None] = ...,
           out: Optional[_Path] = ..., steps: Optional[int] = ..., seed: Optional[int] = ...,
           device: Optional[str] = ..., resume: Optional[_Path] = ...,
           progress: Optional[Callable[[dict[str, Any]], object]] = ...,
-          checkpoint_seconds: float = ..., reward: Optional[_Reward] = ...) -> dict[str, Any]: ...
+          checkpoint_seconds: float = ..., reward: Optional[_StepFunction] = ...,
+          termination: Optional[_StepFunction] = ...) -> dict[str, Any]: ...
 
 class Agent(_NotCopyable):
     run_dir: str
@@ -27,7 +29,8 @@ class Agent(_NotCopyable):
     variant: str
     spawn: str
     def __init__(self, run_dir: _Path, seed: int = ..., overrides: Iterable[str] = ...,
-                 reward: Optional[_Reward] = ...) -> None: ...
+                 reward: Optional[_StepFunction] = ...,
+                 termination: Optional[_StepFunction] = ...) -> None: ...
     def make_env(self, render_mode: Optional[str] = ..., render_size: int = ...) -> Env: ...
     def config(self) -> str: ...
     def begin_episode(self) -> None: ...
@@ -38,4 +41,5 @@ class Agent(_NotCopyable):
     def predict_violation(self, states: npt.ArrayLike) -> _Bools: ...
 
 def load_run(run_dir: _Path, seed: int = ..., overrides: Optional[Mapping[str, Any]] = ...,
-             reward: Optional[_Reward] = ...) -> Agent: ...
+             reward: Optional[_StepFunction] = ...,
+             termination: Optional[_StepFunction] = ...) -> Agent: ...

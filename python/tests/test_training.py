@@ -252,3 +252,27 @@ def test_a_bad_python_reward_is_named(tmp_path):
 
     with pytest.raises(cmbrl.Error, match="returned nan: expected finite rewards"):
         cmbrl.train(config=tiny_config(20), out=tmp_path / "nan", reward=not_finite)
+
+
+def test_a_python_termination_is_called_beside_the_reward_and_checked(tmp_path):
+    calls = []
+
+    def never(states, actions, next_states):
+        calls.append(len(states))
+        return np.zeros(len(states), dtype=bool)
+
+    summary = cmbrl.train(config=tiny_config(20), out=tmp_path / "run", termination=never)
+    assert len(calls) == 2 * summary["steps"]  # once per planner iteration, as the reward
+    with open(tmp_path / "run" / "config.yaml") as f:
+        text = f.read()
+    assert "termination: python" in text and "reward: analytic" in text
+    with pytest.raises(cmbrl.Error, match="objective.termination is 'python'"):
+        cmbrl.load_run(tmp_path / "run")
+    cmbrl.load_run(tmp_path / "run", termination=never).act(np.zeros(24))
+
+    def two(states, actions, next_states):
+        return np.full(len(states), 2.0)
+
+    with pytest.raises(cmbrl.Error, match=r"the termination function .*two returned 2: expected "
+                                          r"booleans \(or 0 and 1\)"):
+        cmbrl.train(config=tiny_config(20), out=tmp_path / "two", termination=two)

@@ -40,6 +40,51 @@ class RecordingTerm final : public RewardTerm {
   std::vector<torch::Tensor>* seen_;
 };
 
+// Costs every step 1 (a reward term), and ends the episode at step `end` (a termination term).
+class UnitCost final : public RewardTerm {
+ public:
+  torch::Tensor Cost(const torch::Tensor&, const torch::Tensor&,
+                     const torch::Tensor& next_states) const override {
+    return torch::ones_like(next_states.select(-1, 0));
+  }
+  bool reads_states_and_actions() const override { return false; }
+};
+class EndsAtStep final : public TerminationTerm {
+ public:
+  explicit EndsAtStep(int end) : end_(end) {}
+  torch::Tensor Terminal(const torch::Tensor& states, const torch::Tensor& actions,
+                         const torch::Tensor& next_states) const override {
+    EXPECT_TRUE(states.defined() && actions.defined());  // it reads them, as a term may
+    torch::Tensor terminal = torch::zeros_like(next_states.select(-1, 0));
+    terminal[end_].fill_(1.0f);
+    return terminal;
+  }
+
+ private:
+  int end_;
+};
+
+// A terminal step counts, the steps after it do not, in both sums: a unit cost over 3 steps
+// ending at step 1 sums to 1 + 0.98, not 1 + 0.98 + 0.98^2.
+TEST(TrajectoryObjectiveTest, ATerminalStepCutsTheDiscountedSums) {
+  LinearDynamics dynamics(2);
+  HalfPlaneCost cost;
+  const torch::Tensor actions = torch::full({2, 3, 2}, 0.5f);
+  for (const Propagation propagation : {Propagation::kPerMember, Propagation::kEnsembleMean}) {
+    TrajectoryObjective open(dynamics, cost, propagation, {}, std::make_unique<UnitCost>());
+    TrajectoryObjective ended(dynamics, cost, propagation, {}, std::make_unique<UnitCost>(),
+                              std::make_unique<EndsAtStep>(1));
+    open.SetState(StateWithGoal(1.0f));
+    ended.SetState(StateWithGoal(1.0f));
+    const ObjectiveValues all = open.Evaluate(actions);
+    const ObjectiveValues cut = ended.Evaluate(actions);
+    EXPECT_NEAR(all.reward_cost[0].item<float>(), 1 + 0.98 + 0.98 * 0.98, kTol);
+    EXPECT_NEAR(cut.reward_cost[0].item<float>(), 1 + 0.98, kTol);
+    // The constraint's sum is cut alike: no violation after the end counts.
+    EXPECT_LE(cut.constraint_cost[0].item<float>(), all.constraint_cost[0].item<float>());
+  }
+}
+
 // A term that reads states and actions gets, for every step t, the state it starts from (the
 // planning state at t = 0, the prediction of step t - 1 after), its action and its prediction,
 // laid out (H, E', N, ...) as the trajectories are; its costs are summed like the goal's.

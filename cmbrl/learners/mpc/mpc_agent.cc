@@ -10,11 +10,13 @@ namespace cmbrl {
 
 MpcAgent::MpcAgent(const DynamicsModel& dynamics, const CostModel& cost, const std::string& planner,
                    const PlannerSettings& settings, const TrajectoryObjectiveOptions& objective,
-                   std::unique_ptr<RewardTerm> reward, std::uint64_t seed)
+                   std::unique_ptr<RewardTerm> reward, std::uint64_t seed,
+                   std::unique_ptr<TerminationTerm> termination)
     : dynamics_(dynamics),
       device_(ParseDevice(settings.problem.device, "planner device")),
       planner_(MakePlanner(planner, settings, seed)),
-      objective_(dynamics, cost, FindPlanner(planner).propagation, objective, std::move(reward)) {
+      objective_(dynamics, cost, FindPlanner(planner).propagation, objective, std::move(reward),
+                 std::move(termination)) {
   Require(settings.problem.action_dim == dynamics.action_dim(),
           "planner action_dim is {}, the dynamics model takes {}", settings.problem.action_dim,
           dynamics.action_dim());

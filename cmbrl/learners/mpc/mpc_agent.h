@@ -28,11 +28,13 @@ struct PlanStats {
 // thread-safe.
 class MpcAgent final : public Policy {
  public:
-  // `planner`: "rce", "cem" or "random"; `reward`: the objective's reward term (RewardTermFor in
-  // mpc_parts.h). Throws cmbrl::Error for bad settings.
+  // `planner`: "rce", "cem" or "random"; `reward` and `termination`: the objective's terms
+  // (RewardTermFor and TerminationTermFor in mpc_parts.h; no termination by default). Throws
+  // cmbrl::Error for bad settings.
   MpcAgent(const DynamicsModel& dynamics, const CostModel& cost, const std::string& planner,
            const PlannerSettings& settings, const TrajectoryObjectiveOptions& objective,
-           std::unique_ptr<RewardTerm> reward, std::uint64_t seed);
+           std::unique_ptr<RewardTerm> reward, std::uint64_t seed,
+           std::unique_ptr<TerminationTerm> termination = nullptr);
 
   void BeginEpisode() override { planner_->Reset(); }
 

@@ -73,9 +73,9 @@ void LoadMpcModels(const fs::path& checkpoint, MpcParts& parts) {
   parts.classifier->Load((checkpoint / kClassifierFile).string());
 }
 
-MpcLearner::MpcLearner(TrainConfig config, const RewardTermMaker& python_reward)
+MpcLearner::MpcLearner(TrainConfig config, const LearnerInputs& inputs)
     : config_(std::move(config)),
-      parts_(AssembleMpc(config_, RunSeeds(config_.seed), python_reward)),
+      parts_(AssembleMpc(config_, RunSeeds(config_.seed), inputs)),
       dynamics_validation_mse_(kNaN),
       classifier_safe_accuracy_(kNaN),
       classifier_unsafe_accuracy_(kNaN) {

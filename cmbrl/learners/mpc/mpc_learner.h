@@ -67,8 +67,8 @@ class MpcLearner final : public Learner {
  public:
   // Builds everything for a validated `config`; throws cmbrl::Error for settings the components
   // refuse.
-  // `python_reward`: the reward term's maker of a run whose objective.reward is "python".
-  explicit MpcLearner(TrainConfig config, const RewardTermMaker& python_reward = {});
+  // `inputs`: the Python reward and termination of a run whose objective names them.
+  explicit MpcLearner(TrainConfig config, const LearnerInputs& inputs = {});
   ~MpcLearner() override;
 
   std::string ProgressHeader() const override { return ProgressCsvHeader(); }

@@ -12,16 +12,27 @@ MpcPartSeeds RunSeeds(std::uint64_t seed) {
 }
 
 std::unique_ptr<RewardTerm> RewardTermFor(const TrainConfig& config,
-                                          const RewardTermMaker& python) {
+                                          const LearnerInputs& inputs) {
   if (config.objective.reward == "python") {
-    Require(static_cast<bool>(python),
+    Require(static_cast<bool>(inputs.python_reward),
             "objective.reward is 'python': the run plans with a reward function given from "
             "Python (cmbrl.train(..., reward=f), cmbrl.load_run(..., reward=f)); the command "
             "line has none");
-    return python();
+    return inputs.python_reward();
   }
   // "analytic": the task's own form (validated with the config).
   return MakeAnalyticReward(FindTask(config.task).analytic_reward, config.objective);
+}
+
+std::unique_ptr<TerminationTerm> TerminationTermFor(const TrainConfig& config,
+                                                    const LearnerInputs& inputs) {
+  if (config.objective.termination == "none") return nullptr;
+  // "python" (validated with the config).
+  Require(static_cast<bool>(inputs.python_termination),
+          "objective.termination is 'python': the run plans with a termination function given "
+          "from Python (cmbrl.train(..., termination=f), cmbrl.load_run(..., termination=f)); "
+          "the command line has none");
+  return inputs.python_termination();
 }
 
 PlannerSettings PlannerSettingsFor(const TrainConfig& config, int action_dim) {
@@ -31,7 +42,7 @@ PlannerSettings PlannerSettingsFor(const TrainConfig& config, int action_dim) {
 }
 
 MpcParts AssembleMpc(const TrainConfig& config, const MpcPartSeeds& seeds,
-                     const RewardTermMaker& python_reward) {
+                     const LearnerInputs& inputs) {
   MpcParts parts;
   parts.env = MakeEnv(config.task, config.variant, config.spawn);
   const int state_dim = parts.env->observation_spec().size();
@@ -42,9 +53,8 @@ MpcParts AssembleMpc(const TrainConfig& config, const MpcPartSeeds& seeds,
       std::make_unique<XgbCostModel>(state_dim, config.classifier, seeds.classifier);
   parts.agent = std::make_unique<MpcAgent>(*parts.ensemble, *parts.classifier, config.planner,
                                            PlannerSettingsFor(config, action_dim),
-                                           config.objective,
-                                           RewardTermFor(config, python_reward),
-                                           seeds.planner);
+                                           config.objective, RewardTermFor(config, inputs),
+                                           seeds.planner, TerminationTermFor(config, inputs));
   return parts;
 }
 

@@ -7,6 +7,7 @@
 #include <functional>
 #include <memory>
 
+#include "cmbrl/learners/learner_inputs.h"
 #include "cmbrl/learners/mpc/mpc_agent.h"
 #include "cmbrl/env/env.h"
 #include "cmbrl/config/config.h"
@@ -24,10 +25,6 @@ struct MpcParts {
   std::unique_ptr<MpcAgent> agent;
 };
 
-// Makes the reward term of a run whose objective.reward is "python" (the bindings' Python
-// function); empty where the program has none.
-using RewardTermMaker = std::function<std::unique_ptr<RewardTerm>()>;
-
 // The seeds of the parts. Training derives them from the run seed (DeriveSeed with the
 // SeedStream of each); evaluation and benchmarks choose their own.
 struct MpcPartSeeds {
@@ -39,16 +36,23 @@ struct MpcPartSeeds {
 // The run's own streams of `seed`.
 MpcPartSeeds RunSeeds(std::uint64_t seed);
 
-// Builds everything for `config` (a validated configuration), the reward term by RewardTermFor.
+// Builds everything for `config` (a validated configuration), the objective's terms by
+// RewardTermFor and TerminationTermFor.
 // Throws cmbrl::Error for settings the components refuse.
 MpcParts AssembleMpc(const TrainConfig& config, const MpcPartSeeds& seeds,
-                     const RewardTermMaker& python_reward = {});
+                     const LearnerInputs& inputs = {});
 
 // The planning objective's reward term of `config` (objective.reward): for "analytic", its task's
-// own form (env/task_list.h) with the objective's options; for "python", `python`'s. Throws
-// cmbrl::Error naming the key when the run needs a Python function and none is given.
+// own form (env/task_list.h) with the objective's options; for "python", the one `inputs`
+// makes. Throws cmbrl::Error naming the key when the run needs a Python function and none is
+// given.
 std::unique_ptr<RewardTerm> RewardTermFor(const TrainConfig& config,
-                                          const RewardTermMaker& python = {});
+                                          const LearnerInputs& inputs = {});
+
+// Its termination term (objective.termination): none (nullptr), or the one `inputs` makes.
+// Throws as RewardTermFor does.
+std::unique_ptr<TerminationTerm> TerminationTermFor(const TrainConfig& config,
+                                                    const LearnerInputs& inputs = {});
 
 // The planner settings of `config` for an environment with `action_dim` actions.
 PlannerSettings PlannerSettingsFor(const TrainConfig& config, int action_dim);
