@@ -4,6 +4,7 @@
 
 #include <functional>
 #include <memory>
+#include <string>
 
 namespace cmbrl {
 
@@ -15,6 +16,8 @@ struct LearnerInputs {
   std::function<std::unique_ptr<RewardTerm>()> python_reward;
   // Its termination term, where objective.termination is "python".
   std::function<std::unique_ptr<TerminationTerm>()> python_termination;
+  // The functions given, "reward=module.f, termination=module.g": each session records them.
+  std::string python_functions;
 };
 
 }  // namespace cmbrl

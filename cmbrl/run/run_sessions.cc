@@ -30,7 +30,8 @@ nlohmann::ordered_json SetupJson(const NumericsSetup& setup) {
           {"mujoco", setup.mujoco},
           {"xgboost", setup.xgboost},
           {"onednn", setup.onednn},
-          {"device", setup.device}};
+          {"device", setup.device},
+          {"python_functions", setup.python_functions}};
 }
 
 nlohmann::ordered_json SessionJson(const RunSession& session) {
@@ -83,6 +84,7 @@ RunSession ParseSession(const std::string& text, const std::string& where) {
   setup.xgboost = Field<std::string>(line, "xgboost", where);
   setup.onednn = OptionalText(line, "onednn", where);
   setup.device = Field<std::string>(line, "device", where);
+  setup.python_functions = OptionalText(line, "python_functions", where);
   return session;
 }
 
@@ -139,7 +141,10 @@ std::string DescribeSetup(const NumericsSetup& setup) {
       "thread(s); MuJoCo {}, XGBoost {}, oneDNN {}; device {}",
       setup.cmbrl, setup.cpu, setup.cpu_isa.empty() ? "ISA not recorded" : setup.cpu_isa,
       setup.blas_core, setup.blas_threads, setup.libtorch, setup.torch_threads, setup.mujoco,
-      setup.xgboost, setup.onednn.empty() ? "none" : setup.onednn, setup.device);
+      setup.xgboost, setup.onednn.empty() ? "none" : setup.onednn, setup.device) +
+         (setup.python_functions.empty()
+              ? std::string()
+              : fmt::format("; Python {}", setup.python_functions));
 }
 
 std::string RunIdOf(const std::vector<RunSession>& sessions) {

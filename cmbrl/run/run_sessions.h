@@ -31,6 +31,9 @@ struct NumericsSetup {
   std::string xgboost;
   std::string onednn;  // "" without oneDNN (or before v0.6)
   std::string device;  // the run's device ("cpu", "cuda:0")
+  // The Python functions the run plans with, "reward=module.f, termination=module.g" ("" for
+  // none, and in sessions of versions before them): a session with others plans differently.
+  std::string python_functions;
 
   bool operator==(const NumericsSetup& other) const;
   bool operator!=(const NumericsSetup& other) const { return !(*this == other); }

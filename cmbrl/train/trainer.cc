@@ -49,6 +49,17 @@ struct Trainer::State {
   }
 };
 
+namespace {
+
+// This session's setup: the machine's and the Python functions the learner was given.
+NumericsSetup SessionSetup(const std::string& device, const LearnerInputs& inputs) {
+  NumericsSetup setup = CurrentNumericsSetup(device);
+  setup.python_functions = inputs.python_functions;
+  return setup;
+}
+
+}  // namespace
+
 std::unique_ptr<Trainer> Trainer::Start(const TrainConfig& config, const std::string& run_dir,
                                         const LearnerInputs& inputs) {
   ValidateTrainConfig(config, "(command line)");
@@ -58,7 +69,7 @@ std::unique_ptr<Trainer> Trainer::Start(const TrainConfig& config, const std::st
   state->learner = MakeLearner(config, inputs);
   RunDirectory::Create(run_dir, TrainConfigToYaml(config), state->learner->ProgressHeader(),
                        [&] { state->lock = std::make_unique<RunLock>(run_dir); });
-  RecordRunSession(state->run, 0, CurrentNumericsSetup(config.device));
+  RecordRunSession(state->run, 0, SessionSetup(config.device, inputs));
   return std::unique_ptr<Trainer>(new Trainer(std::move(state)));
 }
 
@@ -105,7 +116,7 @@ std::unique_ptr<Trainer> Trainer::Resume(const std::string& run_dir,
   // A finished run asked to go on with nothing to do is no session.
   if (!state->learner->Finished()) {
     state->setup_changes = RecordRunSession(run, state->learner->steps_done(),
-                                            CurrentNumericsSetup(state->config.device));
+                                            SessionSetup(state->config.device, inputs));
   }
   return std::unique_ptr<Trainer>(new Trainer(std::move(state)));
 }

@@ -136,6 +136,18 @@ class PythonTerminationTerm final : public TerminationTerm {
 LearnerInputs InputsWith(const std::optional<py::function>& reward,
                          const std::optional<py::function>& termination) {
   LearnerInputs inputs;
+  // "module.qualname" of each function given, for the run's sessions.
+  const auto named = [](const char* role, const py::function& function) {
+    const py::object module = py::getattr(function, "__module__", py::none());
+    const py::object name = py::getattr(function, "__qualname__", py::repr(function));
+    return fmt::format("{}={}{}", role,
+                       module.is_none() ? std::string() : std::string(py::str(module)) + ".",
+                       std::string(py::str(name)));
+  };
+  std::vector<std::string> names;
+  if (reward) names.push_back(named("reward", *reward));
+  if (termination) names.push_back(named("termination", *termination));
+  inputs.python_functions = fmt::format("{}", fmt::join(names, ", "));
   if (reward) {
     inputs.python_reward = [function = *reward]() -> std::unique_ptr<RewardTerm> {
       py::gil_scoped_acquire acquire;

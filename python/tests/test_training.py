@@ -210,6 +210,10 @@ def test_a_python_reward_is_called_once_per_planner_iteration_on_every_predicted
     assert set(calls) == {((216, 24), (216, 2), (216, 24), np.dtype(np.float64))}  # PointGoal1: S 24
     with open(tmp_path / "run" / "config.yaml") as f:
         assert "reward: python" in f.read()
+    # Each session names the function it planned with.
+    with open(tmp_path / "run" / "sessions.jsonl") as f:
+        assert ('"python_functions":"reward=test_training._goal_reward.<locals>.reward"'
+                in f.read())
     # The run needs its function again to go on or to act, and the command line has none.
     with pytest.raises(cmbrl.Error, match="objective.reward is 'python': the run plans with a "
                                           "reward function given from Python"):
