@@ -16,7 +16,7 @@ class RewardTerm {
  public:
   virtual ~RewardTerm() = default;
   // The cost of each predicted step from `states` (..., S) under `actions` (..., A) to
-  // `next_states` (..., S): (...). The objective passes undefined states and actions to a term
+  // `next_states` (..., S): (...). The objective may pass undefined states and actions to a term
   // that does not read them (reads_states_and_actions() false).
   virtual torch::Tensor Cost(const torch::Tensor& states, const torch::Tensor& actions,
                              const torch::Tensor& next_states) const = 0;

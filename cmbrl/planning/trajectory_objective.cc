@@ -33,18 +33,12 @@ void TrajectoryObjective::SetState(const torch::Tensor& state) {
   state_ = state.to(torch::kFloat);
 }
 
-std::pair<torch::Tensor, torch::Tensor> TrajectoryObjective::StepStartsAndActions(
-    const torch::Tensor& trajectories, const torch::Tensor& actions) const {
-  // The state each step starts from: the planning state, then the step before's prediction.
-  const std::int64_t horizon = trajectories.size(0), rows = trajectories.size(1);
-  const torch::Tensor start = state_.to(trajectories.device())
-                                  .view({1, 1, 1, -1})
-                                  .expand({1, rows, trajectories.size(2), trajectories.size(3)});
-  const torch::Tensor states =
-      torch::cat({start, trajectories.narrow(0, 0, horizon - 1)}, 0);  // (H, E', N, S)
-  const torch::Tensor step_actions = actions.transpose(0, 1).unsqueeze(1).expand(
-      {horizon, rows, actions.size(0), actions.size(2)});  // (H, E', N, A)
-  return {states, step_actions};
+torch::Tensor TrajectoryObjective::StepStarts(const torch::Tensor& trajectories) const {
+  const torch::Tensor start =
+      state_.to(trajectories.device())
+          .view({1, 1, 1, -1})
+          .expand({1, trajectories.size(1), trajectories.size(2), trajectories.size(3)});
+  return torch::cat({start, trajectories.narrow(0, 0, trajectories.size(0) - 1)}, 0);
 }
 
 ObjectiveValues TrajectoryObjective::Evaluate(const torch::Tensor& actions) {
@@ -81,14 +75,14 @@ ObjectiveValues TrajectoryObjective::Evaluate(const torch::Tensor& actions) {
   // for RCE; one row (H, 1, N) for the mean trajectory.
   const torch::Tensor scored =
       per_member ? last_trajectories_ : last_trajectories_.narrow(1, 0, 1).contiguous();
-  // Start states and actions only for the terms that read them: the goal distance does not.
-  const bool stacked = reward_->reads_states_and_actions() || termination_ != nullptr;
-  const auto [starts, step_actions] =
-      stacked ? StepStartsAndActions(scored, actions)
-              : std::pair<torch::Tensor, torch::Tensor>();
-  torch::Tensor step_rewards = reward_->reads_states_and_actions()
-                                   ? reward_->Cost(starts, step_actions, scored)
-                                   : reward_->Cost(torch::Tensor(), torch::Tensor(), scored);
+  // Start states and actions, laid out as `scored`, only for the terms that read them: the goal
+  // distance does not.
+  torch::Tensor starts, step_actions;  // (H, E', N, S), (H, E', N, A)
+  if (reward_->reads_states_and_actions() || termination_ != nullptr) {
+    starts = StepStarts(scored);
+    step_actions = member_actions.narrow(1, 0, scored.size(1));
+  }
+  torch::Tensor step_rewards = reward_->Cost(starts, step_actions, scored);
   torch::Tensor step_violations = cost_.PredictViolation(scored);
   if (termination_) {
     // A step counts while no step before it ended the episode: 1, then the running product of

@@ -36,10 +36,9 @@ class TrajectoryObjective final : public Objective {
   const ObjectiveValues& last_values() const { return last_values_; }
 
  private:
-  // Each step's start states and actions, laid out as `trajectories` (H, E', N, S) of `actions`
-  // (N, H, A): (H, E', N, S) and (H, E', N, A).
-  std::pair<torch::Tensor, torch::Tensor> StepStartsAndActions(const torch::Tensor& trajectories,
-                                                               const torch::Tensor& actions) const;
+  // Each step's start states, laid out as `trajectories` (H, E', N, S): the planning state, then
+  // the step before's prediction.
+  torch::Tensor StepStarts(const torch::Tensor& trajectories) const;
 
   const DynamicsModel& dynamics_;
   const CostModel& cost_;

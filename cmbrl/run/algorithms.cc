@@ -49,11 +49,14 @@ std::string MethodOf(const std::string& algorithm, const std::string& planner) {
 
 std::vector<std::string> MethodNames() {
   std::vector<std::string> names;
+  bool planners_listed = false;  // the planners stand once, where the first family of them is
   for (const AlgorithmEntry& entry : Algorithms()) {
     if (entry.family->method_axis == MethodAxis::kAlgorithm) {
       names.push_back(entry.name);
-    } else if (std::find(names.begin(), names.end(), PlannerNames().front()) == names.end()) {
-      for (const std::string& planner : PlannerNames()) names.push_back(planner);
+    } else if (!planners_listed) {
+      const std::vector<std::string> planners = PlannerNames();
+      names.insert(names.end(), planners.begin(), planners.end());
+      planners_listed = true;
     }
   }
   return names;
