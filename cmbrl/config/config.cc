@@ -109,6 +109,8 @@ void VisitConfig(Config& c, Visitor& v) {
   v.Field("", "seed", c.seed);
   v.Field("", "device", c.device);
   v.Field("environment", "spawn", c.spawn);
+  v.Field("environment", "observation_size", c.observation_size);
+  v.Field("environment", "action_size", c.action_size);
   auto& t = c.training;
   v.Field("training", "pretrain_episodes", t.pretrain_episodes);
   v.Field("training", "pretrain_steps", t.pretrain_steps);
@@ -166,6 +168,7 @@ void VisitConfig(Config& c, Visitor& v) {
   auto& o = c.objective;
   v.Field("objective", "reward", o.reward);
   v.Field("objective", "termination", o.termination);
+  v.Field("objective", "analytic_form", o.analytic_form);
   v.Field("objective", "goal_index", o.goal_index);
   v.Field("objective", "gamma", o.gamma);
   v.Field("objective", "beta", o.beta);
@@ -412,26 +415,61 @@ namespace {
 
 // The objective a run that plans reads: the ego-state the goal distance reads, the objective's
 // options and the task's analytic reward form.
-void ValidatePlanningObjective(const TrainConfig& c, const GoalTaskSpec& spec,
+void ValidatePlanningObjective(const TrainConfig& c, int observation_size,
                                const std::string& source) {
-  // The planning objective reads the goal from the paper's ego-state vector.
-  Require(spec.observation == ObservationKind::kEgoState,
-          "config '{}': key 'variant' is '{}': training plans on the paper variant's ego-state "
-          "vector (the standard variant observes lidar)",
-          source, VariantName(c.variant));
+  if (IsPythonTask(c.task)) {
+    Require(c.objective.reward != "analytic" || !c.objective.analytic_form.empty(),
+            "config '{}': key 'objective.reward' is 'analytic', but task '{}' is an environment "
+            "given from Python, which has no analytic reward of its own: give a reward function "
+            "(cmbrl.train(..., reward=f)), learn one (objective.reward: learned) or name a form "
+            "(objective.analytic_form: one of {})",
+            source, c.task, fmt::join(AnalyticRewardNames(), ", "));
+  } else if (c.objective.reward == "analytic") {
+    // The Goal tasks' analytic reward reads the goal from the paper's ego-state vector.
+    Require(c.variant == Variant::kPaper,
+            "config '{}': key 'variant' is '{}': training plans on the paper variant's ego-state "
+            "vector (the standard variant observes lidar)",
+            source, VariantName(c.variant));
+  }
+  if (c.objective.reward == "analytic") {
+    const std::vector<std::string> forms = AnalyticRewardNames();
+    const std::string form = AnalyticRewardForm(c);
+    Require(std::find(forms.begin(), forms.end(), form) != forms.end(),
+            "config '{}': the analytic reward of task '{}' is '{}' (objective.analytic_form, or "
+            "the task's own): expected one of {}",
+            source, c.task, form, fmt::join(forms, ", "));
+  }
   InSection(source, "objective",
-            [&] { ValidateTrajectoryObjectiveOptions(c.objective, ObservationSize(spec)); });
-  const std::vector<std::string> forms = AnalyticRewardNames();
-  const std::string& form = FindTask(c.task).analytic_reward;
-  Require(std::find(forms.begin(), forms.end(), form) != forms.end(),
-          "config '{}': task '{}' names the analytic reward '{}': expected one of {}", source,
-          c.task, form, fmt::join(forms, ", "));
+            [&] { ValidateTrajectoryObjectiveOptions(c.objective, observation_size); });
+}
+
+// The task's observation size: its spec's for a built-in task, the recorded one for a Python
+// environment's (cmbrl.train(env=...) writes environment.observation_size and action_size).
+int ValidatedObservationSize(const TrainConfig& c, const std::string& source) {
+  if (IsPythonTask(c.task)) {
+    Require(c.task.size() > std::string(kPythonTaskPrefix).size(),
+            "config '{}': key 'task' is '{}': expected what made the environment after '{}'",
+            source, c.task, kPythonTaskPrefix);
+    Require(c.observation_size >= 1 && c.observation_size <= 1'000'000 && c.action_size >= 1 &&
+                c.action_size <= 10'000,
+            "config '{}': keys 'environment.observation_size' and 'environment.action_size' are "
+            "{} and {}: a Python environment's run records its sizes (1 to 1000000 and 1 to "
+            "10000)",
+            source, c.observation_size, c.action_size);
+    return c.observation_size;
+  }
+  Require(c.observation_size == 0 && c.action_size == 0,
+          "config '{}': keys 'environment.observation_size' and 'environment.action_size' are {} "
+          "and {}: they are a Python environment's, and task '{}' is built in (expected 0)",
+          source, c.observation_size, c.action_size, c.task);
+  AtKey(source, "task", [&] { GoalTaskSpecByName(c.task, c.variant); });
+  return ObservationSize(GoalTaskSpecByName(c.task, c.variant));
 }
 
 }  // namespace
 
 void ValidateTrainConfig(const TrainConfig& c, const std::string& source) {
-  AtKey(source, "task", [&] { GoalTaskSpecByName(c.task, c.variant); });
+  const int observation_size = ValidatedObservationSize(c, source);
   const std::vector<std::string>& algorithms = AlgorithmNames();
   Require(std::find(algorithms.begin(), algorithms.end(), c.algorithm) != algorithms.end(),
           "config '{}': key 'algorithm' is '{}': expected one of {}", source, c.algorithm,
@@ -467,7 +505,6 @@ void ValidateTrainConfig(const TrainConfig& c, const std::string& source) {
     ValidateRandomShootingOptions(c.planning.random);
     ValidatePlanningProblem(c.planning.problem);
   });
-  const GoalTaskSpec spec = GoalTaskSpecByName(c.task, c.variant);
   const auto check_memory = [&](const RunMemory& memory) {
     // What the run will hold in memory, before it takes any: sizes each within its bound can
     // still add up to more than the machine has.
@@ -477,8 +514,15 @@ void ValidateTrainConfig(const TrainConfig& c, const std::string& source) {
             "machine's {:.1f} GiB: lower the sizes named",
             source, memory.total() / kGiB, memory.Describe(), available / kGiB);
   };
-  if (FamilyOf(c.algorithm).Reads("objective")) ValidatePlanningObjective(c, spec, source);
-  check_memory(EstimateRunMemory(c, ObservationSize(spec), 2));
+  if (FamilyOf(c.algorithm).Reads("objective")) {
+    ValidatePlanningObjective(c, observation_size, source);
+  }
+  check_memory(EstimateRunMemory(c, observation_size, IsPythonTask(c.task) ? c.action_size : 2));
+}
+
+std::string AnalyticRewardForm(const TrainConfig& c) {
+  return c.objective.analytic_form.empty() ? FindTask(c.task).analytic_reward
+                                           : c.objective.analytic_form;
 }
 
 RunMemory EstimateRunMemory(const TrainConfig& c, int state_dim, int action_dim) {

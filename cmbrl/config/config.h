@@ -18,7 +18,13 @@
 namespace cmbrl {
 
 struct TrainConfig {
+  // A built-in task (env/task_list.h), or "python:<what made it>" for an environment given from
+  // Python (cmbrl.train(env=...)), e.g. "python:mypackage.envs.make_arm(links=2)".
   std::string task = "PointGoal1";
+  // environment.observation_size, environment.action_size: a Python environment's sizes, written
+  // by cmbrl.train(env=...) so that the run is known without Python; 0 for a built-in task.
+  int observation_size = 0;
+  int action_size = 0;
   Variant variant = Variant::kPaper;  // parsed once, where the file is read
   Spawn spawn = Spawn::kStanding;     // environment.spawn
   std::string algorithm = "mpc";      // AlgorithmNames() (run/algorithms.h)
@@ -38,6 +44,10 @@ struct TrainConfig {
 inline std::string MethodOf(const TrainConfig& config) {
   return MethodOf(config.algorithm, config.planner);
 }
+
+// The analytic reward form an MPC run plans with (objective.reward: analytic):
+// objective.analytic_form, or the task's own (env/task_list.h) where that is "".
+std::string AnalyticRewardForm(const TrainConfig& config);
 
 // Bytes a run will hold in memory, part by part: its family's estimate (run/learner_family.h)
 // from the config's options.

@@ -39,6 +39,9 @@ struct StepInfo {
   double cost_vases_velocity = 0.0;  // sum of vase speeds above the threshold (m/s)
   int env_steps = 0;                 // inner environment steps run (action repeat)
   bool physics_error = false;        // MuJoCo reported an unstable state; the episode ended
+  // The step's cost as the environment gave it, before the 0/1 indicator (cost > 0) is taken:
+  // the same as the cost for the built-in tasks, any real number for a Python environment's.
+  double raw_cost = 0.0;
 };
 
 struct StepResult {
@@ -90,6 +93,10 @@ class Env {
   // throws cmbrl::Error, changing nothing, for bytes of another environment or damaged ones.
   virtual std::string State() const = 0;
   virtual void SetState(const std::string& state) = 0;
+
+  // State(), or nothing where this environment's state cannot be saved (a Python environment
+  // that does not pickle): a checkpoint then cannot hold an episode under way.
+  virtual std::optional<std::string> TryState() const { return State(); }
 };
 
 }  // namespace cmbrl

@@ -183,6 +183,7 @@ StepResult GoalEnv::Step(const std::vector<double>& action) {
     if (outcome.goal_met || result.terminated || result.truncated) break;
   }
   result.cost = violated ? 1.0 : 0.0;
+  result.info.raw_cost = result.cost;
   episode_over_ = result.terminated || result.truncated;
   result.observation = Observe();
   return result;

@@ -23,11 +23,18 @@ std::vector<std::string> EnvNames() {
   return names;
 }
 
+bool IsPythonTask(const std::string& name) { return name.rfind(kPythonTaskPrefix, 0) == 0; }
+
 const TaskEntry& FindTask(const std::string& name) {
   for (const TaskEntry& task : Tasks()) {
     if (task.name == name) return task;
   }
-  Fail("unknown task '{}': expected one of {}", name, fmt::join(EnvNames(), ", "));
+  Require(!IsPythonTask(name),
+          "task '{}' is an environment given from Python: train, resume and load it from Python "
+          "with that environment (cmbrl.train(env=...), cmbrl.load_run(..., env=...))",
+          name);
+  Fail("unknown task '{}': expected one of {} (or an environment given from Python)", name,
+       fmt::join(EnvNames(), ", "));
 }
 
 }  // namespace cmbrl

@@ -25,6 +25,13 @@ const std::vector<TaskEntry>& Tasks();
 // The names of Tasks(), in its order.
 std::vector<std::string> EnvNames();
 
+// What a run's task name begins with when its environment is given from Python rather than
+// built here: "python:mypackage.envs.make_arm(links=2)", "python:gymnasium:Pendulum-v1".
+inline constexpr const char* kPythonTaskPrefix = "python:";
+
+// Whether `name` names an environment given from Python.
+bool IsPythonTask(const std::string& name);
+
 // The task called `name`; throws cmbrl::Error naming it and the known ones otherwise.
 const TaskEntry& FindTask(const std::string& name);
 

@@ -1,5 +1,6 @@
 // What a learner may be given beside its config by the program that trains or loads the run:
-// parts that a config file cannot hold (Python functions). Empty from the command line.
+// parts that a config file cannot hold (Python functions and environments). Empty from the
+// command line.
 #pragma once
 
 #include <functional>
@@ -8,16 +9,27 @@
 
 namespace cmbrl {
 
+class Env;
 class RewardTerm;
 class TerminationTerm;
+struct TrainConfig;
 
 struct LearnerInputs {
   // The planning objective's reward term of a run whose objective.reward is "python".
   std::function<std::unique_ptr<RewardTerm>()> python_reward;
   // Its termination term, where objective.termination is "python".
   std::function<std::unique_ptr<TerminationTerm>()> python_termination;
-  // The functions given, "reward=module.f, termination=module.g": each session records them.
+  // A new environment of a run whose task is given from Python ("python:..."), once per copy the
+  // learner needs (the model-free learners step several).
+  std::function<std::unique_ptr<Env>()> python_env;
+  // What was given, "env=module.make_env(), reward=module.f, termination=module.g": each
+  // session records it.
   std::string python_functions;
 };
+
+// A new environment of the run's task: built in, or made by inputs.python_env for a task given
+// from Python. Throws cmbrl::Error when a Python task's environment is not given, or when its
+// sizes differ from those the run recorded (environment.observation_size, action_size).
+std::unique_ptr<Env> MakeRunEnv(const TrainConfig& config, const LearnerInputs& inputs);
 
 }  // namespace cmbrl

@@ -4,7 +4,6 @@
 
 #include "cmbrl/core/check.h"
 #include "cmbrl/core/rng.h"
-#include "cmbrl/env/registry.h"
 #include "cmbrl/learners/mpc/mpc_agent.h"
 #include "cmbrl/learners/mpc/mpc_learner.h"
 #include "cmbrl/learners/mpc/mpc_parts.h"
@@ -35,9 +34,9 @@ TrainedAgent LoadMpcAgent(const TrainConfig& config, const std::filesystem::path
 
 TrainedAgent LoadPolicyOptAgent(const TrainConfig& config,
                                 const std::filesystem::path& checkpoint, std::uint64_t,
-                                const LearnerInputs&) {
+                                const LearnerInputs& inputs) {
   TrainedAgent loaded;
-  loaded.owned_env = MakeEnv(config.task, config.variant, config.spawn);
+  loaded.owned_env = MakeRunEnv(config, inputs);
   loaded.owned_policy = LoadPolicyOptMeanPolicy(config, checkpoint,
                                                 loaded.owned_env->observation_spec().size(),
                                                 loaded.owned_env->action_spec());
@@ -54,8 +53,8 @@ const std::vector<LearnerRegistration>& Registrations() {
        },
        LoadMpcAgent},
       {&PolicyOptFamily(),
-       [](const TrainConfig& config, const LearnerInputs&) -> std::unique_ptr<Learner> {
-         return std::make_unique<PolicyOptLearner>(config);
+       [](const TrainConfig& config, const LearnerInputs& inputs) -> std::unique_ptr<Learner> {
+         return std::make_unique<PolicyOptLearner>(config, inputs);
        },
        LoadPolicyOptAgent},
   };

@@ -65,7 +65,8 @@ void ValidateTrajectoryObjectiveOptions(const TrajectoryObjectiveOptions& o, int
           "termination is '{}': expected one of {} (none: the task has no terminal state; "
           "python: a function given from Python)",
           o.termination, fmt::join(terminations, ", "));
-  Require(o.goal_index >= 0 && o.goal_index + 1 < state_dim,
+  // Only the analytic goal distance reads the goal's place in the state.
+  Require(o.reward != "analytic" || (o.goal_index >= 0 && o.goal_index + 1 < state_dim),
           "goal_index is {}: expected 0 to {} for a state of {} dimensions", o.goal_index,
           state_dim - 2, state_dim);
   Require(o.gamma > 0 && o.gamma <= 1, "gamma is {}: expected a number in (0, 1]", o.gamma);

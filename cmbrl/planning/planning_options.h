@@ -61,6 +61,9 @@ std::vector<std::string> TerminationSourceNames();
 struct TrajectoryObjectiveOptions {
   std::string reward = "analytic";  // RewardSourceNames()
   std::string termination = "none";  // TerminationSourceNames()
+  // The analytic reward's form (AnalyticRewardNames()); "" for the task's own. A run on an
+  // environment given from Python names one to plan with an analytic reward.
+  std::string analytic_form;
   // The goal-distance form's parameters.
   int goal_index = 6;             // state[goal_index], state[goal_index + 1]: goal in ego XY
   double gamma = 0.98;            // discount of the reward cost (and of CEM's constraint cost)

@@ -71,6 +71,11 @@ class Learner {
   // Continues from a folder that Save wrote; throws cmbrl::Error naming a damaged file.
   virtual void Load(const std::filesystem::path& folder) = 0;
 
+  // What the last Load could not carry on exactly, in a sentence for the session's record ("" for
+  // nothing): e.g. an episode under way that starts again because its environment's state was
+  // not saved.
+  virtual std::string ResumeNote() const { return {}; }
+
   // Throws cmbrl::Error when a resumed run may not continue to `new_budget` steps with the rows
   // an uninterrupted run of that budget would have written (for example because the old budget
   // cut its last unit of work short). The trainer has checked new_budget > steps_done().

@@ -38,6 +38,7 @@ nlohmann::ordered_json SessionJson(const RunSession& session) {
   nlohmann::ordered_json line = {{"session", session.number}, {"run", session.run_id},
                                  {"began", session.began}, {"steps_done", session.steps_done}};
   line.update(SetupJson(session.setup));
+  if (!session.note.empty()) line["note"] = session.note;
   return line;
 }
 
@@ -85,6 +86,7 @@ RunSession ParseSession(const std::string& text, const std::string& where) {
   setup.onednn = OptionalText(line, "onednn", where);
   setup.device = Field<std::string>(line, "device", where);
   setup.python_functions = OptionalText(line, "python_functions", where);
+  session.note = OptionalText(line, "note", where);
   return session;
 }
 
@@ -160,7 +162,7 @@ std::vector<RunSession> ReadRunSessions(const RunDirectory& run) {
 }
 
 std::vector<std::string> RecordRunSession(const RunDirectory& run, std::int64_t steps_done,
-                                          const NumericsSetup& setup) {
+                                          const NumericsSetup& setup, const std::string& note) {
   const fs::path file = run.sessions_file();
   const std::string whole_lines = ReadWholeLines(file);
   const std::vector<RunSession> before = ParseSessions(whole_lines, file);
@@ -177,6 +179,7 @@ std::vector<std::string> RecordRunSession(const RunDirectory& run, std::int64_t 
   session.began = UtcTimestamp();
   session.steps_done = steps_done;
   session.setup = setup;
+  session.note = note;
   AppendToFile(file, SessionJson(session).dump() + "\n");
   return before.empty() ? std::vector<std::string>() : SetupChanges(before.back().setup, setup);
 }

@@ -56,6 +56,9 @@ struct RunSession {
   std::string began;            // UTC, "2026-11-25T06:25:46Z"
   std::int64_t steps_done = 0;  // the run's agent (or environment) steps when it began
   NumericsSetup setup;
+  // What a resume could not carry on exactly ("" for none), e.g. an episode under way started
+  // again because the environment's state could not be saved (Learner::ResumeNote).
+  std::string note;
 };
 
 // The sessions in run's sessions.jsonl, in order; empty when the file is absent (a run begun by
@@ -73,6 +76,7 @@ std::string RunIdOf(const std::vector<RunSession>& sessions);
 // first session, or when the run kept no sessions before). The caller holds the run's lock.
 // Throws cmbrl::Error when the file cannot be read or written.
 std::vector<std::string> RecordRunSession(const RunDirectory& run, std::int64_t steps_done,
-                                          const NumericsSetup& setup);
+                                          const NumericsSetup& setup,
+                                          const std::string& note = "");
 
 }  // namespace cmbrl

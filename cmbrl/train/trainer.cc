@@ -115,8 +115,9 @@ std::unique_ptr<Trainer> Trainer::Resume(const std::string& run_dir,
   }
   // A finished run asked to go on with nothing to do is no session.
   if (!state->learner->Finished()) {
-    state->setup_changes = RecordRunSession(run, state->learner->steps_done(),
-                                            SessionSetup(state->config.device, inputs));
+    state->setup_changes =
+        RecordRunSession(run, state->learner->steps_done(),
+                         SessionSetup(state->config.device, inputs), state->learner->ResumeNote());
   }
   return std::unique_ptr<Trainer>(new Trainer(std::move(state)));
 }

@@ -41,16 +41,26 @@ inline std::vector<double> RealValues(const py::handle& values,
                                       const std::vector<py::ssize_t>& shape, const char* what) {
   const py::array array = py::array::ensure(values);
   Require(static_cast<bool>(array), "{}: expected a numpy array or a sequence of numbers", what);
+  // Messages are built only on failure: this runs once per environment step.
   const char kind = array.dtype().kind();
-  Require(kind == 'f' || kind == 'i' || kind == 'u',
-          "{} has dtype {}: expected real numbers (float or integer)", what,
-          std::string(py::str(array.dtype())));
+  if (kind != 'f' && kind != 'i' && kind != 'u') {
+    Fail("{} has dtype {}: expected real numbers (float or integer)", what,
+         std::string(py::str(array.dtype())));
+  }
   std::vector<py::ssize_t> got(array.shape(), array.shape() + array.ndim());
-  Require(got == shape, "{} has shape {}: expected {}", what,
-          std::string(py::str(py::tuple(py::cast(got)))),
-          std::string(py::str(py::tuple(py::cast(shape)))));
+  if (got != shape) {
+    Fail("{} has shape {}: expected {}", what, std::string(py::str(py::tuple(py::cast(got)))),
+         std::string(py::str(py::tuple(py::cast(shape)))));
+  }
   const Doubles converted = Doubles::ensure(array);
   return std::vector<double>(converted.data(), converted.data() + converted.size());
+}
+
+// A Python exception as "TypeName: message", without the traceback that what() carries.
+inline std::string PythonErrorText(const py::error_already_set& error) {
+  const std::string type = py::str(error.type().attr("__name__"));
+  const std::string message = py::str(error.value());
+  return message.empty() ? type : type + ": " + message;
 }
 
 // The number of rows of a 2-D array; `what` names it in the error otherwise.

@@ -17,6 +17,8 @@
 
 #include "cmbrl/config/config.h"
 #include "cmbrl/core/check.h"
+#include "cmbrl/core/torch_util.h"
+#include "cmbrl/env/task_list.h"
 #include "cmbrl/eval/evaluation.h"
 #include "cmbrl/eval/loaded_run.h"
 #include "cmbrl/learners/mpc/mpc_agent.h"
@@ -26,17 +28,20 @@
 #include "cmbrl/train/trainer.h"
 #include "python/bindings/arrays.h"
 #include "python/bindings/bindings.h"
+#include "python/bindings/python_env.h"
 
 namespace cmbrl::python {
 namespace {
 
 // A float32 tensor's rows as a new (rows, width) float64 numpy array: what a Python reward reads.
+// The array owns the converted tensor (no second copy).
 py::array_t<double> RowsArray(const torch::Tensor& values, std::int64_t rows) {
-  const torch::Tensor host = values.to(torch::kCPU, torch::kDouble).contiguous();
-  py::array_t<double> array(
-      {static_cast<py::ssize_t>(rows), static_cast<py::ssize_t>(host.numel() / rows)});
-  std::copy_n(host.data_ptr<double>(), host.numel(), array.mutable_data());
-  return array;
+  auto host = std::make_unique<torch::Tensor>(values.to(torch::kCPU, torch::kDouble).contiguous());
+  double* data = host->data_ptr<double>();
+  const auto width = static_cast<py::ssize_t>(host->numel() / rows);
+  py::capsule owner(host.get(), [](void* p) { delete static_cast<torch::Tensor*>(p); });
+  host.release();  // the capsule owns it now
+  return py::array_t<double>({static_cast<py::ssize_t>(rows), width}, data, owner);
 }
 
 // A vectorised Python function of every predicted step of an evaluation at once, f(states,
@@ -62,19 +67,26 @@ class PythonStepFunction {
       result = function_(RowsArray(states, rows), RowsArray(actions, rows),
                          RowsArray(next_states, rows));
     } catch (py::error_already_set& error) {
-      Fail("the {} function {} raised {}", kind_, Name(), error.what());
+      Fail("the {} function {} raised {}", kind_, Name(), PythonErrorText(error));
     }
     // Booleans (a termination's) read as 0 and 1.
     const py::array array = py::array::ensure(result);
     if (array && array.dtype().kind() == 'b') result = array.attr("astype")("float64");
-    const std::string what = fmt::format("the {} function {}'s result", kind_, Name());
-    return RealValues(result, {static_cast<py::ssize_t>(rows)}, what.c_str());
+    try {
+      return RealValues(result, {static_cast<py::ssize_t>(rows)}, "the result");
+    } catch (const Error& error) {  // named only now: this runs at every planner iteration
+      Fail("the {} function {}: {}", kind_, Name(), error.what());
+    }
   }
 
   // Values shaped as the steps, on their device.
   static torch::Tensor AsSteps(const std::vector<double>& values, const torch::Tensor& steps) {
     std::vector<std::int64_t> shape(steps.sizes().begin(), steps.sizes().end() - 1);
-    return torch::tensor(values, torch::kDouble).to(steps.device(), torch::kFloat).view(shape);
+    // from_blob: the values are copied once, by the conversion to float32.
+    return torch::from_blob(const_cast<double*>(values.data()),
+                            {static_cast<std::int64_t>(values.size())}, torch::kDouble)
+        .to(steps.device(), torch::kFloat)
+        .view(shape);
   }
 
   std::string Name() const {
@@ -97,9 +109,11 @@ class PythonRewardTerm final : public RewardTerm {
   torch::Tensor Cost(const torch::Tensor& states, const torch::Tensor& actions,
                      const torch::Tensor& next_states) const override {
     const std::vector<double> rewards = reward_.Call(states, actions, next_states);
-    for (const double reward : rewards) {
-      Require(std::isfinite(reward), "the reward function {} returned {}: expected finite rewards",
-              reward_.Name(), reward);
+    for (const double reward : rewards) {  // the name is looked up only for a message
+      if (!std::isfinite(reward)) {
+        Fail("the reward function {} returned {}: expected finite rewards", reward_.Name(),
+             reward);
+      }
     }
     return -PythonStepFunction::AsSteps(rewards, next_states);
   }
@@ -120,10 +134,11 @@ class PythonTerminationTerm final : public TerminationTerm {
   torch::Tensor Terminal(const torch::Tensor& states, const torch::Tensor& actions,
                          const torch::Tensor& next_states) const override {
     const std::vector<double> terminal = termination_.Call(states, actions, next_states);
-    for (const double value : terminal) {
-      Require(value == 0.0 || value == 1.0,
-              "the termination function {} returned {}: expected booleans (or 0 and 1)",
-              termination_.Name(), value);
+    for (const double value : terminal) {  // the name is looked up only for a message
+      if (value != 0.0 && value != 1.0) {
+        Fail("the termination function {} returned {}: expected booleans (or 0 and 1)",
+             termination_.Name(), value);
+      }
     }
     return PythonStepFunction::AsSteps(terminal, next_states);
   }
@@ -132,9 +147,35 @@ class PythonTerminationTerm final : public TerminationTerm {
   PythonStepFunction termination_;
 };
 
-// LearnerInputs with the Python reward and termination functions that are given.
+// An environment given from Python: a zero-argument factory and what made it (the run's task is
+// "python:" + name). Its first environment is made at once (its sizes name the run's) and is the
+// first the learner gets; later ones come from the factory.
+struct GivenEnv {
+  py::function factory;
+  std::string name;
+  std::shared_ptr<std::unique_ptr<PythonEnv>> first;
+
+  GivenEnv(py::function f, std::string n)
+      : factory(std::move(f)),
+        name(std::move(n)),
+        first(std::make_shared<std::unique_ptr<PythonEnv>>(Make(factory, name))) {}
+
+  static std::unique_ptr<PythonEnv> Make(const py::function& factory, const std::string& name) {
+    py::object env;
+    try {
+      env = factory();
+    } catch (py::error_already_set& error) {
+      Fail("making the environment {} raised {}", name, PythonErrorText(error));
+    }
+    return std::make_unique<PythonEnv>(std::move(env), name);
+  }
+  std::string task() const { return kPythonTaskPrefix + name; }
+};
+
+// LearnerInputs with the Python environment, reward and termination functions that are given.
 LearnerInputs InputsWith(const std::optional<py::function>& reward,
-                         const std::optional<py::function>& termination) {
+                         const std::optional<py::function>& termination,
+                         const std::optional<GivenEnv>& env = std::nullopt) {
   LearnerInputs inputs;
   // "module.qualname" of each function given, for the run's sessions.
   const auto named = [](const char* role, const py::function& function) {
@@ -145,6 +186,7 @@ LearnerInputs InputsWith(const std::optional<py::function>& reward,
                        std::string(py::str(name)));
   };
   std::vector<std::string> names;
+  if (env) names.push_back("env=" + env->name);
   if (reward) names.push_back(named("reward", *reward));
   if (termination) names.push_back(named("termination", *termination));
   inputs.python_functions = fmt::format("{}", fmt::join(names, ", "));
@@ -160,13 +202,27 @@ LearnerInputs InputsWith(const std::optional<py::function>& reward,
       return std::make_unique<PythonTerminationTerm>(function);
     };
   }
+  if (env) {
+    inputs.python_env = [given = *env]() -> std::unique_ptr<Env> {
+      py::gil_scoped_acquire acquire;
+      if (*given.first) return std::move(*given.first);
+      return GivenEnv::Make(given.factory, given.name);
+    };
+  }
   return inputs;
 }
 
 // A run's objective and the functions given must agree: a function where the objective names
-// python, none otherwise.
+// python, none otherwise; and an environment given from Python must be the one the run's task
+// names.
 void CheckFunctionsGiven(const TrainConfig& config, bool reward, bool termination,
-                         const std::string& run) {
+                         const std::string& run, const std::optional<GivenEnv>& env = std::nullopt) {
+  if (env) {
+    Require(config.task == env->task(),
+            "{} was trained on task '{}': the environment given is '{}' (give the one it was "
+            "trained on)",
+            run, config.task, env->task());
+  }
   Require(!reward || config.objective.reward == "python",
           "{} plans with objective.reward '{}': give no reward function", run,
           config.objective.reward);
@@ -180,10 +236,11 @@ void CheckFunctionsGiven(const TrainConfig& config, bool reward, bool terminatio
 class PyAgent {
  public:
   PyAgent(const std::string& run_dir, std::uint64_t seed, const std::vector<std::string>& overrides,
-          const std::optional<py::function>& reward, const std::optional<py::function>& termination)
-      : run_(run_dir, seed, overrides, InputsWith(reward, termination)) {
-    CheckFunctionsGiven(run_.config(), reward.has_value(), termination.has_value(),
-                        fmt::format("run '{}'", run_dir));
+          const std::optional<py::function>& reward, const std::optional<py::function>& termination,
+          const std::optional<GivenEnv>& env)
+      : given_checked_(CheckGiven(run_dir, reward.has_value(), termination.has_value(), env)),
+        run_(run_dir, seed, overrides, InputsWith(reward, termination, env)) {
+    python_env_ = dynamic_cast<const PythonEnv*>(&run_.env());
   }
 
   void BeginEpisode() {
@@ -205,6 +262,8 @@ class PyAgent {
       py::gil_scoped_release release;
       action = run_.policy().Act(values);
     }
+    // A Python environment's own action (cmbrl plans in [-1, 1] per component).
+    if (python_env_ != nullptr) action = python_env_->EnvAction(action);
     return Own(std::move(action));
   }
 
@@ -291,7 +350,10 @@ class PyAgent {
   }
   bool is_mpc() const { return run_.is_mpc(); }
   py::dict ObservationSpec() { return BoxDict(run_.env().observation_spec()); }
-  py::dict ActionSpec() { return BoxDict(run_.env().action_spec()); }
+  py::dict ActionSpec() {
+    return BoxDict(python_env_ != nullptr ? python_env_->EnvActionSpec()
+                                          : run_.env().action_spec());
+  }
 
  private:
   // A plan exists once act() has run (the MPC agent's planner has a result to read).
@@ -301,8 +363,21 @@ class PyAgent {
             "{}() before act(): the agent has made no plan yet; call act(observation) first", call);
   }
 
+  // What the run was trained with against what is given, before the run is loaded.
+  static bool CheckGiven(const std::string& run_dir, bool reward, bool termination,
+                         const std::optional<GivenEnv>& env) {
+    const RunDirectory run(run_dir);
+    if (run.HoldsRun()) {  // otherwise LoadedRun says it holds none
+      CheckFunctionsGiven(LoadTrainConfig(run.config_file().string()), reward, termination,
+                          fmt::format("run '{}'", run_dir), env);
+    }
+    return true;
+  }
+
   mutable std::mutex mutex_;  // ObjectLock: one call at a time
+  bool given_checked_;
   LoadedRun run_;
+  const PythonEnv* python_env_ = nullptr;  // the run's env where it was given from Python
   std::optional<PlanPaths> plan_paths_;  // the last plan's paths, once predictions() took them
 };
 
@@ -313,8 +388,12 @@ py::dict Train(const std::optional<std::vector<std::string>>& config_path,
                std::optional<std::uint64_t> seed, const std::optional<std::string>& device,
                const std::function<void(py::dict)>& progress, double checkpoint_seconds,
                const std::optional<py::function>& reward,
-               const std::optional<py::function>& termination) {
-  const LearnerInputs inputs = InputsWith(reward, termination);
+               const std::optional<py::function>& termination,
+               const std::optional<py::function>& env_factory,
+               const std::optional<std::string>& env_name) {
+  std::optional<GivenEnv> env;
+  if (env_factory) env.emplace(*env_factory, env_name.value_or("environment"));
+  const LearnerInputs inputs = InputsWith(reward, termination, env);
   std::unique_ptr<Trainer> trainer;
   std::string run_dir;
   if (resume) {
@@ -324,7 +403,7 @@ py::dict Train(const std::optional<std::vector<std::string>>& config_path,
     run_dir = *resume;
     CheckFunctionsGiven(LoadTrainConfig(RunDirectory(run_dir).config_file().string()),
                         reward.has_value(), termination.has_value(),
-                        fmt::format("run '{}'", run_dir));
+                        fmt::format("run '{}'", run_dir), env);
     py::gil_scoped_release release;
     trainer = Trainer::Resume(run_dir, steps, inputs);
   } else {
@@ -340,6 +419,11 @@ py::dict Train(const std::optional<std::vector<std::string>>& config_path,
     // Recorded in the run's config.yaml.
     if (reward) config.objective.reward = "python";
     if (termination) config.objective.termination = "python";
+    if (env) {  // the task is the environment given, its sizes recorded
+      config.task = env->task();
+      config.observation_size = (*env->first)->observation_spec().size();
+      config.action_size = (*env->first)->action_spec().size();
+    }
     ValidateTrainConfig(config, source);
     run_dir = *out;
     py::gil_scoped_release release;
@@ -386,14 +470,71 @@ py::dict Train(const std::optional<std::vector<std::string>>& config_path,
   return summary;
 }
 
+// Seconds that `steps` steps of a Python environment take through PythonEnv from C++ (the GIL
+// released between them, as a learner steps it), resets included; the actions are drawn
+// beforehand in [-1, 1].
+double BenchPythonEnvSteps(const py::object& env, int steps, std::uint64_t seed) {
+  Require(steps >= 1, "steps is {}: expected at least 1", steps);
+  PythonEnv adapter(env, "bench");
+  at::Generator generator = MakeCpuGenerator(seed);
+  const torch::Tensor drawn =
+      torch::rand({steps, adapter.action_spec().size()}, generator, torch::kDouble) * 2 - 1;
+  std::vector<std::vector<double>> actions(steps);
+  for (int t = 0; t < steps; ++t) {
+    actions[t].assign(drawn[t].data_ptr<double>(), drawn[t].data_ptr<double>() + drawn.size(1));
+  }
+  py::gil_scoped_release release;
+  adapter.Reset(seed);
+  const auto start = std::chrono::steady_clock::now();
+  for (int t = 0; t < steps; ++t) {
+    const StepResult step = adapter.Step(actions[t]);
+    if (step.terminated || step.truncated) adapter.Reset(std::nullopt);
+  }
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// Seconds of one planner iteration's call of a Python reward through its term (float32 tensors
+// to float64 arrays and back) on `rows` predicted steps of random states and actions: the
+// median of 5 calls after a first one (a planner calls it at every iteration).
+double BenchPythonRewardCall(const py::function& reward, int rows, int state_dim, int action_dim,
+                             std::uint64_t seed) {
+  Require(rows >= 1 && state_dim >= 1 && action_dim >= 1,
+          "rows, state_dim and action_dim are {}, {} and {}: expected at least 1 each", rows,
+          state_dim, action_dim);
+  const PythonRewardTerm term(reward);
+  at::Generator generator = MakeCpuGenerator(seed);
+  const torch::Tensor states = torch::randn({rows, state_dim}, generator);
+  const torch::Tensor actions = torch::rand({rows, action_dim}, generator);
+  const torch::Tensor next_states = torch::randn({rows, state_dim}, generator);
+  py::gil_scoped_release release;
+  std::vector<double> seconds;
+  for (int call = 0; call < 6; ++call) {
+    const auto start = std::chrono::steady_clock::now();
+    const torch::Tensor cost = term.Cost(states, actions, next_states);
+    seconds.push_back(
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+    Require(cost.numel() == rows, "the reward gave {} values for {} rows", cost.numel(), rows);
+  }
+  std::sort(seconds.begin() + 1, seconds.end());
+  return seconds[3];
+}
+
 }  // namespace
 
 void BindRuns(py::module_& m) {
   py::class_<PyAgent>(m, "Agent")
-      .def(py::init<const std::string&, std::uint64_t, const std::vector<std::string>&,
-                    const std::optional<py::function>&, const std::optional<py::function>&>(),
+      .def(py::init([](const std::string& run_dir, std::uint64_t seed,
+                       const std::vector<std::string>& overrides,
+                       const std::optional<py::function>& reward,
+                       const std::optional<py::function>& termination,
+                       const std::optional<py::function>& env_factory,
+                       const std::optional<std::string>& env_name) {
+             std::optional<GivenEnv> env;
+             if (env_factory) env.emplace(*env_factory, env_name.value_or("environment"));
+             return std::make_unique<PyAgent>(run_dir, seed, overrides, reward, termination, env);
+           }),
            py::arg("run_dir"), py::arg("seed"), py::arg("overrides"), py::arg("reward"),
-           py::arg("termination"))
+           py::arg("termination"), py::arg("env_factory"), py::arg("env_name"))
       .def("begin_episode", &PyAgent::BeginEpisode)
       .def("act", &PyAgent::Act, py::arg("observation"))
       .def("predictions", &PyAgent::Predictions, py::arg("scene"), py::arg("samples"))
@@ -406,10 +547,14 @@ void BindRuns(py::module_& m) {
       .def("action_spec", &PyAgent::ActionSpec)
       .def_property_readonly("is_mpc", &PyAgent::is_mpc);
 
+  m.def("bench_python_env_steps", &BenchPythonEnvSteps, py::arg("env"), py::arg("steps"),
+        py::arg("seed"));
+  m.def("bench_python_reward_call", &BenchPythonRewardCall, py::arg("reward"), py::arg("rows"),
+        py::arg("state_dim"), py::arg("action_dim"), py::arg("seed"));
   m.def("train", &Train, py::arg("config_path"), py::arg("config_text"), py::arg("out"),
         py::arg("resume"), py::arg("steps"), py::arg("seed"), py::arg("device"),
         py::arg("progress"), py::arg("checkpoint_seconds"), py::arg("reward"),
-        py::arg("termination"));
+        py::arg("termination"), py::arg("env_factory"), py::arg("env_name"));
 }
 
 }  // namespace cmbrl::python

@@ -1,5 +1,7 @@
 """Training a run (train, as `cmbrl train` does) and the agent of a trained run (load_run,
 Agent)."""
+import copy
+import functools
 import json
 import math
 import os
@@ -19,8 +21,42 @@ def _step_function(function, name, returns):
     return function
 
 
+def _callable_name(function):
+    """"module.qualname(args)": what a factory is called, with a functools.partial's arguments."""
+    if isinstance(function, functools.partial):
+        args = [repr(a) for a in function.args] + [f"{k}={v!r}" for k, v in function.keywords.items()]
+        inner = _callable_name(function.func)
+        return inner[:-2] + "(" + ", ".join(args) + ")" if inner.endswith("()") else inner
+    module = getattr(function, "__module__", None)
+    name = getattr(function, "__qualname__", None) or type(function).__qualname__
+    return (f"{module}." if module else "") + f"{name}()"
+
+
+def _env_source(env):
+    """(factory, name) of an environment given to train or load_run: a zero-argument factory
+    (a function or class), or an environment (its copies, where a learner needs several, are
+    deep copies). The name is what a run's task records: "python:" + name."""
+    if env is None:
+        return None, None
+    if not isinstance(env, type) and hasattr(env, "step") and hasattr(env, "reset"):
+        spec = getattr(env, "spec", None)
+        env_id = getattr(spec, "id", None) if spec is not None else None
+        kind = type(env)
+        name = (f"gymnasium:{env_id}" if env_id
+                else f"{kind.__module__}.{kind.__qualname__}()")
+        given = [env]
+
+        def factory():
+            return given.pop() if given else copy.deepcopy(env)
+        return factory, name
+    if callable(env):
+        return env, _callable_name(env)
+    raise Error(f"env is {env!r}: expected a Gymnasium-style environment (reset and step) or a "
+                "zero-argument function that makes one")
+
+
 def train(config=None, out=None, steps=None, seed=None, device=None, resume=None, progress=None,
-          checkpoint_seconds=300.0, reward=None, termination=None):
+          checkpoint_seconds=300.0, reward=None, termination=None, env=None):
     """Trains a run as `cmbrl train` does, into the run directory `out`.
 
     config: a YAML file (path), a list of them composed in order (a task's paper preset, then a
@@ -44,6 +80,18 @@ def train(config=None, out=None, steps=None, seed=None, device=None, resume=None
     termination: likewise termination(states, actions, next_states) -> N booleans, True where a
     predicted step ends the episode (objective.termination: python): the planning objective
     counts no step after it.
+    env: train on your own environment instead of a built-in task (the config then names no
+    task): a Gymnasium-style environment, or a zero-argument function or class that makes one
+    (the model-free learners step several copies: deep copies of an environment given, or new
+    ones from a factory). reset(seed=...) returns (observation, info); step(action) returns
+    Safety-Gymnasium's (observation, reward, cost, terminated, truncated, info) or Gymnasium's
+    five values with the cost in info["cost"]. A cost above 0 counts as a violation (0/1 is what
+    the classifier learns); the raw cost is kept in the step's info. Observation and action
+    spaces are 1-D Boxes, the action box finite: cmbrl plans in [-1, 1] per action component and
+    maps it linearly onto the box. The run's task records what made it ("python:" +
+    "module.make_env()", or "python:gymnasium:<id>"); resume and load_run take the same env
+    again. Its state is saved through pickle where it pickles (otherwise an episode under way at
+    a checkpoint starts again on resume, and the run's sessions.jsonl says so).
     Returns {"run", "steps", "budget"}.
     """
     if (isinstance(checkpoint_seconds, (bool, np.bool_))
@@ -52,8 +100,9 @@ def train(config=None, out=None, steps=None, seed=None, device=None, resume=None
         raise Error(f"checkpoint_seconds is {checkpoint_seconds!r}: expected a finite number of "
                     "seconds >= 0")
     config_path = config_text = None
+    env_factory, env_name = _env_source(env)
     if isinstance(config, dict):
-        if "task" not in config:
+        if "task" not in config and env is None:
             raise Error("the config dict names no task, so the run would be the defaults' full "
                         "paper-size PointGoal1 run: name one ({'task': 'PointGoal1', ...})")
         config_text = json.dumps(config, default=_json_number)  # JSON is YAML
@@ -67,7 +116,8 @@ def train(config=None, out=None, steps=None, seed=None, device=None, resume=None
                         None if steps is None else _as_int(steps, "steps", 1, 10**10),
                         None if seed is None else _as_seed(seed), device, progress,
                         float(checkpoint_seconds), _step_function(reward, "reward", "rewards"),
-                        _step_function(termination, "termination", "booleans"))
+                        _step_function(termination, "termination", "booleans"), env_factory,
+                        env_name)
 
 
 class Agent(_NotCopyable):
@@ -81,10 +131,12 @@ class Agent(_NotCopyable):
 
     _instead = "load the run again with cmbrl.load_run(run_dir)"
 
-    def __init__(self, run_dir, seed=0, overrides=(), reward=None, termination=None):
+    def __init__(self, run_dir, seed=0, overrides=(), reward=None, termination=None, env=None):
+        self._env_factory, env_name = _env_source(env)
         self._agent = _cmbrl.Agent(os.fspath(run_dir), _as_seed(seed), list(overrides),
                                    _step_function(reward, "reward", "rewards"),
-                                   _step_function(termination, "termination", "booleans"))
+                                   _step_function(termination, "termination", "booleans"),
+                                   self._env_factory, env_name)
         self.run_dir = os.fspath(run_dir)
         self.observation_space = _box(self._agent.observation_spec())
         self.action_space = _box(self._agent.action_spec())
@@ -95,7 +147,11 @@ class Agent(_NotCopyable):
         self.spawn = environment["spawn"]
 
     def make_env(self, render_mode=None, render_size=400):
-        """A new environment of the run's task, variant and spawn (what it was trained in)."""
+        """A new environment of the run's task, variant and spawn (what it was trained in); for
+        a run on an environment given from Python, one more from what was given (load_run's
+        env; render_mode and render_size are then the env's own business)."""
+        if self._env_factory is not None:
+            return self._env_factory()
         return Env(self.task, self.variant, self.spawn, render_mode=render_mode,
                    render_size=render_size)
 
@@ -137,17 +193,19 @@ class Agent(_NotCopyable):
         return self._agent.predict_violation(states)
 
 
-def load_run(run_dir, seed=0, overrides=None, reward=None, termination=None):
+def load_run(run_dir, seed=0, overrides=None, reward=None, termination=None, env=None):
     """The agent of a trained run directory (its last checkpoint); seed seeds the planner.
 
     overrides: a dict {"section.key": value} or a list of "section.key=value" that changes how
     the trained models are used, as `cmbrl eval --set` does: planning.*, objective.* and
     classifier.threshold, e.g. {"classifier.threshold": 0.3}.
     reward, termination: the planning functions of a run trained with them (train(...,
-    reward=f, termination=g))."""
+    reward=f, termination=g)).
+    env: the environment of a run trained on one given from Python (train(env=...)): the same
+    kind of factory or environment again; act() then returns actions in its action box."""
     if overrides is None:
         overrides = []
     elif isinstance(overrides, dict):
         overrides = [f"{key}={_yaml_value(value)}" for key, value in overrides.items()]
     return Agent(run_dir, seed=seed, overrides=[str(item) for item in overrides], reward=reward,
-                 termination=termination)
+                 termination=termination, env=env)

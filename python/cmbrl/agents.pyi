@@ -13,12 +13,17 @@ def _step_function(function: Optional[_StepFunction], name: str,
 from .envs import Env
 from .spaces import _Box
 
+# A Gymnasium-style environment (reset, step, observation_space, action_space), or a
+# zero-argument function or class that makes one.
+_EnvSource = Union[Any, Callable[[], Any]]
+
 def train(config: Union[_Path, Sequence[_Path], Mapping[str, Any], None] = ...,
           out: Optional[_Path] = ..., steps: Optional[int] = ..., seed: Optional[int] = ...,
           device: Optional[str] = ..., resume: Optional[_Path] = ...,
           progress: Optional[Callable[[dict[str, Any]], object]] = ...,
           checkpoint_seconds: float = ..., reward: Optional[_StepFunction] = ...,
-          termination: Optional[_StepFunction] = ...) -> dict[str, Any]: ...
+          termination: Optional[_StepFunction] = ...,
+          env: Optional[_EnvSource] = ...) -> dict[str, Any]: ...
 
 class Agent(_NotCopyable):
     run_dir: str
@@ -30,8 +35,9 @@ class Agent(_NotCopyable):
     spawn: str
     def __init__(self, run_dir: _Path, seed: int = ..., overrides: Iterable[str] = ...,
                  reward: Optional[_StepFunction] = ...,
-                 termination: Optional[_StepFunction] = ...) -> None: ...
-    def make_env(self, render_mode: Optional[str] = ..., render_size: int = ...) -> Env: ...
+                 termination: Optional[_StepFunction] = ...,
+                 env: Optional[_EnvSource] = ...) -> None: ...
+    def make_env(self, render_mode: Optional[str] = ..., render_size: int = ...) -> Any: ...
     def config(self) -> str: ...
     def begin_episode(self) -> None: ...
     def act(self, observation: npt.ArrayLike) -> _Floats: ...
@@ -42,4 +48,5 @@ class Agent(_NotCopyable):
 
 def load_run(run_dir: _Path, seed: int = ..., overrides: Optional[Mapping[str, Any]] = ...,
              reward: Optional[_StepFunction] = ...,
-             termination: Optional[_StepFunction] = ...) -> Agent: ...
+             termination: Optional[_StepFunction] = ...,
+             env: Optional[_EnvSource] = ...) -> Agent: ...

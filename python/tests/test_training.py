@@ -240,8 +240,8 @@ def test_a_bad_python_reward_is_named(tmp_path):
     def wrong_shape(states, actions, next_states):
         return np.zeros((2, 2))
 
-    with pytest.raises(cmbrl.Error, match=r"the reward function .*wrong_shape's result has shape "
-                                          r"\(2, 2\): expected \(\d+,\)"):
+    with pytest.raises(cmbrl.Error, match=r"the reward function .*wrong_shape: the result has "
+                                          r"shape \(2, 2\): expected \(\d+,\)"):
         cmbrl.train(config=tiny_config(20), out=tmp_path / "shape", reward=wrong_shape)
 
     def raises(states, actions, next_states):

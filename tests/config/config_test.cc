@@ -50,6 +50,44 @@ TEST(ConfigTest, TheRewardTermIsTheTasksAnalyticForm) {
                   "config 'c': objective.reward is 'learned': expected one of analytic"));
 }
 
+// A task given from Python ("python:..."): its sizes are recorded (environment.observation_size
+// and action_size, which a built-in task must leave at 0), and it plans with a Python or learned
+// reward, or an analytic form that the config names.
+TEST(ConfigTest, ATaskGivenFromPythonRecordsItsSizesAndNamesItsReward) {
+  const std::string task = "{task: 'python:m.make()', environment: {observation_size: 4, "
+                           "action_size: 2}, ";
+  const TrainConfig config = ParseTrainConfig(task + "objective: {reward: python}}", "c");
+  EXPECT_EQ(config.task, "python:m.make()");
+  EXPECT_EQ(config.observation_size, 4);
+  EXPECT_EQ(config.action_size, 2);
+  EXPECT_EQ(ParseTrainConfig(TrainConfigToYaml(config), "again").task, config.task);
+  // The goal-distance form reads the goal at goal_index: a 4-value state has none at 6.
+  EXPECT_THAT(ErrorMessage([&] {
+                ParseTrainConfig(task + "objective: {analytic_form: goal-distance}}", "c");
+              }),
+              ::testing::HasSubstr("goal_index is 6: expected 0 to 2"));
+  EXPECT_THAT(ErrorMessage([&] { ParseTrainConfig(task + "}", "c"); }),
+              ::testing::HasSubstr("which has no analytic reward of its own: give a reward "
+                                   "function"));
+  EXPECT_THAT(ErrorMessage([&] {
+                ParseTrainConfig(task + "objective: {analytic_form: sideways}}", "c");
+              }),
+              ::testing::HasSubstr("is 'sideways' (objective.analytic_form, or the task's own): "
+                                   "expected one of goal-distance"));
+  EXPECT_THAT(ErrorMessage([] {
+                ParseTrainConfig("{task: 'python:m.make()', objective: {reward: python}}", "c");
+              }),
+              ::testing::HasSubstr("'environment.observation_size' and 'environment.action_size' "
+                                   "are 0 and 0: a Python environment's run records its sizes"));
+  EXPECT_THAT(ErrorMessage([] {
+                ParseTrainConfig("{environment: {observation_size: 4, action_size: 2}}", "c");
+              }),
+              ::testing::HasSubstr("they are a Python environment's, and task 'PointGoal1' is "
+                                   "built in (expected 0)"));
+  EXPECT_THAT(ErrorMessage([] { ParseTrainConfig("{task: 'python:'}", "c"); }),
+              ::testing::HasSubstr("expected what made the environment after 'python:'"));
+}
+
 TEST(ConfigTest, EveryYamlFileUnderConfigsLoads) {
   int files = 0;
   for (const auto& entry :

@@ -296,15 +296,18 @@ void MpcLearner::Save(const fs::path& folder, const fs::path& previous,
 
 void MpcLearner::SaveOpenEpisode(const fs::path& folder) const {
   const ProgressRow& row = open_->row;
-  const nlohmann::json episode = {
+  const std::optional<std::string> env_state = parts_.env->TryState();
+  nlohmann::json episode = {
       {"observation", open_->observation},    {"steps", row.steps},
       {"episode_return", row.episode_return}, {"episode_cost", row.episode_cost},
       {"goals_met", row.goals_met},           {"hazard_steps", row.hazard_steps},
       {"vase_steps", row.vase_steps},         {"feasible", open_->feasible},
       {"milliseconds", open_->milliseconds},
   };
+  if (!env_state) episode["env_state_saved"] = false;
   WriteLearnerState(folder / kOpenEpisodeFile, episode);
-  WriteFile(folder / kOpenEpisodeEnvFile, parts_.env->State());
+  if (!env_state) return;  // the episode starts again on resume
+  WriteFile(folder / kOpenEpisodeEnvFile, *env_state);
   const torch::Tensor carried = parts_.agent->planner().CarriedState();
   if (carried.defined()) SaveTensor(carried, (folder / kPlannerCarriedFile).string());
 }
@@ -312,7 +315,9 @@ void MpcLearner::SaveOpenEpisode(const fs::path& folder) const {
 void MpcLearner::LoadOpenEpisode(const fs::path& folder) {
   OpenEpisode episode;
   const int state_dim = parts_.env->observation_spec().size();
+  bool env_state_saved = true;
   ReadLearnerState(folder / kOpenEpisodeFile, [&](const nlohmann::json& json) {
+    env_state_saved = json.value("env_state_saved", true);
     episode.observation = json.at("observation").get<std::vector<double>>();
     RequireFiniteRow(episode.observation, state_dim, "the observation");
     ProgressRow& row = episode.row;
@@ -328,6 +333,13 @@ void MpcLearner::LoadOpenEpisode(const fs::path& folder) {
             "negative counts or no step (steps {}, goals_met {}, hazard_steps {}, vase_steps {})",
             row.steps, row.goals_met, row.hazard_steps, row.vase_steps);
   });
+  if (!env_state_saved) {
+    resume_note_ = fmt::format(
+        "the episode under way at step {} started again: its environment's state could not be "
+        "saved (it does not pickle); its {} steps stay in the data and the budget, with no row",
+        total_steps_, episode.row.steps);
+    return;
+  }
   const fs::path env_path = folder / kOpenEpisodeEnvFile;
   std::ifstream in(env_path, std::ios::binary);
   Require(in.is_open(),
@@ -387,6 +399,7 @@ void MpcLearner::Load(const fs::path& folder) {
     Fail("'{}' is damaged: not a generator state LibTorch can read", generator_path.string());
   }
   open_.reset();
+  resume_note_.clear();
   if (fs::exists(folder / kOpenEpisodeFile)) LoadOpenEpisode(folder);
 }
 

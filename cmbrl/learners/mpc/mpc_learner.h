@@ -62,7 +62,10 @@ void LoadMpcModels(const std::filesystem::path& checkpoint, MpcParts& parts);
 // state.json (counters, the environment's generator, the last fits' figures); in the middle of
 // an episode also episode.json (its observation and sums so far), episode_env.bin (the
 // environment's state) and planner_carried.pt (the warm-start mean, when there is one). On the
-// CPU a resumed run writes the rows an uninterrupted one would (Time aside). Not thread-safe.
+// CPU a resumed run writes the rows an uninterrupted one would (Time aside). An environment whose
+// state cannot be saved (Env::TryState) gets no episode_env.bin: its open episode then starts
+// again on resume (its steps stay in the data and the budget, with no row), and the session's
+// record says so. Not thread-safe.
 class MpcLearner final : public Learner {
  public:
   // Builds everything for a validated `config`; throws cmbrl::Error for settings the components
@@ -79,6 +82,7 @@ class MpcLearner final : public Learner {
   void Save(const std::filesystem::path& folder, const std::filesystem::path& previous,
             bool models_changed) const override;
   void Load(const std::filesystem::path& folder) override;
+  std::string ResumeNote() const override { return resume_note_; }
   std::int64_t steps_done() const override { return total_steps_; }
   std::int64_t budget() const override { return config_.training.total_steps; }
 
@@ -133,6 +137,7 @@ class MpcLearner final : public Learner {
     double milliseconds = 0.0;
   };
   std::optional<OpenEpisode> open_;
+  std::string resume_note_;  // ResumeNote: an open episode that Load could not carry on
 };
 
 }  // namespace cmbrl

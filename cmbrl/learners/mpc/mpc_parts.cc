@@ -2,7 +2,6 @@
 
 #include "cmbrl/core/check.h"
 #include "cmbrl/core/rng.h"
-#include "cmbrl/env/registry.h"
 
 namespace cmbrl {
 
@@ -21,7 +20,7 @@ std::unique_ptr<RewardTerm> RewardTermFor(const TrainConfig& config,
     return inputs.python_reward();
   }
   // "analytic": the task's own form (validated with the config).
-  return MakeAnalyticReward(FindTask(config.task).analytic_reward, config.objective);
+  return MakeAnalyticReward(AnalyticRewardForm(config), config.objective);
 }
 
 std::unique_ptr<TerminationTerm> TerminationTermFor(const TrainConfig& config,
@@ -44,7 +43,7 @@ PlannerSettings PlannerSettingsFor(const TrainConfig& config, int action_dim) {
 MpcParts AssembleMpc(const TrainConfig& config, const MpcPartSeeds& seeds,
                      const LearnerInputs& inputs) {
   MpcParts parts;
-  parts.env = MakeEnv(config.task, config.variant, config.spawn);
+  parts.env = MakeRunEnv(config, inputs);
   const int state_dim = parts.env->observation_spec().size();
   const int action_dim = parts.env->action_spec().size();
   parts.ensemble =

@@ -8,7 +8,6 @@
 #include "cmbrl/core/rng.h"
 #include "cmbrl/core/timed.h"
 #include "cmbrl/core/torch_util.h"
-#include "cmbrl/env/registry.h"
 #include "cmbrl/learners/policy_opt/open_epoch.h"
 #include "cmbrl/policy_opt/advantages.h"
 #include "cmbrl/run/algorithms.h"
@@ -134,7 +133,7 @@ struct PolicyOptLearner::Epoch {
   double step_cost = 0.0;               // every step's cost, finished episodes or not
 };
 
-PolicyOptLearner::PolicyOptLearner(TrainConfig config)
+PolicyOptLearner::PolicyOptLearner(TrainConfig config, const LearnerInputs& inputs)
     : config_(std::move(config)),
       handling_(HandlingOf(config_.algorithm)),
 
@@ -145,7 +144,7 @@ PolicyOptLearner::PolicyOptLearner(TrainConfig config)
   const PolicyOptimisationOptions& o = config_.policy_optimisation;
   std::vector<std::unique_ptr<Env>> envs;
   for (int k = 0; k < o.envs; ++k) {
-    envs.push_back(MakeEnv(config_.task, config_.variant, config_.spawn));
+    envs.push_back(MakeRunEnv(config_, inputs));
   }
   // Stepped on their own threads, which sleep at once after each round: the policy's forward
   // pass runs between rounds, and spinning threads would only take its cores.

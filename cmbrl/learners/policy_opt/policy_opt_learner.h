@@ -12,6 +12,7 @@
 #include "cmbrl/config/config.h"
 #include "cmbrl/env/env.h"
 #include "cmbrl/env/vector_env.h"
+#include "cmbrl/learners/learner_inputs.h"
 #include "cmbrl/policy_opt/lagrange.h"
 #include "cmbrl/policy_opt/networks.h"
 #include "cmbrl/policy_opt/policy_update.h"
@@ -82,7 +83,7 @@ class PolicyOptLearner final : public Learner {
  public:
   // `config.algorithm` is trpo, trpo-lagrangian or cpo; the environment is config's task and
   // variant (paper-lidar for the paper's runs). Throws cmbrl::Error for a bad configuration.
-  explicit PolicyOptLearner(TrainConfig config);
+  explicit PolicyOptLearner(TrainConfig config, const LearnerInputs& inputs = {});
   ~PolicyOptLearner() override;
 
   std::string ProgressHeader() const override;

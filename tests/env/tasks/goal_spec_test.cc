@@ -52,7 +52,10 @@ TEST(GoalSpecTest, StandardSuiteCountsAndTiming) {
 TEST(GoalSpecTest, UnknownTaskAndLevelAreNamed) {
   EXPECT_EQ(ErrorMessage([&] { GoalTaskSpecByName("PointGoal3", Variant::kPaper); }),
             "unknown task 'PointGoal3': expected one of PointGoal1, PointGoal2, CarGoal1, "
-            "CarGoal2");
+            "CarGoal2 (or an environment given from Python)");
+  EXPECT_THAT(ErrorMessage([&] { GoalTaskSpecByName("python:m.make()", Variant::kPaper); }),
+              ::testing::HasSubstr("is an environment given from Python: train, resume and load "
+                                   "it from Python"));
   EXPECT_THROW(MakeGoalTaskSpec({"CarGoal0", RobotKind::kCar, 0}, Variant::kPaper), Error);
 }
 

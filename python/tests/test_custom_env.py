@@ -1,0 +1,250 @@
+"""Training on an environment given from Python (cmbrl.train(env=...)): the adapter's protocol,
+its errors, checkpoints and resume, loading, and that the path itself changes no row."""
+import csv
+import functools
+import importlib.util
+import json
+import pickle
+
+import numpy as np
+import pytest
+
+import cmbrl
+from conftest import tiny_config
+
+
+def rows(run_dir):
+    """progress.csv without its clock columns."""
+    with open(run_dir / "progress.csv") as f:
+        return [{k: v for k, v in row.items() if k not in ("Time", "MsPerPlan")}
+                for row in csv.DictReader(f)]
+
+
+def custom_env_module(source_dir):
+    spec = importlib.util.spec_from_file_location("custom_env", source_dir / "examples" /
+                                                  "custom_env.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def tiny(total_steps=200, **changes):
+    """The tests' tiny MPC run, without a task (the env given is the task)."""
+    config = tiny_config(total_steps)
+    del config["task"]
+    config.update(changes)
+    return config
+
+
+class Line:
+    """A 1-D walk to x = 1 with a wall at x < -0.5 (cost 2.5 there: not 0/1), Gymnasium's
+    five-value step with info["cost"], an action box of [0, 2] (mapped from cmbrl's [-1, 1])."""
+
+    def __init__(self, length=20, fail_at=None, bad=None):
+        self.observation_space = cmbrl.Box(np.array([-5.0]), np.array([5.0]))
+        self.action_space = cmbrl.Box(np.array([0.0]), np.array([2.0]))
+        self.length, self.fail_at, self.bad = length, fail_at, bad
+        self.x, self.t, self.steps = 0.0, 0, 0
+        self.actions = []
+
+    def reset(self, seed=None, options=None):
+        self.x, self.t = 0.0, 0
+        return np.array([self.x]), {}
+
+    def step(self, action):
+        self.actions.append(float(action[0]))
+        self.steps += 1
+        if self.fail_at is not None and self.steps >= self.fail_at:
+            if self.bad == "raise":
+                raise RuntimeError("the simulator broke")
+            if self.bad == "nan":
+                return np.array([np.nan]), 0.0, False, False, {"cost": 0.0}
+            if self.bad == "shape":
+                return np.zeros(3), 0.0, False, False, {"cost": 0.0}
+            if self.bad == "no cost":
+                return np.array([self.x]), 0.0, False, False, {}
+        self.x += 0.1 * (float(action[0]) - 1.0)
+        self.t += 1
+        cost = 2.5 if self.x < -0.5 else 0.0
+        return np.array([self.x]), -abs(self.x - 1.0), False, self.t >= self.length, {"cost": cost}
+
+
+def line_reward(states, actions, next_states):
+    return -np.abs(next_states[:, 0] - 1.0)
+
+
+def test_the_example_trains_rce_on_its_own_env_then_loads_acts_and_evaluates(tmp_path,
+                                                                               source_dir):
+    module = custom_env_module(source_dir)
+    config = tiny(200)
+    cmbrl.train(env=module.DoubleIntegrator, reward=module.reward, config=config,
+                out=tmp_path / "run")
+    table = rows(tmp_path / "run")
+    assert len(table) == 2 and int(table[-1]["TotalEnvInteracts"]) == 200
+    with open(tmp_path / "run" / "config.yaml") as f:
+        text = f.read()
+    assert "task: python:custom_env.DoubleIntegrator()" in text
+    assert "observation_size: 4" in text and "action_size: 2" in text
+    with open(tmp_path / "run" / "sessions.jsonl") as f:
+        session = json.loads(f.readline())
+    assert session["python_functions"] == ("env=custom_env.DoubleIntegrator(), "
+                                           "reward=custom_env.reward")
+
+    agent = cmbrl.load_run(tmp_path / "run", env=module.DoubleIntegrator, reward=module.reward)
+    assert agent.task == "python:custom_env.DoubleIntegrator()"
+    env = agent.make_env()
+    observation, _ = env.reset(seed=3)
+    agent.begin_episode()
+    for _ in range(5):
+        action = agent.act(observation)
+        assert action.shape == (2,) and np.all(np.abs(action) <= 1.0)
+        observation, *_ = env.step(action)
+
+    # Without the env, or with another, the run is not loaded.
+    with pytest.raises(cmbrl.Error, match=r"environment given from Python: give it again"):
+        cmbrl.load_run(tmp_path / "run", reward=module.reward)
+    with pytest.raises(cmbrl.Error, match=r"trained on task 'python:custom_env.DoubleIntegrator"):
+        cmbrl.load_run(tmp_path / "run", env=Line, reward=module.reward)
+
+
+def test_a_built_in_task_through_the_python_path_writes_the_built_in_runs_rows(tmp_path):
+    # The adapter changes nothing: the same task and seed give the same rows.
+    config = tiny(200, objective={"analytic_form": "goal-distance"})
+    cmbrl.train(env=functools.partial(cmbrl.make, "PointGoal1"), config=config,
+                out=tmp_path / "python")
+    cmbrl.train(config=tiny_config(200), out=tmp_path / "built-in")
+    assert rows(tmp_path / "python") == rows(tmp_path / "built-in")
+    with open(tmp_path / "python" / "config.yaml") as f:
+        assert "task: python:cmbrl.envs.make('PointGoal1')" in f.read()
+
+
+def test_costs_that_are_not_0_or_1_count_where_above_0_and_actions_map_onto_the_box(tmp_path):
+    made = []
+
+    def make():
+        made.append(Line())
+        return made[-1]
+
+    cmbrl.train(env=make, reward=line_reward, config=tiny(60), out=tmp_path / "run")
+    env = made[0]
+    assert min(env.actions) >= 0.0 and max(env.actions) <= 2.0
+    assert max(env.actions) > 1.5 and min(env.actions) < 0.5  # the whole box is used
+    for row in rows(tmp_path / "run"):
+        assert float(row["EpCost"]) == int(float(row["EpCost"]))  # counts of steps, not 2.5s
+    agent = cmbrl.load_run(tmp_path / "run", env=make, reward=line_reward)
+    assert np.array_equal(agent.action_space.low, [0.0]) and np.array_equal(
+        agent.action_space.high, [2.0])
+    action = agent.act(np.array([0.0]))
+    assert 0.0 <= action[0] <= 2.0
+
+
+# How SwitchableLine misbehaves, read at each step (a pickled one restored by a resume reads it
+# too): from step SWITCH["fail_at"] on, as SWITCH["bad"] says; empty: never.
+SWITCH = {}
+
+
+class SwitchableLine(Line):
+    def step(self, action):
+        self.fail_at, self.bad = SWITCH.get("fail_at"), SWITCH.get("bad")
+        return super().step(action)
+
+
+@pytest.mark.parametrize("bad, message", [
+    ("raise", r"episode \d+, step \d+: step\(\) raised RuntimeError: the simulator broke"),
+    ("nan", r"episode \d+, step \d+: step\(\): the observation holds nan at component 0"),
+    ("shape", r"episode \d+, step \d+: step\(\): the observation has shape \(3,\): expected "
+              r"\(1,\)"),
+    ("no cost", r"step\(\) returned five values and its info has no 'cost'"),
+])
+def test_an_env_that_misbehaves_stops_the_run_naming_the_step_and_loses_no_checkpoint(
+        tmp_path, bad, message):
+    SWITCH.update(fail_at=130, bad=bad)  # after the pre-training's 120 steps and its checkpoint
+    try:
+        with pytest.raises(cmbrl.Error, match=message):
+            cmbrl.train(env=SwitchableLine, reward=line_reward, config=tiny(200),
+                        out=tmp_path / "run")
+    finally:
+        SWITCH.clear()
+    # The checkpoint taken before it is whole: with the env mended, the run resumes to the rows
+    # of a run that never failed.
+    cmbrl.train(resume=tmp_path / "run", env=SwitchableLine, reward=line_reward)
+    cmbrl.train(env=SwitchableLine, reward=line_reward, config=tiny(200), out=tmp_path / "whole")
+    assert rows(tmp_path / "run") == rows(tmp_path / "whole")
+
+
+@pytest.mark.parametrize("space, name", [
+    ("discrete", r"observation_space is .*: cmbrl learns and plans on a 1-D Box"),
+    ("2-d", r"observation_space is .*: expected a 1-D Box"),
+    ("unbounded action", r"action_space bounds component 0 to \[-inf, inf\]"),
+])
+def test_spaces_other_than_a_1d_box_are_refused_by_name_before_anything_is_written(
+        tmp_path, space, name):
+    class Discrete:
+        n = 3
+
+    def make():
+        env = Line()
+        if space == "discrete":
+            env.observation_space = Discrete()
+        elif space == "2-d":
+            env.observation_space = cmbrl.Box(np.zeros((2, 2)), np.ones((2, 2)))
+        else:
+            env.action_space = cmbrl.Box(np.array([-np.inf]), np.array([np.inf]))
+        return env
+
+    with pytest.raises(cmbrl.Error, match=name):
+        cmbrl.train(env=make, reward=line_reward, config=tiny(60), out=tmp_path / "run")
+    assert not (tmp_path / "run").exists()
+
+
+def test_a_python_env_needs_a_reward_for_its_planner(tmp_path):
+    with pytest.raises(cmbrl.Error, match=r"has no analytic reward of its own: give a reward"):
+        cmbrl.train(env=Line, config=tiny(60), out=tmp_path / "run")
+    assert not (tmp_path / "run").exists()
+
+
+def test_a_run_stopped_mid_episode_resumes_through_pickle_to_the_same_rows(tmp_path):
+    # Ctrl-C's path without the signal: a progress callback that raises after the first
+    # episode, with a checkpoint after every step, so the stop lands inside an episode.
+    def stop(summary):
+        if summary["steps"] >= 30:
+            raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        cmbrl.train(env=Line, reward=line_reward, config=tiny(80), out=tmp_path / "run",
+                    progress=stop, checkpoint_seconds=0)
+    cmbrl.train(resume=tmp_path / "run", env=Line, reward=line_reward)
+    cmbrl.train(env=Line, reward=line_reward, config=tiny(80), out=tmp_path / "whole")
+    assert rows(tmp_path / "run") == rows(tmp_path / "whole")
+    with pytest.raises(cmbrl.Error, match=r"trained on task 'python:.*Line\(\)'"):
+        cmbrl.train(resume=tmp_path / "run", env=functools.partial(Line, 30),
+                    reward=line_reward, steps=100)
+
+
+class Unpicklable(Line):
+    def __reduce__(self):
+        raise TypeError("this simulator cannot be pickled")
+
+
+def test_an_env_that_does_not_pickle_restarts_the_episode_and_the_session_says_so(tmp_path):
+    with pytest.raises(TypeError):
+        pickle.dumps(Unpicklable())
+
+    def stop(summary):
+        if summary["steps"] >= 30:
+            raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        cmbrl.train(env=Unpicklable, reward=line_reward, config=tiny(80), out=tmp_path / "run",
+                    progress=stop, checkpoint_seconds=0)
+    summary = cmbrl.train(resume=tmp_path / "run", env=Unpicklable, reward=line_reward)
+    assert summary["steps"] >= 80
+    with open(tmp_path / "run" / "sessions.jsonl") as f:
+        sessions = [json.loads(line) for line in f]
+    assert "started again" in sessions[-1]["note"] and "does not pickle" in sessions[-1]["note"]
+
+
+def test_an_env_instance_is_accepted_and_named_by_its_class(tmp_path):
+    cmbrl.train(env=Line(), reward=line_reward, config=tiny(60), out=tmp_path / "run")
+    with open(tmp_path / "run" / "config.yaml") as f:
+        assert "task: python:test_custom_env.Line()" in f.read()
