@@ -9,7 +9,7 @@ cd "${1:?the source directory}"
 
 # The components' plain-data headers, which the plain floors may read.
 plain='models/model_options\.h|planning/planning_options\.h|policy_opt/policy_opt_options\.h'
-plain+='|env/variant\.h|env/task_list\.h|env/tasks/[a-z_]+_spec\.h'
+plain+='|env/variant\.h|env/task_list\.h|env/mujoco_task_options\.h|env/tasks/[a-z_]+_spec\.h'
 
 # What each folder may include (an extended regular expression over the path after cmbrl/).
 declare -A allowed=(

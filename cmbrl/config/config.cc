@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <limits>
 #include <map>
@@ -111,6 +112,22 @@ void VisitConfig(Config& c, Visitor& v) {
   v.Field("environment", "spawn", c.spawn);
   v.Field("environment", "observation_size", c.observation_size);
   v.Field("environment", "action_size", c.action_size);
+  auto& d = c.mujoco_task;
+  v.Field("mujoco_task", "model", d.model);
+  v.Field("mujoco_task", "sensors", d.sensors);
+  v.Field("mujoco_task", "cost_geoms", d.cost_geoms);
+  v.Field("mujoco_task", "cost_contact_with", d.cost_contact_with);
+  v.Field("mujoco_task", "cost_site", d.cost_site);
+  v.Field("mujoco_task", "cost_regions", d.cost_regions);
+  v.Field("mujoco_task", "reward", d.reward);
+  v.Field("mujoco_task", "reward_sensor", d.reward_sensor);
+  v.Field("mujoco_task", "reward_target", d.reward_target);
+  v.Field("mujoco_task", "reward_axis", d.reward_axis);
+  v.Field("mujoco_task", "episode_steps", d.episode_steps);
+  v.Field("mujoco_task", "action_repeat", d.action_repeat);
+  v.Field("mujoco_task", "reset_joints", d.reset_joints);
+  v.Field("mujoco_task", "reset_low", d.reset_low);
+  v.Field("mujoco_task", "reset_high", d.reset_high);
   auto& t = c.training;
   v.Field("training", "pretrain_episodes", t.pretrain_episodes);
   v.Field("training", "pretrain_steps", t.pretrain_steps);
@@ -177,6 +194,13 @@ void VisitConfig(Config& c, Visitor& v) {
   v.Field("objective", "at_goal_radius", o.at_goal_radius);
   v.Field("objective", "at_goal_bonus", o.at_goal_bonus);
   v.Field("objective", "at_goal_test_after_near_bonus", o.at_goal_test_after_near_bonus);
+  auto& r = c.reward_model;
+  v.Field("reward_model", "hidden_sizes", r.hidden_sizes);
+  v.Field("reward_model", "learning_rate", r.learning_rate);
+  v.Field("reward_model", "batch_size", r.batch_size);
+  v.Field("reward_model", "max_epochs", r.max_epochs);
+  v.Field("reward_model", "validation_fraction", r.validation_fraction);
+  v.Field("reward_model", "patience", r.patience);
   auto& m = c.policy_optimisation;
   v.Field("policy_optimisation", "steps_per_epoch", m.steps_per_epoch);
   v.Field("policy_optimisation", "envs", m.envs);
@@ -266,7 +290,10 @@ class ConfigWriter {
       open_section_ = section;
     }
     out_ << YAML::Key << key << YAML::Value;
-    if constexpr (std::is_same_v<T, std::vector<int>>) out_ << YAML::Flow;
+    if constexpr (std::is_same_v<T, std::vector<int>> || std::is_same_v<T, std::vector<double>> ||
+                  std::is_same_v<T, std::vector<std::string>>) {
+      out_ << YAML::Flow;
+    }
     if constexpr (std::is_same_v<T, Variant>) {
       out_ << VariantName(value);
     } else if constexpr (std::is_same_v<T, Spawn>) {
@@ -400,11 +427,29 @@ bool ConfigFilesNameKey(const std::vector<std::string>& paths, const std::string
   return false;
 }
 
+namespace {
+
+// A declared task's model path, relative in the file that names it, is taken from that file's
+// folder: the run's config.yaml then names it absolute and resumes from anywhere.
+YAML::Node WithModelFromFileFolder(YAML::Node document, const std::string& path) {
+  if (!document.IsMap() || !document["mujoco_task"].IsMap()) return document;
+  YAML::Node model = document["mujoco_task"]["model"];
+  if (!model.IsScalar() || model.Scalar().empty()) return document;
+  const std::filesystem::path given(model.Scalar());
+  if (given.is_relative()) {
+    document["mujoco_task"]["model"] =
+        (std::filesystem::absolute(path).parent_path() / given).lexically_normal().string();
+  }
+  return document;
+}
+
+}  // namespace
+
 TrainConfig LoadTrainConfig(const std::vector<std::string>& paths) {
   Require(!paths.empty(), "no config file given: expected at least one YAML file");
   YAML::Node merged(YAML::NodeType::Map);
   for (const std::string& path : paths) {
-    MergeInto(merged, LoadConfigFile(path));
+    MergeInto(merged, WithModelFromFileFolder(LoadConfigFile(path), path));
   }
   YAML::Emitter out;
   out << merged;
@@ -424,6 +469,11 @@ void ValidatePlanningObjective(const TrainConfig& c, int observation_size,
             "(cmbrl.train(..., reward=f)), learn one (objective.reward: learned) or name a form "
             "(objective.analytic_form: one of {})",
             source, c.task, fmt::join(AnalyticRewardNames(), ", "));
+  } else if (IsDeclaredTask(c.mujoco_task)) {
+    Require(c.objective.analytic_form.empty(),
+            "config '{}': key 'objective.analytic_form' is '{}': a declared task plans with its "
+            "own reward (mujoco_task.reward)",
+            source, c.objective.analytic_form);
   } else if (c.objective.reward == "analytic") {
     // The Goal tasks' analytic reward reads the goal from the paper's ego-state vector.
     Require(c.variant == Variant::kPaper,
@@ -431,7 +481,7 @@ void ValidatePlanningObjective(const TrainConfig& c, int observation_size,
             "vector (the standard variant observes lidar)",
             source, VariantName(c.variant));
   }
-  if (c.objective.reward == "analytic") {
+  if (c.objective.reward == "analytic" && !IsDeclaredTask(c.mujoco_task)) {
     const std::vector<std::string> forms = AnalyticRewardNames();
     const std::string form = AnalyticRewardForm(c);
     Require(std::find(forms.begin(), forms.end(), form) != forms.end(),
@@ -444,8 +494,20 @@ void ValidatePlanningObjective(const TrainConfig& c, int observation_size,
 }
 
 // The task's observation size: its spec's for a built-in task, the recorded one for a Python
-// environment's (cmbrl.train(env=...) writes environment.observation_size and action_size).
+// environment's (cmbrl.train(env=...) writes environment.observation_size and action_size); 0
+// for a declared task's, which only its model tells (its environment checks the rest).
 int ValidatedObservationSize(const TrainConfig& c, const std::string& source) {
+  if (IsDeclaredTask(c.mujoco_task)) {
+    const std::vector<std::string> built_in = EnvNames();
+    Require(!IsPythonTask(c.task) &&
+                std::find(built_in.begin(), built_in.end(), c.task) == built_in.end() &&
+                !c.task.empty(),
+            "config '{}': key 'task' is '{}' with a mujoco_task declared: expected a name of its "
+            "own (not a built-in task's, not python:...)",
+            source, c.task);
+    InSection(source, "mujoco_task", [&] { ValidateMujocoTaskOptions(c.mujoco_task); });
+    return 0;
+  }
   if (IsPythonTask(c.task)) {
     Require(c.task.size() > std::string(kPythonTaskPrefix).size(),
             "config '{}': key 'task' is '{}': expected what made the environment after '{}'",
@@ -499,6 +561,7 @@ void ValidateTrainConfig(const TrainConfig& c, const std::string& source) {
   });
   InSection(source, "ensemble", [&] { ValidateEnsembleOptions(c.ensemble); });
   InSection(source, "classifier", [&] { ValidateXgbCostModelOptions(c.classifier); });
+  InSection(source, "reward_model", [&] { ValidateRewardModelOptions(c.reward_model); });
   InSection(source, "planning", [&] {
     ValidatePenalty(c.planning.penalty);
     ValidateCrossEntropyOptions(c.planning.cross_entropy);
@@ -521,6 +584,7 @@ void ValidateTrainConfig(const TrainConfig& c, const std::string& source) {
 }
 
 std::string AnalyticRewardForm(const TrainConfig& c) {
+  if (IsDeclaredTask(c.mujoco_task)) return c.mujoco_task.reward;
   return c.objective.analytic_form.empty() ? FindTask(c.task).analytic_reward
                                            : c.objective.analytic_form;
 }

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "cmbrl/env/mujoco_task_options.h"
 #include "cmbrl/env/variant.h"
 #include "cmbrl/models/model_options.h"
 #include "cmbrl/planning/planning_options.h"
@@ -18,9 +19,11 @@
 namespace cmbrl {
 
 struct TrainConfig {
-  // A built-in task (env/task_list.h), or "python:<what made it>" for an environment given from
-  // Python (cmbrl.train(env=...)), e.g. "python:mypackage.envs.make_arm(links=2)".
+  // A built-in task (env/task_list.h); "python:<what made it>" for an environment given from
+  // Python (cmbrl.train(env=...)), e.g. "python:mypackage.envs.make_arm(links=2)"; or the name
+  // of a task declared in mujoco_task.
   std::string task = "PointGoal1";
+  MujocoTaskOptions mujoco_task;  // a task declared as data (mujoco_task.model set)
   // environment.observation_size, environment.action_size: a Python environment's sizes, written
   // by cmbrl.train(env=...) so that the run is known without Python; 0 for a built-in task.
   int observation_size = 0;
@@ -36,6 +39,7 @@ struct TrainConfig {
   XgbCostModelOptions classifier;
   PlannerSettings planning;
   TrajectoryObjectiveOptions objective;
+  RewardModelOptions reward_model;  // objective.reward: learned
   PolicyOptimisationOptions policy_optimisation;  // the model-free algorithms
 };
 
@@ -45,8 +49,9 @@ inline std::string MethodOf(const TrainConfig& config) {
   return MethodOf(config.algorithm, config.planner);
 }
 
-// The analytic reward form an MPC run plans with (objective.reward: analytic):
-// objective.analytic_form, or the task's own (env/task_list.h) where that is "".
+// The analytic reward form an MPC run plans with (objective.reward: analytic): a declared
+// task's mujoco_task.reward; else objective.analytic_form, or the task's own (env/task_list.h)
+// where that is "".
 std::string AnalyticRewardForm(const TrainConfig& config);
 
 // Bytes a run will hold in memory, part by part: its family's estimate (run/learner_family.h)

@@ -123,7 +123,10 @@ std::vector<EvaluatedEpisode> EvaluateRun(const std::string& run_dir,
       milliseconds += plan.milliseconds;
       feasible += plan.feasible_fraction;
       if (plan.infeasible_elite_fraction > 0.0) ++fallback_steps;
-      if (options.predictions_every <= 0 || step % options.predictions_every != 0) return;
+      if (options.predictions_every <= 0 || step % options.predictions_every != 0 ||
+          env.scene_source() == nullptr) {  // paths are drawn in a scene
+        return;
+      }
       const std::vector<PredictedPath> paths =
           PlannerPredictions(agent, env.observation_spec(), scene, options.predicted_samples);
       result.predictions.insert(result.predictions.end(), paths.begin(), paths.end());

@@ -8,21 +8,23 @@ namespace cmbrl {
 
 EpisodeRecord RunEpisode(Env& env, Policy& policy, std::optional<std::uint64_t> seed,
                          const AfterActHook& after_act) {
+  // An environment without a scene (a declared or Python task) records sums and counts only.
   const SceneSource* scenes = env.scene_source();
-  Require(scenes != nullptr, "this environment shows no scene to record an episode from");
   EpisodeRecord record;
   std::vector<double> observation = env.Reset(seed);
   policy.BeginEpisode();
-  SceneState scene = scenes->Scene();
+  SceneState scene = scenes != nullptr ? scenes->Scene() : SceneState();
   double goal_distance_sum = 0.0;
-  record.path.push_back(scene.robot.position);
-  record.path_violations.push_back(false);
+  if (scenes != nullptr) {
+    record.path.push_back(scene.robot.position);
+    record.path_violations.push_back(false);
+  }
   for (;;) {
     const Vec2 goal_before = scene.goal;
     const std::vector<double> action = policy.Act(observation);
     if (after_act) after_act(record.steps, scene);
     StepResult step = env.Step(action);
-    scene = scenes->Scene();
+    if (scenes != nullptr) scene = scenes->Scene();
     record.episode_return += step.reward;
     record.episode_cost += step.cost;
     ++record.steps;
@@ -35,12 +37,14 @@ EpisodeRecord RunEpisode(Env& env, Policy& policy, std::optional<std::uint64_t> 
     if (step.info.cost_vases_contact > 0.0 || step.info.cost_vases_velocity > 0.0) {
       ++record.vase_steps;
     }
-    const double distance = std::hypot(scene.robot.position.x - goal_before.x,
-                                       scene.robot.position.y - goal_before.y);
-    goal_distance_sum += distance;
-    if (distance <= kNearGoalMetres) ++record.steps_near_goal;
-    record.path.push_back(scene.robot.position);
-    record.path_violations.push_back(step.cost > 0.0);
+    if (scenes != nullptr) {
+      const double distance = std::hypot(scene.robot.position.x - goal_before.x,
+                                         scene.robot.position.y - goal_before.y);
+      goal_distance_sum += distance;
+      if (distance <= kNearGoalMetres) ++record.steps_near_goal;
+      record.path.push_back(scene.robot.position);
+      record.path_violations.push_back(step.cost > 0.0);
+    }
     observation = std::move(step.observation);
     if (step.terminated || step.truncated) {
       record.terminated = step.terminated;

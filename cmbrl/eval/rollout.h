@@ -42,8 +42,9 @@ inline constexpr double kNearGoalMetres = 1.0;
 using AfterActHook = std::function<void(int step, const SceneState& scene)>;
 
 // Resets the environment (with `seed`, or continuing its generator) and runs the policy until the
-// episode terminates or is truncated. The environment must show its scene (Env::scene_source);
-// throws cmbrl::Error otherwise.
+// episode terminates or is truncated. For an environment without a scene (Env::scene_source:
+// a declared or Python task) the path and the goal figures stay empty and zero, and the hook
+// gets an empty scene.
 EpisodeRecord RunEpisode(Env& env, Policy& policy, std::optional<std::uint64_t> seed,
                          const AfterActHook& after_act = {});
 

@@ -2,11 +2,15 @@
 
 #include "cmbrl/config/config.h"
 #include "cmbrl/core/check.h"
+#include "cmbrl/env/mujoco_task.h"
 #include "cmbrl/env/registry.h"
 
 namespace cmbrl {
 
 std::unique_ptr<Env> MakeRunEnv(const TrainConfig& config, const LearnerInputs& inputs) {
+  if (IsDeclaredTask(config.mujoco_task)) {
+    return std::make_unique<MujocoTaskEnv>(config.mujoco_task, config.task);
+  }
   if (!IsPythonTask(config.task)) return MakeEnv(config.task, config.variant, config.spawn);
   Require(static_cast<bool>(inputs.python_env),
           "task '{}' is an environment given from Python: give it again (cmbrl.train(env=..., "

@@ -6,6 +6,25 @@
 
 namespace cmbrl {
 
+void ValidateRewardModelOptions(const RewardModelOptions& o) {
+  Require(!o.hidden_sizes.empty() && o.hidden_sizes.size() <= 16,
+          "hidden_sizes has {} layers: expected 1 to 16", o.hidden_sizes.size());
+  for (const int width : o.hidden_sizes) {
+    Require(width >= 1 && width <= 65536, "hidden_sizes holds {}: expected widths of 1 to 65536",
+            width);
+  }
+  Require(o.learning_rate > 0 && o.learning_rate <= 1,
+          "learning_rate is {}: expected a number in (0, 1]", o.learning_rate);
+  Require(o.batch_size >= 1 && o.batch_size <= 1'000'000, "batch_size is {}: expected 1 to 1000000",
+          o.batch_size);
+  Require(o.max_epochs >= 1 && o.max_epochs <= 100'000, "max_epochs is {}: expected 1 to 100000",
+          o.max_epochs);
+  Require(o.validation_fraction > 0 && o.validation_fraction < 1,
+          "validation_fraction is {}: expected a number in (0, 1)", o.validation_fraction);
+  Require(o.patience >= 1 && o.patience <= 100'000, "patience is {}: expected 1 to 100000",
+          o.patience);
+}
+
 void ValidateEnsembleOptions(const EnsembleOptions& o) {
   // Upper bounds keep a typing slip from allocating the machine away or running for ever.
   Require(o.ensemble_size >= 1 && o.ensemble_size <= 64,

@@ -48,6 +48,20 @@ void ValidateEnsembleOptions(const EnsembleOptions& options);
 // and Adam's two moments (float32), for states of `state_dim` and actions of `action_dim`.
 double EnsembleParameterBytes(const EnsembleOptions& options, int state_dim, int action_dim);
 
+// The learned reward of objective.reward: learned (reward_model.h): an MLP from the step
+// (state, action, next state) to its reward, refitted from scratch with the dynamics.
+struct RewardModelOptions {
+  std::vector<int> hidden_sizes = {200, 200};  // ReLU hidden layers
+  double learning_rate = 1e-3;                 // Adam
+  int batch_size = 256;
+  int max_epochs = 50;                // per fit
+  double validation_fraction = 0.15;  // held out by a fresh random split at every fit
+  int patience = 5;                   // epochs without improvement before stopping
+};
+
+// Throws cmbrl::Error naming the first field with a bad value.
+void ValidateRewardModelOptions(const RewardModelOptions& options);
+
 struct XgbCostModelOptions {
   int rounds = 400;            // trees (LightGBM n_estimators)
   double learning_rate = 0.3;  // eta

@@ -7,19 +7,24 @@
 #include "cmbrl/core/check.h"
 
 namespace cmbrl {
-TransitionBuffer::TransitionBuffer(int state_dim, int action_dim, int capacity)
-    : state_dim_(state_dim), action_dim_(action_dim), capacity_(capacity) {
+TransitionBuffer::TransitionBuffer(int state_dim, int action_dim, int capacity, bool keep_rewards)
+    : state_dim_(state_dim), action_dim_(action_dim), capacity_(capacity),
+      keep_rewards_(keep_rewards) {
   Require(state_dim > 0, "state_dim is {}: expected a positive number", state_dim);
   Require(action_dim > 0, "action_dim is {}: expected a positive number", action_dim);
   Require(capacity > 0, "capacity is {}: expected a positive number", capacity);
   states_.resize(static_cast<size_t>(capacity) * state_dim);
   actions_.resize(static_cast<size_t>(capacity) * action_dim);
   next_.resize(static_cast<size_t>(capacity) * state_dim);
+  if (keep_rewards_) rewards_.resize(static_cast<size_t>(capacity));
 }
 
 bool TransitionBuffer::Add(const std::vector<double>& state, const std::vector<double>& action,
-                           const std::vector<double>& next_state, bool goal_met, bool episode_end) {
+                           const std::vector<double>& next_state, bool goal_met, bool episode_end,
+                           double reward) {
   RequireFiniteRow(state, state_dim_, "transition state");
+  Require(std::isfinite(reward), "the transition's reward is {}: expected a finite number",
+          reward);
   RequireFiniteRow(action, action_dim_, "transition action");
   RequireFiniteRow(next_state, state_dim_, "transition next state");
   if (goal_met || episode_end) return false;
@@ -27,6 +32,7 @@ bool TransitionBuffer::Add(const std::vector<double>& state, const std::vector<d
   std::copy(state.begin(), state.end(), states_.begin() + slot * state_dim_);
   std::copy(action.begin(), action.end(), actions_.begin() + slot * action_dim_);
   std::copy(next_state.begin(), next_state.end(), next_.begin() + slot * state_dim_);
+  if (keep_rewards_) rewards_[slot] = static_cast<float>(reward);
   next_slot_ = (next_slot_ + 1) % capacity_;
   size_ = std::min(size_ + 1, capacity_);
   ++total_added_;
@@ -48,6 +54,7 @@ void TransitionBuffer::Save(const std::string& path) const {
   out.Write(used(states_, state_dim_));
   out.Write(used(actions_, action_dim_));
   out.Write(used(next_, state_dim_));
+  if (keep_rewards_) out.Write(used(rewards_, 1));
   out.Close();
 }
 
@@ -70,6 +77,7 @@ void TransitionBuffer::Load(const std::string& path) {
   restore(states_, state_dim_);
   restore(actions_, action_dim_);
   restore(next_, state_dim_);
+  if (keep_rewards_) restore(rewards_, 1);
 }
 
 }  // namespace cmbrl

@@ -12,14 +12,17 @@ namespace cmbrl {
 // Not thread-safe.
 class TransitionBuffer {
  public:
-  // Throws cmbrl::Error for non-positive sizes.
-  TransitionBuffer(int state_dim, int action_dim, int capacity = 500000);
+  // Throws cmbrl::Error for non-positive sizes. `keep_rewards`: each transition's reward is
+  // stored too (for a learned reward, reward_model.h); its file then holds them after the rest.
+  TransitionBuffer(int state_dim, int action_dim, int capacity = 500000,
+                   bool keep_rewards = false);
 
   // Stores a transition unless it reached the goal or ended the episode: those jump (the goal
   // is relocated, the episode restarts) and the paper's code leaves them out. Returns whether
   // it was stored. Throws cmbrl::Error for wrong sizes or non-finite values.
   bool Add(const std::vector<double>& state, const std::vector<double>& action,
-           const std::vector<double>& next_state, bool goal_met = false, bool episode_end = false);
+           const std::vector<double>& next_state, bool goal_met = false, bool episode_end = false,
+           double reward = 0.0);
 
   int size() const { return size_; }
   int capacity() const { return capacity_; }
@@ -36,6 +39,8 @@ class TransitionBuffer {
   const float* states() const { return states_.data(); }     // (size, state_dim)
   const float* actions() const { return actions_.data(); }   // (size, action_dim)
   const float* next_states() const { return next_.data(); }  // (size, state_dim)
+  bool keeps_rewards() const { return keep_rewards_; }
+  const float* rewards() const { return rewards_.data(); }  // (size); empty unless kept
 
  private:
   int state_dim_;
@@ -47,6 +52,8 @@ class TransitionBuffer {
   std::vector<float> states_;
   std::vector<float> actions_;
   std::vector<float> next_;
+  bool keep_rewards_;
+  std::vector<float> rewards_;
 };
 
 }  // namespace cmbrl

@@ -47,7 +47,7 @@ void ValidatePenalty(double penalty) {
           penalty);
 }
 
-std::vector<std::string> RewardSourceNames() { return {"analytic", "python"}; }
+std::vector<std::string> RewardSourceNames() { return {"analytic", "learned", "python"}; }
 
 std::vector<std::string> AnalyticRewardNames() { return {kGoalDistanceReward}; }
 
@@ -57,7 +57,8 @@ void ValidateTrajectoryObjectiveOptions(const TrajectoryObjectiveOptions& o, int
   const std::vector<std::string> sources = RewardSourceNames();
   Require(std::find(sources.begin(), sources.end(), o.reward) != sources.end(),
           "reward is '{}': expected one of {} (analytic: the task's own form of the predicted "
-          "states; python: a function given from Python)",
+          "states; learned: a model fitted on the run's rewards; python: a function given from "
+          "Python)",
           o.reward, fmt::join(sources, ", "));
   const std::vector<std::string> terminations = TerminationSourceNames();
   Require(std::find(terminations.begin(), terminations.end(), o.termination) !=
@@ -65,8 +66,10 @@ void ValidateTrajectoryObjectiveOptions(const TrajectoryObjectiveOptions& o, int
           "termination is '{}': expected one of {} (none: the task has no terminal state; "
           "python: a function given from Python)",
           o.termination, fmt::join(terminations, ", "));
-  // Only the analytic goal distance reads the goal's place in the state.
-  Require(o.reward != "analytic" || (o.goal_index >= 0 && o.goal_index + 1 < state_dim),
+  // Only the analytic goal distance reads the goal's place in the state (state_dim 0: a state
+  // whose size is not known yet, a declared task's, which plans with its own form).
+  Require(o.reward != "analytic" || state_dim == 0 ||
+              (o.goal_index >= 0 && o.goal_index + 1 < state_dim),
           "goal_index is {}: expected 0 to {} for a state of {} dimensions", o.goal_index,
           state_dim - 2, state_dim);
   Require(o.gamma > 0 && o.gamma <= 1, "gamma is {}: expected a number in (0, 1]", o.gamma);

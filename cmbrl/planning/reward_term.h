@@ -5,6 +5,7 @@
 
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "cmbrl/models/tensor_fwd.h"
 #include "cmbrl/planning/planning_options.h"
@@ -22,6 +23,8 @@ class RewardTerm {
                              const torch::Tensor& next_states) const = 0;
   // Whether Cost reads `states` and `actions` (the objective then stacks them for it).
   virtual bool reads_states_and_actions() const = 0;
+  // Throws cmbrl::Error naming what the term reads that a state of `state_dim` values lacks.
+  virtual void CheckStateSize(int state_dim) const { (void)state_dim; }
 };
 
 // The Goal tasks' analytic term ("goal-distance", facts B2): the distance of the goal in the
@@ -33,9 +36,30 @@ class GoalDistanceTerm final : public RewardTerm {
   torch::Tensor Cost(const torch::Tensor& states, const torch::Tensor& actions,
                      const torch::Tensor& next_states) const override;
   bool reads_states_and_actions() const override { return false; }
+  void CheckStateSize(int state_dim) const override;
 
  private:
   TrajectoryObjectiveOptions options_;
+};
+
+// A declared task's reward (env/mujoco_task_options.h) on the predicted next state's components
+// [offset, offset + width) of one sensor: "site-distance" (minus the distance to `target`),
+// "speed-along" (component `axis`) or "height" (minus |component `axis` - target[0]|). The
+// environment computes the same on its observation (ObservationReward in env/mujoco_task.h).
+class ObservationRewardTerm final : public RewardTerm {
+ public:
+  ObservationRewardTerm(std::string form, int offset, int width, std::vector<double> target,
+                        int axis);
+  torch::Tensor Cost(const torch::Tensor& states, const torch::Tensor& actions,
+                     const torch::Tensor& next_states) const override;
+  bool reads_states_and_actions() const override { return false; }
+  void CheckStateSize(int state_dim) const override;
+
+ private:
+  std::string form_;
+  int offset_, width_;
+  std::vector<double> target_;
+  int axis_;
 };
 
 // Where a predicted step ends the episode (a task's termination signal, objective.termination):

@@ -23,7 +23,10 @@ TrajectoryObjective::TrajectoryObjective(const DynamicsModel& dynamics, const Co
   Require(dynamics.state_dim() == cost.state_dim(),
           "the dynamics model predicts {} state dimensions, the cost model reads {}",
           dynamics.state_dim(), cost.state_dim());
-  ValidateTrajectoryObjectiveOptions(options_, dynamics.state_dim());
+  // The goal's place in the state is the goal-distance term's to check: another term reads
+  // none.
+  ValidateTrajectoryObjectiveOptions(options_, 0);
+  reward_->CheckStateSize(dynamics.state_dim());
 }
 
 void TrajectoryObjective::SetState(const torch::Tensor& state) {

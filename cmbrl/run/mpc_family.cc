@@ -51,7 +51,7 @@ const FamilySheet& MpcFamily() {
        // Added after the columns above: a run begun without them keeps its columns on resume.
        kHazardStepsColumn, kVaseStepsColumn},
       MethodAxis::kPlanner,
-      {"ensemble", "classifier", "planning", "objective"},
+      {"ensemble", "classifier", "planning", "objective", "reward_model"},
       MpcMemory,
   };
   return sheet;

@@ -13,6 +13,7 @@ enum SeedStream : std::uint64_t {
   kEnsembleSeedStream,
   kClassifierSeedStream,
   kPlannerSeedStream,
+  kRewardModelSeedStream,
 };
 
 // The outer loop of Algorithm 2 (facts B6); a model-free run reads its budget only.

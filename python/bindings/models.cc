@@ -12,6 +12,7 @@
 #include "cmbrl/core/check.h"
 #include "cmbrl/core/memory.h"
 #include "cmbrl/models/ensemble.h"
+#include "cmbrl/models/reward_model.h"
 #include "cmbrl/models/transition_buffer.h"
 #include "cmbrl/models/xgboost_cost_model.h"
 #include "python/bindings/arrays.h"
@@ -230,7 +231,74 @@ class PyCostClassifier {
 
 }  // namespace
 
+// A learned reward of its own (RewardModel), fitted on the caller's step inputs and rewards.
+// Thread-safe: calls from several Python threads take turns (ObjectLock).
+class PyRewardModel {
+ public:
+  PyRewardModel(int input_dim, const std::vector<int>& hidden, int max_epochs, std::uint64_t seed)
+      : model_(input_dim, Options(hidden, max_epochs), seed) {}
+
+  py::dict Fit(const py::handle& inputs, const py::handle& rewards) {
+    const ObjectLock lock(mutex_);
+    const py::ssize_t n = RowsOf(inputs, "inputs");
+    const torch::Tensor x = Rows(Matrix(inputs, n, model_.input_dim(), "inputs"), n);
+    const torch::Tensor y = Rows(RealValues(rewards, {n}, "rewards"), n).view({n});
+    RewardFitReport report;
+    {
+      py::gil_scoped_release release;
+      report = model_.Fit(x, y);
+    }
+    using R = RewardFitReport;
+    return AsDict(report, Field("epochs", &R::epochs), Field("train_size", &R::train_size),
+                  Field("validation_size", &R::validation_size), Field("train_mse", &R::train_mse),
+                  Field("validation_mse", &R::validation_mse), Field("seconds", &R::seconds));
+  }
+
+  py::array_t<double> Predict(const py::handle& inputs) {
+    const ObjectLock lock(mutex_);
+    const py::ssize_t n = RowsOf(inputs, "inputs");
+    const torch::Tensor x = Rows(Matrix(inputs, n, model_.input_dim(), "inputs"), n);
+    torch::Tensor out;
+    {
+      py::gil_scoped_release release;
+      out = model_.Predict(x).to(torch::kDouble).contiguous();
+    }
+    return Own(std::vector<double>(out.data_ptr<double>(), out.data_ptr<double>() + n));
+  }
+
+  void Save(const std::string& path) {
+    const ObjectLock lock(mutex_);
+    model_.Save(path);
+  }
+  void Load(const std::string& path) {
+    const ObjectLock lock(mutex_);
+    model_.Load(path);
+  }
+
+ private:
+  static RewardModelOptions Options(const std::vector<int>& hidden, int max_epochs) {
+    RewardModelOptions options;
+    options.hidden_sizes = hidden;
+    options.max_epochs = max_epochs;
+    return options;
+  }
+  // Doubles as (n, width) float32 rows.
+  static torch::Tensor Rows(const std::vector<double>& values, py::ssize_t n) {
+    return torch::tensor(values, torch::kDouble).to(torch::kFloat).view({n, -1});
+  }
+
+  std::mutex mutex_;
+  RewardModel model_;
+};
+
 void BindModels(py::module_& m) {
+  py::class_<PyRewardModel>(m, "RewardModel")
+      .def(py::init<int, const std::vector<int>&, int, std::uint64_t>(), py::arg("input_dim"),
+           py::arg("hidden_sizes"), py::arg("max_epochs"), py::arg("seed"))
+      .def("fit", &PyRewardModel::Fit, py::arg("inputs"), py::arg("rewards"))
+      .def("predict", &PyRewardModel::Predict, py::arg("inputs"))
+      .def("save", &PyRewardModel::Save, py::arg("path"))
+      .def("load", &PyRewardModel::Load, py::arg("path"));
   py::class_<PyEnsemble>(m, "Ensemble")
       .def(py::init<int, int, int, const std::vector<int>&, int, bool, std::uint64_t>(),
            py::arg("state_dim"), py::arg("action_dim"), py::arg("ensemble_size"),

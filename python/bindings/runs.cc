@@ -417,7 +417,14 @@ py::dict Train(const std::optional<std::vector<std::string>>& config_path,
     if (seed) config.seed = *seed;
     if (device) SetTrainDevice(config, *device);
     // Recorded in the run's config.yaml.
-    if (reward) config.objective.reward = "python";
+    // A function given plans with it (the run's config.yaml says so), unless the config asks
+    // for another source by name.
+    if (reward) {
+      Require(config.objective.reward == "analytic" || config.objective.reward == "python",
+              "{} asks for objective.reward '{}': give no reward function, or ask for 'python'",
+              source, config.objective.reward);
+      config.objective.reward = "python";
+    }
     if (termination) config.objective.termination = "python";
     if (env) {  // the task is the environment given, its sizes recorded
       config.task = env->task();

@@ -23,7 +23,7 @@ from ._common import Error
 from .agents import Agent, load_run, train
 from .envs import (CostInInfo, Env, EnvSpec, VectorCostInInfo, VectorEnv, make, make_vec,
                    tasks)
-from .models import CostClassifier, Ensemble
+from .models import CostClassifier, Ensemble, RewardModel
 from .results import read_runs, report
 from .spaces import Box
 
@@ -32,6 +32,7 @@ from .spaces import Box
 __version__ = _cmbrl.__version__
 __commit__ = _cmbrl.__commit__
 
-__all__ = ["Error", "Box", "Env", "EnvSpec", "VectorEnv", "Agent", "Ensemble", "CostClassifier", "make",
+__all__ = ["Error", "Box", "Env", "EnvSpec", "VectorEnv", "Agent", "Ensemble", "CostClassifier",
+           "RewardModel", "make",
            "make_vec", "tasks", "train", "load_run", "read_runs", "report", "CostInInfo",
            "VectorCostInInfo"]

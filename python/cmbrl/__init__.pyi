@@ -16,6 +16,7 @@ from .envs import make_vec as make_vec
 from .envs import tasks as tasks
 from .models import CostClassifier as CostClassifier
 from .models import Ensemble as Ensemble
+from .models import RewardModel as RewardModel
 from .results import read_runs as read_runs
 from .results import report as report
 from .spaces import Box as Box
@@ -23,5 +24,6 @@ from .spaces import Box as Box
 __version__: str
 __commit__: str
 __all__ = ["Error", "Box", "Env", "EnvSpec", "VectorEnv", "Agent", "Ensemble", "CostClassifier",
+           "RewardModel",
            "make", "make_vec", "tasks", "train", "load_run", "read_runs", "report", "CostInInfo",
            "VectorCostInInfo"]

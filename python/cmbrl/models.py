@@ -1,5 +1,6 @@
 """The paper's learned models on numpy arrays, standalone: the dynamics ensemble (Ensemble) and
-the constraint classifier (CostClassifier), with saving, loading, pickling and copying."""
+the constraint classifier (CostClassifier), with saving, loading, pickling and copying; and the
+learned reward of objective.reward: learned (RewardModel)."""
 import json
 import os
 import tempfile
@@ -16,8 +17,9 @@ class _StandaloneModel:
     Pickles carry that folder's files as bytes; copy.copy and copy.deepcopy give an independent
     model (a shallow copy would share the C++ one)."""
 
-    _kind = ""  # "ensemble" or "classifier"
+    _kind = ""  # "ensemble", "classifier" or "reward_model"
     _SETTINGS = "settings.json"
+    _FILES = {"classifier": "classifier.json", "reward_model": "reward_model.pt"}
 
     def _write_files(self, folder):
         with open(os.path.join(folder, self._SETTINGS), "w") as out:
@@ -25,7 +27,7 @@ class _StandaloneModel:
         if self._kind == "ensemble":
             self._model.save(folder)
         else:
-            self._model.save(os.path.join(folder, "classifier.json"))
+            self._model.save(os.path.join(folder, self._FILES[self._kind]))
 
     def save(self, path):
         """Writes the model to the folder `path` (made if missing): its settings and its state
@@ -53,7 +55,7 @@ class _StandaloneModel:
         if cls._kind == "ensemble":
             model._model.load(os.fspath(path))
         else:
-            model._model.load(os.path.join(os.fspath(path), "classifier.json"))
+            model._model.load(os.path.join(os.fspath(path), cls._FILES[cls._kind]))
         return model
 
     def __getstate__(self):
@@ -149,3 +151,29 @@ class CostClassifier(_StandaloneModel):
     def predict(self, states):
         """states (N, S) -> (N) bool: True where the classifier says a constraint is violated."""
         return self._model.predict(states)
+
+
+class RewardModel(_StandaloneModel):
+    """The learned reward of `objective.reward: learned` on numpy arrays: an MLP (ReLU,
+    hidden_sizes) from a step's inputs (training feeds it state, action and next state side by
+    side) to its reward, refitted from fresh weights at every fit with a held-out split and the
+    epoch of least validation error kept."""
+
+    _kind = "reward_model"
+
+    def __init__(self, input_dim, hidden_sizes=(200, 200), max_epochs=50, seed=0):
+        self._args = {"input_dim": input_dim, "hidden_sizes": list(hidden_sizes),
+                      "max_epochs": max_epochs, "seed": seed}
+        self._model = _cmbrl.RewardModel(
+            _as_int(input_dim, "input_dim"),
+            [_as_int(h, f"hidden_sizes[{i}]") for i, h in enumerate(hidden_sizes)],
+            _as_int(max_epochs, "max_epochs"), _as_seed(seed))
+
+    def fit(self, inputs, rewards):
+        """inputs (N, input_dim), rewards (N) -> a dict: epochs, train and validation MSE (in
+        the reward's units squared), seconds."""
+        return self._model.fit(inputs, rewards)
+
+    def predict(self, inputs):
+        """inputs (N, input_dim) -> (N) rewards."""
+        return self._model.predict(inputs)

@@ -248,3 +248,41 @@ def test_an_env_instance_is_accepted_and_named_by_its_class(tmp_path):
     cmbrl.train(env=Line(), reward=line_reward, config=tiny(60), out=tmp_path / "run")
     with open(tmp_path / "run" / "config.yaml") as f:
         assert "task: python:test_custom_env.Line()" in f.read()
+
+
+def test_a_learned_reward_plans_without_a_function_resumes_exactly_and_loads(tmp_path):
+    config = tiny(80, objective={"reward": "learned"}, reward_model={"hidden_sizes": [16],
+                                                                      "max_epochs": 5})
+
+    def stop(summary):
+        if summary["steps"] >= 30:
+            raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        cmbrl.train(env=Line, config=config, out=tmp_path / "run", progress=stop,
+                    checkpoint_seconds=0)
+    assert (tmp_path / "run" / "checkpoint" / "reward_model.pt").exists()
+    cmbrl.train(resume=tmp_path / "run", env=Line)
+    cmbrl.train(env=Line, config=config, out=tmp_path / "whole")
+    assert rows(tmp_path / "run") == rows(tmp_path / "whole")
+    agent = cmbrl.load_run(tmp_path / "run", env=Line)
+    assert 0.0 <= agent.act(np.array([0.2]))[0] <= 2.0
+    # A function given where the config asks for a learned reward is refused, not obeyed.
+    with pytest.raises(cmbrl.Error, match=r"asks for objective.reward 'learned': give no "
+                                          r"reward function"):
+        cmbrl.train(env=Line, reward=line_reward, config=config, out=tmp_path / "both")
+    assert not (tmp_path / "both").exists()
+
+
+def test_the_reward_model_stands_alone_on_numpy_arrays(tmp_path):
+    rng = np.random.default_rng(0)
+    inputs = rng.normal(size=(1500, 3))
+    rewards = -np.abs(inputs[:, 2] - 1.0)
+    model = cmbrl.RewardModel(3, hidden_sizes=[32, 32], max_epochs=60, seed=1)
+    report = model.fit(inputs, rewards)
+    assert report["validation_mse"] < 0.1 * rewards.var()
+    model.save(tmp_path / "model")
+    again = cmbrl.RewardModel.load(tmp_path / "model")
+    assert np.array_equal(again.predict(inputs[:10]), model.predict(inputs[:10]))
+    copied = pickle.loads(pickle.dumps(model))
+    assert np.array_equal(copied.predict(inputs[:10]), model.predict(inputs[:10]))

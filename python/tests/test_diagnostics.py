@@ -7,7 +7,8 @@ import pytest
 
 import cmbrl
 from conftest import tiny_config
-from cmbrl.diagnostics import goal_approach, model_size, planner_study, violation_anatomy
+from cmbrl.diagnostics import (goal_approach, model_size, planner_study, reward_form,
+                               violation_anatomy)
 
 TINY = tiny_config(120)
 
@@ -63,3 +64,14 @@ def test_the_planner_study_and_the_violation_anatomy_run_on_a_trained_run(
     rows = [line for line in table.splitlines() if line.startswith("| run |")]
     assert len(rows) == 2 and rows[0] == rows[1]  # the same models judged on the same transitions
     assert "nan" in rows[0]  # nothing is farther than 100 m from the goal
+
+
+def test_the_reward_form_study_measures_both_forms_on_the_same_steps(source_dir):
+    row = reward_form.study("DoubleIntegrator",
+                            lambda: reward_form.double_integrator(source_dir / "examples"),
+                            train_episodes=4, test_episodes=2, seed=0, hidden=[16],
+                            max_epochs=3, rows=100)
+    assert row["train_steps"] == 4 * 99 and row["test_steps"] == 2 * 99
+    for key in ("extra_output_mse", "own_model_mse_true_next", "own_model_mse_predicted_next",
+                "state_nmse_widened", "state_nmse_plain", "own_model_ms_per_iteration"):
+        assert row[key] >= 0.0 and row[key] == row[key], key  # measured, not NaN

@@ -45,9 +45,12 @@ TEST(ConfigTest, TheRewardTermIsTheTasksAnalyticForm) {
     EXPECT_NE(std::find(forms.begin(), forms.end(), task.analytic_reward), forms.end())
         << task.name;
   }
-  EXPECT_THAT(ErrorMessage([] { ParseTrainConfig("objective: {reward: learned}", "c"); }),
-              ::testing::HasSubstr(
-                  "config 'c': objective.reward is 'learned': expected one of analytic"));
+  EXPECT_THAT(ErrorMessage([] { ParseTrainConfig("objective: {reward: guessed}", "c"); }),
+              ::testing::HasSubstr("config 'c': objective.reward is 'guessed': expected one of "
+                                   "analytic, learned, python"));
+  EXPECT_EQ(ParseTrainConfig("objective: {reward: learned}", "c").objective.reward, "learned");
+  EXPECT_THAT(ErrorMessage([] { ParseTrainConfig("reward_model: {hidden_sizes: []}", "c"); }),
+              ::testing::HasSubstr("reward_model.hidden_sizes has 0 layers: expected 1 to 16"));
 }
 
 // A task given from Python ("python:..."): its sizes are recorded (environment.observation_size

@@ -28,6 +28,7 @@ constexpr const char* kTransitionsFile = "transitions.bin";
 constexpr const char* kLabeledStatesFile = "labeled_states.bin";
 constexpr const char* kEnsembleFile = "ensemble.pt";
 constexpr const char* kClassifierFile = "classifier.json";
+constexpr const char* kRewardModelFile = "reward_model.pt";  // objective.reward: learned only
 constexpr const char* kPlannerGeneratorFile = "planner_generator.pt";
 constexpr const char* kStateFile = "state.json";
 // Only in a checkpoint taken in the middle of an episode.
@@ -71,6 +72,7 @@ std::string ProgressCsvLine(const ProgressRow& row) { return ProgressLine(MpcPro
 void LoadMpcModels(const fs::path& checkpoint, MpcParts& parts) {
   parts.ensemble->Load((checkpoint / kEnsembleFile).string());
   parts.classifier->Load((checkpoint / kClassifierFile).string());
+  if (parts.reward_model) parts.reward_model->Load((checkpoint / kRewardModelFile).string());
 }
 
 MpcLearner::MpcLearner(TrainConfig config, const LearnerInputs& inputs)
@@ -82,7 +84,9 @@ MpcLearner::MpcLearner(TrainConfig config, const LearnerInputs& inputs)
   const int state_dim = parts_.env->observation_spec().size();
   const int action_dim = parts_.env->action_spec().size();
   const TrainingLoopOptions& t = config_.training;
-  transitions_ = std::make_unique<TransitionBuffer>(state_dim, action_dim, t.transition_capacity);
+  // A learned reward is fitted on the rewards stored beside the transitions.
+  transitions_ = std::make_unique<TransitionBuffer>(state_dim, action_dim, t.transition_capacity,
+                                                    parts_.reward_model != nullptr);
   labeled_ = std::make_unique<LabeledStateBuffer>(state_dim, t.safe_capacity, t.unsafe_capacity);
 }
 
@@ -161,8 +165,8 @@ void MpcLearner::CollectRandomData() {
       StepResult step = Timed(environment_seconds_, [&] { return env.Step(action); });
       ++pretrain_steps_;
       const bool end = step.terminated || step.truncated;
-      const bool kept =
-          transitions_->Add(observation, action, step.observation, step.info.goal_met, end);
+      const bool kept = transitions_->Add(observation, action, step.observation,
+                                          step.info.goal_met, end, step.reward);
       stored += kept;
       AddLabel(step.observation, step.cost, kept);
       observation = std::move(step.observation);
@@ -198,6 +202,11 @@ MpcLearner::FitOutcome MpcLearner::FitModels(const UnitContext& context) {
   const CostFitReport classifier =
       Timed(classifier_fit_seconds_, [&] { return parts_.classifier->Fit(*labeled_, keep_going); });
   if (classifier.interrupted) return FitOutcome::kAbandoned;
+  if (parts_.reward_model) {  // seconds at the sizes it is meant for: not pausable
+    Timed(dynamics_fit_seconds_, [&] {
+      return parts_.reward_model->Fit(RewardInputs(*transitions_), StoredRewards(*transitions_));
+    });
+  }
   dynamics_validation_mse_ = dynamics.validation_mse;
   classifier_safe_accuracy_ = classifier.safe_accuracy;
   classifier_unsafe_accuracy_ = classifier.unsafe_accuracy;
@@ -224,8 +233,8 @@ std::optional<ProgressRow> MpcLearner::Episode(const UnitContext& context) {
     episode.milliseconds += agent.last_plan().milliseconds;
     StepResult step = Timed(environment_seconds_, [&] { return env.Step(action); });
     const bool end = step.terminated || step.truncated;
-    const bool kept =
-        transitions_->Add(episode.observation, action, step.observation, step.info.goal_met, end);
+    const bool kept = transitions_->Add(episode.observation, action, step.observation,
+                                        step.info.goal_met, end, step.reward);
     AddLabel(step.observation, step.cost, kept);
     ++total_steps_;
     ++row.steps;
@@ -267,10 +276,13 @@ void MpcLearner::Save(const fs::path& folder, const fs::path& previous,
   if (models_changed || previous.empty() || !fs::exists(previous / kEnsembleFile)) {
     parts_.ensemble->Save((folder / kEnsembleFile).string());
     parts_.classifier->Save((folder / kClassifierFile).string());
+    if (parts_.reward_model) parts_.reward_model->Save((folder / kRewardModelFile).string());
   } else {
     // Unchanged since the last fit: a hard link carries them over without copying (about 50 MB
     // at the paper's sizes).
-    for (const char* name : {kEnsembleFile, kClassifierFile}) {
+    std::vector<const char*> names = {kEnsembleFile, kClassifierFile};
+    if (parts_.reward_model) names.push_back(kRewardModelFile);
+    for (const char* name : names) {
       std::error_code linked;
       fs::create_hard_link(previous / name, folder / name, linked);
       if (linked) fs::copy_file(previous / name, folder / name);

@@ -1,23 +1,59 @@
 #include "cmbrl/learners/mpc/mpc_parts.h"
 
+#include <fmt/format.h>
+
 #include "cmbrl/core/check.h"
 #include "cmbrl/core/rng.h"
 
 namespace cmbrl {
 
+namespace {
+
+// objective.reward: learned. The reward model's prediction for each predicted step, as a cost.
+class LearnedRewardTerm final : public RewardTerm {
+ public:
+  explicit LearnedRewardTerm(const RewardModel& model) : model_(model) {}
+  torch::Tensor Cost(const torch::Tensor& states, const torch::Tensor& actions,
+                     const torch::Tensor& next_states) const override {
+    return -model_.Predict(RewardInputs(states, actions, next_states));
+  }
+  bool reads_states_and_actions() const override { return true; }
+
+ private:
+  const RewardModel& model_;
+};
+
+}  // namespace
+
 MpcPartSeeds RunSeeds(std::uint64_t seed) {
   return {DeriveSeed(seed, kEnsembleSeedStream), DeriveSeed(seed, kClassifierSeedStream),
-          DeriveSeed(seed, kPlannerSeedStream)};
+          DeriveSeed(seed, kPlannerSeedStream), DeriveSeed(seed, kRewardModelSeedStream)};
 }
 
-std::unique_ptr<RewardTerm> RewardTermFor(const TrainConfig& config,
-                                          const LearnerInputs& inputs) {
+std::unique_ptr<RewardTerm> RewardTermFor(const TrainConfig& config, const LearnerInputs& inputs,
+                                          const RewardModel* learned, const BoxSpec* observation) {
+  if (config.objective.reward == "learned") {
+    Require(learned != nullptr, "objective.reward is 'learned': the run has no reward model");
+    return std::make_unique<LearnedRewardTerm>(*learned);
+  }
   if (config.objective.reward == "python") {
     Require(static_cast<bool>(inputs.python_reward),
             "objective.reward is 'python': the run plans with a reward function given from "
             "Python (cmbrl.train(..., reward=f), cmbrl.load_run(..., reward=f)); the command "
             "line has none");
     return inputs.python_reward();
+  }
+  if (IsDeclaredTask(config.mujoco_task)) {  // its own form, on its sensor's components
+    const MujocoTaskOptions& task = config.mujoco_task;
+    Require(observation != nullptr, "a declared task's reward needs its observation's names");
+    const int offset = observation->IndexOf(task.reward_sensor + "_0");
+    int width = 0;
+    while (offset + width < observation->size() &&
+           observation->names[offset + width] == fmt::format("{}_{}", task.reward_sensor, width)) {
+      ++width;
+    }
+    return std::make_unique<ObservationRewardTerm>(task.reward, offset, width, task.reward_target,
+                                                   task.reward_axis);
   }
   // "analytic": the task's own form (validated with the config).
   return MakeAnalyticReward(AnalyticRewardForm(config), config.objective);
@@ -50,9 +86,15 @@ MpcParts AssembleMpc(const TrainConfig& config, const MpcPartSeeds& seeds,
       std::make_unique<EnsembleDynamics>(state_dim, action_dim, config.ensemble, seeds.ensemble);
   parts.classifier =
       std::make_unique<XgbCostModel>(state_dim, config.classifier, seeds.classifier);
+  if (config.objective.reward == "learned") {
+    parts.reward_model = std::make_unique<RewardModel>(2 * state_dim + action_dim,
+                                                       config.reward_model, seeds.reward_model);
+  }
   parts.agent = std::make_unique<MpcAgent>(*parts.ensemble, *parts.classifier, config.planner,
                                            PlannerSettingsFor(config, action_dim),
-                                           config.objective, RewardTermFor(config, inputs),
+                                           config.objective,
+                                           RewardTermFor(config, inputs, parts.reward_model.get(),
+                                                         &parts.env->observation_spec()),
                                            seeds.planner, TerminationTermFor(config, inputs));
   return parts;
 }

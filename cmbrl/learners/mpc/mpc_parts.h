@@ -12,6 +12,7 @@
 #include "cmbrl/env/env.h"
 #include "cmbrl/config/config.h"
 #include "cmbrl/models/ensemble.h"
+#include "cmbrl/models/reward_model.h"
 #include "cmbrl/models/xgboost_cost_model.h"
 
 namespace cmbrl {
@@ -22,6 +23,7 @@ struct MpcParts {
   std::unique_ptr<Env> env;
   std::unique_ptr<EnsembleDynamics> ensemble;
   std::unique_ptr<XgbCostModel> classifier;
+  std::unique_ptr<RewardModel> reward_model;  // objective.reward: learned only
   std::unique_ptr<MpcAgent> agent;
 };
 
@@ -31,6 +33,7 @@ struct MpcPartSeeds {
   std::uint64_t ensemble = 0;
   std::uint64_t classifier = 0;
   std::uint64_t planner = 0;
+  std::uint64_t reward_model = 0;
 };
 
 // The run's own streams of `seed`.
@@ -42,12 +45,16 @@ MpcPartSeeds RunSeeds(std::uint64_t seed);
 MpcParts AssembleMpc(const TrainConfig& config, const MpcPartSeeds& seeds,
                      const LearnerInputs& inputs = {});
 
-// The planning objective's reward term of `config` (objective.reward): for "analytic", its task's
-// own form (env/task_list.h) with the objective's options; for "python", the one `inputs`
-// makes. Throws cmbrl::Error naming the key when the run needs a Python function and none is
-// given.
+// The planning objective's reward term of `config` (objective.reward): for "analytic", its
+// task's own form (env/task_list.h) or objective.analytic_form, with the objective's options;
+// for "python", the one `inputs` makes; for "learned", `learned`'s predictions (which the term
+// borrows); a declared task's own form reads its sensor's components by their names in
+// `observation`. Throws cmbrl::Error naming the key when the run needs a Python function and
+// none is given.
 std::unique_ptr<RewardTerm> RewardTermFor(const TrainConfig& config,
-                                          const LearnerInputs& inputs = {});
+                                          const LearnerInputs& inputs = {},
+                                          const RewardModel* learned = nullptr,
+                                          const BoxSpec* observation = nullptr);
 
 // Its termination term (objective.termination): none (nullptr), or the one `inputs` makes.
 // Throws as RewardTermFor does.
