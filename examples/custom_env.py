@@ -73,20 +73,16 @@ def main():
     parser.add_argument("--seed", type=int, default=0)
     args = parser.parse_args()
 
-    # The whole of what cmbrl asks: train on the env, then load the agent and act.
+    # The whole of what cmbrl asks: train on the env, then evaluate or load the agent and act.
     cmbrl.train(env=DoubleIntegrator, reward=reward, config=SMALL, out=args.out,
                 steps=args.steps, seed=args.seed)
+    for episode in cmbrl.evaluate(args.out, episodes=3, seed=1000, env=DoubleIntegrator,
+                                  reward=reward):
+        print(f"an episode of the trained agent: return {episode['return']:.1f}, "
+              f"violations {episode['cost']:.0f}")
+    # Or act yourself: agent.act(observation) gives the action in the env's own box.
     agent = cmbrl.load_run(args.out, env=DoubleIntegrator, reward=reward)
-    env = agent.make_env()
-    observation, _ = env.reset(seed=args.seed + 1000)
-    agent.begin_episode()
-    total_reward = total_cost = 0.0
-    for _ in range(env.max_steps):
-        observation, r, c, terminated, truncated, _ = env.step(agent.act(observation))
-        total_reward, total_cost = total_reward + r, total_cost + c
-        if terminated or truncated:
-            break
-    print(f"one episode of the trained agent: return {total_reward:.1f}, violations {total_cost:.0f}")
+    print("its first action from the start:", agent.act(DoubleIntegrator().reset(seed=0)[0]))
 
 
 if __name__ == "__main__":

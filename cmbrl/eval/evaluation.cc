@@ -91,9 +91,10 @@ std::vector<PredictedPath> PlannerPredictions(MpcAgent& agent, const BoxSpec& sp
 }
 
 std::vector<EvaluatedEpisode> EvaluateRun(const std::string& run_dir,
-                                          const EvaluationOptions& options) {
+                                          const EvaluationOptions& options,
+                                          const LearnerInputs& inputs) {
   Require(options.episodes >= 1, "episodes is {}: expected at least 1", options.episodes);
-  LoadedRun run(run_dir, options.seed, options.overrides);
+  LoadedRun run(run_dir, options.seed, options.overrides, inputs);
   Env& env = run.env();
   if (!run.is_mpc()) {
     // A model-free run: its policy's mean action, no predictions to draw.

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "cmbrl/eval/rollout.h"
+#include "cmbrl/learners/learner_inputs.h"
 #include "cmbrl/viz/scene_picture.h"
 
 namespace cmbrl {
@@ -60,9 +61,11 @@ std::vector<PredictedPath> SelectPredictions(const PlanPaths& paths, int samples
 std::vector<PredictedPath> PlannerPredictions(MpcAgent& agent, const BoxSpec& spec,
                                               const SceneState& scene, int samples);
 
-// Loads run_dir's config and checkpoint and runs the episodes. Throws cmbrl::Error when run_dir
-// holds no trained run.
+// Loads run_dir's config and checkpoint and runs the episodes. `inputs`: what the run needs
+// beside its files (a Python environment, reward or termination). Throws cmbrl::Error when
+// run_dir holds no trained run.
 std::vector<EvaluatedEpisode> EvaluateRun(const std::string& run_dir,
-                                          const EvaluationOptions& options);
+                                          const EvaluationOptions& options,
+                                          const LearnerInputs& inputs = {});
 
 }  // namespace cmbrl

@@ -477,6 +477,50 @@ py::dict Train(const std::optional<std::vector<std::string>>& config_path,
   return summary;
 }
 
+// Episodes of a trained run's agent (cmbrl eval's), as dicts of their sums and counts.
+py::list Evaluate(const std::string& run_dir, int episodes, std::uint64_t seed,
+                  bool reseed_each_episode, const std::vector<std::string>& overrides,
+                  const std::optional<py::function>& reward,
+                  const std::optional<py::function>& termination,
+                  const std::optional<py::function>& env_factory,
+                  const std::optional<std::string>& env_name) {
+  std::optional<GivenEnv> env;
+  if (env_factory) env.emplace(*env_factory, env_name.value_or("environment"));
+  const RunDirectory run(run_dir);
+  if (run.HoldsRun()) {
+    CheckFunctionsGiven(LoadTrainConfig(run.config_file().string()), reward.has_value(),
+                        termination.has_value(), fmt::format("run '{}'", run_dir), env);
+  }
+  EvaluationOptions options;
+  options.episodes = episodes;
+  options.seed = seed;
+  options.reseed_each_episode = reseed_each_episode;
+  options.overrides = overrides;
+  options.predictions_every = 0;
+  const LearnerInputs inputs = InputsWith(reward, termination, env);
+  std::vector<EvaluatedEpisode> results;
+  {
+    py::gil_scoped_release release;
+    results = EvaluateRun(run_dir, options, inputs);
+  }
+  py::list out;
+  for (const EvaluatedEpisode& episode : results) {
+    const EpisodeRecord& r = episode.record;
+    py::dict d = AsDict(r, Field("return", &EpisodeRecord::episode_return),
+                        Field("cost", &EpisodeRecord::episode_cost),
+                        Field("steps", &EpisodeRecord::steps),
+                        Field("terminated", &EpisodeRecord::terminated),
+                        Field("truncated", &EpisodeRecord::truncated));
+    d["ms_per_plan"] = episode.mean_ms_per_plan;
+    if (episode.mean_feasible_fraction) {
+      d["feasible_fraction"] = *episode.mean_feasible_fraction;
+      d["fallback_steps"] = *episode.fallback_step_fraction;
+    }
+    out.append(d);
+  }
+  return out;
+}
+
 // Seconds that `steps` steps of a Python environment take through PythonEnv from C++ (the GIL
 // released between them, as a learner steps it), resets included; the actions are drawn
 // beforehand in [-1, 1].
@@ -554,6 +598,9 @@ void BindRuns(py::module_& m) {
       .def("action_spec", &PyAgent::ActionSpec)
       .def_property_readonly("is_mpc", &PyAgent::is_mpc);
 
+  m.def("evaluate", &Evaluate, py::arg("run_dir"), py::arg("episodes"), py::arg("seed"),
+        py::arg("reseed_each_episode"), py::arg("overrides"), py::arg("reward"),
+        py::arg("termination"), py::arg("env_factory"), py::arg("env_name"));
   m.def("bench_python_env_steps", &BenchPythonEnvSteps, py::arg("env"), py::arg("steps"),
         py::arg("seed"));
   m.def("bench_python_reward_call", &BenchPythonRewardCall, py::arg("reward"), py::arg("rows"),

@@ -20,7 +20,7 @@ what they share.
 """
 from . import _cmbrl
 from ._common import Error
-from .agents import Agent, load_run, train
+from .agents import Agent, evaluate, load_run, train
 from .envs import (CostInInfo, Env, EnvSpec, VectorCostInInfo, VectorEnv, make, make_vec,
                    tasks)
 from .models import CostClassifier, Ensemble, RewardModel
@@ -33,6 +33,5 @@ __version__ = _cmbrl.__version__
 __commit__ = _cmbrl.__commit__
 
 __all__ = ["Error", "Box", "Env", "EnvSpec", "VectorEnv", "Agent", "Ensemble", "CostClassifier",
-           "RewardModel", "make",
-           "make_vec", "tasks", "train", "load_run", "read_runs", "report", "CostInInfo",
-           "VectorCostInInfo"]
+           "RewardModel", "make", "make_vec", "tasks", "train", "load_run", "evaluate",
+           "read_runs", "report", "CostInInfo", "VectorCostInInfo"]

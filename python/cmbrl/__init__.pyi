@@ -4,6 +4,7 @@
 # it with mypy's stubtest and type-checks the examples with them.
 from ._common import Error as Error
 from .agents import Agent as Agent
+from .agents import evaluate as evaluate
 from .agents import load_run as load_run
 from .agents import train as train
 from .envs import CostInInfo as CostInInfo
@@ -24,6 +25,5 @@ from .spaces import Box as Box
 __version__: str
 __commit__: str
 __all__ = ["Error", "Box", "Env", "EnvSpec", "VectorEnv", "Agent", "Ensemble", "CostClassifier",
-           "RewardModel",
-           "make", "make_vec", "tasks", "train", "load_run", "read_runs", "report", "CostInInfo",
-           "VectorCostInInfo"]
+           "RewardModel", "make", "make_vec", "tasks", "train", "load_run", "evaluate",
+           "read_runs", "report", "CostInInfo", "VectorCostInInfo"]

@@ -209,3 +209,23 @@ def load_run(run_dir, seed=0, overrides=None, reward=None, termination=None, env
         overrides = [f"{key}={_yaml_value(value)}" for key, value in overrides.items()]
     return Agent(run_dir, seed=seed, overrides=[str(item) for item in overrides], reward=reward,
                  termination=termination, env=env)
+
+
+def evaluate(run_dir, episodes=1, seed=0, reseed_each_episode=False, overrides=None, reward=None,
+             termination=None, env=None):
+    """Episodes of a trained run's agent, as `cmbrl eval` runs them: a list of dicts of return,
+    cost (violating steps), steps, terminated, truncated, ms_per_plan and, for MPC, the plans'
+    mean feasible fraction and the share of steps on RCE's fallback. seed seeds the environment
+    and the planner; reseed_each_episode resets episode k with seed + k. overrides, reward,
+    termination and env as load_run takes them (a run on a Python environment needs its env)."""
+    if overrides is None:
+        overrides = []
+    elif isinstance(overrides, dict):
+        overrides = [f"{key}={_yaml_value(value)}" for key, value in overrides.items()]
+    env_factory, env_name = _env_source(env)
+    return _cmbrl.evaluate(os.fspath(run_dir), _as_int(episodes, "episodes", 1, 10**6),
+                           _as_seed(seed), bool(reseed_each_episode),
+                           [str(item) for item in overrides],
+                           _step_function(reward, "reward", "rewards"),
+                           _step_function(termination, "termination", "booleans"),
+                           env_factory, env_name)

@@ -46,6 +46,11 @@ class Agent(_NotCopyable):
     def predict_next(self, states: npt.ArrayLike, actions: npt.ArrayLike) -> _Floats: ...
     def predict_violation(self, states: npt.ArrayLike) -> _Bools: ...
 
+def evaluate(run_dir: _Path, episodes: int = ..., seed: int = ...,
+             reseed_each_episode: bool = ..., overrides: Optional[Mapping[str, Any]] = ...,
+             reward: Optional[_StepFunction] = ..., termination: Optional[_StepFunction] = ...,
+             env: Optional[_EnvSource] = ...) -> list[dict[str, Any]]: ...
+
 def load_run(run_dir: _Path, seed: int = ..., overrides: Optional[Mapping[str, Any]] = ...,
              reward: Optional[_StepFunction] = ...,
              termination: Optional[_StepFunction] = ...,

@@ -100,6 +100,15 @@ def test_the_example_trains_rce_on_its_own_env_then_loads_acts_and_evaluates(tmp
         assert action.shape == (2,) and np.all(np.abs(action) <= 1.0)
         observation, *_ = env.step(action)
 
+    # Evaluated as `cmbrl eval` would: episodes of the agent in the env given.
+    episodes = cmbrl.evaluate(tmp_path / "run", episodes=2, seed=5, env=module.DoubleIntegrator,
+                              reward=module.reward)
+    assert [e["steps"] for e in episodes] == [100, 100]
+    assert all(0 <= e["cost"] <= 100 and 0 < e["feasible_fraction"] <= 1 for e in episodes)
+    again = cmbrl.evaluate(tmp_path / "run", episodes=2, seed=5, env=module.DoubleIntegrator,
+                           reward=module.reward)
+    assert [e["return"] for e in again] == [e["return"] for e in episodes]
+
     # Without the env, or with another, the run is not loaded.
     with pytest.raises(cmbrl.Error, match=r"environment given from Python: give it again"):
         cmbrl.load_run(tmp_path / "run", reward=module.reward)
