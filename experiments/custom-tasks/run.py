@@ -93,22 +93,24 @@ def run_all(jobs):
     logs = HERE / "runs" / "logs"
     logs.mkdir(parents=True, exist_ok=True)
     pending = list(run_names())
-    running = []
+    free = list(range(min(jobs, os.cpu_count() or 1)))  # cores without a run
+    running = {}
     while pending or running:
-        while pending and len(running) < jobs:
-            name = pending.pop(0)
-            core = len(running) % max(1, os.cpu_count() or 1)
-            log = open(logs / f"{name}.log", "w")
+        while pending and free:
+            name, core = pending.pop(0), free.pop(0)
+            log = open(logs / f"{name}.log", "a")
             process = subprocess.Popen(
                 ["taskset", "-c", str(core), sys.executable, __file__, "--one", name],
                 stdout=log, stderr=subprocess.STDOUT)
-            running.append((name, process, log))
+            running[process.pid] = (name, core, log)
             print(f"started {name} on core {core}", flush=True)
-        name, process, log = running[0]
-        process.wait()
+        pid, status = os.wait()
+        if pid not in running:
+            continue
+        name, core, log = running.pop(pid)
         log.close()
-        running.pop(0)
-        print(f"{name}: exit {process.returncode}", flush=True)
+        free.append(core)
+        print(f"{name}: exit status {status >> 8}", flush=True)
 
 
 def bootstrap(values, resamples=10_000, seed=0):
