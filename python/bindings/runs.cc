@@ -231,6 +231,24 @@ void CheckFunctionsGiven(const TrainConfig& config, bool reward, bool terminatio
           config.objective.termination);
 }
 
+// The environment given from Python, where a factory is.
+std::optional<GivenEnv> GivenEnvOf(const std::optional<py::function>& factory,
+                                   const std::optional<std::string>& name) {
+  if (!factory) return std::nullopt;
+  return GivenEnv(*factory, name.value_or("environment"));
+}
+
+// CheckFunctionsGiven against the run in `run_dir`, before it is loaded (a folder without a run
+// is left to the loader to name). Returns true, so that a member initialiser can run it first.
+bool CheckRunGiven(const std::string& run_dir, bool reward, bool termination,
+                   const std::optional<GivenEnv>& env) {
+  const RunDirectory run(run_dir);
+  if (!run.HoldsRun()) return true;
+  CheckFunctionsGiven(LoadTrainConfig(run.config_file().string()), reward, termination,
+                      fmt::format("run '{}'", run_dir), env);
+  return true;
+}
+
 // A trained run's agent (LoadedRun). Thread-safe: calls from several Python threads take turns
 // (ObjectLock), as its planner, models and environment are one state.
 class PyAgent {
@@ -238,7 +256,7 @@ class PyAgent {
   PyAgent(const std::string& run_dir, std::uint64_t seed, const std::vector<std::string>& overrides,
           const std::optional<py::function>& reward, const std::optional<py::function>& termination,
           const std::optional<GivenEnv>& env)
-      : given_checked_(CheckGiven(run_dir, reward.has_value(), termination.has_value(), env)),
+      : given_checked_(CheckRunGiven(run_dir, reward.has_value(), termination.has_value(), env)),
         run_(run_dir, seed, overrides, InputsWith(reward, termination, env)) {
     python_env_ = dynamic_cast<const PythonEnv*>(&run_.env());
   }
@@ -363,19 +381,8 @@ class PyAgent {
             "{}() before act(): the agent has made no plan yet; call act(observation) first", call);
   }
 
-  // What the run was trained with against what is given, before the run is loaded.
-  static bool CheckGiven(const std::string& run_dir, bool reward, bool termination,
-                         const std::optional<GivenEnv>& env) {
-    const RunDirectory run(run_dir);
-    if (run.HoldsRun()) {  // otherwise LoadedRun says it holds none
-      CheckFunctionsGiven(LoadTrainConfig(run.config_file().string()), reward, termination,
-                          fmt::format("run '{}'", run_dir), env);
-    }
-    return true;
-  }
-
   mutable std::mutex mutex_;  // ObjectLock: one call at a time
-  bool given_checked_;
+  bool given_checked_;  // what the run was trained with against what is given, before loading
   LoadedRun run_;
   const PythonEnv* python_env_ = nullptr;  // the run's env where it was given from Python
   std::optional<PlanPaths> plan_paths_;  // the last plan's paths, once predictions() took them
@@ -391,8 +398,7 @@ py::dict Train(const std::optional<std::vector<std::string>>& config_path,
                const std::optional<py::function>& termination,
                const std::optional<py::function>& env_factory,
                const std::optional<std::string>& env_name) {
-  std::optional<GivenEnv> env;
-  if (env_factory) env.emplace(*env_factory, env_name.value_or("environment"));
+  const std::optional<GivenEnv> env = GivenEnvOf(env_factory, env_name);
   const LearnerInputs inputs = InputsWith(reward, termination, env);
   std::unique_ptr<Trainer> trainer;
   std::string run_dir;
@@ -401,9 +407,7 @@ py::dict Train(const std::optional<std::vector<std::string>>& config_path,
             "resume continues a run with its own config: give no config, out, seed or device "
             "with it (steps gives it a new budget)");
     run_dir = *resume;
-    CheckFunctionsGiven(LoadTrainConfig(RunDirectory(run_dir).config_file().string()),
-                        reward.has_value(), termination.has_value(),
-                        fmt::format("run '{}'", run_dir), env);
+    CheckRunGiven(run_dir, reward.has_value(), termination.has_value(), env);
     py::gil_scoped_release release;
     trainer = Trainer::Resume(run_dir, steps, inputs);
   } else {
@@ -484,13 +488,8 @@ py::list Evaluate(const std::string& run_dir, int episodes, std::uint64_t seed,
                   const std::optional<py::function>& termination,
                   const std::optional<py::function>& env_factory,
                   const std::optional<std::string>& env_name) {
-  std::optional<GivenEnv> env;
-  if (env_factory) env.emplace(*env_factory, env_name.value_or("environment"));
-  const RunDirectory run(run_dir);
-  if (run.HoldsRun()) {
-    CheckFunctionsGiven(LoadTrainConfig(run.config_file().string()), reward.has_value(),
-                        termination.has_value(), fmt::format("run '{}'", run_dir), env);
-  }
+  const std::optional<GivenEnv> env = GivenEnvOf(env_factory, env_name);
+  CheckRunGiven(run_dir, reward.has_value(), termination.has_value(), env);
   EvaluationOptions options;
   options.episodes = episodes;
   options.seed = seed;
@@ -580,9 +579,8 @@ void BindRuns(py::module_& m) {
                        const std::optional<py::function>& termination,
                        const std::optional<py::function>& env_factory,
                        const std::optional<std::string>& env_name) {
-             std::optional<GivenEnv> env;
-             if (env_factory) env.emplace(*env_factory, env_name.value_or("environment"));
-             return std::make_unique<PyAgent>(run_dir, seed, overrides, reward, termination, env);
+             return std::make_unique<PyAgent>(run_dir, seed, overrides, reward, termination,
+                                              GivenEnvOf(env_factory, env_name));
            }),
            py::arg("run_dir"), py::arg("seed"), py::arg("overrides"), py::arg("reward"),
            py::arg("termination"), py::arg("env_factory"), py::arg("env_name"))

@@ -30,8 +30,9 @@ import cmbrl
 from . import _cmbrl
 
 
-def single_env_rate(task, variant, steps, seed):
-    env = cmbrl.make(task, variant=variant)
+def _loop_seconds(env, steps, seed):
+    """Seconds of `steps` steps of env (six-value step) in a Python loop, resets included; the
+    actions are drawn beforehand."""
     actions = np.random.default_rng(seed).uniform(
         env.action_space.low, env.action_space.high, size=(steps,) + env.action_space.shape)
     env.reset(seed=seed)
@@ -40,7 +41,11 @@ def single_env_rate(task, variant, steps, seed):
         _, _, _, terminated, truncated, _ = env.step(actions[t])
         if terminated or truncated:
             env.reset()
-    return steps / (time.perf_counter() - start)
+    return time.perf_counter() - start
+
+
+def single_env_rate(task, variant, steps, seed):
+    return steps / _loop_seconds(cmbrl.make(task, variant=variant), steps, seed)
 
 
 def vector_rate(task, variant, steps, seed, num_envs):
@@ -79,15 +84,7 @@ def _goal_distance_reward(states, actions, next_states):
 
 
 def python_loop_seconds(steps, seed):
-    env = _MinimalEnv()
-    actions = np.random.default_rng(seed).uniform(-1.0, 1.0, size=(steps, 2))
-    env.reset(seed=seed)
-    start = time.perf_counter()
-    for t in range(steps):
-        _, _, _, terminated, truncated, _ = env.step(actions[t])
-        if terminated or truncated:
-            env.reset()
-    return time.perf_counter() - start
+    return _loop_seconds(_MinimalEnv(), steps, seed)
 
 
 def direct_reward_seconds(rows, seed):
