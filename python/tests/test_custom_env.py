@@ -295,3 +295,22 @@ def test_the_reward_model_stands_alone_on_numpy_arrays(tmp_path):
     assert np.array_equal(again.predict(inputs[:10]), model.predict(inputs[:10]))
     copied = pickle.loads(pickle.dumps(model))
     assert np.array_equal(copied.predict(inputs[:10]), model.predict(inputs[:10]))
+
+
+def test_a_model_free_learner_trains_on_copies_of_a_python_env_and_resumes(tmp_path):
+    made = []
+
+    def make():
+        made.append(Line())
+        return made[-1]
+
+    config = {"algorithm": "cpo", "seed": 2, "training": {"total_steps": 600},
+              "policy_optimisation": {"steps_per_epoch": 300, "envs": 2, "policy_hidden": [16],
+                                      "value_hidden": [16], "value_iterations": 5}}
+    cmbrl.train(env=make, config=config, out=tmp_path / "run", steps=300)
+    assert len(made) == 2  # one per rollout env
+    cmbrl.train(resume=tmp_path / "run", env=make, steps=600)
+    cmbrl.train(env=Line, config=config, out=tmp_path / "whole")
+    assert rows(tmp_path / "run") == rows(tmp_path / "whole")
+    episodes = cmbrl.evaluate(tmp_path / "run", env=make, episodes=2)
+    assert [e["steps"] for e in episodes] == [20, 20]
