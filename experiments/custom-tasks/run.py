@@ -148,19 +148,18 @@ def summary(runs):
     return "\n".join(lines) + "\n"
 
 
-def report():
-    runs_dir = HERE / "runs"
-    out = HERE / "report"
-    if (runs_dir / "runs").is_dir():
+def report(out=HERE / "report", runs_dir=HERE / "runs"):
+    """Writes report/ (into `out`) from the runs in runs_dir, or from out's run-logs alone."""
+    out, runs_dir = pathlib.Path(out), pathlib.Path(runs_dir)
+    if (runs_dir / "runs").is_dir():  # the runs' logs into report/run-logs
         if out.exists():
             shutil.rmtree(out)
         cmbrl.report(runs_dir, out, window=STEPS)
-    else:  # again from the committed logs
-        cmbrl.report(out, out, window=STEPS)
-    runs = [r for r in cmbrl.read_runs(out)]
-    # read_runs names a run by its folder.
+    # Always made from the committed logs, so that it is the same made again from them alone.
+    cmbrl.report(out, out, window=STEPS)
+    runs = cmbrl.read_runs(out)  # named by their folders
     (out / "summary.md").write_text(summary(runs))
-    print((out / "summary.md").read_text())
+    return (out / "summary.md").read_text()
 
 
 def main():
@@ -173,7 +172,7 @@ def main():
         return train_one(args.one)
     if not args.report:
         run_all(args.jobs)
-    report()
+    print(report())
 
 
 if __name__ == "__main__":

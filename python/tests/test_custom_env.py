@@ -5,6 +5,7 @@ import functools
 import importlib.util
 import json
 import pickle
+import shutil
 
 import numpy as np
 import pytest
@@ -314,3 +315,16 @@ def test_a_model_free_learner_trains_on_copies_of_a_python_env_and_resumes(tmp_p
     assert rows(tmp_path / "run") == rows(tmp_path / "whole")
     episodes = cmbrl.evaluate(tmp_path / "run", env=make, episodes=2)
     assert [e["steps"] for e in episodes] == [20, 20]
+
+
+def test_the_custom_tasks_report_is_made_again_from_its_committed_logs(tmp_path, source_dir):
+    spec = importlib.util.spec_from_file_location(
+        "custom_tasks_run", source_dir / "experiments" / "custom-tasks" / "run.py")
+    run = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(run)
+    committed = source_dir / "experiments" / "custom-tasks" / "report"
+    shutil.copytree(committed, tmp_path / "report")
+    summary = run.report(tmp_path / "report", runs_dir=tmp_path / "no-runs")
+    assert summary == (committed / "summary.md").read_text()
+    for name in ("table-1.md", "table-1.csv"):
+        assert (tmp_path / "report" / name).read_text() == (committed / name).read_text(), name
