@@ -68,6 +68,29 @@ MujocoTaskEnv::MujocoTaskEnv(MujocoTaskOptions options, std::string task)
   ValidateMujocoTaskOptions(options_);
   model_ = LoadModel(options_.model);
   data_ = MakeMjData(*model_);
+  ResolveSensors();
+  ResolveCost();
+  const mjModel& m = *model_;
+  for (const std::string& name : options_.reset_joints) {
+    const int id = IdOf(m, mjOBJ_JOINT, m.njnt, name, "reset_joints", "joint");
+    Require(m.jnt_type[id] == mjJNT_HINGE || m.jnt_type[id] == mjJNT_SLIDE,
+            "mujoco_task.reset_joints: joint '{}' is not a hinge or slide joint", name);
+    reset_qpos_.push_back(m.jnt_qposadr[id]);
+  }
+  Require(m.nu >= 1, "mujoco_task.model: '{}' has no actuator to act with", options_.model);
+  for (int i = 0; i < m.nu; ++i) {
+    const char* name = mj_id2name(&m, mjOBJ_ACTUATOR, i);
+    Require(m.actuator_ctrllimited[i] != 0,
+            "mujoco_task.model: actuator '{}' has no ctrlrange: cmbrl plans in a finite box",
+            name != nullptr ? name : std::to_string(i));
+    action_spec_.names.push_back(name != nullptr && *name != '\0' ? name
+                                                                   : fmt::format("actuator_{}", i));
+    action_spec_.low.push_back(-1.0);
+    action_spec_.high.push_back(1.0);
+  }
+}
+
+void MujocoTaskEnv::ResolveSensors() {
   const mjModel& m = *model_;
   for (const std::string& name : options_.sensors) {
     const int id = IdOf(m, mjOBJ_SENSOR, m.nsensor, name, "sensors", "sensor");
@@ -89,6 +112,10 @@ MujocoTaskEnv::MujocoTaskEnv(MujocoTaskOptions options, std::string task)
   Require(options_.reward == "site-distance" || options_.reward_axis < reward_width_,
           "mujoco_task.reward_axis is {}: sensor '{}' gives {} values", options_.reward_axis,
           options_.reward_sensor, reward_width_);
+}
+
+void MujocoTaskEnv::ResolveCost() {
+  const mjModel& m = *model_;
   for (const std::string& name : options_.cost_geoms) {
     cost_geoms_.push_back(IdOf(m, mjOBJ_GEOM, m.ngeom, name, "cost_geoms", "geom"));
   }
@@ -107,23 +134,6 @@ MujocoTaskEnv::MujocoTaskEnv(MujocoTaskOptions options, std::string task)
             "(expected a sphere, box, cylinder or capsule)",
             name);
     cost_regions_.push_back(id);
-  }
-  for (const std::string& name : options_.reset_joints) {
-    const int id = IdOf(m, mjOBJ_JOINT, m.njnt, name, "reset_joints", "joint");
-    Require(m.jnt_type[id] == mjJNT_HINGE || m.jnt_type[id] == mjJNT_SLIDE,
-            "mujoco_task.reset_joints: joint '{}' is not a hinge or slide joint", name);
-    reset_qpos_.push_back(m.jnt_qposadr[id]);
-  }
-  Require(m.nu >= 1, "mujoco_task.model: '{}' has no actuator to act with", options_.model);
-  for (int i = 0; i < m.nu; ++i) {
-    const char* name = mj_id2name(&m, mjOBJ_ACTUATOR, i);
-    Require(m.actuator_ctrllimited[i] != 0,
-            "mujoco_task.model: actuator '{}' has no ctrlrange: cmbrl plans in a finite box",
-            name != nullptr ? name : std::to_string(i));
-    action_spec_.names.push_back(name != nullptr && *name != '\0' ? name
-                                                                   : fmt::format("actuator_{}", i));
-    action_spec_.low.push_back(-1.0);
-    action_spec_.high.push_back(1.0);
   }
 }
 

@@ -35,6 +35,10 @@ class MujocoTaskEnv final : public Env {
   void SetState(const std::string& state) override;
 
  private:
+  // The constructor's parts: the observed sensors and the reward's place among them; the cost's
+  // geoms, site and regions. Each throws naming a name the model lacks.
+  void ResolveSensors();
+  void ResolveCost();
   std::vector<double> Observe() const;
   bool Violated() const;  // in the state mjData holds now
   bool SiteInRegion(int region) const;

@@ -99,19 +99,7 @@ RewardFitReport RewardModel::Fit(const torch::Tensor& inputs, const torch::Tenso
   std::vector<torch::Tensor> best_weights, best_biases;
   int since_best = 0;
   for (int epoch = 0; epoch < options_.max_epochs && since_best < options_.patience; ++epoch) {
-    const torch::Tensor shuffled = train.index_select(0, torch::randperm(train.size(0), generator_));
-    double sum = 0.0;
-    for (std::int64_t begin = 0; begin < shuffled.size(0); begin += options_.batch_size) {
-      const torch::Tensor rows = shuffled.slice(0, begin, begin + options_.batch_size);
-      optimiser.zero_grad();
-      const torch::Tensor loss = (Forward(x.index_select(0, rows)) - y.index_select(0, rows))
-                                     .pow(2)
-                                     .mean();
-      loss.backward();
-      optimiser.step();
-      sum += loss.item<double>() * static_cast<double>(rows.size(0));
-    }
-    report.train_mse = sum / static_cast<double>(shuffled.size(0)) * scale;
+    report.train_mse = TrainEpoch(optimiser, x, y, train) * scale;
     ++report.epochs;
     torch::NoGradGuard no_grad;
     const double validation_mse = (Forward(x_val) - y_val).pow(2).mean().item<double>() * scale;
@@ -135,6 +123,22 @@ RewardFitReport RewardModel::Fit(const torch::Tensor& inputs, const torch::Tenso
   report.seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return report;
+}
+
+double RewardModel::TrainEpoch(torch::optim::Optimizer& optimiser, const torch::Tensor& x,
+                               const torch::Tensor& y, const torch::Tensor& train) {
+  const torch::Tensor shuffled = train.index_select(0, torch::randperm(train.size(0), generator_));
+  double sum = 0.0;
+  for (std::int64_t begin = 0; begin < shuffled.size(0); begin += options_.batch_size) {
+    const torch::Tensor rows = shuffled.slice(0, begin, begin + options_.batch_size);
+    optimiser.zero_grad();
+    const torch::Tensor loss =
+        (Forward(x.index_select(0, rows)) - y.index_select(0, rows)).pow(2).mean();
+    loss.backward();
+    optimiser.step();
+    sum += loss.item<double>() * static_cast<double>(rows.size(0));
+  }
+  return sum / static_cast<double>(shuffled.size(0));
 }
 
 torch::Tensor RewardModel::Predict(const torch::Tensor& inputs) const {

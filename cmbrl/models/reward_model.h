@@ -53,6 +53,10 @@ class RewardModel {
 
  private:
   torch::Tensor Forward(const torch::Tensor& normalized) const;  // (N, in) -> (N)
+  // One pass over the `train` rows of normalised x and y in shuffled minibatches, an optimiser
+  // step each; their mean squared error in normalised units.
+  double TrainEpoch(torch::optim::Optimizer& optimiser, const torch::Tensor& x,
+                    const torch::Tensor& y, const torch::Tensor& train);
   void InitialiseWeights();
 
   int input_dim_;
