@@ -4,6 +4,10 @@
 
 #include <cstdint>
 #include <random>
+#include <sstream>
+#include <string>
+
+#include "cmbrl/core/check.h"
 
 namespace cmbrl {
 
@@ -19,6 +23,21 @@ inline double Uniform01(Rng& rng) { return static_cast<double>(rng() >> 11) * 0x
 // Uniform double in [low, high).
 inline double Uniform(Rng& rng, double low, double high) {
   return low + (high - low) * Uniform01(rng);
+}
+
+// A generator's whole state as text (the standard's stream form), and back: what an
+// environment's checkpoint keeps. RngFromText throws cmbrl::Error for text that is not one.
+inline std::string RngText(const Rng& rng) {
+  std::ostringstream out;
+  out << rng;
+  return out.str();
+}
+inline Rng RngFromText(const std::string& text) {
+  std::istringstream in(text);
+  Rng restored;
+  in >> restored;
+  Require(!in.fail(), "not a generator state: expected the text GeneratorState() wrote");
+  return restored;
 }
 
 // Mixes a seed with a stream index into an independent seed (SplitMix64 finaliser), so that one

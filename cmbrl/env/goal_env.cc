@@ -7,7 +7,6 @@
 #include <cstring>
 #include <cmath>
 #include <limits>
-#include <sstream>
 #include <utility>
 
 #include "cmbrl/core/binary_io.h"
@@ -331,19 +330,9 @@ SceneState GoalEnv::Scene() const {
   return scene;
 }
 
-std::string GoalEnv::GeneratorState() const {
-  std::ostringstream out;
-  out << rng_;
-  return out.str();
-}
+std::string GoalEnv::GeneratorState() const { return RngText(rng_); }
 
-void GoalEnv::SetGeneratorState(const std::string& state) {
-  std::istringstream in(state);
-  Rng restored;
-  in >> restored;
-  Require(!in.fail(), "not a generator state: expected the text GeneratorState() wrote");
-  rng_ = restored;
-}
+void GoalEnv::SetGeneratorState(const std::string& state) { rng_ = RngFromText(state); }
 
 namespace {
 

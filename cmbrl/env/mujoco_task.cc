@@ -8,7 +8,6 @@
 #include <cmath>
 #include <cstddef>
 #include <cstring>
-#include <sstream>
 
 #include "cmbrl/core/binary_io.h"
 #include "cmbrl/core/check.h"
@@ -84,7 +83,7 @@ MujocoTaskEnv::MujocoTaskEnv(MujocoTaskOptions options, std::string task)
             "mujoco_task.model: actuator '{}' has no ctrlrange: cmbrl plans in a finite box",
             name != nullptr ? name : std::to_string(i));
     action_spec_.names.push_back(name != nullptr && *name != '\0' ? name
-                                                                   : fmt::format("actuator_{}", i));
+                                                                  : fmt::format("actuator_{}", i));
     action_spec_.low.push_back(-1.0);
     action_spec_.high.push_back(1.0);
   }
@@ -232,28 +231,17 @@ StepResult MujocoTaskEnv::Step(const std::vector<double>& action) {
   result.terminated = !finite;
   result.truncated = !result.terminated && steps_ >= options_.episode_steps;
   if (!finite) std::fill(result.observation.begin(), result.observation.end(), 0.0);
-  result.reward =
-      finite ? ObservationReward(options_, result.observation.data() + reward_offset_,
-                                 reward_width_)
-             : 0.0;
+  result.reward = finite ? ObservationReward(options_, result.observation.data() + reward_offset_,
+                                             reward_width_)
+                         : 0.0;
   result.cost = violated ? 1.0 : 0.0;
   result.info.raw_cost = result.cost;
   return result;
 }
 
-std::string MujocoTaskEnv::GeneratorState() const {
-  std::ostringstream out;
-  out << rng_;
-  return out.str();
-}
+std::string MujocoTaskEnv::GeneratorState() const { return RngText(rng_); }
 
-void MujocoTaskEnv::SetGeneratorState(const std::string& state) {
-  std::istringstream in(state);
-  Rng restored;
-  in >> restored;
-  Require(!in.fail(), "not a generator state: expected the text GeneratorState() wrote");
-  rng_ = restored;
-}
+void MujocoTaskEnv::SetGeneratorState(const std::string& state) { rng_ = RngFromText(state); }
 
 // MuJoCo's whole mjData (its fixed header and main buffer), the generator and the step count.
 std::string MujocoTaskEnv::State() const {

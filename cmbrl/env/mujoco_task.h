@@ -48,8 +48,8 @@ class MujocoTaskEnv final : public Env {
   MjModelPtr model_;
   MjDataPtr data_;
   BoxSpec observation_spec_, action_spec_;
-  std::vector<int> sensors_;                  // sensor ids, observation order
-  std::vector<int> cost_geoms_, cost_with_;   // geom ids
+  std::vector<int> sensors_;                 // sensor ids, observation order
+  std::vector<int> cost_geoms_, cost_with_;  // geom ids
   int cost_site_ = -1;
   std::vector<int> cost_regions_;             // geom ids
   int reward_offset_ = 0, reward_width_ = 0;  // reward_sensor's place in the observation

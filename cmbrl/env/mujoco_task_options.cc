@@ -45,11 +45,11 @@ void ValidateMujocoTaskOptions(const MujocoTaskOptions& o) {
           "episode_steps is {}: expected 1 to 1000000", o.episode_steps);
   Require(o.action_repeat >= 1 && o.action_repeat <= 1000,
           "action_repeat is {}: expected 1 to 1000", o.action_repeat);
-  Require(o.reset_low.size() == o.reset_joints.size() &&
-              o.reset_high.size() == o.reset_joints.size(),
-          "reset_joints, reset_low and reset_high have {}, {} and {} entries: expected one each "
-          "per joint",
-          o.reset_joints.size(), o.reset_low.size(), o.reset_high.size());
+  Require(
+      o.reset_low.size() == o.reset_joints.size() && o.reset_high.size() == o.reset_joints.size(),
+      "reset_joints, reset_low and reset_high have {}, {} and {} entries: expected one each "
+      "per joint",
+      o.reset_joints.size(), o.reset_low.size(), o.reset_high.size());
   for (size_t i = 0; i < o.reset_joints.size(); ++i) {
     Require(std::isfinite(o.reset_low[i]) && std::isfinite(o.reset_high[i]) &&
                 o.reset_low[i] <= o.reset_high[i],

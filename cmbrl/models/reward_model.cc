@@ -120,8 +120,7 @@ RewardFitReport RewardModel::Fit(const torch::Tensor& inputs, const torch::Tenso
   biases_ = std::move(best_biases);
   report.validation_mse = best;
   fitted_ = true;
-  report.seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return report;
 }
 
@@ -148,8 +147,8 @@ torch::Tensor RewardModel::Predict(const torch::Tensor& inputs) const {
   if (!fitted_) return torch::zeros(leading, inputs.options().dtype(torch::kFloat));
   torch::NoGradGuard no_grad;
   const torch::Tensor rows = inputs.reshape({-1, input_dim_}).to(torch::kCPU, torch::kFloat);
-  const torch::Tensor rewards = Forward((rows - input_mean_) / input_std_) * reward_std_ +
-                                reward_mean_;
+  const torch::Tensor rewards =
+      Forward((rows - input_mean_) / input_std_) * reward_std_ + reward_mean_;
   return rewards.view(leading).to(inputs.device());
 }
 
@@ -211,10 +210,10 @@ torch::Tensor RewardInputs(const TransitionBuffer& buffer) {
   const auto rows = [n](const float* data, int width) {
     return torch::from_blob(const_cast<float*>(data), {n, width}, torch::kFloat);
   };
-  return torch::cat({rows(buffer.states(), buffer.state_dim()),
-                     rows(buffer.actions(), buffer.action_dim()),
-                     rows(buffer.next_states(), buffer.state_dim())},
-                    1);
+  return torch::cat(
+      {rows(buffer.states(), buffer.state_dim()), rows(buffer.actions(), buffer.action_dim()),
+       rows(buffer.next_states(), buffer.state_dim())},
+      1);
 }
 
 torch::Tensor StoredRewards(const TransitionBuffer& buffer) {

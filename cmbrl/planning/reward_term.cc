@@ -28,7 +28,10 @@ torch::Tensor GoalDistanceTerm::Cost(const torch::Tensor&, const torch::Tensor&,
 
 ObservationRewardTerm::ObservationRewardTerm(std::string form, int offset, int width,
                                              std::vector<double> target, int axis)
-    : form_(std::move(form)), offset_(offset), width_(width), target_(std::move(target)),
+    : form_(std::move(form)),
+      offset_(offset),
+      width_(width),
+      target_(std::move(target)),
       axis_(axis) {
   Require(form_ == "site-distance" || form_ == "speed-along" || form_ == "height",
           "unknown observation reward '{}'", form_);

@@ -44,7 +44,8 @@ BoxSpec BoxOf(const py::handle& space, const char* role, const std::string& env)
 
 }  // namespace
 
-PythonEnv::PythonEnv(py::object env, std::string name) : env_(std::move(env)), name_(std::move(name)) {
+PythonEnv::PythonEnv(py::object env, std::string name)
+    : env_(std::move(env)), name_(std::move(name)) {
   observation_spec_ = BoxOf(env_.attr("observation_space"), "observation_space", name_);
   const BoxSpec actions = BoxOf(env_.attr("action_space"), "action_space", name_);
   env_low_ = actions.low;
@@ -107,8 +108,8 @@ void PythonEnv::ReadKnownInfo(const py::dict& info, StepInfo& out) const {
 std::vector<double> PythonEnv::Observation(const py::handle& value, const char* call) const {
   std::vector<double> observation;
   try {
-    observation = RealValues(value, {static_cast<py::ssize_t>(observation_spec_.size())},
-                             "the observation");
+    observation =
+        RealValues(value, {static_cast<py::ssize_t>(observation_spec_.size())}, "the observation");
   } catch (const Error& error) {  // named with the step only now: this runs every step
     Fail("{}: {}: {}", Where(), call, error.what());
   }
@@ -163,10 +164,11 @@ StepResult PythonEnv::Step(const std::vector<double>& action) {
   // Messages are built only on failure: this runs every step.
   const py::ssize_t values = py::isinstance<py::tuple>(result) ? py::len(result) : 0;
   if (values != 5 && values != 6) {
-    Fail("{}: step() returned {}: expected Safety-Gymnasium's (observation, reward, cost, "
-         "terminated, truncated, info) or Gymnasium's (observation, reward, terminated, "
-         "truncated, info) with info['cost']",
-         Where(), std::string(py::repr(result)).substr(0, 200));
+    Fail(
+        "{}: step() returned {}: expected Safety-Gymnasium's (observation, reward, cost, "
+        "terminated, truncated, info) or Gymnasium's (observation, reward, terminated, "
+        "truncated, info) with info['cost']",
+        Where(), std::string(py::repr(result)).substr(0, 200));
   }
   const py::tuple t = result;
   StepResult step;
@@ -182,15 +184,16 @@ StepResult PythonEnv::Step(const std::vector<double>& action) {
     step.info.raw_cost = Number(t[2], "cost");
   } else {
     if (!info_is_dict || !info.cast<py::dict>().contains("cost")) {
-      Fail("{}: step() returned five values and its info has no 'cost': expected "
-           "info['cost'] (Safety-Gymnasium's five-value form), or a sixth value",
-           Where());
+      Fail(
+          "{}: step() returned five values and its info has no 'cost': expected "
+          "info['cost'] (Safety-Gymnasium's five-value form), or a sixth value",
+          Where());
     }
     step.info.raw_cost = Number(info.cast<py::dict>()["cost"], "cost");
   }
   if (!std::isfinite(step.reward) || !std::isfinite(step.info.raw_cost)) {
-    Fail("{}: step() returned reward {} and cost {}: expected finite numbers", Where(),
-         step.reward, step.info.raw_cost);
+    Fail("{}: step() returned reward {} and cost {}: expected finite numbers", Where(), step.reward,
+         step.info.raw_cost);
   }
   step.cost = step.info.raw_cost > 0.0 ? 1.0 : 0.0;
   step.info.env_steps = 1;
@@ -217,8 +220,7 @@ void PythonEnv::Unpickle(const std::string& bytes) {
   const BoxSpec actions = BoxOf(env.attr("action_space"), "action_space", name_);
   Require(observations.size() == observation_spec_.size() && actions.low == env_low_ &&
               actions.high == env_high_,
-          "the environment {}'s saved state is of another environment (its spaces differ)",
-          name_);
+          "the environment {}'s saved state is of another environment (its spaces differ)", name_);
   env_ = std::move(env);
 }
 

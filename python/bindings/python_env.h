@@ -34,8 +34,9 @@ class PythonEnv final : public Env {
   // The env's step on the action mapped onto its box. A violation is a cost above 0 (the raw
   // cost is in info.raw_cost). Safety-Gymnasium's info keys goal_met (a step that jumps, which
   // the dynamics do not learn), cost_hazards, cost_vases_contact and cost_vases_velocity fill
-  // info's fields where the env gives them. Throws cmbrl::Error naming the episode and step for an exception
-  // the env raises, a result of another form, or a non-finite observation, reward or cost.
+  // info's fields where the env gives them. Throws cmbrl::Error naming the episode and step for an
+  // exception the env raises, a result of another form, or a non-finite observation, reward or
+  // cost.
   StepResult Step(const std::vector<double>& action) override;
   const BoxSpec& observation_spec() const override { return observation_spec_; }
   const BoxSpec& action_spec() const override { return action_spec_; }
@@ -82,13 +83,13 @@ class PythonEnv final : public Env {
   py::object env_;
   std::string name_;
   BoxSpec observation_spec_;
-  BoxSpec action_spec_;             // [-1, 1] per component
+  BoxSpec action_spec_;                     // [-1, 1] per component
   std::vector<double> env_low_, env_high_;  // the env's action bounds
-  bool identity_actions_ = false;   // the env's bounds are -1 and 1
+  bool identity_actions_ = false;           // the env's bounds are -1 and 1
   int max_episode_steps_ = 0;
   double step_seconds_ = 0.0;
-  int episode_ = 0;        // episodes begun (Reset calls)
-  int episode_step_ = 0;   // steps of the current one
+  int episode_ = 0;       // episodes begun (Reset calls)
+  int episode_step_ = 0;  // steps of the current one
 };
 
 }  // namespace cmbrl::python

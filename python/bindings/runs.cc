@@ -111,8 +111,7 @@ class PythonRewardTerm final : public RewardTerm {
     const std::vector<double> rewards = reward_.Call(states, actions, next_states);
     for (const double reward : rewards) {  // the name is looked up only for a message
       if (!std::isfinite(reward)) {
-        Fail("the reward function {} returned {}: expected finite rewards", reward_.Name(),
-             reward);
+        Fail("the reward function {} returned {}: expected finite rewards", reward_.Name(), reward);
       }
     }
     return -PythonStepFunction::AsSteps(rewards, next_states);
@@ -216,7 +215,8 @@ LearnerInputs InputsWith(const std::optional<py::function>& reward,
 // python, none otherwise; and an environment given from Python must be the one the run's task
 // names.
 void CheckFunctionsGiven(const TrainConfig& config, bool reward, bool termination,
-                         const std::string& run, const std::optional<GivenEnv>& env = std::nullopt) {
+                         const std::string& run,
+                         const std::optional<GivenEnv>& env = std::nullopt) {
   if (env) {
     Require(config.task == env->task(),
             "{} was trained on task '{}': the environment given is '{}' (give the one it was "
@@ -382,10 +382,10 @@ class PyAgent {
   }
 
   mutable std::mutex mutex_;  // ObjectLock: one call at a time
-  bool given_checked_;  // what the run was trained with against what is given, before loading
+  bool given_checked_;        // what the run was trained with against what is given, before loading
   LoadedRun run_;
   const PythonEnv* python_env_ = nullptr;  // the run's env where it was given from Python
-  std::optional<PlanPaths> plan_paths_;  // the last plan's paths, once predictions() took them
+  std::optional<PlanPaths> plan_paths_;    // the last plan's paths, once predictions() took them
 };
 
 // Trains (or resumes) a run; `progress` sees each unit's summary, with the GIL held.
@@ -505,11 +505,11 @@ py::list Evaluate(const std::string& run_dir, int episodes, std::uint64_t seed,
   py::list out;
   for (const EvaluatedEpisode& episode : results) {
     const EpisodeRecord& r = episode.record;
-    py::dict d = AsDict(r, Field("return", &EpisodeRecord::episode_return),
-                        Field("cost", &EpisodeRecord::episode_cost),
-                        Field("steps", &EpisodeRecord::steps),
-                        Field("terminated", &EpisodeRecord::terminated),
-                        Field("truncated", &EpisodeRecord::truncated));
+    py::dict d =
+        AsDict(r, Field("return", &EpisodeRecord::episode_return),
+               Field("cost", &EpisodeRecord::episode_cost), Field("steps", &EpisodeRecord::steps),
+               Field("terminated", &EpisodeRecord::terminated),
+               Field("truncated", &EpisodeRecord::truncated));
     d["ms_per_plan"] = episode.mean_ms_per_plan;
     if (episode.mean_feasible_fraction) {
       d["feasible_fraction"] = *episode.mean_feasible_fraction;

@@ -74,6 +74,13 @@ def line_reward(states, actions, next_states):
     return -np.abs(next_states[:, 0] - 1.0)
 
 
+def stop_after_30_steps(summary):
+    """Ctrl-C's path without the signal: a progress callback that raises once 30 steps are done
+    (with a checkpoint after every step, the stop lands inside an episode)."""
+    if summary["steps"] >= 30:
+        raise KeyboardInterrupt
+
+
 def test_the_example_trains_rce_on_its_own_env_then_loads_acts_and_evaluates(tmp_path,
                                                                                source_dir):
     module = custom_env_module(source_dir)
@@ -214,15 +221,9 @@ def test_a_python_env_needs_a_reward_for_its_planner(tmp_path):
 
 
 def test_a_run_stopped_mid_episode_resumes_through_pickle_to_the_same_rows(tmp_path):
-    # Ctrl-C's path without the signal: a progress callback that raises after the first
-    # episode, with a checkpoint after every step, so the stop lands inside an episode.
-    def stop(summary):
-        if summary["steps"] >= 30:
-            raise KeyboardInterrupt
-
     with pytest.raises(KeyboardInterrupt):
         cmbrl.train(env=Line, reward=line_reward, config=tiny(80), out=tmp_path / "run",
-                    progress=stop, checkpoint_seconds=0)
+                    progress=stop_after_30_steps, checkpoint_seconds=0)
     cmbrl.train(resume=tmp_path / "run", env=Line, reward=line_reward)
     cmbrl.train(env=Line, reward=line_reward, config=tiny(80), out=tmp_path / "whole")
     assert rows(tmp_path / "run") == rows(tmp_path / "whole")
@@ -240,13 +241,9 @@ def test_an_env_that_does_not_pickle_restarts_the_episode_and_the_session_says_s
     with pytest.raises(TypeError):
         pickle.dumps(Unpicklable())
 
-    def stop(summary):
-        if summary["steps"] >= 30:
-            raise KeyboardInterrupt
-
     with pytest.raises(KeyboardInterrupt):
         cmbrl.train(env=Unpicklable, reward=line_reward, config=tiny(80), out=tmp_path / "run",
-                    progress=stop, checkpoint_seconds=0)
+                    progress=stop_after_30_steps, checkpoint_seconds=0)
     summary = cmbrl.train(resume=tmp_path / "run", env=Unpicklable, reward=line_reward)
     assert summary["steps"] >= 80
     with open(tmp_path / "run" / "sessions.jsonl") as f:
@@ -264,13 +261,9 @@ def test_a_learned_reward_plans_without_a_function_resumes_exactly_and_loads(tmp
     config = tiny(80, objective={"reward": "learned"}, reward_model={"hidden_sizes": [16],
                                                                       "max_epochs": 5})
 
-    def stop(summary):
-        if summary["steps"] >= 30:
-            raise KeyboardInterrupt
-
     with pytest.raises(KeyboardInterrupt):
-        cmbrl.train(env=Line, config=config, out=tmp_path / "run", progress=stop,
-                    checkpoint_seconds=0)
+        cmbrl.train(env=Line, config=config, out=tmp_path / "run",
+                    progress=stop_after_30_steps, checkpoint_seconds=0)
     assert (tmp_path / "run" / "checkpoint" / "reward_model.pt").exists()
     cmbrl.train(resume=tmp_path / "run", env=Line)
     cmbrl.train(env=Line, config=config, out=tmp_path / "whole")

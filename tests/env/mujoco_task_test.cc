@@ -43,8 +43,7 @@ TEST(MujocoTaskTest, TheArmIsObservedThroughItsSensorsAndActsInTheUnitBox) {
   EXPECT_EQ(env.observation_spec().names,
             (std::vector<std::string>{"shoulder_pos_0", "elbow_pos_0", "shoulder_vel_0",
                                       "elbow_vel_0", "tip_pos_0", "tip_pos_1", "tip_pos_2"}));
-  EXPECT_EQ(env.action_spec().names,
-            (std::vector<std::string>{"shoulder_motor", "elbow_motor"}));
+  EXPECT_EQ(env.action_spec().names, (std::vector<std::string>{"shoulder_motor", "elbow_motor"}));
   EXPECT_EQ(env.action_spec().low, (std::vector<double>{-1, -1}));
   EXPECT_DOUBLE_EQ(env.agent_step_seconds(), 0.04);
   EXPECT_EQ(env.max_episode_steps(), 100);

@@ -80,13 +80,19 @@ TEST(RewardModelTest, TheSameSeedFitsTheSameModelAndAFileCarriesIt) {
 
 TEST(RewardModelTest, BadInputsAndOptionsAreNamed) {
   RewardModel model(3, Small(), 1);
-  EXPECT_THAT(ErrorMessage([&] { model.Fit(torch::zeros({1, 3}), torch::zeros({1})); }),
+  EXPECT_THAT(ErrorMessage([&] {
+                model.Fit(torch::zeros({1, 3}), torch::zeros({1}));
+              }),
               ::testing::HasSubstr("needs at least 2 steps"));
-  EXPECT_THAT(ErrorMessage([&] { model.Fit(torch::zeros({5, 2}), torch::zeros({5})); }),
+  EXPECT_THAT(ErrorMessage([&] {
+                model.Fit(torch::zeros({5, 2}), torch::zeros({5}));
+              }),
               ::testing::HasSubstr("fits (N, 3) inputs to (N) rewards: got [5, 2] and [5]"));
   torch::Tensor rewards = torch::zeros({5});
   rewards[2] = std::numeric_limits<float>::quiet_NaN();
-  EXPECT_THAT(ErrorMessage([&] { model.Fit(torch::zeros({5, 3}), rewards); }),
+  EXPECT_THAT(ErrorMessage([&] {
+                model.Fit(torch::zeros({5, 3}), rewards);
+              }),
               ::testing::HasSubstr("the rewards"));
   RewardModelOptions bad = Small();
   bad.validation_fraction = 1.0;
