@@ -9,8 +9,11 @@
 
 #include "app/arguments.h"
 #include "app/commands.h"
+#include "cmbrl/config/config.h"
 #include "cmbrl/core/check.h"
+#include "cmbrl/env/task_list.h"
 #include "cmbrl/eval/evaluation.h"
+#include "cmbrl/run/run_directory.h"
 #include "cmbrl/viz/scene_picture.h"
 
 namespace cmbrl::app {
@@ -22,7 +25,20 @@ struct EvalArgs {
   std::string render;
 };
 
+// --render draws the Goal world's arena: a run whose task has none is refused before it runs.
+void RequireSceneToRender(const EvalArgs& args) {
+  if (args.render.empty()) return;
+  const RunDirectory run(args.run);
+  if (!run.HoldsRun()) return;  // EvaluateRun names it
+  const TrainConfig config = LoadTrainConfig(run.config_file().string());
+  Require(!IsDeclaredTask(config.mujoco_task) && !IsPythonTask(config.task),
+          "--render draws the Goal world's arena: task '{}' has no scene to draw (evaluate it "
+          "without --render)",
+          config.task);
+}
+
 void RunEval(const EvalArgs& args) {
+  RequireSceneToRender(args);
   const std::vector<EvaluatedEpisode> episodes = EvaluateRun(args.run, args.options);
   if (!args.render.empty()) std::filesystem::create_directories(args.render);
   for (size_t k = 0; k < episodes.size(); ++k) {
