@@ -42,8 +42,10 @@ def _env_source(env):
         spec = getattr(env, "spec", None)
         env_id = getattr(spec, "id", None) if spec is not None else None
         kind = type(env)
-        name = (f"gymnasium:{env_id}" if env_id
-                else f"{kind.__module__}.{kind.__qualname__}()")
+        if env_id and kind.__module__.split(".")[0] == "gymnasium":  # made by gymnasium.make
+            name = f"gymnasium:{env_id}"
+        else:
+            name = f"{kind.__module__}.{kind.__qualname__}({repr(env_id) if env_id else ''})"
         given = [env]
 
         def factory():
@@ -89,7 +91,8 @@ def train(config=None, out=None, steps=None, seed=None, device=None, resume=None
     the classifier learns); the raw cost is kept in the step's info. Observation and action
     spaces are 1-D Boxes, the action box finite: cmbrl plans in [-1, 1] per action component and
     maps it linearly onto the box. The run's task records what made it ("python:" +
-    "module.make_env()", or "python:gymnasium:<id>"); resume and load_run take the same env
+    "module.make_env()", "python:gymnasium:<id>", or an env object's class and spec id); resume
+    and load_run take the same env
     again. Its state is saved through pickle where it pickles (otherwise an episode under way at
     a checkpoint starts again on resume, and the run's sessions.jsonl says so).
     Returns {"run", "steps", "budget"}.

@@ -255,6 +255,11 @@ def test_an_env_instance_is_accepted_and_named_by_its_class(tmp_path):
     cmbrl.train(env=Line(), reward=line_reward, config=tiny(60), out=tmp_path / "run")
     with open(tmp_path / "run" / "config.yaml") as f:
         assert "task: python:test_custom_env.Line()" in f.read()
+    # An env with a spec id names it; only one that gymnasium made is named by the id alone.
+    config = tiny(60, objective={"analytic_form": "goal-distance"})
+    cmbrl.train(env=cmbrl.make("PointGoal1"), config=config, out=tmp_path / "goal")
+    with open(tmp_path / "goal" / "config.yaml") as f:
+        assert "task: python:cmbrl.envs.Env('PointGoal1')" in f.read()
 
 
 def test_a_learned_reward_plans_without_a_function_resumes_exactly_and_loads(tmp_path):
