@@ -115,6 +115,10 @@ void VisitConfig(Config& c, Visitor& v) {
   auto& d = c.mujoco_task;
   v.Field("mujoco_task", "model", d.model);
   v.Field("mujoco_task", "sensors", d.sensors);
+  v.Field("mujoco_task", "lidar_body", d.lidar_body);
+  v.Field("mujoco_task", "lidar_groups", d.lidar_groups);
+  v.Field("mujoco_task", "lidar_bins", d.lidar_bins);
+  v.Field("mujoco_task", "lidar_max_dist", d.lidar_max_dist);
   v.Field("mujoco_task", "cost_geoms", d.cost_geoms);
   v.Field("mujoco_task", "cost_contact_with", d.cost_contact_with);
   v.Field("mujoco_task", "cost_site", d.cost_site);

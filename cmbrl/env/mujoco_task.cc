@@ -11,6 +11,7 @@
 
 #include "cmbrl/core/binary_io.h"
 #include "cmbrl/core/check.h"
+#include "cmbrl/env/observation.h"
 
 namespace cmbrl {
 namespace {
@@ -68,6 +69,7 @@ MujocoTaskEnv::MujocoTaskEnv(MujocoTaskOptions options, std::string task)
   model_ = LoadModel(options_.model);
   data_ = MakeMjData(*model_);
   ResolveSensors();
+  ResolveLidar();
   ResolveCost();
   const mjModel& m = *model_;
   for (const std::string& name : options_.reset_joints) {
@@ -113,6 +115,25 @@ void MujocoTaskEnv::ResolveSensors() {
           options_.reward_sensor, reward_width_);
 }
 
+void MujocoTaskEnv::ResolveLidar() {
+  const mjModel& m = *model_;
+  if (options_.lidar_groups.empty()) return;
+  lidar_body_ = IdOf(m, mjOBJ_BODY, m.nbody, options_.lidar_body, "lidar_body", "body");
+  for (const std::string& entry : options_.lidar_groups) {
+    const LidarGroup group = ParseLidarGroup(entry);
+    std::vector<int> bodies;
+    for (const std::string& body : group.bodies) {
+      bodies.push_back(IdOf(m, mjOBJ_BODY, m.nbody, body, "lidar_groups", "body"));
+    }
+    lidar_groups_.push_back(std::move(bodies));
+    for (int k = 0; k < options_.lidar_bins; ++k) {
+      observation_spec_.names.push_back(fmt::format("{}_lidar_{}", group.name, k));
+      observation_spec_.low.push_back(0.0);
+      observation_spec_.high.push_back(1.0);
+    }
+  }
+}
+
 void MujocoTaskEnv::ResolveCost() {
   const mjModel& m = *model_;
   for (const std::string& name : options_.cost_geoms) {
@@ -146,6 +167,19 @@ std::vector<double> MujocoTaskEnv::Observe() const {
   for (const int id : sensors_) {
     const mjtNum* values = data_->sensordata + model_->sensor_adr[id];
     observation.insert(observation.end(), values, values + model_->sensor_dim[id]);
+  }
+  if (lidar_groups_.empty()) return observation;
+  RobotFrame frame;
+  std::copy_n(data_->xpos + 3 * lidar_body_, 3, frame.position.begin());
+  std::copy_n(data_->xmat + 9 * lidar_body_, 9, frame.rotation.begin());
+  for (const std::vector<int>& group : lidar_groups_) {
+    std::vector<Vec2> objects;
+    for (const int body : group) {
+      objects.push_back({data_->xpos[3 * body], data_->xpos[3 * body + 1]});
+    }
+    const size_t at = observation.size();
+    observation.resize(at + static_cast<size_t>(options_.lidar_bins));
+    PseudoLidar(frame, objects, options_.lidar_bins, options_.lidar_max_dist, &observation[at]);
   }
   return observation;
 }

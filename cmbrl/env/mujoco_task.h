@@ -35,9 +35,11 @@ class MujocoTaskEnv final : public Env {
   void SetState(const std::string& state) override;
 
  private:
-  // The constructor's parts: the observed sensors and the reward's place among them; the cost's
-  // geoms, site and regions. Each throws naming a name the model lacks.
+  // The constructor's parts: the observed sensors and the reward's place among them; the
+  // lidar's bodies; the cost's geoms, site and regions. Each throws naming a name the model
+  // lacks.
   void ResolveSensors();
+  void ResolveLidar();
   void ResolveCost();
   std::vector<double> Observe() const;
   bool Violated() const;  // in the state mjData holds now
@@ -49,6 +51,8 @@ class MujocoTaskEnv final : public Env {
   MjDataPtr data_;
   BoxSpec observation_spec_, action_spec_;
   std::vector<int> sensors_;                 // sensor ids, observation order
+  int lidar_body_ = -1;                      // body id the lidar sees from
+  std::vector<std::vector<int>> lidar_groups_;  // body ids per group, observation order
   std::vector<int> cost_geoms_, cost_with_;  // geom ids
   int cost_site_ = -1;
   std::vector<int> cost_regions_;             // geom ids

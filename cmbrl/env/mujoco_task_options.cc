@@ -9,6 +9,23 @@
 
 namespace cmbrl {
 
+LidarGroup ParseLidarGroup(const std::string& entry) {
+  const size_t colon = entry.find(':');
+  Require(colon != std::string::npos && colon > 0 && colon + 1 < entry.size(),
+          "lidar_groups holds '{}': expected 'name:body1,body2'", entry);
+  LidarGroup group;
+  group.name = entry.substr(0, colon);
+  std::string bodies = entry.substr(colon + 1);
+  for (size_t start = 0; start <= bodies.size();) {
+    const size_t comma = std::min(bodies.find(',', start), bodies.size());
+    const std::string body = bodies.substr(start, comma - start);
+    Require(!body.empty(), "lidar_groups holds '{}': a body name is empty", entry);
+    group.bodies.push_back(body);
+    start = comma + 1;
+  }
+  return group;
+}
+
 std::vector<std::string> ObservationRewardForms() {
   return {"site-distance", "speed-along", "height"};
 }
@@ -16,6 +33,13 @@ std::vector<std::string> ObservationRewardForms() {
 void ValidateMujocoTaskOptions(const MujocoTaskOptions& o) {
   if (!IsDeclaredTask(o)) return;
   Require(!o.sensors.empty(), "sensors is empty: expected the MuJoCo sensors the agent observes");
+  Require(o.lidar_groups.empty() || !o.lidar_body.empty(),
+          "lidar_groups is set but lidar_body is empty: expected the body the lidar sees from");
+  for (const std::string& entry : o.lidar_groups) ParseLidarGroup(entry);
+  Require(o.lidar_bins >= 1 && o.lidar_bins <= 1024, "lidar_bins is {}: expected 1 to 1024",
+          o.lidar_bins);
+  Require(o.lidar_max_dist > 0 && o.lidar_max_dist <= 1e6,
+          "lidar_max_dist is {}: expected a positive number of metres", o.lidar_max_dist);
   const std::vector<std::string> forms = ObservationRewardForms();
   Require(std::find(forms.begin(), forms.end(), o.reward) != forms.end(),
           "reward is '{}': expected one of {}", o.reward, fmt::join(forms, ", "));

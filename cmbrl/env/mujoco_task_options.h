@@ -16,6 +16,14 @@ struct MujocoTaskOptions {
   // The observation: these MuJoCo sensors' values, in this order (components
   // "<sensor>_0", "<sensor>_1", ...).
   std::vector<std::string> sensors;
+  // Optional pseudo-lidar after the sensors, built as the Goal world builds its own (Safety Gym's,
+  // env/observation.h): seen from body lidar_body's frame, one block of lidar_bins values per
+  // group "name:body1,body2" of lidar_groups (components "<name>_lidar_0", ...), each body
+  // read at its position's distance, up to lidar_max_dist metres.
+  std::string lidar_body;
+  std::vector<std::string> lidar_groups;
+  int lidar_bins = 16;
+  double lidar_max_dist = 3.0;
   // The cost (0/1; the classifier learns it, the planner never sees it): a contact of any of
   // cost_geoms with any of cost_contact_with (any geom where that is empty); or, with
   // cost_site set, that site inside any of cost_regions (geoms: sphere, box, cylinder or
@@ -42,6 +50,14 @@ struct MujocoTaskOptions {
   std::vector<double> reset_low;
   std::vector<double> reset_high;
 };
+
+// A lidar group "name:body1,body2" split into its name and bodies; throws cmbrl::Error naming
+// an entry of another form.
+struct LidarGroup {
+  std::string name;
+  std::vector<std::string> bodies;
+};
+LidarGroup ParseLidarGroup(const std::string& entry);
 
 // The reward forms a declared task may name.
 std::vector<std::string> ObservationRewardForms();

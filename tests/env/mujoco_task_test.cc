@@ -149,5 +149,44 @@ TEST(MujocoTaskTest, NamesTheModelLacksAreRefusedByTheirKey) {
               ::testing::HasSubstr("mujoco_task.model: MuJoCo cannot load '/nonexistent/arm.xml'"));
 }
 
+// A pseudo-lidar over a body group, seen from the cart: Safety Gym's, as the Goal world's.
+TEST(MujocoTaskTest, ALidarGroupReadsItsBodiesFromTheLidarBodysFrame) {
+  const std::filesystem::path model = testing::TestTempDir() / "lidar.xml";
+  std::ofstream(model) << R"(<mujoco><worldbody>
+    <body name="cart"><joint name="x" type="slide" axis="1 0 0"/>
+      <geom name="cart_geom" type="sphere" size="0.05" mass="1"/></body>
+    <body name="post" pos="0.6 0.3 0"><geom type="cylinder" size="0.05 0.1" contype="0"
+      conaffinity="0"/></body>
+    </worldbody>
+    <actuator><motor name="push" joint="x" ctrllimited="true" ctrlrange="-1 1"/></actuator>
+    <sensor><jointpos name="x_pos" joint="x"/></sensor></mujoco>)";
+  MujocoTaskOptions o;
+  o.model = model.string();
+  o.sensors = {"x_pos"};
+  o.lidar_body = "cart";
+  o.lidar_groups = {"posts:post"};
+  o.lidar_bins = 8;
+  o.lidar_max_dist = 2.0;
+  o.cost_geoms = {"cart_geom"};
+  o.reward = "height";
+  o.reward_sensor = "x_pos";
+  o.reward_target = {0.0};
+  MujocoTaskEnv env(o, "Lidar");
+  ASSERT_EQ(env.observation_spec().size(), 9);
+  EXPECT_EQ(env.observation_spec().names[1], "posts_lidar_0");
+  EXPECT_EQ(env.observation_spec().names[8], "posts_lidar_7");
+  const std::vector<double> observation = env.Reset(0);
+  // The post at 0.671 m and 26.6 degrees: bin 0 reads (2 - 0.671) / 2, its neighbours less.
+  const double reading = (2.0 - std::hypot(0.6, 0.3)) / 2.0;
+  EXPECT_NEAR(observation[1], reading, 1e-9);
+  for (int k = 2; k <= 8; ++k) EXPECT_LE(observation[k], reading) << k;
+  o.lidar_groups = {"posts:pole"};
+  EXPECT_THAT(ErrorMessage([&] { MujocoTaskEnv(o, "Lidar"); }),
+              ::testing::HasSubstr("mujoco_task.lidar_groups: the model has no body named 'pole'"));
+  o.lidar_groups = {"posts"};
+  EXPECT_THAT(ErrorMessage([&] { MujocoTaskEnv(o, "Lidar"); }),
+              ::testing::HasSubstr("lidar_groups holds 'posts': expected 'name:body1,body2'"));
+}
+
 }  // namespace
 }  // namespace cmbrl
