@@ -62,9 +62,6 @@ void RunEval(const EvalArgs& args) {
     }
     if (!args.options.overrides.empty()) line["overrides"] = args.options.overrides;
     if (!args.render.empty()) {
-      Require(!r.path.empty(),
-              "--render draws the Goal world's arena: this run's task has no scene to draw "
-              "(evaluate it without --render)");
       const std::string path =
           (std::filesystem::path(args.render) / fmt::format("episode-{}.png", k)).string();
       ScenePicture picture{

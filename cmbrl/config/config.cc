@@ -528,8 +528,9 @@ int ValidatedObservationSize(const TrainConfig& c, const std::string& source) {
           "config '{}': keys 'environment.observation_size' and 'environment.action_size' are {} "
           "and {}: they are a Python environment's, and task '{}' is built in (expected 0)",
           source, c.observation_size, c.action_size, c.task);
-  AtKey(source, "task", [&] { GoalTaskSpecByName(c.task, c.variant); });
-  return ObservationSize(GoalTaskSpecByName(c.task, c.variant));
+  int size = 0;
+  AtKey(source, "task", [&] { size = ObservationSize(GoalTaskSpecByName(c.task, c.variant)); });
+  return size;
 }
 
 }  // namespace

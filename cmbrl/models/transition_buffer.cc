@@ -23,10 +23,10 @@ bool TransitionBuffer::Add(const std::vector<double>& state, const std::vector<d
                            const std::vector<double>& next_state, bool goal_met, bool episode_end,
                            double reward) {
   RequireFiniteRow(state, state_dim_, "transition state");
-  Require(std::isfinite(reward), "the transition's reward is {}: expected a finite number",
-          reward);
   RequireFiniteRow(action, action_dim_, "transition action");
   RequireFiniteRow(next_state, state_dim_, "transition next state");
+  Require(std::isfinite(reward), "the transition's reward is {}: expected a finite number",
+          reward);
   if (goal_met || episode_end) return false;
   const size_t slot = static_cast<size_t>(next_slot_);
   std::copy(state.begin(), state.end(), states_.begin() + slot * state_dim_);

@@ -53,6 +53,12 @@ std::vector<std::string> AnalyticRewardNames() { return {kGoalDistanceReward}; }
 
 std::vector<std::string> TerminationSourceNames() { return {"none", "python"}; }
 
+void RequireGoalIndexFits(const TrajectoryObjectiveOptions& o, int state_dim) {
+  Require(o.goal_index >= 0 && o.goal_index + 1 < state_dim,
+          "goal_index is {}: expected 0 to {} for a state of {} dimensions", o.goal_index,
+          state_dim - 2, state_dim);
+}
+
 void ValidateTrajectoryObjectiveOptions(const TrajectoryObjectiveOptions& o, int state_dim) {
   const std::vector<std::string> sources = RewardSourceNames();
   Require(std::find(sources.begin(), sources.end(), o.reward) != sources.end(),
@@ -68,10 +74,7 @@ void ValidateTrajectoryObjectiveOptions(const TrajectoryObjectiveOptions& o, int
           o.termination, fmt::join(terminations, ", "));
   // Only the analytic goal distance reads the goal's place in the state (state_dim 0: a state
   // whose size is not known yet, a declared task's, which plans with its own form).
-  Require(o.reward != "analytic" || state_dim == 0 ||
-              (o.goal_index >= 0 && o.goal_index + 1 < state_dim),
-          "goal_index is {}: expected 0 to {} for a state of {} dimensions", o.goal_index,
-          state_dim - 2, state_dim);
+  if (o.reward == "analytic" && state_dim != 0) RequireGoalIndexFits(o, state_dim);
   Require(o.gamma > 0 && o.gamma <= 1, "gamma is {}: expected a number in (0, 1]", o.gamma);
   Require(o.beta > 0 && o.beta <= 1, "beta is {}: expected a number in (0, 1]", o.beta);
   Require(o.near_goal_radius >= 0 && o.at_goal_radius >= 0,

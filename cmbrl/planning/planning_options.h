@@ -79,6 +79,10 @@ struct TrajectoryObjectiveOptions {
   bool at_goal_test_after_near_bonus = true;
 };
 
+// Throws cmbrl::Error unless the goal-distance form's goal (state[goal_index], the next value)
+// lies in a state of `state_dim` values.
+void RequireGoalIndexFits(const TrajectoryObjectiveOptions& options, int state_dim);
+
 // Throws cmbrl::Error naming the first bad field.
 void ValidateTrajectoryObjectiveOptions(const TrajectoryObjectiveOptions& options, int state_dim);
 

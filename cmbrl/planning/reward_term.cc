@@ -11,9 +11,7 @@ GoalDistanceTerm::GoalDistanceTerm(TrajectoryObjectiveOptions options)
     : options_(std::move(options)) {}
 
 void GoalDistanceTerm::CheckStateSize(int state_dim) const {
-  Require(options_.goal_index >= 0 && options_.goal_index + 1 < state_dim,
-          "goal_index is {}: expected 0 to {} for a state of {} dimensions", options_.goal_index,
-          state_dim - 2, state_dim);
+  RequireGoalIndexFits(options_, state_dim);
 }
 
 torch::Tensor GoalDistanceTerm::Cost(const torch::Tensor&, const torch::Tensor&,

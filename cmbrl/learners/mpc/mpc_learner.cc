@@ -184,10 +184,13 @@ void MpcLearner::AddLabel(const std::vector<double>& next_state, double cost,
 }
 
 std::vector<std::pair<std::string, double>> MpcLearner::TimeSplit() const {
-  return {{"planning", planning_seconds_},
-          {"environment", environment_seconds_},
-          {"dynamics_fits", dynamics_fit_seconds_},
-          {"classifier_fits", classifier_fit_seconds_}};
+  std::vector<std::pair<std::string, double>> split = {
+      {"planning", planning_seconds_},
+      {"environment", environment_seconds_},
+      {"dynamics_fits", dynamics_fit_seconds_},
+      {"classifier_fits", classifier_fit_seconds_}};
+  if (parts_.reward_model) split.emplace_back("reward_fits", reward_fit_seconds_);
+  return split;
 }
 
 MpcLearner::FitOutcome MpcLearner::FitModels(const UnitContext& context) {
@@ -203,7 +206,7 @@ MpcLearner::FitOutcome MpcLearner::FitModels(const UnitContext& context) {
       Timed(classifier_fit_seconds_, [&] { return parts_.classifier->Fit(*labeled_, keep_going); });
   if (classifier.interrupted) return FitOutcome::kAbandoned;
   if (parts_.reward_model) {  // seconds at the sizes it is meant for: not pausable
-    Timed(dynamics_fit_seconds_, [&] {
+    Timed(reward_fit_seconds_, [&] {
       return parts_.reward_model->Fit(RewardInputs(*transitions_), StoredRewards(*transitions_));
     });
   }

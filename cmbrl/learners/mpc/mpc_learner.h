@@ -77,7 +77,7 @@ class MpcLearner final : public Learner {
   std::string ProgressHeader() const override { return ProgressCsvHeader(); }
   bool Finished() const override;
   LearnerStep Advance(const UnitContext& context) override;
-  // planning, environment, dynamics_fits, classifier_fits, data (buffers and labels).
+  // planning, environment, dynamics_fits, classifier_fits, and reward_fits for a learned reward.
   std::vector<std::pair<std::string, double>> TimeSplit() const override;
   void Save(const std::filesystem::path& folder, const std::filesystem::path& previous,
             bool models_changed) const override;
@@ -121,7 +121,7 @@ class MpcLearner final : public Learner {
   int episodes_ = 0;
   // Wall seconds of this process, per part (TimeSplit).
   double planning_seconds_ = 0.0, environment_seconds_ = 0.0, dynamics_fit_seconds_ = 0.0,
-         classifier_fit_seconds_ = 0.0;
+         classifier_fit_seconds_ = 0.0, reward_fit_seconds_ = 0.0;
   std::int64_t total_steps_ = 0;
   std::int64_t pretrain_steps_ = 0;
   double dynamics_validation_mse_;
