@@ -31,7 +31,7 @@ void RequireSceneToRender(const EvalArgs& args) {
   const RunDirectory run(args.run);
   if (!run.HoldsRun()) return;  // EvaluateRun names it
   const TrainConfig config = LoadTrainConfig(run.config_file().string());
-  Require(!IsDeclaredTask(config.mujoco_task) && !IsPythonTask(config.task),
+  Require(!IsDeclaredTask(config.mujoco_task) && !IsPythonEnvTask(config),
           "--render draws the Goal world's arena: task '{}' has no scene to draw (evaluate it "
           "without --render)",
           config.task);

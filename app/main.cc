@@ -12,9 +12,15 @@
 #include "app/commands.h"
 #include "cmbrl/core/build_info.h"
 #include "cmbrl/core/process_setup.h"
+#ifdef CMBRL_WITH_PYTHON
+#include "python/bindings/embedded_python.h"
+#endif
 
 int main(int argc, char** argv) {
   cmbrl::PrepareProcessForSpeed(argv);
+#ifdef CMBRL_WITH_PYTHON
+  cmbrl::python::InstallEmbeddedPython();  // for configs that declare Python parts
+#endif
   CLI::App app{
       "cmbrl: constrained model-based reinforcement learning with the Robust "
       "Cross-Entropy method on Safety Gym Goal tasks"};

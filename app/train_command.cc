@@ -92,9 +92,9 @@ std::unique_ptr<Trainer> StartRun(const TrainArgs& args) {
   // Defaults alone are the paper's full PointGoal1 RCE run (hours): only when asked for.
   const bool task_set = std::any_of(args.overrides.begin(), args.overrides.end(),
                                     [](const std::string& o) { return o.rfind("task=", 0) == 0; });
-  Require(task_set || ConfigFilesNameKey(args.config, "task"),
+  Require(task_set || ConfigFilesNameKey(args.config, "task") || !config.python.env.empty(),
           "'{}' names no task, so the run would be the defaults' full paper-size PointGoal1 "
-          "run: name one (task: PointGoal1 in the file, or --set task=PointGoal1)",
+          "run: name one (task: PointGoal1 in the file, --set task=PointGoal1, or python.env)",
           source);
   if (!args.overrides.empty()) config = ApplyConfigOverrides(config, args.overrides, "--set");
   if (args.steps) config.training.total_steps = *args.steps;

@@ -132,6 +132,11 @@ void VisitConfig(Config& c, Visitor& v) {
   v.Field("mujoco_task", "reset_joints", d.reset_joints);
   v.Field("mujoco_task", "reset_low", d.reset_low);
   v.Field("mujoco_task", "reset_high", d.reset_high);
+  auto& py = c.python;
+  v.Field("python", "env", py.env);
+  v.Field("python", "reward", py.reward);
+  v.Field("python", "termination", py.termination);
+  v.Field("python", "path", py.path);
   auto& t = c.training;
   v.Field("training", "pretrain_episodes", t.pretrain_episodes);
   v.Field("training", "pretrain_steps", t.pretrain_steps);
@@ -198,13 +203,15 @@ void VisitConfig(Config& c, Visitor& v) {
   v.Field("objective", "at_goal_radius", o.at_goal_radius);
   v.Field("objective", "at_goal_bonus", o.at_goal_bonus);
   v.Field("objective", "at_goal_test_after_near_bonus", o.at_goal_test_after_near_bonus);
-  auto& r = c.reward_model;
-  v.Field("reward_model", "hidden_sizes", r.hidden_sizes);
-  v.Field("reward_model", "learning_rate", r.learning_rate);
-  v.Field("reward_model", "batch_size", r.batch_size);
-  v.Field("reward_model", "max_epochs", r.max_epochs);
-  v.Field("reward_model", "validation_fraction", r.validation_fraction);
-  v.Field("reward_model", "patience", r.patience);
+  for (auto [section, r] : {std::pair{"reward_model", &c.reward_model},
+                             std::pair{"termination_model", &c.termination_model}}) {
+    v.Field(section, "hidden_sizes", r->hidden_sizes);
+    v.Field(section, "learning_rate", r->learning_rate);
+    v.Field(section, "batch_size", r->batch_size);
+    v.Field(section, "max_epochs", r->max_epochs);
+    v.Field(section, "validation_fraction", r->validation_fraction);
+    v.Field(section, "patience", r->patience);
+  }
   auto& m = c.policy_optimisation;
   v.Field("policy_optimisation", "steps_per_epoch", m.steps_per_epoch);
   v.Field("policy_optimisation", "envs", m.envs);
@@ -400,6 +407,41 @@ void MergeInto(YAML::Node base, const YAML::Node& overlay) {
   }
 }
 
+// A config that declares Python parts (section python) names its task and planning functions
+// by them: the task "python:" + DeclaredEnvName(python.env) (a file that names another task is
+// refused), objective.reward python where python.reward is declared and the reward left
+// analytic, and objective.termination python likewise (a learned one with a declared function
+// is refused).
+void ApplyDeclaredPython(const YAML::Node& document, TrainConfig& c, const std::string& source) {
+  InSection(source, "python", [&] { ValidatePythonSourceOptions(c.python); });
+  if (!c.python.env.empty()) {
+    // A name of its own where the file gives one (a sweep's task), else what made it.
+    const std::string made = kPythonTaskPrefix + DeclaredEnvName(c.python.env);
+    if (!document["task"]) c.task = made;
+    const std::vector<std::string> built_in = EnvNames();
+    Require(c.task == made || (!IsPythonTask(c.task) && !c.task.empty() &&
+                               std::find(built_in.begin(), built_in.end(), c.task) ==
+                                   built_in.end()),
+            "config '{}': key 'task' is '{}' with python.env '{}' declared: expected a name of "
+            "its own (not a built-in task's, not python:...), or no task (it is then '{}')",
+            source, c.task, c.python.env, made);
+  }
+  if (!c.python.reward.empty()) {
+    Require(c.objective.reward == "analytic" || c.objective.reward == "python",
+            "config '{}': key 'objective.reward' is '{}' with python.reward '{}' declared: leave "
+            "one out",
+            source, c.objective.reward, c.python.reward);
+    c.objective.reward = "python";
+  }
+  if (!c.python.termination.empty()) {
+    Require(c.objective.termination == "none" || c.objective.termination == "python",
+            "config '{}': key 'objective.termination' is '{}' with python.termination '{}' "
+            "declared: leave one out",
+            source, c.objective.termination, c.python.termination);
+    c.objective.termination = "python";
+  }
+}
+
 }  // namespace
 
 void SetTrainDevice(TrainConfig& c, const std::string& device) {
@@ -416,6 +458,7 @@ TrainConfig ParseTrainConfig(const std::string& yaml, const std::string& source)
   VisitConfig(config, reader);
   reader.RejectUnknownKeys();
   SetTrainDevice(config, config.device);  // one device for everything
+  ApplyDeclaredPython(document, config, source);
   ValidateTrainConfig(config, source);
   return config;
 }
@@ -436,13 +479,26 @@ namespace {
 // A declared task's model path, relative in the file that names it, is taken from that file's
 // folder: the run's config.yaml then names it absolute and resumes from anywhere.
 YAML::Node WithModelFromFileFolder(YAML::Node document, const std::string& path) {
+  const std::filesystem::path folder = std::filesystem::absolute(path).parent_path();
+  // Likewise python.path's folders.
+  if (document.IsMap() && document["python"].IsMap() && document["python"]["path"].IsSequence()) {
+    YAML::Node folders = document["python"]["path"];
+    for (size_t i = 0; i < folders.size(); ++i) {
+      if (!folders[i].IsScalar() || folders[i].Scalar().empty()) continue;  // refused when read
+      const std::filesystem::path given(folders[i].Scalar());
+      if (!given.is_relative()) continue;
+      std::filesystem::path resolved = (folder / given).lexically_normal();
+      if (!resolved.has_filename()) resolved = resolved.parent_path();  // "a/." is "a", not "a/"
+      folders[i] = resolved.string();
+    }
+  }
   if (!document.IsMap() || !document["mujoco_task"].IsMap()) return document;
   YAML::Node model = document["mujoco_task"]["model"];
   if (!model.IsScalar() || model.Scalar().empty()) return document;
   const std::filesystem::path given(model.Scalar());
   if (given.is_relative()) {
     document["mujoco_task"]["model"] =
-        (std::filesystem::absolute(path).parent_path() / given).lexically_normal().string();
+        (folder / given).lexically_normal().string();
   }
   return document;
 }
@@ -466,7 +522,7 @@ namespace {
 // options and the task's analytic reward form.
 void ValidatePlanningObjective(const TrainConfig& c, int observation_size,
                                const std::string& source) {
-  if (IsPythonTask(c.task)) {
+  if (IsPythonEnvTask(c)) {
     Require(c.objective.reward != "analytic" || !c.objective.analytic_form.empty(),
             "config '{}': key 'objective.reward' is 'analytic', but task '{}' is an environment "
             "given from Python, which has no analytic reward of its own: give a reward function "
@@ -502,6 +558,10 @@ void ValidatePlanningObjective(const TrainConfig& c, int observation_size,
 // for a declared task's, which only its model tells (its environment checks the rest).
 int ValidatedObservationSize(const TrainConfig& c, const std::string& source) {
   if (IsDeclaredTask(c.mujoco_task)) {
+    Require(c.python.env.empty(),
+            "config '{}': keys 'mujoco_task.model' and 'python.env' are both set: a task is "
+            "declared as a MuJoCo model or made by Python, not both",
+            source);
     const std::vector<std::string> built_in = EnvNames();
     Require(!IsPythonTask(c.task) &&
                 std::find(built_in.begin(), built_in.end(), c.task) == built_in.end() &&
@@ -512,10 +572,12 @@ int ValidatedObservationSize(const TrainConfig& c, const std::string& source) {
     InSection(source, "mujoco_task", [&] { ValidateMujocoTaskOptions(c.mujoco_task); });
     return 0;
   }
-  if (IsPythonTask(c.task)) {
-    Require(c.task.size() > std::string(kPythonTaskPrefix).size(),
+  if (IsPythonEnvTask(c)) {
+    Require(!IsPythonTask(c.task) || c.task.size() > std::string(kPythonTaskPrefix).size(),
             "config '{}': key 'task' is '{}': expected what made the environment after '{}'",
             source, c.task, kPythonTaskPrefix);
+    // A declared environment's sizes are recorded once it is made (Trainer::Start).
+    if (!c.python.env.empty() && c.observation_size == 0 && c.action_size == 0) return 0;
     Require(c.observation_size >= 1 && c.observation_size <= 1'000'000 && c.action_size >= 1 &&
                 c.action_size <= 10'000,
             "config '{}': keys 'environment.observation_size' and 'environment.action_size' are "
@@ -566,7 +628,8 @@ void ValidateTrainConfig(const TrainConfig& c, const std::string& source) {
   });
   InSection(source, "ensemble", [&] { ValidateEnsembleOptions(c.ensemble); });
   InSection(source, "classifier", [&] { ValidateXgbCostModelOptions(c.classifier); });
-  InSection(source, "reward_model", [&] { ValidateRewardModelOptions(c.reward_model); });
+  InSection(source, "reward_model", [&] { ValidateStepModelOptions(c.reward_model); });
+  InSection(source, "termination_model", [&] { ValidateStepModelOptions(c.termination_model); });
   InSection(source, "planning", [&] {
     ValidatePenalty(c.planning.penalty);
     ValidateCrossEntropyOptions(c.planning.cross_entropy);
@@ -585,7 +648,7 @@ void ValidateTrainConfig(const TrainConfig& c, const std::string& source) {
   if (FamilyOf(c.algorithm).Reads("objective")) {
     ValidatePlanningObjective(c, observation_size, source);
   }
-  check_memory(EstimateRunMemory(c, observation_size, IsPythonTask(c.task) ? c.action_size : 2));
+  check_memory(EstimateRunMemory(c, observation_size, IsPythonEnvTask(c) ? c.action_size : 2));
 }
 
 std::string AnalyticRewardForm(const TrainConfig& c) {

@@ -7,7 +7,9 @@
 #include <string>
 #include <vector>
 
+#include "cmbrl/config/python_source.h"
 #include "cmbrl/env/mujoco_task_options.h"
+#include "cmbrl/env/task_list.h"
 #include "cmbrl/env/variant.h"
 #include "cmbrl/models/model_options.h"
 #include "cmbrl/planning/planning_options.h"
@@ -24,6 +26,9 @@ struct TrainConfig {
   // of a task declared in mujoco_task.
   std::string task = "PointGoal1";
   MujocoTaskOptions mujoco_task;  // a task declared as data (mujoco_task.model set)
+  // A Python environment and functions declared by name (section python): the task is then
+  // "python:" + DeclaredEnvName(python.env), set where the config is read.
+  PythonSourceOptions python;
   // environment.observation_size, environment.action_size: a Python environment's sizes, written
   // by cmbrl.train(env=...) so that the run is known without Python; 0 for a built-in task.
   int observation_size = 0;
@@ -39,9 +44,16 @@ struct TrainConfig {
   XgbCostModelOptions classifier;
   PlannerSettings planning;
   TrajectoryObjectiveOptions objective;
-  RewardModelOptions reward_model;  // objective.reward: learned
+  StepModelOptions reward_model;       // objective.reward: learned
+  StepModelOptions termination_model;  // objective.termination: learned
   PolicyOptimisationOptions policy_optimisation;  // the model-free algorithms
 };
+
+// Whether the run's environment is a Python one: given from Python (task "python:...") or
+// declared by name (python.env), whatever its task is called.
+inline bool IsPythonEnvTask(const TrainConfig& config) {
+  return IsPythonTask(config.task) || !config.python.env.empty();
+}
 
 // What a run's results are grouped by in sweeps and reports (run/algorithms.h): the planner of
 // an MPC run ("rce"), the algorithm of a model-free one ("cpo").

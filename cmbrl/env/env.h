@@ -97,6 +97,11 @@ class Env {
   // State(), or nothing where this environment's state cannot be saved (a Python environment
   // that does not pickle): a checkpoint then cannot hold an episode under way.
   virtual std::optional<std::string> TryState() const { return State(); }
+
+  // Whether the cost a step gives is the environment's own, 0 or 1 (the built-in and declared
+  // tasks), or only whether its raw cost, which may be any number (info.raw_cost), is above 0
+  // (a Python environment's): such runs log the raw costs too.
+  virtual bool binary_cost() const { return true; }
 };
 
 }  // namespace cmbrl

@@ -47,7 +47,8 @@ LoadedRun::LoadedRun(const std::string& run_dir, std::uint64_t seed,
   }
   if (!overrides.empty()) config_ = ApplyConfigOverrides(config_, overrides, "overrides");
   agent_ = RegistrationOf(FamilyOf(config_.algorithm))
-               .load_agent(config_, LastCheckpointDir(run), seed, inputs);
+               .load_agent(config_, LastCheckpointDir(run), seed,
+                           WithDeclaredPython(config_, inputs));
 }
 
 LoadedRun::~LoadedRun() = default;

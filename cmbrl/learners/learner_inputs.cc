@@ -6,12 +6,67 @@
 #include "cmbrl/env/registry.h"
 
 namespace cmbrl {
+namespace {
+
+PythonInputsMaker& Maker() {
+  static PythonInputsMaker maker;
+  return maker;
+}
+
+}  // namespace
+
+void SetPythonInputsMaker(PythonInputsMaker maker) { Maker() = std::move(maker); }
+
+LearnerInputs WithDeclaredPython(const TrainConfig& config, LearnerInputs given) {
+  const PythonSourceOptions& declared = config.python;
+  PythonSourceOptions wanted;  // what is declared and not given
+  if (!given.python_env) wanted.env = declared.env;
+  if (!given.python_reward && config.objective.reward == "python") wanted.reward = declared.reward;
+  if (!given.python_termination && config.objective.termination == "python") {
+    wanted.termination = declared.termination;
+  }
+  if (!DeclaresPython(wanted)) return given;
+  wanted.path = declared.path;
+  Require(static_cast<bool>(Maker()),
+          "the config declares Python parts (python.env '{}', python.reward '{}', "
+          "python.termination '{}'), and this cmbrl was built without Python "
+          "(CMBRL_BUILD_PYTHON=OFF)",
+          declared.env, declared.reward, declared.termination);
+  LearnerInputs made = Maker()(wanted);
+  if (!wanted.env.empty()) {
+    given.python_env = std::move(made.python_env);
+    given.python_task = std::move(made.python_task);
+    given.observation_size = made.observation_size;
+    given.action_size = made.action_size;
+  }
+  if (!wanted.reward.empty()) given.python_reward = std::move(made.python_reward);
+  if (!wanted.termination.empty()) given.python_termination = std::move(made.python_termination);
+  given.python_functions = given.python_functions.empty() || made.python_functions.empty()
+                               ? given.python_functions + made.python_functions
+                               : given.python_functions + ", " + made.python_functions;
+  return given;
+}
+
+void RecordPythonEnv(TrainConfig& config, const LearnerInputs& inputs) {
+  if (!inputs.python_env) return;
+  if (config.python.env.empty()) {
+    config.task = inputs.python_task;
+  } else {
+    const std::string declared = kPythonTaskPrefix + DeclaredEnvName(config.python.env);
+    Require(declared == inputs.python_task,
+            "the config declares python.env '{}' ({}), and another environment is given ({}): "
+            "give one of them",
+            config.python.env, declared, inputs.python_task);
+  }
+  config.observation_size = inputs.observation_size;
+  config.action_size = inputs.action_size;
+}
 
 std::unique_ptr<Env> MakeRunEnv(const TrainConfig& config, const LearnerInputs& inputs) {
   if (IsDeclaredTask(config.mujoco_task)) {
     return std::make_unique<MujocoTaskEnv>(config.mujoco_task, config.task);
   }
-  if (!IsPythonTask(config.task)) return MakeEnv(config.task, config.variant, config.spawn);
+  if (!IsPythonEnvTask(config)) return MakeEnv(config.task, config.variant, config.spawn);
   Require(static_cast<bool>(inputs.python_env),
           "task '{}' is an environment given from Python: give it again (cmbrl.train(env=..., "
           "resume=...), cmbrl.load_run(..., env=...)); the command line has none",

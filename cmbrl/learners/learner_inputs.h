@@ -12,6 +12,7 @@ namespace cmbrl {
 class Env;
 class RewardTerm;
 class TerminationTerm;
+struct PythonSourceOptions;
 struct TrainConfig;
 
 struct LearnerInputs {
@@ -25,7 +26,29 @@ struct LearnerInputs {
   // What was given, "env=module.make_env(), reward=module.f, termination=module.g": each
   // session records it.
   std::string python_functions;
+  // The environment given: its task ("python:" + what made it) and sizes, read from the first
+  // one made (0 where none is given).
+  std::string python_task;
+  int observation_size = 0;
+  int action_size = 0;
 };
+
+// What makes the Python parts a config declares (section python): the imported Python module
+// sets one, and the command line one that starts an interpreter of its own. It returns the
+// declared env, reward and termination as LearnerInputs; it throws cmbrl::Error naming a
+// module or attribute that cannot be imported.
+using PythonInputsMaker = std::function<LearnerInputs(const PythonSourceOptions&)>;
+void SetPythonInputsMaker(PythonInputsMaker maker);
+
+// `given`, completed with what `config` declares in its python section and `given` lacks (a
+// Python function given wins over the name declared). Throws cmbrl::Error where something is
+// declared and this program has no maker (a build without Python).
+LearnerInputs WithDeclaredPython(const TrainConfig& config, LearnerInputs given);
+
+// Records the environment given in `inputs` as the run's task and sizes (task, environment.
+// observation_size and action_size); nothing where none is given. Throws cmbrl::Error where
+// `config` declares another environment.
+void RecordPythonEnv(TrainConfig& config, const LearnerInputs& inputs);
 
 // A new environment of the run's task: built in; declared in its config (mujoco_task, which
 // checks every name against its model); or made by inputs.python_env for a task given from

@@ -24,7 +24,7 @@ TrainedAgent LoadMpcAgent(const TrainConfig& config, const std::filesystem::path
                           std::uint64_t seed, const LearnerInputs& inputs) {
   TrainedAgent loaded;
   loaded.mpc = std::make_unique<MpcParts>(
-      AssembleMpc(config, MpcPartSeeds{seed, seed, DeriveSeed(seed, kPlannerSeedStream), seed},
+      AssembleMpc(config, MpcPartSeeds{seed, seed, DeriveSeed(seed, kPlannerSeedStream), seed, seed},
                   inputs));
   LoadMpcModels(checkpoint, *loaded.mpc);
   loaded.env = loaded.mpc->env.get();

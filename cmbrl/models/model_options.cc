@@ -6,7 +6,7 @@
 
 namespace cmbrl {
 
-void ValidateRewardModelOptions(const RewardModelOptions& o) {
+void ValidateStepModelOptions(const StepModelOptions& o) {
   Require(!o.hidden_sizes.empty() && o.hidden_sizes.size() <= 16,
           "hidden_sizes has {} layers: expected 1 to 16", o.hidden_sizes.size());
   for (const int width : o.hidden_sizes) {

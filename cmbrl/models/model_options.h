@@ -48,9 +48,10 @@ void ValidateEnsembleOptions(const EnsembleOptions& options);
 // and Adam's two moments (float32), for states of `state_dim` and actions of `action_dim`.
 double EnsembleParameterBytes(const EnsembleOptions& options, int state_dim, int action_dim);
 
-// The learned reward of objective.reward: learned (reward_model.h): an MLP from the step
-// (state, action, next state) to its reward, refitted from scratch with the dynamics.
-struct RewardModelOptions {
+// A learned step signal (step_model.h): the reward of objective.reward: learned (keys
+// reward_model.*) or the termination of objective.termination: learned (termination_model.*), an
+// MLP from the step (state, action, next state), refitted from scratch with the dynamics.
+struct StepModelOptions {
   std::vector<int> hidden_sizes = {200, 200};  // ReLU hidden layers
   double learning_rate = 1e-3;                 // Adam
   int batch_size = 256;
@@ -60,7 +61,7 @@ struct RewardModelOptions {
 };
 
 // Throws cmbrl::Error naming the first field with a bad value.
-void ValidateRewardModelOptions(const RewardModelOptions& options);
+void ValidateStepModelOptions(const StepModelOptions& options);
 
 struct XgbCostModelOptions {
   int rounds = 400;            // trees (LightGBM n_estimators)

@@ -13,16 +13,20 @@ namespace cmbrl {
 class TransitionBuffer {
  public:
   // Throws cmbrl::Error for non-positive sizes. `keep_rewards`: each transition's reward is
-  // stored too (for a learned reward, reward_model.h); its file then holds them after the rest.
+  // stored too (for a learned reward, step_model.h); `keep_terminations`: whether it ended the
+  // episode by itself (for a learned termination), and such transitions are stored. The file
+  // holds what is kept after the rest, rewards first.
   TransitionBuffer(int state_dim, int action_dim, int capacity = 500000,
-                   bool keep_rewards = false);
+                   bool keep_rewards = false, bool keep_terminations = false);
 
   // Stores a transition unless it reached the goal or ended the episode: those jump (the goal
-  // is relocated, the episode restarts) and the paper's code leaves them out. Returns whether
-  // it was stored. Throws cmbrl::Error for wrong sizes or non-finite values.
+  // is relocated, the episode restarts) and the paper's code leaves them out. A buffer that
+  // keeps terminations stores a `terminated` one (its next state is the one the episode ended
+  // in, not a jump), marked; `episode_end` is true for it too. Returns whether it was stored.
+  // Throws cmbrl::Error for wrong sizes or non-finite values.
   bool Add(const std::vector<double>& state, const std::vector<double>& action,
            const std::vector<double>& next_state, bool goal_met = false, bool episode_end = false,
-           double reward = 0.0);
+           double reward = 0.0, bool terminated = false);
 
   int size() const { return size_; }
   int capacity() const { return capacity_; }
@@ -41,6 +45,8 @@ class TransitionBuffer {
   const float* next_states() const { return next_.data(); }  // (size, state_dim)
   bool keeps_rewards() const { return keep_rewards_; }
   const float* rewards() const { return rewards_.data(); }  // (size); empty unless kept
+  bool keeps_terminations() const { return keep_terminations_; }
+  const float* terminations() const { return terminations_.data(); }  // (size) of 0 or 1
 
  private:
   int state_dim_;
@@ -54,6 +60,8 @@ class TransitionBuffer {
   std::vector<float> next_;
   bool keep_rewards_;
   std::vector<float> rewards_;
+  bool keep_terminations_;
+  std::vector<float> terminations_;
 };
 
 }  // namespace cmbrl

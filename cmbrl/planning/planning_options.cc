@@ -51,7 +51,7 @@ std::vector<std::string> RewardSourceNames() { return {"analytic", "learned", "p
 
 std::vector<std::string> AnalyticRewardNames() { return {kGoalDistanceReward}; }
 
-std::vector<std::string> TerminationSourceNames() { return {"none", "python"}; }
+std::vector<std::string> TerminationSourceNames() { return {"learned", "none", "python"}; }
 
 void RequireGoalIndexFits(const TrajectoryObjectiveOptions& o, int state_dim) {
   Require(o.goal_index >= 0 && o.goal_index + 1 < state_dim,
@@ -69,8 +69,9 @@ void ValidateTrajectoryObjectiveOptions(const TrajectoryObjectiveOptions& o, int
   const std::vector<std::string> terminations = TerminationSourceNames();
   Require(std::find(terminations.begin(), terminations.end(), o.termination) !=
               terminations.end(),
-          "termination is '{}': expected one of {} (none: the task has no terminal state; "
-          "python: a function given from Python)",
+          "termination is '{}': expected one of {} (learned: a model fitted on the steps that "
+          "ended the run's episodes; none: the task has no terminal state; python: a function "
+          "given from Python)",
           o.termination, fmt::join(terminations, ", "));
   // Only the analytic goal distance reads the goal's place in the state (state_dim 0: a state
   // whose size is not known yet, a declared task's, which plans with its own form).

@@ -54,7 +54,8 @@ inline constexpr const char* kGoalDistanceReward = "goal-distance";
 std::vector<std::string> AnalyticRewardNames();
 
 // Where the objective's termination signal comes from (objective.termination): "none" (the
-// task has none: the Goal tasks' episodes end by time alone, which the horizon never reaches), or
+// task has none: the Goal tasks' episodes end by time alone, which the horizon never reaches),
+// "learned", a model fitted on the steps that ended the run's episodes by themselves, or
 // "python", a vectorised Python function (cmbrl.train(..., termination=f)).
 std::vector<std::string> TerminationSourceNames();
 

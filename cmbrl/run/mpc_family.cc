@@ -49,9 +49,9 @@ const FamilySheet& MpcFamily() {
        "PretrainInteracts", kTimeColumn, "DynamicsValMSE", "ClassifierSafeAcc",
        "ClassifierUnsafeAcc", kFeasibleFractionColumn, "MsPerPlan", kStepsColumn, "GoalsMet",
        // Added after the columns above: a run begun without them keeps its columns on resume.
-       kHazardStepsColumn, kVaseStepsColumn},
+       kHazardStepsColumn, kVaseStepsColumn},  // then EpRawCost, for a Python environment's run
       MethodAxis::kPlanner,
-      {"ensemble", "classifier", "planning", "objective", "reward_model"},
+      {"ensemble", "classifier", "planning", "objective", "reward_model", "termination_model"},
       MpcMemory,
   };
   return sheet;

@@ -12,6 +12,9 @@ inline constexpr const char* kStepsColumn = "Steps";
 inline constexpr const char* kFeasibleFractionColumn = "FeasibleFraction";
 inline constexpr const char* kHazardStepsColumn = "HazardSteps";
 inline constexpr const char* kVaseStepsColumn = "VaseSteps";
+// An MPC episode's raw costs summed, for an environment whose costs need not be 0 or 1
+// (Env::binary_cost); EpCost counts its steps with a cost above 0.
+inline constexpr const char* kEpRawCostColumn = "EpRawCost";
 // The run's wall seconds at the row, over all its sessions (the model-free log's column too).
 inline constexpr const char* kTimeColumn = "Time";
 // A model-free epoch's means over the episodes that ended in it, and the run's violations.

@@ -14,6 +14,7 @@ enum SeedStream : std::uint64_t {
   kClassifierSeedStream,
   kPlannerSeedStream,
   kRewardModelSeedStream,
+  kTerminationModelSeedStream,
 };
 
 // The outer loop of Algorithm 2 (facts B6); a model-free run reads its budget only.

@@ -138,8 +138,8 @@ YAML::Node LoadExperimentDocument(const std::string& source) {
     Fail("experiment '{}' is not valid YAML: {}", source, error.what());
   }
   Require(document.IsMap(), "experiment '{}' must be a mapping of keys to values", source);
-  const std::set<std::string> known = {"family", "tasks", "methods", "seeds",
-                                       "window", "set",   "axes",    "decision"};
+  const std::set<std::string> known = {"family", "configs", "tasks", "methods", "seeds",
+                                       "window", "set",     "axes",  "decision"};
   for (const auto& entry : document) {
     const std::string key = entry.first.as<std::string>();
     Require(known.count(key) == 1, "experiment '{}': unknown key '{}': expected one of {}",
@@ -208,8 +208,22 @@ Experiment LoadExperiment(const fs::path& dir, const fs::path& configs_dir) {
           dir.string(), kExperimentFile);
   const YAML::Node document = LoadExperimentDocument(source);
 
-  e.configs_dir =
-      configs_dir.empty() ? absolute.parent_path().parent_path() / "configs" : configs_dir;
+  // The presets: --config-dir, else the experiment's own folder (key configs, relative to
+  // the experiment), else the repository's configs/.
+  const YAML::Node own = document["configs"];
+  Require(!own || (own.IsScalar() && !own.Scalar().empty()),
+          "experiment '{}': key 'configs' is '{}': expected a folder of presets, relative to "
+          "the experiment",
+          source, own ? FlowText(own) : std::string());
+  if (!configs_dir.empty()) {
+    e.configs_dir = configs_dir;
+  } else if (own) {
+    e.configs_dir = (absolute / own.Scalar()).lexically_normal();
+    Require(fs::is_directory(e.configs_dir), "experiment '{}': key 'configs' is '{}': no folder {}",
+            source, own.Scalar(), e.configs_dir.string());
+  } else {
+    e.configs_dir = absolute.parent_path().parent_path() / "configs";
+  }
   Require(document["family"] && document["family"].IsScalar(),
           "experiment '{}': key 'family' is missing: expected 'paper' or the name of a preset "
           "family in {} (cpu, quickstart)", source, e.configs_dir.string());
@@ -218,7 +232,9 @@ Experiment LoadExperiment(const fs::path& dir, const fs::path& configs_dir) {
           "experiment '{}': key 'family' is '{}': expected 'paper' or a family with a file "
           "{}/<family>.yaml",
           source, e.family, e.configs_dir.string());
-  e.tasks = KnownNamesAt(document, "tasks", EnvNames(), source);
+  // Tasks of one's own (a task file's, a Python environment's) need presets of their own.
+  e.tasks = own ? ListAt<std::string>(document, "tasks", source)
+                : KnownNamesAt(document, "tasks", EnvNames(), source);
   e.methods = KnownNamesAt(document, "methods", MethodNames(), source);
   e.seeds = ListAt<std::uint64_t>(document, "seeds", source);
   Require(std::set<std::uint64_t>(e.seeds.begin(), e.seeds.end()).size() == e.seeds.size(),
@@ -258,6 +274,14 @@ std::vector<std::pair<SweepRun, TrainConfig>> ResolveExperimentRuns(const Experi
           fmt::format("experiment '{}', run {}: override", experiment.file().string(), run.name));
     }
     config.seed = run.seed;
+    // A task of the experiment's own is the one its preset names (a built-in one's may be
+    // renamed by the experiment's family, as the paper's presets are not).
+    const std::vector<std::string>& built_in = EnvNames();
+    Require(std::find(built_in.begin(), built_in.end(), run.task) != built_in.end() ||
+                config.task == run.task,
+            "experiment '{}', run {}: its preset names task '{}', not '{}': give the preset "
+            "'task: {}'",
+            experiment.file().string(), run.name, config.task, run.task, run.task);
     resolved.emplace_back(run, config);
   }
   return resolved;
@@ -290,8 +314,15 @@ void CheckRunsAgainstExperiment(const std::vector<RunRecord>& runs, const Experi
             "run '{}' (in '{}') is not a run of the experiment '{}': its experiment.yaml makes "
             "none of that name; remove it, or declare it",
             run.name, run.source.string(), experiment.file().string());
+    TrainConfig expected = planned->second;
+    if (!expected.python.env.empty() && expected.observation_size == 0) {
+      // A declared Python environment's sizes are recorded when it is made: facts of the
+      // environment, not of the protocol.
+      expected.observation_size = run.config.observation_size;
+      expected.action_size = run.config.action_size;
+    }
     std::istringstream ours(TrainConfigToYaml(run.config));
-    std::istringstream declared(TrainConfigToYaml(planned->second));
+    std::istringstream declared(TrainConfigToYaml(expected));
     std::string our_line, declared_line;
     while (std::getline(declared, declared_line)) {
       std::getline(ours, our_line);

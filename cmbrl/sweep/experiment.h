@@ -5,6 +5,8 @@
 // experiment file is a sweep's declaration, not a run's configuration.)
 //
 //   family: cpu                  # configs/cpu.yaml over each configs/<task>-<method>.yaml
+//   configs: presets             # optional: the presets' folder, relative to the experiment;
+//                                # then tasks of one's own too (a task file's, a Python env's)
 //   tasks: [PointGoal1, PointGoal2]
 //   methods: [rce, cem, random]  # planners and model-free algorithms alike
 //   seeds: [0, 1, 2, 3, 4]
@@ -34,7 +36,8 @@ struct Experiment {
   std::string name;            // the folder's name
   std::filesystem::path dir;   // experiments/<name>
   std::string family;          // "paper" (the presets as they are) or configs/<family>.yaml
-  std::filesystem::path configs_dir;  // where the presets are (default: the repository's)
+  // Where the presets are: --config-dir, the experiment's key configs, or the repository's.
+  std::filesystem::path configs_dir;
   std::vector<std::string> tasks;
   std::vector<std::string> methods;
   std::vector<std::uint64_t> seeds;

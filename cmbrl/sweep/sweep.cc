@@ -54,10 +54,21 @@ std::string PathWord(const std::string& value) {
 void CheckGrid(const SweepGrid& grid) {
   Require(!grid.tasks.empty() && !grid.planners.empty() && !grid.seeds.empty(),
           "a sweep needs at least one task, one planner and one seed");
+  // A built-in task, or one of the caller's own (a task file's, a Python environment's) whose
+  // presets <task>-<method>.yaml are in the config folder.
   const std::vector<std::string>& known_tasks = EnvNames();
   for (const std::string& task : grid.tasks) {
-    Require(std::find(known_tasks.begin(), known_tasks.end(), task) != known_tasks.end(),
-            "unknown task '{}': expected some of {}", task, fmt::join(known_tasks, ", "));
+    if (std::find(known_tasks.begin(), known_tasks.end(), task) != known_tasks.end()) continue;
+    const bool named = !task.empty() && std::isalpha(static_cast<unsigned char>(task[0])) &&
+                       std::all_of(task.begin(), task.end(), [](char c) {
+                         return std::isalnum(static_cast<unsigned char>(c)) || c == '_';
+                       });
+    const fs::path preset =
+        fs::path(grid.config_dir) / (Lower(task) + "-" + grid.planners.front() + ".yaml");
+    Require(named && fs::exists(preset),
+            "unknown task '{}': expected some of {}, or a task of its own (letters, digits and "
+            "_) with its presets <task>-<method>.yaml in '{}'",
+            task, fmt::join(known_tasks, ", "), grid.config_dir);
   }
   // Methods: the MPC planners and the model-free algorithms (configs <task>-<method>.yaml).
   const std::vector<std::string> known_methods = MethodNames();

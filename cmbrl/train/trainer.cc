@@ -60,8 +60,11 @@ NumericsSetup SessionSetup(const std::string& device, const LearnerInputs& input
 
 }  // namespace
 
-std::unique_ptr<Trainer> Trainer::Start(const TrainConfig& config, const std::string& run_dir,
-                                        const LearnerInputs& inputs) {
+std::unique_ptr<Trainer> Trainer::Start(TrainConfig config, const std::string& run_dir,
+                                        const LearnerInputs& given) {
+  // A declared Python environment is made here, and its sizes are recorded with the task.
+  const LearnerInputs inputs = WithDeclaredPython(config, given);
+  RecordPythonEnv(config, inputs);
   ValidateTrainConfig(config, "(command line)");
   RunDirectory(run_dir).RefuseExistingRun();  // before the costly learner is built
   // The learner first: should building it (and taking its memory) fail, nothing is on disk yet.
@@ -75,7 +78,7 @@ std::unique_ptr<Trainer> Trainer::Start(const TrainConfig& config, const std::st
 
 std::unique_ptr<Trainer> Trainer::Resume(const std::string& run_dir,
                                          std::optional<std::int64_t> new_budget,
-                                         const LearnerInputs& inputs) {
+                                         const LearnerInputs& given) {
   RunDirectory run(run_dir);
   Require(run.HoldsRun(), "'{}' holds no run (no {}): start one with --config", run_dir,
           run.config_file().filename().string());
@@ -89,6 +92,7 @@ std::unique_ptr<Trainer> Trainer::Resume(const std::string& run_dir,
     state->config.training.total_steps = *new_budget;
     ValidateTrainConfig(state->config, run.config_file().string());
   }
+  const LearnerInputs inputs = WithDeclaredPython(state->config, given);
   state->learner = MakeLearner(state->config, inputs);
   if (checkpoint) {
     state->learner->Load(run.checkpoint_dir());

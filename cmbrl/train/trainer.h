@@ -47,15 +47,18 @@ class Trainer {
   // A new run: validates `config` and builds the learner before anything else, and leaves no
   // directory or file behind when that fails. Throws cmbrl::Error when run_dir already holds a
   // run, or another process works in it.
-  // `inputs`: what the learner needs beside its config (a Python reward function).
-  static std::unique_ptr<Trainer> Start(const TrainConfig& config, const std::string& run_dir,
+  // `inputs`: what the learner needs beside its config (a Python reward function), completed
+  // with what the config's python section declares (WithDeclaredPython); an environment given
+  // or declared is recorded as the run's task with its sizes.
+  static std::unique_ptr<Trainer> Start(TrainConfig config, const std::string& run_dir,
                                         const LearnerInputs& inputs = {});
 
   // Continues the run in run_dir from its last checkpoint (or from the start when it stopped
   // before the first one). Throws cmbrl::Error when run_dir holds no run, or its parts disagree
   // (naming the file). With `new_budget`, a run (finished or not) continues to that many steps
   // instead, as if started with that budget, and its config.yaml says so; refused when the run
-  // has done that many steps already or its learner cannot (Learner::CheckNewBudget).
+  // has done that many steps already or its learner cannot (Learner::CheckNewBudget). `inputs`
+  // as Start's.
   static std::unique_ptr<Trainer> Resume(const std::string& run_dir,
                                          std::optional<std::int64_t> new_budget = std::nullopt,
                                          const LearnerInputs& inputs = {});

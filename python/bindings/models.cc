@@ -12,7 +12,7 @@
 #include "cmbrl/core/check.h"
 #include "cmbrl/core/memory.h"
 #include "cmbrl/models/ensemble.h"
-#include "cmbrl/models/reward_model.h"
+#include "cmbrl/models/step_model.h"
 #include "cmbrl/models/transition_buffer.h"
 #include "cmbrl/models/xgboost_cost_model.h"
 #include "python/bindings/arrays.h"
@@ -231,27 +231,27 @@ class PyCostClassifier {
 
 }  // namespace
 
-// A learned reward of its own (RewardModel), fitted on the caller's step inputs and rewards.
+// A learned reward of its own (StepModel), fitted on the caller's step inputs and rewards.
 // Thread-safe: calls from several Python threads take turns (ObjectLock).
 class PyRewardModel {
  public:
   PyRewardModel(int input_dim, const std::vector<int>& hidden, int max_epochs, std::uint64_t seed)
-      : model_(input_dim, Options(hidden, max_epochs), seed) {}
+      : model_(StepSignal::kReward, input_dim, Options(hidden, max_epochs), seed) {}
 
   py::dict Fit(const py::handle& inputs, const py::handle& rewards) {
     const ObjectLock lock(mutex_);
     const py::ssize_t n = RowsOf(inputs, "inputs");
     const torch::Tensor x = Rows(Matrix(inputs, n, model_.input_dim(), "inputs"), n);
     const torch::Tensor y = Rows(RealValues(rewards, {n}, "rewards"), n).view({n});
-    RewardFitReport report;
+    StepFitReport report;
     {
       py::gil_scoped_release release;
       report = model_.Fit(x, y);
     }
-    using R = RewardFitReport;
+    using R = StepFitReport;  // a reward's losses are mean squared errors
     return AsDict(report, Field("epochs", &R::epochs), Field("train_size", &R::train_size),
-                  Field("validation_size", &R::validation_size), Field("train_mse", &R::train_mse),
-                  Field("validation_mse", &R::validation_mse), Field("seconds", &R::seconds));
+                  Field("validation_size", &R::validation_size), Field("train_mse", &R::train_loss),
+                  Field("validation_mse", &R::validation_loss), Field("seconds", &R::seconds));
   }
 
   py::array_t<double> Predict(const py::handle& inputs) {
@@ -276,8 +276,8 @@ class PyRewardModel {
   }
 
  private:
-  static RewardModelOptions Options(const std::vector<int>& hidden, int max_epochs) {
-    RewardModelOptions options;
+  static StepModelOptions Options(const std::vector<int>& hidden, int max_epochs) {
+    StepModelOptions options;
     options.hidden_sizes = hidden;
     options.max_epochs = max_epochs;
     return options;
@@ -288,7 +288,7 @@ class PyRewardModel {
   }
 
   std::mutex mutex_;
-  RewardModel model_;
+  StepModel model_;
 };
 
 void BindModels(py::module_& m) {

@@ -7,6 +7,7 @@
 #include "cmbrl/core/build_info.h"
 #include "cmbrl/core/check.h"
 #include "python/bindings/bindings.h"
+#include "python/bindings/python_inputs.h"
 
 PYBIND11_MODULE(_cmbrl, m) {
   namespace py = pybind11;
@@ -19,4 +20,6 @@ PYBIND11_MODULE(_cmbrl, m) {
   cmbrl::python::BindModels(m);
   cmbrl::python::BindRuns(m);
   cmbrl::python::BindResults(m);
+  // Runs whose config declares Python parts by name make them in this interpreter.
+  cmbrl::python::InstallDeclaredInputsMaker();
 }

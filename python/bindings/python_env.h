@@ -41,6 +41,7 @@ class PythonEnv final : public Env {
   const BoxSpec& observation_spec() const override { return observation_spec_; }
   const BoxSpec& action_spec() const override { return action_spec_; }
   int max_episode_steps() const override { return max_episode_steps_; }
+  bool binary_cost() const override { return false; }
   double agent_step_seconds() const override { return step_seconds_; }
 
   // The whole environment through pickle: GeneratorState is its text form ("" where it does not

@@ -29,187 +29,10 @@
 #include "python/bindings/arrays.h"
 #include "python/bindings/bindings.h"
 #include "python/bindings/python_env.h"
+#include "python/bindings/python_inputs.h"
 
 namespace cmbrl::python {
 namespace {
-
-// A float32 tensor's rows as a new (rows, width) float64 numpy array: what a Python reward reads.
-// The array owns the converted tensor (no second copy).
-py::array_t<double> RowsArray(const torch::Tensor& values, std::int64_t rows) {
-  auto host = std::make_unique<torch::Tensor>(values.to(torch::kCPU, torch::kDouble).contiguous());
-  double* data = host->data_ptr<double>();
-  const auto width = static_cast<py::ssize_t>(host->numel() / rows);
-  py::capsule owner(host.get(), [](void* p) { delete static_cast<torch::Tensor*>(p); });
-  host.release();  // the capsule owns it now
-  return py::array_t<double>({static_cast<py::ssize_t>(rows), width}, data, owner);
-}
-
-// A vectorised Python function of every predicted step of an evaluation at once, f(states,
-// actions, next_states) -> (N,): N = H x E' x samples rows, states and next_states (N, S),
-// actions (N, A), float64. Holds the GIL only for the call. Not thread-safe.
-class PythonStepFunction {
- public:
-  PythonStepFunction(py::function function, const char* kind)
-      : function_(std::move(function)), kind_(kind) {}
-  ~PythonStepFunction() {
-    py::gil_scoped_acquire acquire;
-    function_ = py::function();
-  }
-
-  // The function's N values for the steps (leading shape of next_states); throws cmbrl::Error
-  // naming the function for an exception it raises or a result that is not N real numbers.
-  std::vector<double> Call(const torch::Tensor& states, const torch::Tensor& actions,
-                           const torch::Tensor& next_states) const {
-    const std::int64_t rows = next_states.numel() / next_states.size(-1);
-    py::gil_scoped_acquire acquire;
-    py::object result;
-    try {
-      result = function_(RowsArray(states, rows), RowsArray(actions, rows),
-                         RowsArray(next_states, rows));
-    } catch (py::error_already_set& error) {
-      Fail("the {} function {} raised {}", kind_, Name(), PythonErrorText(error));
-    }
-    // Booleans (a termination's) read as 0 and 1.
-    const py::array array = py::array::ensure(result);
-    if (array && array.dtype().kind() == 'b') result = array.attr("astype")("float64");
-    try {
-      return RealValues(result, {static_cast<py::ssize_t>(rows)}, "the result");
-    } catch (const Error& error) {  // named only now: this runs at every planner iteration
-      Fail("the {} function {}: {}", kind_, Name(), error.what());
-    }
-  }
-
-  // Values shaped as the steps, on their device.
-  static torch::Tensor AsSteps(const std::vector<double>& values, const torch::Tensor& steps) {
-    std::vector<std::int64_t> shape(steps.sizes().begin(), steps.sizes().end() - 1);
-    // from_blob: the values are copied once, by the conversion to float32.
-    return torch::from_blob(const_cast<double*>(values.data()),
-                            {static_cast<std::int64_t>(values.size())}, torch::kDouble)
-        .to(steps.device(), torch::kFloat)
-        .view(shape);
-  }
-
-  std::string Name() const {
-    py::gil_scoped_acquire acquire;
-    return std::string(py::str(py::getattr(function_, "__qualname__", py::repr(function_))));
-  }
-
- private:
-  py::function function_;
-  const char* kind_;
-};
-
-// objective.reward: python. The planning objective's reward term from a reward function (see
-// PythonStepFunction), called once per evaluation (a planner iteration); the cost is minus the
-// reward. Throws cmbrl::Error naming the function for a reward that is not finite.
-class PythonRewardTerm final : public RewardTerm {
- public:
-  explicit PythonRewardTerm(py::function reward) : reward_(std::move(reward), "reward") {}
-
-  torch::Tensor Cost(const torch::Tensor& states, const torch::Tensor& actions,
-                     const torch::Tensor& next_states) const override {
-    const std::vector<double> rewards = reward_.Call(states, actions, next_states);
-    for (const double reward : rewards) {  // the name is looked up only for a message
-      if (!std::isfinite(reward)) {
-        Fail("the reward function {} returned {}: expected finite rewards", reward_.Name(), reward);
-      }
-    }
-    return -PythonStepFunction::AsSteps(rewards, next_states);
-  }
-  bool reads_states_and_actions() const override { return true; }
-
- private:
-  PythonStepFunction reward_;
-};
-
-// objective.termination: python. Where predicted steps end the episode, from a function (see
-// PythonStepFunction) that returns N booleans or 0/1 numbers. Throws cmbrl::Error naming the
-// function for another value.
-class PythonTerminationTerm final : public TerminationTerm {
- public:
-  explicit PythonTerminationTerm(py::function termination)
-      : termination_(std::move(termination), "termination") {}
-
-  torch::Tensor Terminal(const torch::Tensor& states, const torch::Tensor& actions,
-                         const torch::Tensor& next_states) const override {
-    const std::vector<double> terminal = termination_.Call(states, actions, next_states);
-    for (const double value : terminal) {  // the name is looked up only for a message
-      if (value != 0.0 && value != 1.0) {
-        Fail("the termination function {} returned {}: expected booleans (or 0 and 1)",
-             termination_.Name(), value);
-      }
-    }
-    return PythonStepFunction::AsSteps(terminal, next_states);
-  }
-
- private:
-  PythonStepFunction termination_;
-};
-
-// An environment given from Python: a zero-argument factory and what made it (the run's task is
-// "python:" + name). Its first environment is made at once (its sizes name the run's) and is the
-// first the learner gets; later ones come from the factory.
-struct GivenEnv {
-  py::function factory;
-  std::string name;
-  std::shared_ptr<std::unique_ptr<PythonEnv>> first;
-
-  GivenEnv(py::function f, std::string n)
-      : factory(std::move(f)),
-        name(std::move(n)),
-        first(std::make_shared<std::unique_ptr<PythonEnv>>(Make(factory, name))) {}
-
-  static std::unique_ptr<PythonEnv> Make(const py::function& factory, const std::string& name) {
-    py::object env;
-    try {
-      env = factory();
-    } catch (py::error_already_set& error) {
-      Fail("making the environment {} raised {}", name, PythonErrorText(error));
-    }
-    return std::make_unique<PythonEnv>(std::move(env), name);
-  }
-  std::string task() const { return kPythonTaskPrefix + name; }
-};
-
-// LearnerInputs with the Python environment, reward and termination functions that are given.
-LearnerInputs InputsWith(const std::optional<py::function>& reward,
-                         const std::optional<py::function>& termination,
-                         const std::optional<GivenEnv>& env = std::nullopt) {
-  LearnerInputs inputs;
-  // "module.qualname" of each function given, for the run's sessions.
-  const auto named = [](const char* role, const py::function& function) {
-    const py::object module = py::getattr(function, "__module__", py::none());
-    const py::object name = py::getattr(function, "__qualname__", py::repr(function));
-    return fmt::format("{}={}{}", role,
-                       module.is_none() ? std::string() : std::string(py::str(module)) + ".",
-                       std::string(py::str(name)));
-  };
-  std::vector<std::string> names;
-  if (env) names.push_back("env=" + env->name);
-  if (reward) names.push_back(named("reward", *reward));
-  if (termination) names.push_back(named("termination", *termination));
-  inputs.python_functions = fmt::format("{}", fmt::join(names, ", "));
-  if (reward) {
-    inputs.python_reward = [function = *reward]() -> std::unique_ptr<RewardTerm> {
-      py::gil_scoped_acquire acquire;
-      return std::make_unique<PythonRewardTerm>(function);
-    };
-  }
-  if (termination) {
-    inputs.python_termination = [function = *termination]() -> std::unique_ptr<TerminationTerm> {
-      py::gil_scoped_acquire acquire;
-      return std::make_unique<PythonTerminationTerm>(function);
-    };
-  }
-  if (env) {
-    inputs.python_env = [given = *env]() -> std::unique_ptr<Env> {
-      py::gil_scoped_acquire acquire;
-      if (*given.first) return std::move(*given.first);
-      return GivenEnv::Make(given.factory, given.name);
-    };
-  }
-  return inputs;
-}
 
 // A run's objective and the functions given must agree: a function where the objective names
 // python, none otherwise; and an environment given from Python must be the one the run's task
@@ -217,11 +40,14 @@ LearnerInputs InputsWith(const std::optional<py::function>& reward,
 void CheckFunctionsGiven(const TrainConfig& config, bool reward, bool termination,
                          const std::string& run,
                          const std::optional<GivenEnv>& env = std::nullopt) {
-  if (env) {
-    Require(config.task == env->task(),
+  if (env) {  // a declared one is named by what makes it, whatever the task is called
+    const std::string made = config.python.env.empty()
+                                 ? config.task
+                                 : kPythonTaskPrefix + DeclaredEnvName(config.python.env);
+    Require(made == env->task(),
             "{} was trained on task '{}': the environment given is '{}' (give the one it was "
             "trained on)",
-            run, config.task, env->task());
+            run, made, env->task());
   }
   Require(!reward || config.objective.reward == "python",
           "{} plans with objective.reward '{}': give no reward function", run,
@@ -429,12 +255,15 @@ py::dict Train(const std::optional<std::vector<std::string>>& config_path,
               source, config.objective.reward);
       config.objective.reward = "python";
     }
-    if (termination) config.objective.termination = "python";
-    if (env) {  // the task is the environment given, its sizes recorded
-      config.task = env->task();
-      config.observation_size = (*env->first)->observation_spec().size();
-      config.action_size = (*env->first)->action_spec().size();
+    if (termination) {
+      Require(config.objective.termination == "none" ||
+                  config.objective.termination == "python",
+              "{} asks for objective.termination '{}': give no termination function, or ask for "
+              "'python'",
+              source, config.objective.termination);
+      config.objective.termination = "python";
     }
+    RecordPythonEnv(config, inputs);  // the task is the environment given, its sizes recorded
     ValidateTrainConfig(config, source);
     run_dir = *out;
     py::gil_scoped_release release;
@@ -551,7 +380,8 @@ double BenchPythonRewardCall(const py::function& reward, int rows, int state_dim
   Require(rows >= 1 && state_dim >= 1 && action_dim >= 1,
           "rows, state_dim and action_dim are {}, {} and {}: expected at least 1 each", rows,
           state_dim, action_dim);
-  const PythonRewardTerm term(reward);
+  // The term a run plans with (InputsWith's).
+  const std::unique_ptr<RewardTerm> term = InputsWith(reward, std::nullopt).python_reward();
   at::Generator generator = MakeCpuGenerator(seed);
   const torch::Tensor states = torch::randn({rows, state_dim}, generator);
   const torch::Tensor actions = torch::rand({rows, action_dim}, generator);
@@ -560,7 +390,7 @@ double BenchPythonRewardCall(const py::function& reward, int rows, int state_dim
   std::vector<double> seconds;
   for (int call = 0; call < 6; ++call) {
     const auto start = std::chrono::steady_clock::now();
-    const torch::Tensor cost = term.Cost(states, actions, next_states);
+    const torch::Tensor cost = term->Cost(states, actions, next_states);
     seconds.push_back(
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
     Require(cost.numel() == rows, "the reward gave {} values for {} rows", cost.numel(), rows);

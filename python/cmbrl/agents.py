@@ -81,7 +81,10 @@ def train(config=None, out=None, steps=None, seed=None, device=None, resume=None
     load_run(..., reward=f)); the command line cannot.
     termination: likewise termination(states, actions, next_states) -> N booleans, True where a
     predicted step ends the episode (objective.termination: python): the planning objective
-    counts no step after it.
+    counts no step after it. Without a function, objective.termination: learned fits a model
+    of the probability that a step ends the episode on the steps that ended the run's episodes
+    by themselves (terminated, not truncated), refitted with the dynamics; the objective then
+    weighs each predicted step by the probability that the episode is still going.
     env: train on your own environment instead of a built-in task (the config then names no
     task): a Gymnasium-style environment, or a zero-argument function or class that makes one
     (the model-free learners step several copies: deep copies of an environment given, or new
@@ -105,7 +108,7 @@ def train(config=None, out=None, steps=None, seed=None, device=None, resume=None
     config_path = config_text = None
     env_factory, env_name = _env_source(env)
     if isinstance(config, dict):
-        if "task" not in config and env is None:
+        if "task" not in config and env is None and not (config.get("python") or {}).get("env"):
             raise Error("the config dict names no task, so the run would be the defaults' full "
                         "paper-size PointGoal1 run: name one ({'task': 'PointGoal1', ...})")
         config_text = json.dumps(config, default=_json_number)  # JSON is YAML

@@ -41,10 +41,10 @@ class Line:
     """A 1-D walk to x = 1 with a wall at x < -0.5 (cost 2.5 there: not 0/1), Gymnasium's
     five-value step with info["cost"], an action box of [0, 2] (mapped from cmbrl's [-1, 1])."""
 
-    def __init__(self, length=20, fail_at=None, bad=None):
+    def __init__(self, length=20, fail_at=None, bad=None, wall=-0.5):
         self.observation_space = cmbrl.Box(np.array([-5.0]), np.array([5.0]))
         self.action_space = cmbrl.Box(np.array([0.0]), np.array([2.0]))
-        self.length, self.fail_at, self.bad = length, fail_at, bad
+        self.length, self.fail_at, self.bad, self.wall = length, fail_at, bad, wall
         self.x, self.t, self.steps = 0.0, 0, 0
         self.actions = []
 
@@ -66,7 +66,7 @@ class Line:
                 return np.array([self.x]), 0.0, False, False, {}
         self.x += 0.1 * (float(action[0]) - 1.0)
         self.t += 1
-        cost = 2.5 if self.x < -0.5 else 0.0
+        cost = 2.5 if self.x < self.wall else 0.0
         return np.array([self.x]), -abs(self.x - 1.0), False, self.t >= self.length, {"cost": cost}
 
 
@@ -124,13 +124,46 @@ def test_the_example_trains_rce_on_its_own_env_then_loads_acts_and_evaluates(tmp
         cmbrl.load_run(tmp_path / "run", env=Line, reward=module.reward)
 
 
+def test_an_env_declared_by_name_trains_as_the_one_given_and_loads_without_it(tmp_path,
+                                                                             source_dir):
+    module = custom_env_module(source_dir)
+    cmbrl.train(env=module.DoubleIntegrator, reward=module.reward, config=tiny(200),
+                out=tmp_path / "given")
+    declared = tiny(200, python={"env": "custom_env:DoubleIntegrator",
+                                 "reward": "custom_env:reward",
+                                 "path": [str(source_dir / "examples")]})
+    cmbrl.train(config=declared, out=tmp_path / "declared")
+    assert rows(tmp_path / "declared") == rows(tmp_path / "given")
+    with open(tmp_path / "declared" / "config.yaml") as f:
+        text = f.read()
+    assert "task: python:custom_env.DoubleIntegrator()" in text
+    assert "observation_size: 4" in text and "action_size: 2" in text
+    # Loaded, evaluated and resumed with nothing given: the config says what makes them.
+    def sums(episodes):
+        return [(e["return"], e["cost"], e["steps"]) for e in episodes]
+    assert sums(cmbrl.evaluate(tmp_path / "declared", episodes=1, seed=5)) == sums(
+        cmbrl.evaluate(tmp_path / "given", episodes=1, seed=5, env=module.DoubleIntegrator,
+                       reward=module.reward))
+    assert cmbrl.load_run(tmp_path / "declared").act(np.zeros(4)).shape == (2,)
+    assert cmbrl.train(resume=tmp_path / "declared", steps=300)["steps"] == 300
+    # Another env than the one declared is refused.
+    with pytest.raises(cmbrl.Error, match=r"declares python.env 'custom_env:DoubleIntegrator' "
+                                          r"\(python:custom_env.DoubleIntegrator\(\)\), and "
+                                          r"another environment is given"):
+        cmbrl.train(config=declared, env=Line, out=tmp_path / "both")
+    assert not (tmp_path / "both").exists()
+
+
 def test_a_built_in_task_through_the_python_path_writes_the_built_in_runs_rows(tmp_path):
     # The adapter changes nothing: the same task and seed give the same rows.
     config = tiny(200, objective={"analytic_form": "goal-distance"})
     cmbrl.train(env=functools.partial(cmbrl.make, "PointGoal1"), config=config,
                 out=tmp_path / "python")
     cmbrl.train(config=tiny_config(200), out=tmp_path / "built-in")
-    assert rows(tmp_path / "python") == rows(tmp_path / "built-in")
+    through_python = rows(tmp_path / "python")
+    # A Python env's rows add the raw costs, here the 0/1 costs themselves.
+    assert all(row.pop("EpRawCost") == row["EpCost"] for row in through_python)
+    assert through_python == rows(tmp_path / "built-in")
     with open(tmp_path / "python" / "config.yaml") as f:
         assert "task: python:cmbrl.envs.make('PointGoal1')" in f.read()
 
@@ -139,15 +172,17 @@ def test_costs_that_are_not_0_or_1_count_where_above_0_and_actions_map_onto_the_
     made = []
 
     def make():
-        made.append(Line())
+        made.append(Line(wall=0.5))  # costs until it has walked half way
         return made[-1]
 
     cmbrl.train(env=make, reward=line_reward, config=tiny(60), out=tmp_path / "run")
     env = made[0]
     assert min(env.actions) >= 0.0 and max(env.actions) <= 2.0
     assert max(env.actions) > 1.5 and min(env.actions) < 0.5  # the whole box is used
-    for row in rows(tmp_path / "run"):
-        assert float(row["EpCost"]) == int(float(row["EpCost"]))  # counts of steps, not 2.5s
+    costs = [(float(row["EpCost"]), float(row["EpRawCost"])) for row in rows(tmp_path / "run")]
+    assert any(cost > 0 for cost, _ in costs)
+    for cost, raw in costs:  # EpCost counts steps; EpRawCost sums the env's 2.5s
+        assert cost == int(cost) and raw == 2.5 * cost
     agent = cmbrl.load_run(tmp_path / "run", env=make, reward=line_reward)
     assert np.array_equal(agent.action_space.low, [0.0]) and np.array_equal(
         agent.action_space.high, [2.0])
@@ -279,6 +314,72 @@ def test_a_learned_reward_plans_without_a_function_resumes_exactly_and_loads(tmp
     with pytest.raises(cmbrl.Error, match=r"asks for objective.reward 'learned': give no "
                                           r"reward function"):
         cmbrl.train(env=Line, reward=line_reward, config=config, out=tmp_path / "both")
+    assert not (tmp_path / "both").exists()
+
+
+class Cliff:
+    """A walk along x, rewarded x per step, whose episode ends by itself (terminated) once x
+    passes the cliff at 1; 30 steps otherwise. A planner that knows the cliff stays near its
+    edge for the whole episode; one that does not walks off it."""
+
+    def __init__(self):
+        self.observation_space = cmbrl.Box(np.array([-5.0]), np.array([5.0]))
+        self.action_space = cmbrl.Box(-np.ones(1), np.ones(1))
+        self.x, self.t = 0.0, 0
+
+    def reset(self, seed=None, options=None):
+        self.x, self.t = 0.0, 0
+        return np.array([self.x]), {}
+
+    def step(self, action):
+        self.x += 0.2 * float(action[0])
+        self.t += 1
+        return np.array([self.x]), self.x, 0.0, self.x > 1.0, self.t >= 30, {}
+
+
+def cliff_reward(states, actions, next_states):
+    return next_states[:, 0]
+
+
+def cliff_config(termination, total_steps=600):
+    config = tiny(total_steps, planner="cem", objective={"termination": termination},
+                  termination_model={"hidden_sizes": [32, 32], "max_epochs": 50})
+    config["training"].update({"pretrain_episodes": 20, "pretrain_steps": 30})
+    config["planning"].update({"horizon": 8, "population": 100, "elites": 10,
+                               "max_iterations": 4})
+    return config
+
+
+def test_a_learned_termination_keeps_the_planner_off_the_cliff_and_resumes_exactly(tmp_path):
+    for termination in ("none", "learned"):
+        cmbrl.train(env=Cliff, reward=cliff_reward, config=cliff_config(termination),
+                    out=tmp_path / termination)
+    late = {termination: [int(row["Steps"]) for row in rows(tmp_path / termination)[-10:]]
+            for termination in ("none", "learned")}
+    # Without it every episode ends at the cliff within 10 steps; with it most last all 30.
+    assert max(late["none"]) < 10, late
+    assert np.mean(late["learned"]) > 2 * np.mean(late["none"]), late
+    assert (tmp_path / "learned" / "checkpoint" / "termination_model.pt").exists()
+    assert not (tmp_path / "none" / "checkpoint" / "termination_model.pt").exists()
+
+    # Stopped mid-episode and resumed, it writes the uninterrupted run's rows.
+    with pytest.raises(KeyboardInterrupt):
+        cmbrl.train(env=Cliff, reward=cliff_reward, config=cliff_config("learned", 120),
+                    out=tmp_path / "stopped", progress=stop_after_30_steps, checkpoint_seconds=0)
+    cmbrl.train(resume=tmp_path / "stopped", env=Cliff, reward=cliff_reward)
+    cmbrl.train(env=Cliff, reward=cliff_reward, config=cliff_config("learned", 120),
+                out=tmp_path / "whole")
+    assert rows(tmp_path / "stopped") == rows(tmp_path / "whole")
+    agent = cmbrl.load_run(tmp_path / "stopped", env=Cliff, reward=cliff_reward)
+    assert -1.0 <= agent.act(np.array([0.5]))[0] <= 1.0
+    with pytest.raises(cmbrl.Error, match=r"plans with objective.termination 'learned': give "
+                                          r"no termination function"):
+        cmbrl.load_run(tmp_path / "stopped", env=Cliff, reward=cliff_reward,
+                       termination=lambda s, a, n: n[:, 0] > 1.0)
+    with pytest.raises(cmbrl.Error, match=r"asks for objective.termination 'learned': give no "
+                                          r"termination function"):
+        cmbrl.train(env=Cliff, reward=cliff_reward, config=cliff_config("learned"),
+                    termination=lambda s, a, n: n[:, 0] > 1.0, out=tmp_path / "both")
     assert not (tmp_path / "both").exists()
 
 

@@ -91,6 +91,45 @@ TEST(ConfigTest, ATaskGivenFromPythonRecordsItsSizesAndNamesItsReward) {
               ::testing::HasSubstr("expected what made the environment after 'python:'"));
 }
 
+// A Python environment and functions declared by name (section python): the task is what makes
+// the env unless the file names one of its own; a declared function plans with it; each bad
+// name or combination is refused by its key; relative folders are the config file's.
+TEST(ConfigTest, PythonPartsDeclaredByNameNameTheTaskAndTheObjective) {
+  const std::string env = "python: {env: 'my_envs.walls:make', reward: 'my_envs.walls:reward'";
+  const TrainConfig made = ParseTrainConfig(env + "}", "c");
+  EXPECT_EQ(made.task, "python:my_envs.walls.make()");
+  EXPECT_EQ(made.objective.reward, "python");
+  EXPECT_EQ(made.observation_size, 0);  // recorded once the env is made
+  EXPECT_EQ(ParseTrainConfig(TrainConfigToYaml(made), "again").task, made.task);
+  EXPECT_EQ(ParseTrainConfig("task: Walls\n" + env + "}", "c").task, "Walls");
+  EXPECT_EQ(ParseTrainConfig(env + ", termination: 'm:ends'}", "c").objective.termination,
+            "python");
+  EXPECT_THAT(ErrorMessage([&] { ParseTrainConfig("task: PointGoal1\n" + env + "}", "c"); }),
+              ::testing::HasSubstr("key 'task' is 'PointGoal1' with python.env 'my_envs.walls:make' "
+                                   "declared: expected a name of its own"));
+  EXPECT_THAT(ErrorMessage([] { ParseTrainConfig("python: {env: 'my_envs.make'}", "c"); }),
+              ::testing::HasSubstr("python.env is 'my_envs.make': expected 'module:attribute'"));
+  EXPECT_THAT(ErrorMessage([] { ParseTrainConfig("python: {reward: 'm:1f'}", "c"); }),
+              ::testing::HasSubstr("python.reward is 'm:1f': expected 'module:attribute'"));
+  EXPECT_THAT(ErrorMessage([&] {
+                ParseTrainConfig(env + "}\nobjective: {reward: learned}", "c");
+              }),
+              ::testing::HasSubstr("key 'objective.reward' is 'learned' with python.reward "
+                                   "'my_envs.walls:reward' declared: leave one out"));
+  EXPECT_THAT(ErrorMessage([&] {
+                ParseTrainConfig(env + ", termination: 'm:t'}\nobjective: {termination: learned}",
+                                 "c");
+              }),
+              ::testing::HasSubstr("key 'objective.termination' is 'learned' with "
+                                   "python.termination 'm:t' declared"));
+  const std::filesystem::path folder = testing::TestTempDir() / "declared";
+  std::filesystem::create_directories(folder);
+  std::ofstream(folder / "task.yaml") << env << ", path: [envs, ., /abs]}\n";
+  const TrainConfig read = LoadTrainConfig((folder / "task.yaml").string());
+  EXPECT_EQ(read.python.path, (std::vector<std::string>{(folder / "envs").string(),
+                                                         folder.string(), "/abs"}));
+}
+
 TEST(ConfigTest, EveryYamlFileUnderConfigsLoads) {
   int files = 0;
   for (const auto& entry :

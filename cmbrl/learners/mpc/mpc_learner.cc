@@ -29,6 +29,8 @@ constexpr const char* kLabeledStatesFile = "labeled_states.bin";
 constexpr const char* kEnsembleFile = "ensemble.pt";
 constexpr const char* kClassifierFile = "classifier.json";
 constexpr const char* kRewardModelFile = "reward_model.pt";  // objective.reward: learned only
+// objective.termination: learned only
+constexpr const char* kTerminationModelFile = "termination_model.pt";
 constexpr const char* kPlannerGeneratorFile = "planner_generator.pt";
 constexpr const char* kStateFile = "state.json";
 // Only in a checkpoint taken in the middle of an episode.
@@ -40,7 +42,7 @@ std::string Fixed3(double value) { return fmt::format("{:.3f}", value); }
 
 }  // namespace
 
-const std::vector<ProgressColumn<ProgressRow>>& MpcProgressColumns() {
+const std::vector<ProgressColumn<ProgressRow>>& MpcProgressColumns(bool raw_cost) {
   using R = ProgressRow;
   static const std::vector<ProgressColumn<ProgressRow>> columns = {
       {"Epoch", [](const R& r) { return std::to_string(r.epoch); }},
@@ -62,17 +64,30 @@ const std::vector<ProgressColumn<ProgressRow>>& MpcProgressColumns() {
       {kHazardStepsColumn, [](const R& r) { return std::to_string(r.hazard_steps); }},
       {kVaseStepsColumn, [](const R& r) { return std::to_string(r.vase_steps); }},
   };
-  return columns;
+  static const std::vector<ProgressColumn<ProgressRow>> with_raw_cost = [] {
+    std::vector<ProgressColumn<ProgressRow>> all = columns;
+    all.push_back(
+        {kEpRawCostColumn, [](const R& r) { return ProgressNumber(r.episode_raw_cost); }});
+    return all;
+  }();
+  return raw_cost ? with_raw_cost : columns;
 }
 
-std::string ProgressCsvHeader() { return ProgressHeader(MpcProgressColumns()); }
+std::string ProgressCsvHeader(bool raw_cost) {
+  return ProgressHeader(MpcProgressColumns(raw_cost));
+}
 
-std::string ProgressCsvLine(const ProgressRow& row) { return ProgressLine(MpcProgressColumns(), row); }
+std::string ProgressCsvLine(const ProgressRow& row, bool raw_cost) {
+  return ProgressLine(MpcProgressColumns(raw_cost), row);
+}
 
 void LoadMpcModels(const fs::path& checkpoint, MpcParts& parts) {
   parts.ensemble->Load((checkpoint / kEnsembleFile).string());
   parts.classifier->Load((checkpoint / kClassifierFile).string());
   if (parts.reward_model) parts.reward_model->Load((checkpoint / kRewardModelFile).string());
+  if (parts.termination_model) {
+    parts.termination_model->Load((checkpoint / kTerminationModelFile).string());
+  }
 }
 
 MpcLearner::MpcLearner(TrainConfig config, const LearnerInputs& inputs)
@@ -84,9 +99,11 @@ MpcLearner::MpcLearner(TrainConfig config, const LearnerInputs& inputs)
   const int state_dim = parts_.env->observation_spec().size();
   const int action_dim = parts_.env->action_spec().size();
   const TrainingLoopOptions& t = config_.training;
-  // A learned reward is fitted on the rewards stored beside the transitions.
+  raw_cost_column_ = !parts_.env->binary_cost();
+  // A learned reward or termination is fitted on what is stored beside the transitions.
   transitions_ = std::make_unique<TransitionBuffer>(state_dim, action_dim, t.transition_capacity,
-                                                    parts_.reward_model != nullptr);
+                                                    parts_.reward_model != nullptr,
+                                                    parts_.termination_model != nullptr);
   labeled_ = std::make_unique<LabeledStateBuffer>(state_dim, t.safe_capacity, t.unsafe_capacity);
 }
 
@@ -128,7 +145,7 @@ LearnerStep MpcLearner::Advance(const UnitContext& context) {
     return step;
   }
   last_row_ = std::move(*row);
-  step.row = ProgressCsvLine(last_row_);
+  step.row = ProgressCsvLine(last_row_, raw_cost_column_);
   if (episodes_ % config_.training.episodes_per_epoch == 0) {
     if (Finished()) {
       models_due_ = true;
@@ -166,7 +183,7 @@ void MpcLearner::CollectRandomData() {
       ++pretrain_steps_;
       const bool end = step.terminated || step.truncated;
       const bool kept = transitions_->Add(observation, action, step.observation,
-                                          step.info.goal_met, end, step.reward);
+                                          step.info.goal_met, end, step.reward, step.terminated);
       stored += kept;
       AddLabel(step.observation, step.cost, kept);
       observation = std::move(step.observation);
@@ -190,6 +207,9 @@ std::vector<std::pair<std::string, double>> MpcLearner::TimeSplit() const {
       {"dynamics_fits", dynamics_fit_seconds_},
       {"classifier_fits", classifier_fit_seconds_}};
   if (parts_.reward_model) split.emplace_back("reward_fits", reward_fit_seconds_);
+  if (parts_.termination_model) {
+    split.emplace_back("termination_fits", termination_fit_seconds_);
+  }
   return split;
 }
 
@@ -207,7 +227,13 @@ MpcLearner::FitOutcome MpcLearner::FitModels(const UnitContext& context) {
   if (classifier.interrupted) return FitOutcome::kAbandoned;
   if (parts_.reward_model) {  // seconds at the sizes it is meant for: not pausable
     Timed(reward_fit_seconds_, [&] {
-      return parts_.reward_model->Fit(RewardInputs(*transitions_), StoredRewards(*transitions_));
+      return parts_.reward_model->Fit(StepInputs(*transitions_), StoredRewards(*transitions_));
+    });
+  }
+  if (parts_.termination_model) {
+    Timed(termination_fit_seconds_, [&] {
+      return parts_.termination_model->Fit(StepInputs(*transitions_),
+                                           StoredTerminations(*transitions_));
     });
   }
   dynamics_validation_mse_ = dynamics.validation_mse;
@@ -237,12 +263,13 @@ std::optional<ProgressRow> MpcLearner::Episode(const UnitContext& context) {
     StepResult step = Timed(environment_seconds_, [&] { return env.Step(action); });
     const bool end = step.terminated || step.truncated;
     const bool kept = transitions_->Add(episode.observation, action, step.observation,
-                                        step.info.goal_met, end, step.reward);
+                                        step.info.goal_met, end, step.reward, step.terminated);
     AddLabel(step.observation, step.cost, kept);
     ++total_steps_;
     ++row.steps;
     row.episode_return += step.reward;
     row.episode_cost += step.cost;
+    row.episode_raw_cost += step.info.raw_cost;
     row.goals_met += step.info.goal_met;
     row.hazard_steps += step.info.cost_hazards > 0.0;
     row.vase_steps += step.info.cost_vases_contact > 0.0 || step.info.cost_vases_velocity > 0.0;
@@ -280,11 +307,15 @@ void MpcLearner::Save(const fs::path& folder, const fs::path& previous,
     parts_.ensemble->Save((folder / kEnsembleFile).string());
     parts_.classifier->Save((folder / kClassifierFile).string());
     if (parts_.reward_model) parts_.reward_model->Save((folder / kRewardModelFile).string());
+    if (parts_.termination_model) {
+      parts_.termination_model->Save((folder / kTerminationModelFile).string());
+    }
   } else {
     // Unchanged since the last fit: a hard link carries them over without copying (about 50 MB
     // at the paper's sizes).
     std::vector<const char*> names = {kEnsembleFile, kClassifierFile};
     if (parts_.reward_model) names.push_back(kRewardModelFile);
+    if (parts_.termination_model) names.push_back(kTerminationModelFile);
     for (const char* name : names) {
       std::error_code linked;
       fs::create_hard_link(previous / name, folder / name, linked);
@@ -319,6 +350,7 @@ void MpcLearner::SaveOpenEpisode(const fs::path& folder) const {
       {"vase_steps", row.vase_steps},         {"feasible", open_->feasible},
       {"milliseconds", open_->milliseconds},
   };
+  if (raw_cost_column_) episode["episode_raw_cost"] = row.episode_raw_cost;
   if (!env_state) episode["env_state_saved"] = false;
   WriteLearnerState(folder / kOpenEpisodeFile, episode);
   if (!env_state) return;  // the episode starts again on resume
@@ -342,6 +374,7 @@ void MpcLearner::LoadOpenEpisode(const fs::path& folder) {
     row.goals_met = json.at("goals_met").get<int>();
     row.hazard_steps = json.at("hazard_steps").get<int>();
     row.vase_steps = json.at("vase_steps").get<int>();
+    row.episode_raw_cost = json.value("episode_raw_cost", 0.0);  // absent before it was logged
     episode.feasible = json.at("feasible").get<double>();
     episode.milliseconds = json.at("milliseconds").get<double>();
     Require(row.steps > 0 && row.goals_met >= 0 && row.hazard_steps >= 0 && row.vase_steps >= 0,

@@ -43,14 +43,17 @@ struct ProgressRow {
   // or moving a constrained vase. A step can do both, so their sum can exceed EpCost.
   int hazard_steps = 0;
   int vase_steps = 0;
+  // The environment's own costs summed (EpRawCost), where they need not be 0 or 1.
+  double episode_raw_cost = 0.0;
 };
 
-// The columns of an MPC run's progress.csv, the one definition of their names and formats.
-const std::vector<ProgressColumn<ProgressRow>>& MpcProgressColumns();
+// The columns of an MPC run's progress.csv, the one definition of their names and formats;
+// `raw_cost`: with EpRawCost last, for an environment whose costs need not be 0 or 1.
+const std::vector<ProgressColumn<ProgressRow>>& MpcProgressColumns(bool raw_cost = false);
 
 // The CSV header and one line (no newline) of progress.csv.
-std::string ProgressCsvHeader();
-std::string ProgressCsvLine(const ProgressRow& row);
+std::string ProgressCsvHeader(bool raw_cost = false);
+std::string ProgressCsvLine(const ProgressRow& row, bool raw_cost = false);
 
 // Loads the models of an MPC checkpoint folder into `parts` (for evaluation). Throws
 // cmbrl::Error naming a missing or damaged file.
@@ -74,7 +77,7 @@ class MpcLearner final : public Learner {
   explicit MpcLearner(TrainConfig config, const LearnerInputs& inputs = {});
   ~MpcLearner() override;
 
-  std::string ProgressHeader() const override { return ProgressCsvHeader(); }
+  std::string ProgressHeader() const override { return ProgressCsvHeader(raw_cost_column_); }
   bool Finished() const override;
   LearnerStep Advance(const UnitContext& context) override;
   // planning, environment, dynamics_fits, classifier_fits, and reward_fits for a learned reward.
@@ -119,9 +122,11 @@ class MpcLearner final : public Learner {
   bool pretrain_collected_ = false;  // its random data is in the buffers
   bool models_due_ = false;  // a refit paused for a checkpoint, or one the budget's end put off
   int episodes_ = 0;
+  bool raw_cost_column_ = false;  // EpRawCost: the environment's costs need not be 0 or 1
   // Wall seconds of this process, per part (TimeSplit).
   double planning_seconds_ = 0.0, environment_seconds_ = 0.0, dynamics_fit_seconds_ = 0.0,
-         classifier_fit_seconds_ = 0.0, reward_fit_seconds_ = 0.0;
+         classifier_fit_seconds_ = 0.0, reward_fit_seconds_ = 0.0,
+         termination_fit_seconds_ = 0.0;
   std::int64_t total_steps_ = 0;
   std::int64_t pretrain_steps_ = 0;
   double dynamics_validation_mse_;

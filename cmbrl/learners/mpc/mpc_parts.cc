@@ -12,26 +12,42 @@ namespace {
 // objective.reward: learned. The reward model's prediction for each predicted step, as a cost.
 class LearnedRewardTerm final : public RewardTerm {
  public:
-  explicit LearnedRewardTerm(const RewardModel& model) : model_(model) {}
+  explicit LearnedRewardTerm(const StepModel& model) : model_(model) {}
   torch::Tensor Cost(const torch::Tensor& states, const torch::Tensor& actions,
                      const torch::Tensor& next_states) const override {
-    return -model_.Predict(RewardInputs(states, actions, next_states));
+    return -model_.Predict(StepInputs(states, actions, next_states));
   }
   bool reads_states_and_actions() const override { return true; }
 
  private:
-  const RewardModel& model_;
+  const StepModel& model_;
+};
+
+// objective.termination: learned. The termination model's probability that each predicted step
+// ends the episode: the objective's sums then weigh each step by the probability that the
+// episode is still going, their expectation under the model.
+class LearnedTerminationTerm final : public TerminationTerm {
+ public:
+  explicit LearnedTerminationTerm(const StepModel& model) : model_(model) {}
+  torch::Tensor Terminal(const torch::Tensor& states, const torch::Tensor& actions,
+                         const torch::Tensor& next_states) const override {
+    return model_.Predict(StepInputs(states, actions, next_states));
+  }
+
+ private:
+  const StepModel& model_;
 };
 
 }  // namespace
 
 MpcPartSeeds RunSeeds(std::uint64_t seed) {
   return {DeriveSeed(seed, kEnsembleSeedStream), DeriveSeed(seed, kClassifierSeedStream),
-          DeriveSeed(seed, kPlannerSeedStream), DeriveSeed(seed, kRewardModelSeedStream)};
+          DeriveSeed(seed, kPlannerSeedStream), DeriveSeed(seed, kRewardModelSeedStream),
+          DeriveSeed(seed, kTerminationModelSeedStream)};
 }
 
 std::unique_ptr<RewardTerm> RewardTermFor(const TrainConfig& config, const LearnerInputs& inputs,
-                                          const RewardModel* learned, const BoxSpec* observation) {
+                                          const StepModel* learned, const BoxSpec* observation) {
   if (config.objective.reward == "learned") {
     Require(learned != nullptr, "objective.reward is 'learned': the run has no reward model");
     return std::make_unique<LearnedRewardTerm>(*learned);
@@ -60,8 +76,14 @@ std::unique_ptr<RewardTerm> RewardTermFor(const TrainConfig& config, const Learn
 }
 
 std::unique_ptr<TerminationTerm> TerminationTermFor(const TrainConfig& config,
-                                                    const LearnerInputs& inputs) {
+                                                    const LearnerInputs& inputs,
+                                                    const StepModel* learned) {
   if (config.objective.termination == "none") return nullptr;
+  if (config.objective.termination == "learned") {
+    Require(learned != nullptr,
+            "objective.termination is 'learned': the run has no termination model");
+    return std::make_unique<LearnedTerminationTerm>(*learned);
+  }
   // "python" (validated with the config).
   Require(static_cast<bool>(inputs.python_termination),
           "objective.termination is 'python': the run plans with a termination function given "
@@ -87,15 +109,22 @@ MpcParts AssembleMpc(const TrainConfig& config, const MpcPartSeeds& seeds,
   parts.classifier =
       std::make_unique<XgbCostModel>(state_dim, config.classifier, seeds.classifier);
   if (config.objective.reward == "learned") {
-    parts.reward_model = std::make_unique<RewardModel>(2 * state_dim + action_dim,
-                                                       config.reward_model, seeds.reward_model);
+    parts.reward_model = std::make_unique<StepModel>(
+        StepSignal::kReward, 2 * state_dim + action_dim, config.reward_model, seeds.reward_model);
+  }
+  if (config.objective.termination == "learned") {
+    parts.termination_model =
+        std::make_unique<StepModel>(StepSignal::kTermination, 2 * state_dim + action_dim,
+                                    config.termination_model, seeds.termination_model);
   }
   parts.agent = std::make_unique<MpcAgent>(*parts.ensemble, *parts.classifier, config.planner,
                                            PlannerSettingsFor(config, action_dim),
                                            config.objective,
                                            RewardTermFor(config, inputs, parts.reward_model.get(),
                                                          &parts.env->observation_spec()),
-                                           seeds.planner, TerminationTermFor(config, inputs));
+                                           seeds.planner,
+                                           TerminationTermFor(config, inputs,
+                                                              parts.termination_model.get()));
   return parts;
 }
 

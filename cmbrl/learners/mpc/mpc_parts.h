@@ -12,7 +12,7 @@
 #include "cmbrl/env/env.h"
 #include "cmbrl/config/config.h"
 #include "cmbrl/models/ensemble.h"
-#include "cmbrl/models/reward_model.h"
+#include "cmbrl/models/step_model.h"
 #include "cmbrl/models/xgboost_cost_model.h"
 
 namespace cmbrl {
@@ -23,7 +23,8 @@ struct MpcParts {
   std::unique_ptr<Env> env;
   std::unique_ptr<EnsembleDynamics> ensemble;
   std::unique_ptr<XgbCostModel> classifier;
-  std::unique_ptr<RewardModel> reward_model;  // objective.reward: learned only
+  std::unique_ptr<StepModel> reward_model;       // objective.reward: learned only
+  std::unique_ptr<StepModel> termination_model;  // objective.termination: learned only
   std::unique_ptr<MpcAgent> agent;
 };
 
@@ -34,6 +35,7 @@ struct MpcPartSeeds {
   std::uint64_t classifier = 0;
   std::uint64_t planner = 0;
   std::uint64_t reward_model = 0;
+  std::uint64_t termination_model = 0;
 };
 
 // The run's own streams of `seed`.
@@ -53,13 +55,14 @@ MpcParts AssembleMpc(const TrainConfig& config, const MpcPartSeeds& seeds,
 // none is given.
 std::unique_ptr<RewardTerm> RewardTermFor(const TrainConfig& config,
                                           const LearnerInputs& inputs = {},
-                                          const RewardModel* learned = nullptr,
+                                          const StepModel* learned = nullptr,
                                           const BoxSpec* observation = nullptr);
 
-// Its termination term (objective.termination): none (nullptr), or the one `inputs` makes.
-// Throws as RewardTermFor does.
+// Its termination term (objective.termination): none (nullptr), the one `inputs` makes, or
+// for "learned" `learned`'s probabilities (which the term borrows). Throws as RewardTermFor does.
 std::unique_ptr<TerminationTerm> TerminationTermFor(const TrainConfig& config,
-                                                    const LearnerInputs& inputs = {});
+                                                    const LearnerInputs& inputs = {},
+                                                    const StepModel* learned = nullptr);
 
 // The planner settings of `config` for an environment with `action_dim` actions.
 PlannerSettings PlannerSettingsFor(const TrainConfig& config, int action_dim);
