@@ -25,21 +25,33 @@ struct EvalArgs {
   std::string render;
 };
 
-// --render draws the Goal world's arena: a run whose task has none is refused before it runs.
-void RequireSceneToRender(const EvalArgs& args) {
+// --render draws the Goal world's arena or a Python environment's own pictures: a task file,
+// which has neither, is refused before it runs.
+void RequirePicturesToRender(const EvalArgs& args) {
   if (args.render.empty()) return;
   const RunDirectory run(args.run);
   if (!run.HoldsRun()) return;  // EvaluateRun names it
   const TrainConfig config = LoadTrainConfig(run.config_file().string());
-  Require(!IsDeclaredTask(config.mujoco_task) && !IsPythonEnvTask(config),
-          "--render draws the Goal world's arena: task '{}' has no scene to draw (evaluate it "
-          "without --render)",
+  Require(!IsDeclaredTask(config.mujoco_task),
+          "--render draws the Goal world's arena, or a Python environment's own pictures: task "
+          "'{}' has neither (evaluate it without --render)",
           config.task);
 }
 
 void RunEval(const EvalArgs& args) {
-  RequireSceneToRender(args);
-  const std::vector<EvaluatedEpisode> episodes = EvaluateRun(args.run, args.options);
+  RequirePicturesToRender(args);
+  EvaluationOptions options = args.options;
+  if (!args.render.empty()) options.frame_every = kFrameEvery;
+  const std::vector<EvaluatedEpisode> episodes = EvaluateRun(args.run, options);
+  if (!args.render.empty()) {  // none drawn unless every episode can be
+    for (const EvaluatedEpisode& episode : episodes) {
+      try {
+        RequireEpisodePicture(episode.record);
+      } catch (const Error& error) {
+        Fail("--render: {}", error.what());
+      }
+    }
+  }
   if (!args.render.empty()) std::filesystem::create_directories(args.render);
   for (size_t k = 0; k < episodes.size(); ++k) {
     const EvaluatedEpisode& episode = episodes[k];
@@ -64,17 +76,7 @@ void RunEval(const EvalArgs& args) {
     if (!args.render.empty()) {
       const std::string path =
           (std::filesystem::path(args.render) / fmt::format("episode-{}.png", k)).string();
-      ScenePicture picture{
-          r.final_scene,
-          r.path,
-          r.path_violations,
-          r.reached_goals,
-          fmt::format(
-              "episode {}: return {:.2f}, cost {}, goals {}{}", k, r.episode_return, r.episode_cost,
-              r.goals_met,
-              episode.predictions.empty() ? "" : " | plans: green feasible, red not, black chosen"),
-          episode.predictions};
-      WriteScenePng(picture, path);
+      WriteEpisodePicture(episode, static_cast<int>(k), path);
       line["picture"] = path;
     }
     std::cout << line.dump() << std::endl;

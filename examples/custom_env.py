@@ -26,8 +26,10 @@ class DoubleIntegrator:
 
     dt = 0.1
     max_steps = 100
+    metadata = {"render_modes": ["rgb_array"]}
 
-    def __init__(self):
+    def __init__(self, render_mode=None):
+        self.render_mode = render_mode  # "rgb_array": render() draws the plane (cmbrl eval --render)
         self.observation_space = cmbrl.Box(np.full(4, -np.inf), np.full(4, np.inf))
         self.action_space = cmbrl.Box(-np.ones(2), np.ones(2))
         self._rng = np.random.default_rng()
@@ -51,6 +53,18 @@ class DoubleIntegrator:
         cost = float(np.linalg.norm(position - KEEP_OUT_CENTRE) < KEEP_OUT_RADIUS)
         truncated = self._t >= self.max_steps
         return self._state.copy(), reward, cost, False, truncated, {}
+
+    def render(self, size=160):
+        """The plane from -1.5 to 1.5 m: the keep-out disc red, the target green, the mass blue."""
+        if self.render_mode != "rgb_array":
+            return None
+        ys, xs = np.mgrid[0:size, 0:size]
+        x, y = xs * 3.0 / size - 1.5, 1.5 - ys * 3.0 / size
+        image = np.full((size, size, 3), 255, dtype=np.uint8)
+        image[np.hypot(x - KEEP_OUT_CENTRE[0], y - KEEP_OUT_CENTRE[1]) < KEEP_OUT_RADIUS] = (240, 160, 160)
+        image[np.hypot(x - TARGET[0], y - TARGET[1]) < 0.08] = (40, 170, 60)
+        image[np.hypot(x - self._state[0], y - self._state[1]) < 0.06] = (30, 60, 200)
+        return image
 
 
 def reward(states, actions, next_states):

@@ -426,20 +426,17 @@ void ApplyDeclaredPython(const YAML::Node& document, TrainConfig& c, const std::
             "its own (not a built-in task's, not python:...), or no task (it is then '{}')",
             source, c.task, c.python.env, made);
   }
-  if (!c.python.reward.empty()) {
-    Require(c.objective.reward == "analytic" || c.objective.reward == "python",
-            "config '{}': key 'objective.reward' is '{}' with python.reward '{}' declared: leave "
-            "one out",
-            source, c.objective.reward, c.python.reward);
-    c.objective.reward = "python";
-  }
-  if (!c.python.termination.empty()) {
-    Require(c.objective.termination == "none" || c.objective.termination == "python",
-            "config '{}': key 'objective.termination' is '{}' with python.termination '{}' "
-            "declared: leave one out",
-            source, c.objective.termination, c.python.termination);
-    c.objective.termination = "python";
-  }
+  // objective.<key> becomes python where python.<key> is declared and it is left at its default.
+  const auto plan_with = [&](const char* key, const std::string& declared, std::string& objective,
+                             const char* fallback) {
+    if (declared.empty()) return;
+    Require(objective == fallback || objective == "python",
+            "config '{}': key 'objective.{}' is '{}' with python.{} '{}' declared: leave one out",
+            source, key, objective, key, declared);
+    objective = "python";
+  };
+  plan_with("reward", c.python.reward, c.objective.reward, "analytic");
+  plan_with("termination", c.python.termination, c.objective.termination, "none");
 }
 
 }  // namespace

@@ -44,6 +44,14 @@ struct StepInfo {
   double raw_cost = 0.0;
 };
 
+// A picture of an environment's state as the environment draws it: rows of RGB bytes, top row
+// first (height x width x 3).
+struct RgbFrame {
+  int width = 0;
+  int height = 0;
+  std::vector<std::uint8_t> rgb;
+};
+
 struct StepResult {
   std::vector<double> observation;  // (observation_spec().size())
   double reward = 0.0;              // progress towards the goal plus goal bonus
@@ -102,6 +110,11 @@ class Env {
   // tasks), or only whether its raw cost, which may be any number (info.raw_cost), is above 0
   // (a Python environment's): such runs log the raw costs too.
   virtual bool binary_cost() const { return true; }
+
+  // The environment's own picture of its current state, where it draws one (a Python
+  // environment made with render_mode "rgb_array"); nothing otherwise. Throws cmbrl::Error for
+  // a picture of another form.
+  virtual std::optional<RgbFrame> Frame() { return std::nullopt; }
 };
 
 }  // namespace cmbrl

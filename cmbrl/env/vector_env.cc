@@ -95,6 +95,7 @@ VectorStep VectorEnv::Step(const std::vector<double>& actions,
   out.final_observations.assign(n * width, 0.0);
   out.rewards.resize(n);
   out.costs.resize(n);
+  out.raw_costs.resize(n);
   out.terminated.resize(n);
   out.truncated.resize(n);
   out.goal_met.resize(n);
@@ -110,6 +111,7 @@ VectorStep VectorEnv::Step(const std::vector<double>& actions,
                                                      actions.begin() + (k + 1) * action_dim));
       out.rewards[k] = step.reward;
       out.costs[k] = step.cost;
+      out.raw_costs[k] = step.info.raw_cost;
       out.terminated[k] = step.terminated;
       out.truncated[k] = step.truncated;
       out.goal_met[k] = step.info.goal_met;

@@ -22,6 +22,7 @@ struct VectorStep {
   // (N x O): after an episode's end, its next first one (kSameStep) or its last (kDisabled)
   std::vector<double> observations;
   std::vector<double> rewards, costs;  // (N)
+  std::vector<double> raw_costs;       // (N): StepInfo::raw_cost
   std::vector<std::uint8_t> terminated, truncated;  // (N) 0/1
   std::vector<double> final_observations;  // (N x O): kSameStep: the ended episodes' last ones
   std::vector<std::uint8_t> goal_met;      // (N) 0/1

@@ -1,5 +1,6 @@
 #include "cmbrl/eval/evaluation.h"
 
+#include <fmt/format.h>
 #include <torch/torch.h>
 
 #include <algorithm>
@@ -10,6 +11,8 @@
 #include "cmbrl/core/check.h"
 #include "cmbrl/config/config.h"
 #include "cmbrl/eval/loaded_run.h"
+#include "cmbrl/run/run_directory.h"
+#include "cmbrl/viz/frame_strip.h"
 
 namespace cmbrl {
 namespace {
@@ -94,7 +97,16 @@ std::vector<EvaluatedEpisode> EvaluateRun(const std::string& run_dir,
                                           const EvaluationOptions& options,
                                           const LearnerInputs& inputs) {
   Require(options.episodes >= 1, "episodes is {}: expected at least 1", options.episodes);
-  LoadedRun run(run_dir, options.seed, options.overrides, inputs);
+  // Pictures of a Python environment come from one made to draw itself, where its factory can.
+  LearnerInputs given = inputs;
+  if (options.frame_every > 0) {
+    const RunDirectory directory(run_dir);
+    if (directory.HoldsRun()) {
+      given = WithDeclaredPython(LoadTrainConfig(directory.config_file().string()), given);
+      if (given.python_render_env) given.python_env = given.python_render_env;
+    }
+  }
+  LoadedRun run(run_dir, options.seed, options.overrides, given);
   Env& env = run.env();
   if (!run.is_mpc()) {
     // A model-free run: its policy's mean action, no predictions to draw.
@@ -102,7 +114,8 @@ std::vector<EvaluatedEpisode> EvaluateRun(const std::string& run_dir,
     for (int k = 0; k < options.episodes; ++k) {
       EvaluatedEpisode result;
       const auto start = std::chrono::steady_clock::now();
-      result.record = RunEpisode(env, run.policy(), EpisodeResetSeed(options, k));
+      result.record =
+          RunEpisode(env, run.policy(), EpisodeResetSeed(options, k), {}, options.frame_every);
       result.mean_ms_per_plan =
           std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
               .count() /
@@ -132,13 +145,53 @@ std::vector<EvaluatedEpisode> EvaluateRun(const std::string& run_dir,
           PlannerPredictions(agent, env.observation_spec(), scene, options.predicted_samples);
       result.predictions.insert(result.predictions.end(), paths.begin(), paths.end());
     };
-    result.record = RunEpisode(env, agent, EpisodeResetSeed(options, k), record_plan);
+    result.record =
+        RunEpisode(env, agent, EpisodeResetSeed(options, k), record_plan, options.frame_every);
     result.mean_ms_per_plan = milliseconds / result.record.steps;
     result.mean_feasible_fraction = feasible / result.record.steps;
     result.fallback_step_fraction = static_cast<double>(fallback_steps) / result.record.steps;
     episodes.push_back(std::move(result));
   }
   return episodes;
+}
+
+void RequireEpisodePicture(const EpisodeRecord& record) {
+  Require(!record.path.empty() || !record.frames.empty(),
+          "the run's environment draws no pictures: a Python environment draws itself where its "
+          "render_mode is 'rgb_array' (its factory is called with render_mode='rgb_array' where "
+          "it takes one), and a task file has no arena to draw");
+}
+
+void WriteEpisodePicture(const EvaluatedEpisode& episode, int k, const std::string& path) {
+  const EpisodeRecord& r = episode.record;
+  RequireEpisodePicture(r);
+  if (!r.path.empty()) {  // the Goal world's arena
+    const ScenePicture picture{
+        r.final_scene,
+        r.path,
+        r.path_violations,
+        r.reached_goals,
+        fmt::format(
+            "episode {}: return {:.2f}, cost {}, goals {}{}", k, r.episode_return, r.episode_cost,
+            r.goals_met,
+            episode.predictions.empty() ? "" : " | plans: green feasible, red not, black chosen"),
+        episode.predictions};
+    WriteScenePng(picture, path);
+    return;
+  }
+  constexpr size_t kStripFrames = 8;
+  const std::vector<RgbFrame>& frames = r.frames;
+  std::vector<RgbFrame> strip;
+  for (size_t j = 0; j < std::min(frames.size(), kStripFrames); ++j) {
+    strip.push_back(frames.size() <= kStripFrames
+                        ? frames[j]
+                        : frames[j * (frames.size() - 1) / (kStripFrames - 1)]);
+  }
+  WriteFrameStripPng(strip,
+                     fmt::format("episode {}: return {:.2f}, cost {}, steps {} (frames every {} "
+                                 "steps and the last)",
+                                 k, r.episode_return, r.episode_cost, r.steps, kFrameEvery),
+                     path);
 }
 
 }  // namespace cmbrl

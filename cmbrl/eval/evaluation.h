@@ -22,6 +22,9 @@ struct EvaluationOptions {
   bool reseed_each_episode = false;
   int predictions_every = 25;  // record the planner's predictions every this many steps (0: never)
   int predicted_samples = 8;   // sample trajectories kept per recorded step (each x members)
+  // Keep the environment's own pictures (EpisodeRecord::frames) after the reset, every this
+  // many steps and at the end (0: none).
+  int frame_every = 0;
   // "section.key=value" changes of the planner, its objective or the classifier's threshold,
   // for this evaluation only (LoadedRun::PlanningOverrideKeys).
   std::vector<std::string> overrides;
@@ -37,6 +40,21 @@ struct EvaluatedEpisode {
   std::optional<double> mean_feasible_fraction;
   std::optional<double> fallback_step_fraction;
 };
+
+// An evaluation drawn from the environment's own pictures (a Python environment's) keeps one
+// every this many steps (EvaluationOptions::frame_every).
+inline constexpr int kFrameEvery = 25;
+
+// Throws cmbrl::Error unless episode `record` can be drawn: the Goal world's arena (its path),
+// or the environment's own pictures (its frames; a Python environment made with render_mode
+// "rgb_array"). A task file's episodes have neither.
+void RequireEpisodePicture(const EpisodeRecord& record);
+
+// Draws episode `k` as one PNG: the arena with its path, goals and the recorded plans; or the
+// environment's own pictures side by side (at most 8, evenly spaced, the first and the last
+// kept), under its return and cost. Throws as RequireEpisodePicture, or for a file that cannot
+// be written.
+void WriteEpisodePicture(const EvaluatedEpisode& episode, int k, const std::string& path);
 
 class MpcAgent;
 

@@ -7,7 +7,7 @@
 namespace cmbrl {
 
 EpisodeRecord RunEpisode(Env& env, Policy& policy, std::optional<std::uint64_t> seed,
-                         const AfterActHook& after_act) {
+                         const AfterActHook& after_act, int frame_every) {
   // An environment without a scene (a declared or Python task) records sums and counts only.
   const SceneSource* scenes = env.scene_source();
   EpisodeRecord record;
@@ -15,6 +15,10 @@ EpisodeRecord RunEpisode(Env& env, Policy& policy, std::optional<std::uint64_t> 
   policy.BeginEpisode();
   SceneState scene = scenes != nullptr ? scenes->Scene() : SceneState();
   double goal_distance_sum = 0.0;
+  const auto take_frame = [&] {
+    if (std::optional<RgbFrame> frame = env.Frame()) record.frames.push_back(std::move(*frame));
+  };
+  if (frame_every > 0) take_frame();
   if (scenes != nullptr) {
     record.path.push_back(scene.robot.position);
     record.path_violations.push_back(false);
@@ -46,7 +50,9 @@ EpisodeRecord RunEpisode(Env& env, Policy& policy, std::optional<std::uint64_t> 
       record.path_violations.push_back(step.cost > 0.0);
     }
     observation = std::move(step.observation);
-    if (step.terminated || step.truncated) {
+    const bool end = step.terminated || step.truncated;
+    if (frame_every > 0 && (end || record.steps % frame_every == 0)) take_frame();
+    if (end) {
       record.terminated = step.terminated;
       record.truncated = step.truncated;
       break;

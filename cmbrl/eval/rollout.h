@@ -31,6 +31,9 @@ struct EpisodeRecord {
   std::vector<bool> path_violations;  // (path.size()): cost of the step that reached it
   std::vector<Vec2> reached_goals;    // goal positions at the moments they were reached
   SceneState final_scene;
+  // The environment's own pictures (Env::Frame), where asked for: after the reset, every
+  // `frame_every` steps and at the end.
+  std::vector<RgbFrame> frames;
 };
 
 // What "near the goal" means in EpisodeRecord::steps_near_goal: about three goal radii (0.3 m in
@@ -45,7 +48,9 @@ using AfterActHook = std::function<void(int step, const SceneState& scene)>;
 // episode terminates or is truncated. For an environment without a scene (Env::scene_source:
 // a declared or Python task) the path and the goal figures stay empty and zero, and the hook
 // gets an empty scene.
+// `frame_every` > 0 keeps the environment's own pictures in EpisodeRecord::frames (none where it
+// draws none).
 EpisodeRecord RunEpisode(Env& env, Policy& policy, std::optional<std::uint64_t> seed,
-                         const AfterActHook& after_act = {});
+                         const AfterActHook& after_act = {}, int frame_every = 0);
 
 }  // namespace cmbrl

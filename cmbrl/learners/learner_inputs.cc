@@ -35,6 +35,7 @@ LearnerInputs WithDeclaredPython(const TrainConfig& config, LearnerInputs given)
   LearnerInputs made = Maker()(wanted);
   if (!wanted.env.empty()) {
     given.python_env = std::move(made.python_env);
+    given.python_render_env = std::move(made.python_render_env);
     given.python_task = std::move(made.python_task);
     given.observation_size = made.observation_size;
     given.action_size = made.action_size;

@@ -23,6 +23,9 @@ struct LearnerInputs {
   // A new environment of a run whose task is given from Python ("python:..."), once per copy the
   // learner needs (the model-free learners step several).
   std::function<std::unique_ptr<Env>()> python_env;
+  // A new one that draws itself (Env::Frame), for pictures of an evaluation: the factory called
+  // with render_mode="rgb_array", Gymnasium's convention; empty where the factory takes none.
+  std::function<std::unique_ptr<Env>()> python_render_env;
   // What was given, "env=module.make_env(), reward=module.f, termination=module.g": each
   // session records it.
   std::string python_functions;

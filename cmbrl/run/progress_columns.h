@@ -21,5 +21,7 @@ inline constexpr const char* kTimeColumn = "Time";
 inline constexpr const char* kAverageEpRetColumn = "AverageEpRet";
 inline constexpr const char* kAverageEpCostColumn = "AverageEpCost";
 inline constexpr const char* kCumulativeCostColumn = "CumulativeCost";
+// A model-free run's raw costs since it began, for an environment whose costs need not be 0 or 1.
+inline constexpr const char* kCumulativeRawCostColumn = "CumulativeRawCost";
 
 }  // namespace cmbrl

@@ -262,6 +262,35 @@ std::optional<std::string> PythonEnv::TryState() const {
   return Pickled(nullptr);
 }
 
+std::optional<RgbFrame> PythonEnv::Frame() {
+  py::gil_scoped_acquire acquire;
+  const py::object mode = py::getattr(env_, "render_mode", py::none());
+  if (mode.is_none() || std::string(py::str(mode)) != "rgb_array") return std::nullopt;
+  py::object result;
+  try {
+    result = env_.attr("render")();
+  } catch (py::error_already_set& error) {
+    Fail("{}: render() raised {}", Where(), PythonErrorText(error));
+  }
+  const auto pixels = py::array_t<std::uint8_t, py::array::c_style>::ensure(result);
+  const py::array given = py::array::ensure(result);
+  Require(pixels && given && given.dtype().kind() == 'u' && given.itemsize() == 1 &&
+              pixels.ndim() == 3 && (pixels.shape(2) == 3 || pixels.shape(2) == 4) &&
+              pixels.shape(0) >= 1 && pixels.shape(1) >= 1,
+          "{}: render() in rgb_array mode returned {}: expected an (H, W, 3) uint8 array",
+          Where(), std::string(py::repr(py::getattr(result, "shape", result))));
+  RgbFrame frame;
+  frame.height = static_cast<int>(pixels.shape(0));
+  frame.width = static_cast<int>(pixels.shape(1));
+  const py::ssize_t channels = pixels.shape(2);
+  frame.rgb.reserve(static_cast<size_t>(frame.width) * frame.height * 3);
+  const std::uint8_t* data = pixels.data();
+  for (py::ssize_t i = 0; i < static_cast<py::ssize_t>(frame.width) * frame.height; ++i) {
+    frame.rgb.insert(frame.rgb.end(), data + i * channels, data + i * channels + 3);
+  }
+  return frame;
+}
+
 void PythonEnv::SetState(const std::string& state) {
   py::gil_scoped_acquire acquire;
   Unpickle(state);

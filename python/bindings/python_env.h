@@ -52,6 +52,10 @@ class PythonEnv final : public Env {
   std::string State() const override;
   void SetState(const std::string& state) override;
   std::optional<std::string> TryState() const override;
+  // render() of an env whose render_mode is "rgb_array": an (H, W, 3) or (H, W, 4) uint8 array
+  // (alpha dropped); nothing for another render_mode. Throws cmbrl::Error naming the env for
+  // another result or an exception.
+  std::optional<RgbFrame> Frame() override;
 
   // The env's own action for one of cmbrl's ([-1, 1] per component): what an agent's action
   // means to the env.

@@ -187,14 +187,29 @@ GivenEnv::GivenEnv(py::object f, std::string n)
       name(std::move(n)),
       first(std::make_shared<std::unique_ptr<PythonEnv>>(Make(*factory, name))) {}
 
-std::unique_ptr<PythonEnv> GivenEnv::Make(const py::object& factory, const std::string& name) {
+std::unique_ptr<PythonEnv> GivenEnv::Make(const py::object& factory, const std::string& name,
+                                          bool drawing) {
   py::object env;
   try {
-    env = factory();
+    env = drawing ? factory(py::arg("render_mode") = "rgb_array") : factory();
   } catch (py::error_already_set& error) {
-    Fail("making the environment {} raised {}", name, PythonErrorText(error));
+    Fail("making the environment {}{} raised {}", name,
+         drawing ? " with render_mode='rgb_array'" : "", PythonErrorText(error));
   }
   return std::make_unique<PythonEnv>(std::move(env), name);
+}
+
+bool GivenEnv::takes_render_mode() const {
+  try {
+    const py::object parameters =
+        py::module_::import("inspect").attr("signature")(*factory).attr("parameters");
+    if (parameters.contains("render_mode")) return true;
+    for (const py::handle parameter : parameters.attr("values")()) {
+      if (std::string(py::str(parameter.attr("kind").attr("name"))) == "VAR_KEYWORD") return true;
+    }
+  } catch (py::error_already_set&) {  // a builtin without a signature: assume not
+  }
+  return false;
 }
 
 std::string GivenEnv::task() const { return kPythonTaskPrefix + name; }
@@ -227,6 +242,12 @@ LearnerInputs InputsWith(const std::optional<py::function>& reward,
       if (*given.first) return std::move(*given.first);
       return GivenEnv::Make(*given.factory, given.name);
     };
+    if (env->takes_render_mode()) {
+      inputs.python_render_env = [given = *env]() -> std::unique_ptr<Env> {
+        py::gil_scoped_acquire acquire;
+        return GivenEnv::Make(*given.factory, given.name, /*drawing=*/true);
+      };
+    }
     inputs.python_task = env->task();
     inputs.observation_size = (*env->first)->observation_spec().size();
     inputs.action_size = (*env->first)->action_spec().size();

@@ -33,8 +33,12 @@ struct GivenEnv {
 
   GivenEnv(py::object f, std::string n);
 
-  // A new environment from the factory; throws cmbrl::Error naming what it raised.
-  static std::unique_ptr<PythonEnv> Make(const py::object& factory, const std::string& name);
+  // A new environment from the factory (with render_mode="rgb_array" where `drawing`); throws
+  // cmbrl::Error naming what it raised.
+  static std::unique_ptr<PythonEnv> Make(const py::object& factory, const std::string& name,
+                                         bool drawing = false);
+  // Whether the factory takes render_mode (a parameter of that name, or **kwargs).
+  bool takes_render_mode() const;
   std::string task() const;
 };
 

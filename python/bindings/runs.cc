@@ -10,6 +10,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <filesystem>
 #include <functional>
 #include <optional>
 #include <string>
@@ -316,7 +317,8 @@ py::list Evaluate(const std::string& run_dir, int episodes, std::uint64_t seed,
                   const std::optional<py::function>& reward,
                   const std::optional<py::function>& termination,
                   const std::optional<py::function>& env_factory,
-                  const std::optional<std::string>& env_name) {
+                  const std::optional<std::string>& env_name,
+                  const std::optional<std::string>& render) {
   const std::optional<GivenEnv> env = GivenEnvOf(env_factory, env_name);
   CheckRunGiven(run_dir, reward.has_value(), termination.has_value(), env);
   EvaluationOptions options;
@@ -324,12 +326,18 @@ py::list Evaluate(const std::string& run_dir, int episodes, std::uint64_t seed,
   options.seed = seed;
   options.reseed_each_episode = reseed_each_episode;
   options.overrides = overrides;
-  options.predictions_every = 0;
+  // Pictures as `cmbrl eval --render` draws them; without, no plans are recorded.
+  if (!render) options.predictions_every = 0;
+  if (render) options.frame_every = kFrameEvery;
   const LearnerInputs inputs = InputsWith(reward, termination, env);
   std::vector<EvaluatedEpisode> results;
   {
     py::gil_scoped_release release;
     results = EvaluateRun(run_dir, options, inputs);
+  }
+  if (render) {  // none drawn unless every episode can be
+    for (const EvaluatedEpisode& episode : results) RequireEpisodePicture(episode.record);
+    std::filesystem::create_directories(*render);
   }
   py::list out;
   for (const EvaluatedEpisode& episode : results) {
@@ -343,6 +351,12 @@ py::list Evaluate(const std::string& run_dir, int episodes, std::uint64_t seed,
     if (episode.mean_feasible_fraction) {
       d["feasible_fraction"] = *episode.mean_feasible_fraction;
       d["fallback_steps"] = *episode.fallback_step_fraction;
+    }
+    if (render) {
+      const std::string path =
+          (std::filesystem::path(*render) / fmt::format("episode-{}.png", out.size())).string();
+      WriteEpisodePicture(episode, static_cast<int>(out.size()), path);
+      d["picture"] = path;
     }
     out.append(d);
   }
@@ -428,7 +442,8 @@ void BindRuns(py::module_& m) {
 
   m.def("evaluate", &Evaluate, py::arg("run_dir"), py::arg("episodes"), py::arg("seed"),
         py::arg("reseed_each_episode"), py::arg("overrides"), py::arg("reward"),
-        py::arg("termination"), py::arg("env_factory"), py::arg("env_name"));
+        py::arg("termination"), py::arg("env_factory"), py::arg("env_name"),
+        py::arg("render") = std::nullopt);
   m.def("bench_python_env_steps", &BenchPythonEnvSteps, py::arg("env"), py::arg("steps"),
         py::arg("seed"));
   m.def("bench_python_reward_call", &BenchPythonRewardCall, py::arg("reward"), py::arg("rows"),

@@ -218,12 +218,16 @@ def load_run(run_dir, seed=0, overrides=None, reward=None, termination=None, env
 
 
 def evaluate(run_dir, episodes=1, seed=0, reseed_each_episode=False, overrides=None, reward=None,
-             termination=None, env=None):
+             termination=None, env=None, render=None):
     """Episodes of a trained run's agent, as `cmbrl eval` runs them: a list of dicts of return,
     cost (violating steps), steps, terminated, truncated, ms_per_plan and, for MPC, the plans'
     mean feasible fraction and the share of steps on RCE's fallback. seed seeds the environment
     and the planner; reseed_each_episode resets episode k with seed + k. overrides, reward,
-    termination and env as load_run takes them (a run on a Python environment needs its env)."""
+    termination and env as load_run takes them (a run on a Python environment needs its env, unless
+    its config names it). render=DIR draws each episode into DIR/episode-<k>.png as `cmbrl eval
+    --render` does (the Goal world's arena with the plans, or a Python environment's own
+    rgb_array pictures: its factory is called with render_mode="rgb_array" where it takes one),
+    and each dict names its "picture"."""
     if overrides is None:
         overrides = []
     elif isinstance(overrides, dict):
@@ -234,4 +238,4 @@ def evaluate(run_dir, episodes=1, seed=0, reseed_each_episode=False, overrides=N
                            [str(item) for item in overrides],
                            _step_function(reward, "reward", "rewards"),
                            _step_function(termination, "termination", "booleans"),
-                           env_factory, env_name)
+                           env_factory, env_name, None if render is None else os.fspath(render))

@@ -49,7 +49,8 @@ class Agent(_NotCopyable):
 def evaluate(run_dir: _Path, episodes: int = ..., seed: int = ...,
              reseed_each_episode: bool = ..., overrides: Optional[Mapping[str, Any]] = ...,
              reward: Optional[_StepFunction] = ..., termination: Optional[_StepFunction] = ...,
-             env: Optional[_EnvSource] = ...) -> list[dict[str, Any]]: ...
+             env: Optional[_EnvSource] = ...,
+             render: Optional[_Path] = ...) -> list[dict[str, Any]]: ...
 
 def load_run(run_dir: _Path, seed: int = ..., overrides: Optional[Mapping[str, Any]] = ...,
              reward: Optional[_StepFunction] = ...,

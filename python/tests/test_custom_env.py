@@ -145,6 +145,14 @@ def test_an_env_declared_by_name_trains_as_the_one_given_and_loads_without_it(tm
         cmbrl.evaluate(tmp_path / "given", episodes=1, seed=5, env=module.DoubleIntegrator,
                        reward=module.reward))
     assert cmbrl.load_run(tmp_path / "declared").act(np.zeros(4)).shape == (2,)
+    # Drawn from the env's own pictures: its class takes render_mode.
+    drawn = cmbrl.evaluate(tmp_path / "declared", episodes=1, seed=5, render=tmp_path / "pics")
+    assert drawn[0]["picture"] == str(tmp_path / "pics" / "episode-0.png")
+    assert (tmp_path / "pics" / "episode-0.png").stat().st_size > 0
+    cmbrl.train(env=Line, reward=line_reward, config=tiny(40), out=tmp_path / "line")
+    with pytest.raises(cmbrl.Error, match=r"draws no pictures"):  # Line takes no render_mode
+        cmbrl.evaluate(tmp_path / "line", env=Line, reward=line_reward, render=tmp_path / "none")
+    assert not (tmp_path / "none").exists()
     assert cmbrl.train(resume=tmp_path / "declared", steps=300)["steps"] == 300
     # Another env than the one declared is refused.
     with pytest.raises(cmbrl.Error, match=r"declares python.env 'custom_env:DoubleIntegrator' "
@@ -401,7 +409,7 @@ def test_a_model_free_learner_trains_on_copies_of_a_python_env_and_resumes(tmp_p
     made = []
 
     def make():
-        made.append(Line())
+        made.append(Line(wall=0.0))  # 2.5 a step below 0
         return made[-1]
 
     config = {"algorithm": "cpo", "seed": 2, "training": {"total_steps": 600},
@@ -410,8 +418,12 @@ def test_a_model_free_learner_trains_on_copies_of_a_python_env_and_resumes(tmp_p
     cmbrl.train(env=make, config=config, out=tmp_path / "run", steps=300)
     assert len(made) == 2  # one per rollout env
     cmbrl.train(resume=tmp_path / "run", env=make, steps=600)
-    cmbrl.train(env=Line, config=config, out=tmp_path / "whole")
+    cmbrl.train(env=functools.partial(Line, wall=0.0), config=config, out=tmp_path / "whole")
     assert rows(tmp_path / "run") == rows(tmp_path / "whole")
+    # The rows sum the env's raw costs beside the violations they count.
+    last = rows(tmp_path / "run")[-1]
+    assert float(last["CumulativeCost"]) > 0
+    assert float(last["CumulativeRawCost"]) == 2.5 * float(last["CumulativeCost"])
     episodes = cmbrl.evaluate(tmp_path / "run", env=make, episodes=2)
     assert [e["steps"] for e in episodes] == [20, 20]
 

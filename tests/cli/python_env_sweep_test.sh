@@ -40,6 +40,16 @@ strip() { cut -d, -f1-6,8-11,13- "$1"; }  # every column but Time and MsPerPlan
 diff <(strip whole/progress.csv) <(strip cut/progress.csv) > /dev/null ||
   { echo "resumed rows differ"; diff <(strip whole/progress.csv) <(strip cut/progress.csv); exit 1; }
 "$cmbrl" eval --run whole --episodes 1 | grep -q '"steps":100' || { echo "eval gave no episode"; exit 1; }
+# Drawn by the env itself: its factory takes render_mode, and eval makes one with rgb_array.
+"$cmbrl" eval --run whole --episodes 1 --render pictures | grep -q '"picture":"pictures/episode-0.png"' ||
+  { echo "eval --render drew nothing"; exit 1; }
+[ -s pictures/episode-0.png ] || { echo "no picture"; exit 1; }
+# One whose factory cannot draw is named.
+printf 'import my_env\n\ndef plain():\n    return my_env.DoubleIntegrator()\n' > ../plain_env.py
+printf 'python: {env: "plain_env:plain", reward: "my_env:reward", path: [.]}\n%s\n' "$sizes" > ../plain.yaml
+"$cmbrl" train --config ../plain.yaml --out plain --steps 120 2> /dev/null > /dev/null
+if "$cmbrl" eval --run plain --render plain-pictures 2> err.txt > /dev/null; then echo "no frames, yet rendered"; exit 1; fi
+grep -q "the run's environment draws no pictures" err.txt || { echo "render: $(cat err.txt)"; exit 1; }
 cd "$work"
 # Bad names, refused before anything is written.
 refused() {  # NAME EXPECTED-TEXT PYTHON-SECTION
@@ -90,4 +100,4 @@ grep -q "env: my_env:Elsewhere" other/run-logs/doubleintegrator-rce-s1/config.ya
 if "$cmbrl" report exp/runs other --out pooled 2> err.txt > /dev/null; then echo "different envs pooled"; exit 1; fi
 grep -q "both name task 'DoubleIntegrator' but were made on different environments (python.env my_env:Elsewhere)" err.txt ||
   { echo "pooling: $(cat err.txt)"; exit 1; }
-echo "python env by name: trained, resumed after kill -9 to identical $rows rows, evaluated, 3 bad names refused; its experiment swept 4 runs and reported; another env under its name refused"
+echo "python env by name: trained, resumed after kill -9 to identical $rows rows, evaluated and drawn, 3 bad names refused, its experiment swept 4 runs and reported, another env under its name refused"

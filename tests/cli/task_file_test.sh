@@ -36,7 +36,7 @@ diff <(strip whole/progress.csv) <(strip cut/progress.csv) > /dev/null ||
   { echo "resumed rows differ"; diff <(strip whole/progress.csv) <(strip cut/progress.csv); exit 1; }
 "$cmbrl" eval --run whole --episodes 1 | grep -q '"steps":100' || { echo "eval gave no episode"; exit 1; }
 if "$cmbrl" eval --run whole --render pictures 2> err.txt; then echo "render accepted"; exit 1; fi
-grep -q "task 'ArmReach' has no scene to draw" err.txt || { echo "render: $(cat err.txt)"; exit 1; }
+grep -q "task 'ArmReach' has neither" err.txt || { echo "render: $(cat err.txt)"; exit 1; }
 [ ! -e pictures ] || { echo "render made a folder"; exit 1; }
 # Bad inputs, named, and no run directory made.
 refused() {  # NAME EXPECTED-TEXT SED-EXPRESSION

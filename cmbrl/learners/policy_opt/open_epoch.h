@@ -34,6 +34,7 @@ struct PolicyOptLearner::OpenEpoch {
   std::vector<EnvTrace> traces;
   std::vector<double> episode_returns, episode_costs, episode_lengths;  // finished episodes'
   double step_cost = 0.0;  // every step's cost, finished episodes or not
+  double step_raw_cost = 0.0;  // and their raw costs (StepInfo::raw_cost)
   // After the update: the row but for the value losses, the value fits' data, their iterations
   // done (both functions go in step).
   bool updated = false;

@@ -111,7 +111,7 @@ void PolicyOptLearner::Save(const fs::path& folder, const fs::path&, bool) const
   networks.write("generator", generator_.get_state());
   SaveArchive(networks, (folder / kNetworksFile).string());
   const LagrangeMultiplier::State penalty = lagrange_.state();
-  const nlohmann::json state = {
+  nlohmann::json state = {
       {"epochs", epochs_},
       {"total_steps", total_steps_},
       {"cumulative_cost", ProgressNumber(cumulative_cost_)},
@@ -121,6 +121,7 @@ void PolicyOptLearner::Save(const fs::path& folder, const fs::path&, bool) const
       {"penalty_second_moment", ProgressNumber(penalty.second_moment)},
       {"penalty_steps", penalty.steps},
   };
+  if (raw_cost_column_) state["cumulative_raw_cost"] = ProgressNumber(cumulative_raw_cost_);
   WriteLearnerState(folder / kStateFile, state);
   if (open_) SaveOpenEpoch(folder);
 }
@@ -130,6 +131,9 @@ void PolicyOptLearner::Load(const fs::path& folder) {
     epochs_ = state.at("epochs").get<int>();
     total_steps_ = state.at("total_steps").get<std::int64_t>();
     cumulative_cost_ = StateNumber(state, "cumulative_cost");
+    // Absent before raw costs were logged, and for 0/1 costs.
+    cumulative_raw_cost_ =
+        state.contains("cumulative_raw_cost") ? StateNumber(state, "cumulative_raw_cost") : 0.0;
     const std::vector<std::string> generators =
         state.at("env_generators").get<std::vector<std::string>>();
     Require(generators.size() == static_cast<size_t>(envs_->size()),
@@ -197,6 +201,7 @@ void PolicyOptLearner::SaveOpenEpoch(const fs::path& folder) const {
     state["steps"] = e.steps;
     state["rounds"] = e.rounds;
     state["step_cost"] = ProgressNumber(e.step_cost);
+    if (raw_cost_column_) state["step_raw_cost"] = ProgressNumber(e.step_raw_cost);
     state["needs_reset"] = envs.needs_reset;
   } else {
     tensors.write("observations", e.observations.reshape({-1}));
@@ -254,6 +259,8 @@ void PolicyOptLearner::LoadOpenEpoch(const fs::path& folder) {
       e->steps = state.at("steps").get<std::int64_t>();
       e->rounds = state.at("rounds").get<std::int64_t>();
       e->step_cost = StateNumber(state, "step_cost");
+      e->step_raw_cost =
+          state.contains("step_raw_cost") ? StateNumber(state, "step_raw_cost") : 0.0;
       envs.needs_reset = state.at("needs_reset").get<std::vector<std::uint8_t>>();
       const std::int64_t epoch_steps = config_.policy_optimisation.steps_per_epoch;
       const std::int64_t rounds = (e->steps + env_count - 1) / env_count;  // the longest quota

@@ -80,7 +80,7 @@ PathTargets EpochGae(const std::vector<EnvTrace>& traces, const std::vector<std:
 
 }  // namespace
 
-const std::vector<ProgressColumn<EpochRow>>& PolicyOptProgressColumns() {
+const std::vector<ProgressColumn<EpochRow>>& PolicyOptProgressColumns(bool raw_cost) {
   using R = EpochRow;
   static const std::vector<ProgressColumn<EpochRow>> columns = {
       {"Epoch", [](const R& r) { return std::to_string(r.epoch); }},
@@ -102,7 +102,13 @@ const std::vector<ProgressColumn<EpochRow>>& PolicyOptProgressColumns() {
       {kTotalEnvInteractsColumn, [](const R& r) { return std::to_string(r.total_env_interacts); }},
       {kTimeColumn, [](const R& r) { return fmt::format("{:.3f}", r.time_seconds); }},
   };
-  return columns;
+  static const std::vector<ProgressColumn<EpochRow>> with_raw_cost = [] {
+    std::vector<ProgressColumn<EpochRow>> all = columns;
+    all.push_back({kCumulativeRawCostColumn,
+                   [](const R& r) { return ProgressNumber(r.cumulative_raw_cost); }});
+    return all;
+  }();
+  return raw_cost ? with_raw_cost : columns;
 }
 
 GaussianMeanPolicy::GaussianMeanPolicy(const GaussianPolicy& policy, BoxSpec action_spec)
@@ -131,6 +137,7 @@ struct PolicyOptLearner::Epoch {
   torch::Tensor returns, cost_returns;  // (N) value-function targets
   std::vector<double> episode_returns;  // of the episodes it finished
   double step_cost = 0.0;               // every step's cost, finished episodes or not
+  double step_raw_cost = 0.0;           // their raw costs
 };
 
 PolicyOptLearner::PolicyOptLearner(TrainConfig config, const LearnerInputs& inputs)
@@ -150,6 +157,7 @@ PolicyOptLearner::PolicyOptLearner(TrainConfig config, const LearnerInputs& inpu
   // pass runs between rounds, and spinning threads would only take its cores.
   envs_ = std::make_unique<VectorEnv>(std::move(envs), std::min(CoreCount(), o.env_threads),
                                       std::chrono::microseconds(0), Autoreset::kDisabled);
+  raw_cost_column_ = !envs_->env(0).binary_cost();
   const int observation_dim = envs_->env(0).observation_spec().size();
   const int action_dim = envs_->env(0).action_spec().size();
   policy_ = std::make_unique<GaussianPolicy>(observation_dim, action_dim, o.policy_hidden,
@@ -167,7 +175,7 @@ PolicyOptLearner::PolicyOptLearner(TrainConfig config, const LearnerInputs& inpu
 PolicyOptLearner::~PolicyOptLearner() = default;
 
 std::string PolicyOptLearner::ProgressHeader() const {
-  return cmbrl::ProgressHeader(PolicyOptProgressColumns());
+  return cmbrl::ProgressHeader(PolicyOptProgressColumns(raw_cost_column_));
 }
 
 bool PolicyOptLearner::Finished() const {
@@ -243,6 +251,7 @@ bool PolicyOptLearner::OpenEpoch::RecordStep(int k, std::int64_t t, std::int64_t
   trace.episode_return += step.rewards[k];
   trace.episode_cost += step.costs[k];
   step_cost += step.costs[k];
+  step_raw_cost += step.raw_costs[k];
   trace.observation.assign(step.observations.begin() + k * observation_dim,
                            step.observations.begin() + (k + 1) * observation_dim);
   const bool terminated = step.terminated[k] != 0;
@@ -369,6 +378,7 @@ PolicyOptLearner::Epoch PolicyOptLearner::Gather() {
   b.episode_length = MeanOf(e.episode_lengths);
   epoch.episode_returns = std::move(e.episode_returns);
   epoch.step_cost = e.step_cost;
+  epoch.step_raw_cost = e.step_raw_cost;
   total_steps_ += e.steps;
   e.traces.clear();
   return epoch;
@@ -379,6 +389,7 @@ void PolicyOptLearner::Update(Epoch& epoch) {
   OpenEpoch& e = *open_;
   ++epochs_;
   cumulative_cost_ += epoch.step_cost;
+  cumulative_raw_cost_ += epoch.step_raw_cost;
   EpochRow& row = e.row;
   row = EpochRow();
   row.epoch = epochs_;
@@ -423,6 +434,7 @@ void PolicyOptLearner::Update(Epoch& epoch) {
                                                               : 0.0;
   row.entropy = policy_->Entropy();
   row.cumulative_cost = cumulative_cost_;
+  row.cumulative_raw_cost = cumulative_raw_cost_;
   row.total_env_interacts = total_steps_;
   row.cost_rate = cumulative_cost_ / static_cast<double>(total_steps_);
   e.observations = epoch.batch.observations;
@@ -491,7 +503,7 @@ LearnerStep PolicyOptLearner::Advance(const UnitContext& context) {
   open_.reset();
 
   LearnerStep step;
-  step.row = ProgressLine(PolicyOptProgressColumns(), row);
+  step.row = ProgressLine(PolicyOptProgressColumns(raw_cost_column_), row);
   step.summary = {row.epoch,
                   total_steps_,
                   budget(),

@@ -29,6 +29,8 @@ struct EpochRow {
   double average_episode_length = 0.0;  // EpLen (environment steps)
   int episodes = 0;                  // finished in the epoch
   double cumulative_cost = 0.0;      // every step's cost since the run began
+  // Their raw costs (CumulativeRawCost, only for an env whose costs need not be 0 or 1).
+  double cumulative_raw_cost = 0.0;
   double cost_rate = 0.0;            // cumulative_cost / TotalEnvInteracts
   double penalty = 0.0;  // TRPO-L's lambda before the epoch's update, CPO's nu, 0 for TRPO
   double kl = 0.0;                   // after the policy update
@@ -43,7 +45,8 @@ struct EpochRow {
   double time_seconds = 0.0;
 };
 
-const std::vector<ProgressColumn<EpochRow>>& PolicyOptProgressColumns();
+// `raw_cost`: with CumulativeRawCost last, for an environment whose costs need not be 0 or 1.
+const std::vector<ProgressColumn<EpochRow>>& PolicyOptProgressColumns(bool raw_cost = false);
 
 // A trained Gaussian policy acting with its mean, clipped to the action box (for evaluation:
 // the environment would clip it too). Not thread-safe.
@@ -150,6 +153,8 @@ class PolicyOptLearner final : public Learner {
   int epochs_ = 0;
   std::int64_t total_steps_ = 0;
   double cumulative_cost_ = 0.0;
+  double cumulative_raw_cost_ = 0.0;
+  bool raw_cost_column_ = false;  // CumulativeRawCost: the env's costs need not be 0 or 1
   std::unique_ptr<OpenEpoch> open_;  // the epoch under way, between two Advance calls
   EpochRow last_row_;
   Timings timings_, totals_;
