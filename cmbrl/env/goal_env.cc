@@ -207,7 +207,7 @@ GoalEnv::EnvStepOutcome GoalEnv::EnvStep() {
   // has no acceleration-stage sensor, so there the constraint solve, most of a forward pass, is
   // skipped: 4% faster. Its only other effect is on the next step's solver warm start, which
   // moves results within the solver tolerance (1e-12 in a rover episode's return).
-  if (spec_.observation == ObservationKind::kLidar) {
+  if (IsLidarObservation(spec_.observation)) {
     mj_forward(&m, &d);
   } else {
     mj_fwdPosition(&m, &d);

@@ -87,17 +87,22 @@ class EgoStateObserver final : public GoalObserver {
   BoxSpec spec_;
 };
 
-// Facts A5: named blocks in alphabetical order of their keys; sensors raw (a ball quaternion as
-// its 3 x 3 matrix), lidars as Safety Gym's pseudo-lidar.
+// Facts A5: named blocks; sensors raw (a ball quaternion as its 3 x 3 matrix), lidars as Safety
+// Gym's pseudo-lidar. In Safety-Gymnasium's order (safety_gymnasium/bases/base_task.py,
+// build_observation_space, flattening an OrderedDict): the agent's sensors in SensorConf's order,
+// its joint sensors (angular velocities before quaternions, base_agent.py), then a lidar per
+// object in the order the task adds them (geoms, then free geoms: goal, hazards, vases). The
+// original Safety Gym flattened the same blocks in alphabetical order of their keys
+// (kLidarSorted).
 class LidarObserver final : public GoalObserver {
  public:
   LidarObserver(const GoalTaskSpec& spec, const RobotDescription& robot, const mjModel& m)
       : bins_(spec.lidar_bins), max_dist_(spec.lidar_max_dist) {
     blocks_.push_back({"accelerometer", Kind::kSensor, Sensor(m, "accelerometer"), 3});
+    blocks_.push_back({"velocimeter", Kind::kSensor, Sensor(m, "velocimeter"), 3});
     blocks_.push_back({"gyro", Kind::kSensor, Sensor(m, "gyro"), 3});
     blocks_.push_back({"magnetometer", Kind::kSensor, Sensor(m, "magnetometer"), 3});
-    blocks_.push_back({"velocimeter", Kind::kSensor, Sensor(m, "velocimeter"), 3});
-    for (const std::string& name : robot.joint_observation_sensors) {
+    for (const std::string& name : robot.joint_observation_sensors) {  // in Safety-Gymnasium's order
       const bool quat = name.rfind("ballquat", 0) == 0;
       const SensorSlot slot = Sensor(m, name);
       blocks_.push_back({name, quat ? Kind::kBallQuat : Kind::kSensor, slot, quat ? 9 : slot.size});
@@ -105,8 +110,10 @@ class LidarObserver final : public GoalObserver {
     blocks_.push_back({"goal_lidar", Kind::kGoalLidar, {}, bins_});
     if (spec.num_hazards > 0) blocks_.push_back({"hazards_lidar", Kind::kHazardsLidar, {}, bins_});
     if (spec.num_vases > 0) blocks_.push_back({"vases_lidar", Kind::kVasesLidar, {}, bins_});
-    std::sort(blocks_.begin(), blocks_.end(),
-              [](const Block& a, const Block& b) { return a.key < b.key; });
+    if (spec.observation == ObservationKind::kLidarSorted) {
+      std::stable_sort(blocks_.begin(), blocks_.end(),
+                       [](const Block& a, const Block& b) { return a.key < b.key; });
+    }
     for (const Block& block : blocks_) {
       const bool lidar = block.kind == Kind::kGoalLidar || block.kind == Kind::kHazardsLidar ||
                          block.kind == Kind::kVasesLidar;
@@ -161,7 +168,7 @@ class LidarObserver final : public GoalObserver {
 std::unique_ptr<GoalObserver> MakeGoalObserver(const GoalTaskSpec& spec,
                                                const RobotDescription& robot,
                                                const mjModel& model) {
-  if (spec.observation == ObservationKind::kLidar) {
+  if (IsLidarObservation(spec.observation)) {
     return std::make_unique<LidarObserver>(spec, robot, model);
   }
   return std::make_unique<EgoStateObserver>(spec, robot, model);

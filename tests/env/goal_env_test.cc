@@ -8,6 +8,7 @@
 
 #include "cmbrl/agent/policy.h"
 #include "cmbrl/core/check.h"
+#include "cmbrl/env/task_list.h"
 #include "tests/env/test_scenes.h"
 #include "tests/error_message.h"
 
@@ -297,29 +298,59 @@ TEST(GoalEnvObservationTest, PaperStateVectorValuesByHand) {
   EXPECT_LT(step.observation[spec.IndexOf("goal_x")], 1.0);
 }
 
-TEST(GoalEnvObservationTest, StandardLidarObservationIsAlphabetical) {
-  GoalEnv point = MakeGoalEnv("PointGoal1", Variant::kStandard);
-  const BoxSpec& p = point.observation_spec();
-  ASSERT_EQ(p.size(), 60);
-  EXPECT_EQ(p.names[0], "accelerometer_x");
-  EXPECT_EQ(p.names[3], "goal_lidar_0");
-  EXPECT_EQ(p.names[19], "gyro_x");
-  EXPECT_EQ(p.names[22], "hazards_lidar_0");
-  EXPECT_EQ(p.names[38], "magnetometer_x");
-  EXPECT_EQ(p.names[41], "vases_lidar_0");
-  EXPECT_EQ(p.names[57], "velocimeter_x");
-  GoalEnv car = MakeGoalEnv("CarGoal2", Variant::kStandard);
-  const BoxSpec& c = car.observation_spec();
-  ASSERT_EQ(c.size(), 72);
-  EXPECT_EQ(c.names[3], "ballangvel_rear_x");
-  EXPECT_EQ(c.names[6], "ballquat_rear_0");
-  EXPECT_EQ(c.names[15], "goal_lidar_0");
-  EXPECT_EQ(c.names[69], "velocimeter_x");
-  for (int i = 0; i < c.size(); ++i) {
-    if (c.names[i].find("lidar") != std::string::npos) {
-      EXPECT_EQ(c.low[i], 0.0);
-      EXPECT_EQ(c.high[i], 1.0);
+// Names and sizes of an observation's blocks, in order: "accelerometer" 3, "goal_lidar" 16, ...
+std::vector<std::pair<std::string, int>> Blocks(const BoxSpec& spec) {
+  std::vector<std::pair<std::string, int>> blocks;
+  for (const std::string& name : spec.names) {
+    const size_t cut = name.rfind('_');
+    const std::string key = name.substr(0, cut);
+    if (blocks.empty() || blocks.back().first != key) blocks.push_back({key, 0});
+    ++blocks.back().second;
+  }
+  return blocks;
+}
+
+// Every stock task observes Safety-Gymnasium's order, listed from its source: the agent's
+// SensorConf.sensors ('accelerometer', 'velocimeter', 'gyro', 'magnetometer'; base_agent.py),
+// then its joint sensors (car.xml: ballangvel_rear, then ballquat_rear as a 3 x 3 matrix), then
+// '<object>_lidar' for each object in the order the task adds them (goal_level1.py: Goal, then
+// Hazards, then the free geom Vases), flattened from an OrderedDict (base_task.py,
+// build_observation_space).
+TEST(GoalEnvObservationTest, EveryStockTaskObservesInSafetyGymnasiumsOrder) {
+  const std::vector<std::pair<std::string, int>> sensors = {
+      {"accelerometer", 3}, {"velocimeter", 3}, {"gyro", 3}, {"magnetometer", 3}};
+  const std::vector<std::pair<std::string, int>> car_joints = {{"ballangvel_rear", 3},
+                                                               {"ballquat_rear", 9}};
+  const std::vector<std::pair<std::string, int>> lidars = {
+      {"goal_lidar", 16}, {"hazards_lidar", 16}, {"vases_lidar", 16}};
+  for (const std::string& task : EnvNames()) {
+    SCOPED_TRACE(task);
+    GoalEnv env = MakeGoalEnv(task, Variant::kStandard);
+    std::vector<std::pair<std::string, int>> expected = sensors;
+    if (task.rfind("Car", 0) == 0) expected.insert(expected.end(), car_joints.begin(), car_joints.end());
+    expected.insert(expected.end(), lidars.begin(), lidars.end());
+    EXPECT_EQ(Blocks(env.observation_spec()), expected);
+    EXPECT_EQ(env.observation_spec().names[0], "accelerometer_x");
+    EXPECT_EQ(env.observation_spec().names[3], "velocimeter_x");
+    EXPECT_EQ(env.observation_spec().size(), ObservationSize(env.spec()));
+    for (int i = 0; i < env.observation_spec().size(); ++i) {
+      const bool lidar = env.observation_spec().names[i].find("lidar") != std::string::npos;
+      EXPECT_EQ(env.observation_spec().low[i], lidar ? 0.0 : -std::numeric_limits<double>::infinity());
+      EXPECT_EQ(env.observation_spec().high[i], lidar ? 1.0 : std::numeric_limits<double>::infinity());
     }
+  }
+}
+
+// The paper's lidar variant keeps the original Safety Gym's alphabetical order, which its
+// model-free baselines observed (its rover has no joint sensors).
+TEST(GoalEnvObservationTest, ThePapersLidarVariantKeepsTheOriginalsAlphabeticalOrder) {
+  for (const std::string task : {"PointGoal1", "CarGoal2"}) {
+    SCOPED_TRACE(task);
+    GoalEnv env = MakeGoalEnv(task, Variant::kPaperLidar);
+    const std::vector<std::pair<std::string, int>> expected = {
+        {"accelerometer", 3}, {"goal_lidar", 16}, {"gyro", 3}, {"hazards_lidar", 16},
+        {"magnetometer", 3},  {"vases_lidar", 16}, {"velocimeter", 3}};
+    EXPECT_EQ(Blocks(env.observation_spec()), expected);
   }
 }
 

@@ -29,7 +29,9 @@ struct RobotDescription {
   double footprint_radius = 0.0;  // radius of a disc covering the footprint, for pictures (m)
   // Robot geoms whose contact with a vase counts as a violation.
   std::vector<std::string> vase_contact_geoms;
-  // Extra sensors of the stock lidar observation ("ballquat_*" become a 3x3 matrix).
+  // Extra sensors of the stock lidar observation ("ballquat_*" become a 3x3 matrix), in
+  // Safety-Gymnasium's order: joint velocities (hinge, then ball) before positions (hinge, then
+  // ball quaternions).
   std::vector<std::string> joint_observation_sensors;
   // Paper state vector: the rover puts the magnetometer before gyro z (facts B1).
   bool magnetometer_before_gyro = false;

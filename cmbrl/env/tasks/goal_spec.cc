@@ -35,7 +35,7 @@ GoalTaskSpec MakeGoalTaskSpec(const TaskEntry& task, Variant variant) {
       // safety-starter-agents stepped the modified env itself: one env step per agent step,
       // episodes of 300 (Point) or 150 (Car) env steps, Safety Gym's observation.
       spec.action_repeat = 1;
-      spec.observation = ObservationKind::kLidar;
+      spec.observation = ObservationKind::kLidarSorted;
     }
   } else {
     spec.num_hazards = level == 1 ? 8 : 10;

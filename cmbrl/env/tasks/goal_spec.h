@@ -11,9 +11,18 @@
 namespace cmbrl {
 
 enum class ObservationKind {
-  kLidar,     // stock: sensors and 16-bin pseudo-lidars, keys in alphabetical order
+  // Stock (Safety-Gymnasium, facts A5): the robot's sensors in its order (accelerometer,
+  // velocimeter, gyro, magnetometer), its joint sensors, then the 16-bin pseudo-lidars in the
+  // order the task adds its objects (goal, hazards, vases).
+  kLidar,
+  // The original Safety Gym's: the same blocks in alphabetical order of their keys (the paper's
+  // lidar variant, whose original logs came from it).
+  kLidarSorted,
   kEgoState,  // paper: velocities, heading and ego-frame XY of goal, vases and hazards
 };
+
+// Whether the observation is sensors and pseudo-lidars (in either order).
+inline bool IsLidarObservation(ObservationKind kind) { return kind != ObservationKind::kEgoState; }
 
 // Every number of a Goal task; MakeGoalTaskSpec fills it for a task and variant.
 struct GoalTaskSpec {
