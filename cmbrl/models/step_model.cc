@@ -25,7 +25,8 @@ std::pair<torch::Tensor, torch::Tensor> Moments(const torch::Tensor& rows) {
 // out (at least 1, at most n - 1). With `labels` (0/1), each class is split on its own, so that
 // a rare class (an episode's one terminal step) is in both parts where it has 2 rows or more.
 std::pair<torch::Tensor, torch::Tensor> Split(std::int64_t n, double fraction,
-                                              const torch::Tensor* labels, at::Generator& generator) {
+                                              const torch::Tensor* labels,
+                                              at::Generator& generator) {
   const auto held_of = [fraction](std::int64_t count) {
     return std::clamp<std::int64_t>(static_cast<std::int64_t>(std::ceil(fraction * count)), 1,
                                     count - 1);
@@ -59,8 +60,7 @@ const char* StepSignalName(StepSignal signal) {
   return signal == StepSignal::kReward ? "reward" : "termination";
 }
 
-StepModel::StepModel(StepSignal signal, int input_dim, StepModelOptions options,
-                     std::uint64_t seed)
+StepModel::StepModel(StepSignal signal, int input_dim, StepModelOptions options, std::uint64_t seed)
     : signal_(signal),
       input_dim_(input_dim),
       options_(std::move(options)),
@@ -178,7 +178,7 @@ StepFitReport StepModel::Fit(const torch::Tensor& inputs, const torch::Tensor& t
 }
 
 double StepModel::TrainEpoch(torch::optim::Optimizer& optimiser, const torch::Tensor& x,
-                               const torch::Tensor& y, const torch::Tensor& train) {
+                             const torch::Tensor& y, const torch::Tensor& train) {
   const torch::Tensor shuffled = train.index_select(0, torch::randperm(train.size(0), generator_));
   double sum = 0.0;
   for (std::int64_t begin = 0; begin < shuffled.size(0); begin += options_.batch_size) {
@@ -202,9 +202,8 @@ torch::Tensor StepModel::Predict(const torch::Tensor& inputs) const {
   torch::NoGradGuard no_grad;
   const torch::Tensor rows = inputs.reshape({-1, input_dim_}).to(torch::kCPU, torch::kFloat);
   const torch::Tensor outputs = Forward((rows - input_mean_) / input_std_);
-  const torch::Tensor values = signal_ == StepSignal::kReward
-                                   ? outputs * target_std_ + target_mean_
-                                   : torch::sigmoid(outputs);
+  const torch::Tensor values = signal_ == StepSignal::kReward ? outputs * target_std_ + target_mean_
+                                                              : torch::sigmoid(outputs);
   return values.view(leading).to(inputs.device());
 }
 
@@ -238,16 +237,15 @@ void StepModel::Load(const std::string& path) {
     // A file without "signal" and with "reward_mean" predates the termination model: a reward's.
     torch::Tensor signal;
     const bool older = !archive.try_read("signal", signal);
-    const StepSignal stored = older ? StepSignal::kReward
-                                    : static_cast<StepSignal>(signal.item<std::int64_t>());
+    const StepSignal stored =
+        older ? StepSignal::kReward : static_cast<StepSignal>(signal.item<std::int64_t>());
     Require(stored == signal_, "'{}' holds a {} model, not a {} model", path,
             StepSignalName(stored), StepSignalName(signal_));
     const std::int64_t input_dim = read("input_dim").item<std::int64_t>();
     const std::int64_t layers = read("layers").item<std::int64_t>();
     Require(input_dim == input_dim_ && layers == static_cast<std::int64_t>(weights_.size()),
             "'{}' holds a {} model of {} inputs and {} layers; this one has {} and {}", path,
-            StepSignalName(signal_),
-            input_dim, layers, input_dim_, weights_.size());
+            StepSignalName(signal_), input_dim, layers, input_dim_, weights_.size());
     std::vector<torch::Tensor> weights, biases;
     for (std::int64_t l = 0; l < layers; ++l) {
       weights.push_back(read("weight" + std::to_string(l)));
@@ -289,13 +287,12 @@ torch::Tensor StoredRewards(const TransitionBuffer& buffer) {
 
 torch::Tensor StoredTerminations(const TransitionBuffer& buffer) {
   Require(buffer.keeps_terminations(), "this transition buffer keeps no terminations");
-  return torch::from_blob(const_cast<float*>(buffer.terminations()), {buffer.size()},
-                          torch::kFloat)
+  return torch::from_blob(const_cast<float*>(buffer.terminations()), {buffer.size()}, torch::kFloat)
       .clone();
 }
 
 torch::Tensor StepInputs(const torch::Tensor& states, const torch::Tensor& actions,
-                           const torch::Tensor& next_states) {
+                         const torch::Tensor& next_states) {
   return torch::cat({states, actions, next_states}, -1);
 }
 

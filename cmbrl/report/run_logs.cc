@@ -233,6 +233,35 @@ std::vector<EpisodePoint> ReadEpisodeColumns(const std::string& file, bool has_s
 
 fs::path RunLogsDir(const fs::path& report_dir) { return report_dir / kLogsFolder; }
 
+namespace {
+
+// A task's runs are pooled: one name must mean one environment. A task of one's own says what
+// makes it (python.env, or its mujoco_task section); a built-in one is its name. Throws
+// cmbrl::Error naming two runs of one task name made on different environments.
+void RequireOneEnvironmentPerTask(
+    const std::map<std::string, std::pair<RunRecord, bool>>& found) {
+  std::map<std::string, std::pair<std::string, fs::path>> environments;  // task -> (what, where)
+  for (const auto& [name, entry] : found) {
+    const TrainConfig& c = entry.first.config;
+    const std::string made =
+        !c.python.env.empty()          ? "python.env " + c.python.env
+        : IsDeclaredTask(c.mujoco_task) ? "their mujoco_task sections differ"
+                                       : "";
+    TrainConfig environment;  // its task section and its environment's name, all else default
+    environment.mujoco_task = c.mujoco_task;
+    environment.python.env = c.python.env;
+    const std::string what = made.empty() ? "" : TrainConfigToYaml(environment);
+    const auto [it, first] = environments.emplace(c.task, std::make_pair(what, entry.first.source));
+    Require(first || it->second.first == what,
+            "'{}' and '{}' both name task '{}' but were made on different environments ({}): a "
+            "report pools the runs of one task; give them names of their own",
+            it->second.second.string(), entry.first.source.string(), c.task,
+            made.empty() ? "a built-in task and one of its own" : made);  // the later one's
+  }
+}
+
+}  // namespace
+
 std::vector<RunRecord> ReadSweeps(const std::vector<std::string>& sweep_dirs) {
   std::map<std::string, std::pair<RunRecord, bool>> found;  // name -> (run, read from a log)
   const auto add = [&](RunRecord run, bool is_log) {
@@ -286,26 +315,7 @@ std::vector<RunRecord> ReadSweeps(const std::vector<std::string>& sweep_dirs) {
   }
   std::vector<RunRecord> runs;
   std::map<std::string, fs::path> by_id;  // run id -> the folder it was read from
-  // A task's runs are pooled: one name must mean one environment. A task of one's own says
-  // what makes it (python.env, or its mujoco_task section); a built-in one is its name.
-  std::map<std::string, std::pair<std::string, fs::path>> environments;  // task -> (what, where)
-  for (auto& [name, entry] : found) {
-    const TrainConfig& c = entry.first.config;
-    const std::string made =
-        !c.python.env.empty()          ? "python.env " + c.python.env
-        : IsDeclaredTask(c.mujoco_task) ? "their mujoco_task sections differ"
-                                       : "";
-    TrainConfig environment;  // its task section and its environment's name, all else default
-    environment.mujoco_task = c.mujoco_task;
-    environment.python.env = c.python.env;
-    const std::string what = made.empty() ? "" : TrainConfigToYaml(environment);
-    const auto [it, first] = environments.emplace(c.task, std::make_pair(what, entry.first.source));
-    Require(first || it->second.first == what,
-            "'{}' and '{}' both name task '{}' but were made on different environments ({}): a "
-            "report pools the runs of one task; give them names of their own",
-            it->second.second.string(), entry.first.source.string(), c.task,
-            made.empty() ? "a built-in task and one of its own" : made);  // the later one's
-  }
+  RequireOneEnvironmentPerTask(found);
   for (auto& [name, entry] : found) {
     const std::string id = RunIdOf(entry.first.sessions);
     if (!id.empty()) {

@@ -66,8 +66,7 @@ void WriteFrameStripPng(const std::vector<RgbFrame>& frames, const std::string& 
   cairo_set_source_rgb(cr.get(), 1, 1, 1);
   cairo_rectangle(cr.get(), 0, 0, width, kCaptionBand);
   cairo_fill(cr.get());
-  cairo_select_font_face(cr.get(), "sans-serif", CAIRO_FONT_SLANT_NORMAL,
-                         CAIRO_FONT_WEIGHT_NORMAL);
+  cairo_select_font_face(cr.get(), "sans-serif", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
   cairo_set_font_size(cr.get(), 13);
   cairo_set_source_rgb(cr.get(), 0.1, 0.1, 0.1);
   cairo_move_to(cr.get(), 6, kCaptionBand - 9);

@@ -161,8 +161,8 @@ py::object ImportDeclared(const char* key, const std::string& declared,
   for (size_t from = 0;;) {
     const size_t dot = attribute.find('.', from);
     const std::string part = attribute.substr(from, dot == std::string::npos ? dot : dot - from);
-    Require(py::hasattr(object, part.c_str()), "python.{} is '{}': '{}' has no attribute '{}'",
-            key, declared, std::string(py::str(py::getattr(object, "__name__", py::repr(object)))),
+    Require(py::hasattr(object, part.c_str()), "python.{} is '{}': '{}' has no attribute '{}'", key,
+            declared, std::string(py::str(py::getattr(object, "__name__", py::repr(object)))),
             part);
     object = object.attr(part.c_str());
     if (dot == std::string::npos) break;
@@ -230,8 +230,8 @@ LearnerInputs InputsWith(const std::optional<py::function>& reward,
     };
   }
   if (termination) {
-    inputs.python_termination =
-        [function = GilHeld(*termination)]() -> std::unique_ptr<TerminationTerm> {
+    inputs.python_termination = [function =
+                                     GilHeld(*termination)]() -> std::unique_ptr<TerminationTerm> {
       py::gil_scoped_acquire acquire;
       return std::make_unique<PythonTerminationTerm>(*function);
     };
@@ -259,8 +259,7 @@ LearnerInputs DeclaredInputs(const PythonSourceOptions& declared) {
   std::optional<GivenEnv> env;
   std::optional<py::function> reward, termination;
   if (!declared.env.empty()) {
-    env.emplace(ImportDeclared("env", declared.env, declared.path),
-                DeclaredEnvName(declared.env));
+    env.emplace(ImportDeclared("env", declared.env, declared.path), DeclaredEnvName(declared.env));
   }
   if (!declared.reward.empty()) {
     reward = py::reinterpret_borrow<py::function>(
