@@ -34,7 +34,8 @@ void WriteAll(const std::filesystem::path& path, std::string_view bytes, int fla
 }  // namespace
 
 void FailToWrite(const std::filesystem::path& path) {
-  Fail("could not write '{}': {}", path.string(), std::strerror(errno));
+  const int cause = errno;  // before the message's arguments, which may call into libc
+  Fail("could not write '{}': {}", path.string(), std::strerror(cause));
 }
 
 void WriteFile(const std::filesystem::path& path, std::string_view bytes) {

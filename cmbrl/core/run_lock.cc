@@ -65,11 +65,21 @@ RunLock::RunLock(const std::string& dir) {
             "'{}' was removed or replaced while this process locked it: another process is "
             "starting or removing the run in '{}'; try again once it has",
             path, dir);
+    // Each call's own errno, read right after it fails (a message's arguments are evaluated in
+    // no set order, so errno is never read inside one beside the call that sets it).
     const std::string holder = ThisHolder() + "\n";
-    Require(ftruncate(file_fd_, 0) == 0 &&
-                pwrite(file_fd_, holder.data(), holder.size(), 0) ==
-                    static_cast<ssize_t>(holder.size()),
-            "cannot write '{}': {}", path, std::strerror(errno));
+    if (ftruncate(file_fd_, 0) != 0) {
+      const int cause = errno;
+      Fail("cannot write '{}': {}", path, std::strerror(cause));
+    }
+    const ssize_t written = pwrite(file_fd_, holder.data(), holder.size(), 0);
+    if (written < 0) {
+      const int cause = errno;
+      Fail("cannot write '{}': {}", path, std::strerror(cause));
+    }
+    Require(written == static_cast<ssize_t>(holder.size()),
+            "cannot write '{}': {} of {} bytes written (is the disk full?)", path, written,
+            holder.size());
   } catch (...) {
     if (dir_fd_ >= 0) close(dir_fd_);
     if (file_fd_ >= 0) close(file_fd_);

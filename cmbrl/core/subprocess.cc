@@ -20,7 +20,12 @@ namespace {
 // Both ends of a pipe, closed when dropped.
 struct Pipe {
   std::array<int, 2> ends = {-1, -1};  // read, write
-  Pipe() { Require(pipe(ends.data()) == 0, "could not make a pipe: {}", std::strerror(errno)); }
+  Pipe() {
+    if (pipe(ends.data()) != 0) {
+      const int cause = errno;  // read before anything else can change it
+      Fail("could not make a pipe: {}", std::strerror(cause));
+    }
+  }
   ~Pipe() {
     for (const int end : ends) {
       if (end >= 0) close(end);

@@ -181,6 +181,10 @@ RunDirectory RunDirectory::Create(const fs::path& root, const std::string& confi
   try {
     made.push_back(run.progress_file());
     WriteFile(run.progress_file(), progress_header + "\n");
+    made.push_back(run.first_checkpoint_pending_file());
+    WriteFile(run.first_checkpoint_pending_file(),
+              "this run's first checkpoint is not written yet: rows before it are dropped on "
+              "resume\n");
     made.push_back(run.config_tmp_file());
     made.push_back(run.config_file());
     run.ReplaceConfig(config_yaml);
@@ -271,11 +275,18 @@ void WriteCheckpoint(const RunDirectory& run, std::int64_t rows, double elapsed_
       manifest.files.push_back({file.filename().string(), fs::file_size(file), FileCrc(file)});
     }
     SwapInCheckpoint(run, tmp, manifest, /*new_config=*/false);
+    std::error_code ignored;  // a mark left by a stop here is ignored beside a checkpoint
+    fs::remove(run.first_checkpoint_pending_file(), ignored);
   } catch (const Error& error) {
     // A full disk: the last whole checkpoint stays, and the half-written one frees its space.
     std::error_code ignored;
     fs::remove_all(tmp, ignored);
-    Fail("{} (the run's last whole checkpoint is kept: free space, then resume it)",
+    if (fs::exists(final_dir)) {
+      Fail("{} (the run's last whole checkpoint is kept: free space, then resume it)",
+           error.what());
+    }
+    Fail("{} (the run has no checkpoint yet: free space, then resume it; it starts again from its "
+         "beginning)",
          error.what());
   }
 }
@@ -300,6 +311,10 @@ void ReplaceCheckpointedConfig(const RunDirectory& run, const std::string& confi
   }
   manifest.config_crc = FileCrc(run.config_tmp_file());  // sessions stay as the checkpoint's
   SwapInCheckpoint(run, tmp, manifest, /*new_config=*/true);
+}
+
+std::int64_t ProgressRowsInFile(const RunDirectory& run) {
+  return ReadProgressPrefix(run, 0).rows_in_file;
 }
 
 void RecoverInterruptedCheckpoint(const RunDirectory& run) {
@@ -335,7 +350,7 @@ std::optional<CheckpointManifest> VerifiedCheckpoint(const RunDirectory& run, bo
   const fs::path folder = LastCheckpointDir(run);
   if (!fs::exists(folder)) {
     const std::int64_t rows = ReadProgressPrefix(run, 0).rows_in_file;
-    Require(rows == 0,
+    Require(rows == 0 || fs::exists(run.first_checkpoint_pending_file()),
             "'{}' has {} rows but the run has no checkpoint ('{}' is missing): its parts "
             "disagree; start a new run",
             run.progress_file().string(), rows, folder.string());

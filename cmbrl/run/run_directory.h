@@ -28,6 +28,12 @@ class RunDirectory {
   std::filesystem::path sessions_file() const { return root_ / "sessions.jsonl"; }
   // The last whole checkpoint; a learner's files and manifest.json.
   std::filesystem::path checkpoint_dir() const { return root_ / "checkpoint"; }
+  // Present from the run's creation until its first checkpoint is in place: rows without a
+  // checkpoint beside it were written before a first checkpoint that never completed (a full
+  // disk, a kill), not left by a checkpoint removed afterwards.
+  std::filesystem::path first_checkpoint_pending_file() const {
+    return root_ / "checkpoint.pending";
+  }
 
   bool HoldsRun() const;
   // Throws cmbrl::Error naming the directory when it already holds a run.
@@ -35,8 +41,8 @@ class RunDirectory {
 
   // Creates the run directory and runs `claim` (which takes the run's lock) before writing any
   // file; then checks again that no other process made a run there meanwhile, and writes a
-  // progress.csv of `progress_header` alone and config.yaml (written whole, then renamed into
-  // place: its presence marks the run). When `claim` or that check throws, nothing is touched
+  // progress.csv of `progress_header` alone, the first checkpoint's pending mark and config.yaml
+  // (written whole, then renamed into place: its presence marks the run). When `claim` or that check throws, nothing is touched
   // (the directory may hold another process's run). When writing fails, whatever this call
   // wrote is removed again, the directory itself included when this call made it. Throws
   // cmbrl::Error when the directory already holds a run or cannot be written.
@@ -113,13 +119,18 @@ std::filesystem::path LastCheckpointDir(const RunDirectory& run);
 // checked against its manifest and progress.csv: every file present
 // with its size and checksum, and progress.csv's first `rows` rows those it covered (rows after
 // them were written after it and are dropped on resume). nullopt when the run has no checkpoint
-// yet and progress.csv has no rows. Throws cmbrl::Error naming the file that disagrees: an
+// yet, and progress.csv has no rows or its first checkpoint never completed (its pending mark
+// is there: the rows are not covered, and a resume drops them). Throws cmbrl::Error naming the
+// file that disagrees: an
 // edited or deleted manifest.json, a missing or changed file, a config.yaml other than the one
 // the checkpoint recorded, a progress.csv or sessions.jsonl shorter than or different from
-// what the checkpoint covered, rows without a checkpoint.
+// what the checkpoint covered, rows without a checkpoint that once was (no pending mark).
 // `files` false checks only what the manifest says of progress.csv, not the checkpoint's own
 // files (for readers of progress such as reports: a run's model files can be large).
 std::optional<CheckpointManifest> VerifiedCheckpoint(const RunDirectory& run, bool files = true);
+
+// The rows progress.csv holds (its header aside), checkpointed or not.
+std::int64_t ProgressRowsInFile(const RunDirectory& run);
 
 // Keeps progress.csv's header and its first `rows` rows.
 void TruncateProgress(const RunDirectory& run, std::int64_t rows);

@@ -87,6 +87,18 @@ std::unique_ptr<Trainer> Trainer::Resume(const std::string& run_dir,
   auto state = std::make_unique<State>(LoadTrainConfig(run.config_file().string()), run);
   state->lock = std::move(lock);
   const std::optional<CheckpointManifest> checkpoint = VerifiedCheckpoint(run);
+  // Rows written before a first checkpoint that never completed are dropped: the run starts
+  // again from its beginning, and its session says so.
+  std::string restart_note;
+  if (!checkpoint) {
+    const std::int64_t uncovered = ProgressRowsInFile(run);
+    if (uncovered > 0) {
+      restart_note = fmt::format(
+          "its first checkpoint was never completed (a full disk, or a stop before it): the run "
+          "starts again from its beginning, and the {} row(s) written before it are dropped",
+          uncovered);
+    }
+  }
   const std::int64_t old_budget = state->config.training.total_steps;
   if (new_budget) {
     state->config.training.total_steps = *new_budget;
@@ -119,9 +131,10 @@ std::unique_ptr<Trainer> Trainer::Resume(const std::string& run_dir,
   }
   // A finished run asked to go on with nothing to do is no session.
   if (!state->learner->Finished()) {
-    state->setup_changes =
-        RecordRunSession(run, state->learner->steps_done(),
-                         SessionSetup(state->config.device, inputs), state->learner->ResumeNote());
+    std::string note = state->learner->ResumeNote();
+    if (!restart_note.empty()) note = note.empty() ? restart_note : restart_note + "; " + note;
+    state->setup_changes = RecordRunSession(run, state->learner->steps_done(),
+                                            SessionSetup(state->config.device, inputs), note);
   }
   return std::unique_ptr<Trainer>(new Trainer(std::move(state)));
 }

@@ -76,4 +76,50 @@ set -e
 [ "$code" = 1 ] || { echo "FAILED: sweep exited $code on a full disk"; cat "$work/sweep.log"; exit 1; }
 expect_full sweep "$work/sweep.log" "\(slurm.sh\|sweep.json.tmp\)"
 [ ! -e "$disk/sweep/runs/pointgoal1-random-s0/config.yaml" ] || { echo "FAILED: a run started"; exit 1; }
-echo "full disk: train, report, rollout trace and sweep named the file and the cause; resumed exactly"
+rm -rf "$disk/sweep" "$disk/filler"
+
+# 5. A first checkpoint that does not fit, for a model-free run (a row is written before it) and
+# an MPC run: each resumes, once moved to a disk with room, from its beginning to the rows of a
+# run made in one go, and its session says why.
+without_clock() {  # a progress.csv without its Time and MsPerPlan columns, whatever the family
+  awk -F, 'NR == 1 { for (i = 1; i <= NF; ++i) drop[i] = ($i == "Time" || $i == "MsPerPlan") }
+           { out = ""; for (i = 1; i <= NF; ++i) if (!drop[i]) out = out $i ","; print out }' "$1"
+}
+first_checkpoint() {  # name, config
+  "$cmbrl" train --config "$2" --out "$work/whole-$1" > /dev/null 2>&1
+  local avail; avail=$(df --output=avail -B1 "$disk" | tail -1)
+  head -c $((avail - 40960)) /dev/zero > "$disk/filler" 2> /dev/null || true
+  set +e
+  "$cmbrl" train --config "$2" --out "$disk/$1" > "$work/first-$1.log" 2>&1
+  code=$?
+  set -e
+  [ "$code" = 1 ] || { echo "FAILED: $1 exited $code on a full disk"; cat "$work/first-$1.log"; exit 1; }
+  expect_full "$1" "$work/first-$1.log" "checkpoint.tmp/[a-z_]*\.[a-z]*"
+  [ ! -e "$disk/$1/checkpoint" ] || { echo "FAILED: $1 has a checkpoint after all"; exit 1; }
+  grep -q "the run has no checkpoint yet: free space, then resume it" "$work/first-$1.log" ||
+    { echo "FAILED: $1's message does not say it has no checkpoint yet"; cat "$work/first-$1.log"; exit 1; }
+  cp -r "$disk/$1" "$work/moved-$1" && rm -f "$work/moved-$1/lock" && rm -rf "$disk/$1" "$disk/filler"
+  "$cmbrl" train --resume "$work/moved-$1" > /dev/null 2>&1 ||
+    { echo "FAILED: $1 did not resume after its first checkpoint failed"; exit 1; }
+  if ! diff <(without_clock "$work/whole-$1/progress.csv") \
+            <(without_clock "$work/moved-$1/progress.csv"); then
+    echo "FAILED: $1's resumed rows differ from the uninterrupted run's"; exit 1
+  fi
+  grep -q "first checkpoint was never completed" "$work/moved-$1/sessions.jsonl" ||
+    [ "$1" = mpc ] || { echo "FAILED: $1's session does not say it started again"; exit 1; }
+}
+first_checkpoint model-free "$(dirname "${BASH_SOURCE[0]}")/tiny-cpo.yaml"
+first_checkpoint mpc "$config"
+
+# 6. The lock file on a full disk names the cause (it once read "Success").
+cp -r "$work/whole-mpc" "$disk/locked" && rm -f "$disk/locked/lock"
+head -c $(( $(df --output=avail -B1 "$disk" | tail -1) )) /dev/zero > "$disk/filler" 2> /dev/null || true
+set +e
+"$cmbrl" train --resume "$disk/locked" --steps 999 > "$work/lock.log" 2>&1
+code=$?
+set -e
+[ "$code" = 1 ] || { echo "FAILED: a resume exited $code with no room for its lock"; cat "$work/lock.log"; exit 1; }
+grep -q "cannot write '[^']*locked/lock': No space left on device" "$work/lock.log" ||
+  { echo "FAILED: the lock's error names no cause:"; cat "$work/lock.log"; exit 1; }
+rm -rf "$disk/locked" "$disk/filler"
+echo "full disk: train, report, rollout trace and sweep named the file and the cause; resumed exactly; a first checkpoint that did not fit resumed from the start (model-free and MPC); the lock named its cause"

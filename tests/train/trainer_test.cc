@@ -1,11 +1,13 @@
 #include "cmbrl/train/trainer.h"
 
+#include <fmt/ranges.h>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <iterator>
 #include <sstream>
 
 #include "cmbrl/core/files.h"
@@ -435,6 +437,45 @@ TEST(TrainerTest, RunDirectoriesAreNotMixedUp) {
               ::testing::HasSubstr("already holds a run"));
   EXPECT_THAT(ErrorMessage([&] { Trainer::Resume(TempRunDir("nothing")); }),
               ::testing::HasSubstr("holds no run"));
+}
+
+// A first checkpoint that never completed (a full disk, a kill before it) leaves rows with no
+// checkpoint beside its pending mark: the resume drops them, starts again from the beginning,
+// writes the rows of an uninterrupted run, and its session says so.
+TEST(TrainerTest, ARunWhoseFirstCheckpointNeverCompletedStartsAgainAndSaysSo) {
+  const std::string whole = TempRunDir("whole_first");
+  {
+    auto trainer = Trainer::Start(TinyConfig("cem"), whole);
+    EXPECT_TRUE(fs::exists(fs::path(whole) / "checkpoint.pending"));  // until the first one
+    trainer->Run();
+  }
+  EXPECT_FALSE(fs::exists(fs::path(whole) / "checkpoint.pending"));
+  const std::string cut = TempRunDir("cut_first");
+  fs::copy(whole, cut, fs::copy_options::recursive);
+  fs::remove(fs::path(cut) / "lock");
+  fs::remove_all(fs::path(cut) / "checkpoint");  // as if it had never been written
+  std::ofstream(fs::path(cut) / "checkpoint.pending") << "pending\n";
+  Trainer::Resume(cut)->Run();
+  const auto text = [](const fs::path& file) {
+    std::ifstream in(file);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  };
+  const auto rows = [&](const std::string& dir) {  // without the clock columns
+    std::istringstream in(text(fs::path(dir) / "progress.csv"));
+    std::vector<std::string> kept;
+    for (std::string line; std::getline(in, line);) {
+      std::vector<std::string> fields;
+      std::istringstream cells(line);
+      for (std::string cell; std::getline(cells, cell, ',');) fields.push_back(cell);
+      fields[6] = fields[11] = "";  // Time, MsPerPlan
+      kept.push_back(fmt::format("{}", fmt::join(fields, ",")));
+    }
+    return kept;
+  };
+  EXPECT_EQ(rows(cut), rows(whole));
+  EXPECT_THAT(text(fs::path(cut) / "sessions.jsonl"),
+              ::testing::HasSubstr("its first checkpoint was never completed"));
+  EXPECT_FALSE(fs::exists(fs::path(cut) / "checkpoint.pending"));
 }
 
 // A run knows its own state: parts that disagree with the checkpoint's manifest are refused,
