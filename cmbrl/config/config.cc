@@ -2,6 +2,7 @@
 
 #include <fmt/ranges.h>
 #include <unistd.h>
+#include <yaml-cpp/eventhandler.h>
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
@@ -52,6 +53,20 @@ class Section {
     known_.push_back(key);
     if (!node_.IsMap() || !node_[key]) return;
     const YAML::Node value = node_[key];
+    if constexpr (!std::is_same_v<T, std::string> && !std::is_same_v<T, std::vector<std::string>>) {
+      // A quoted value is a string, whatever it spells ('24', "true"): YAML's and JSON's rule.
+      const auto quoted = [](const YAML::Node& node) {
+        return node.IsScalar() && node.Tag() == "!";
+      };
+      bool any = quoted(value);
+      if (value.IsSequence()) {
+        for (const YAML::Node& item : value) any = any || quoted(item);
+      }
+      if (any) {
+        Fail("config '{}': key '{}' is '{}', a string: expected {} (write it without quotes)",
+             source_, Name(key), Dump(value), TypeName<T>());
+      }
+    }
     try {
       field = value.as<T>();
     } catch (const YAML::Exception&) {
@@ -348,7 +363,71 @@ void AtKey(const std::string& source, const std::string& key, Check&& check) {
 // Refuses what YAML accepts but a config cannot mean: several documents in one file, a document
 // that is empty or not a mapping, and a key given twice in one mapping (YAML keeps only one of
 // them, silently). Names the file and the line (1-based).
+// A config's bounds, checked before it is read as a whole: its size, and (by the parser's events,
+// which cost one pass over the text) no anchors or aliases (an alias "bomb" expands exponentially
+// when read), no tags that change a value's type (!!str 24), and a limited nesting depth.
+constexpr std::size_t kMaxConfigBytes = 1 << 20;
+constexpr int kMaxConfigDepth = 16;
+
+class BoundedYaml final : public YAML::EventHandler {
+ public:
+  explicit BoundedYaml(const std::string& source) : source_(source) {}
+  void OnDocumentStart(const YAML::Mark&) override {}
+  void OnDocumentEnd() override {}
+  void OnNull(const YAML::Mark& mark, YAML::anchor_t anchor) override { Check(mark, anchor, ""); }
+  void OnAlias(const YAML::Mark& mark, YAML::anchor_t) override {
+    Fail("config '{}', line {}: YAML aliases (*name) are not accepted: write the value out",
+         source_, mark.line + 1);
+  }
+  void OnScalar(const YAML::Mark& mark, const std::string& tag, YAML::anchor_t anchor,
+                const std::string&) override {
+    Check(mark, anchor, tag);
+  }
+  void OnSequenceStart(const YAML::Mark& mark, const std::string& tag, YAML::anchor_t anchor,
+                       YAML::EmitterStyle::value) override {
+    Open(mark, anchor, tag);
+  }
+  void OnSequenceEnd() override { --depth_; }
+  void OnMapStart(const YAML::Mark& mark, const std::string& tag, YAML::anchor_t anchor,
+                  YAML::EmitterStyle::value) override {
+    Open(mark, anchor, tag);
+  }
+  void OnMapEnd() override { --depth_; }
+
+ private:
+  void Check(const YAML::Mark& mark, YAML::anchor_t anchor, const std::string& tag) const {
+    Require(anchor == 0,
+            "config '{}', line {}: YAML anchors (&name) are not accepted: write each value out",
+            source_, mark.line + 1);
+    Require(tag.empty() || tag == "?" || tag == "!",
+            "config '{}', line {}: the YAML tag '{}' is not accepted: a value's type is the "
+            "key's (write 24, not !!str 24)",
+            source_, mark.line + 1, tag);
+  }
+  void Open(const YAML::Mark& mark, YAML::anchor_t anchor, const std::string& tag) {
+    Check(mark, anchor, tag);
+    Require(++depth_ <= kMaxConfigDepth,
+            "config '{}', line {}: nested more than {} levels deep: a config is sections of keys",
+            source_, mark.line + 1, kMaxConfigDepth);
+  }
+
+  const std::string& source_;
+  int depth_ = 0;
+};
+
 YAML::Node LoadConfigDocument(const std::string& text, const std::string& source) {
+  Require(text.size() <= kMaxConfigBytes,
+          "config '{}' is {} bytes: a config is at most {} bytes (1 MiB)", source, text.size(),
+          kMaxConfigBytes);
+  try {
+    std::istringstream in(text);
+    YAML::Parser parser(in);
+    BoundedYaml bounds(source);
+    while (parser.HandleNextDocument(bounds)) {
+    }
+  } catch (const YAML::Exception& error) {
+    Fail("config '{}' is not valid YAML: {}", source, error.what());
+  }
   std::vector<YAML::Node> documents;
   try {
     documents = YAML::LoadAll(text);
@@ -375,6 +454,11 @@ YAML::Node LoadConfigDocument(const std::string& text, const std::string& source
         const std::string key = entry.first.Scalar();
         Require(keys.insert(key).second, "config '{}', line {}: key '{}' is given twice",
                 source, entry.first.Mark().line + 1, key);
+        // A bare "planning:" would replace the whole section of the files before it.
+        Require(!entry.second.IsNull(),
+                "config '{}', line {}: key '{}' has no value: give it one (a section its keys), "
+                "or leave it out",
+                source, entry.first.Mark().line + 1, key);
         pending.push_back(entry.second);
       }
     } else if (node.IsSequence()) {
@@ -386,11 +470,28 @@ YAML::Node LoadConfigDocument(const std::string& text, const std::string& source
 
 // LoadConfigDocument of a file's text.
 YAML::Node LoadConfigFile(const std::string& path) {
-  std::ifstream in(path);
+  // Only a regular file of bounded size is read: not a FIFO (which blocks), a device (which may
+  // never end) or a folder.
+  std::error_code error;
+  const std::filesystem::file_status status = std::filesystem::status(path, error);
+  Require(!error || error == std::errc::no_such_file_or_directory,
+          "config file '{}' cannot be read: {}", path, error.message());
+  Require(std::filesystem::exists(status), "config file '{}' does not exist: expected a YAML file",
+          path);
+  Require(std::filesystem::is_regular_file(status),
+          "config file '{}' is not a regular file (a folder, a FIFO or a device): expected a "
+          "YAML file",
+          path);
+  const std::uintmax_t size = std::filesystem::file_size(path, error);
+  Require(!error && size <= kMaxConfigBytes,
+          "config file '{}' is {} bytes: a config is at most {} bytes (1 MiB)", path, size,
+          kMaxConfigBytes);
+  std::ifstream in(path, std::ios::binary);
   Require(static_cast<bool>(in), "config file '{}' cannot be opened: expected a YAML file", path);
-  std::stringstream text;
-  text << in.rdbuf();
-  return LoadConfigDocument(text.str(), path);
+  std::string text(kMaxConfigBytes + 1, '\0');
+  in.read(text.data(), static_cast<std::streamsize>(text.size()));
+  text.resize(static_cast<std::size_t>(in.gcount()));  // a file grown since is still bounded
+  return LoadConfigDocument(text, path);
 }
 
 // Merges `overlay` into `base`, key by key: a mapping merges into a mapping (a file or an
@@ -448,8 +549,12 @@ void SetTrainDevice(TrainConfig& c, const std::string& device) {
   c.planning.problem.device = device;
 }
 
-TrainConfig ParseTrainConfig(const std::string& yaml, const std::string& source) {
-  const YAML::Node document = LoadConfigDocument(yaml, source);
+namespace {
+
+// The config of a document already read and checked (LoadConfigDocument, per file). Read from
+// the nodes themselves, never from text emitted again: emitting loses a value's quotes, and a
+// quoted '24' must stay a string.
+TrainConfig ParseTrainConfigDocument(const YAML::Node& document, const std::string& source) {
   TrainConfig config;
   ConfigReader reader(document, source);
   VisitConfig(config, reader);
@@ -458,6 +563,12 @@ TrainConfig ParseTrainConfig(const std::string& yaml, const std::string& source)
   ApplyDeclaredPython(document, config, source);
   ValidateTrainConfig(config, source);
   return config;
+}
+
+}  // namespace
+
+TrainConfig ParseTrainConfig(const std::string& yaml, const std::string& source) {
+  return ParseTrainConfigDocument(LoadConfigDocument(yaml, source), source);
 }
 
 TrainConfig LoadTrainConfig(const std::string& path) {
@@ -508,9 +619,7 @@ TrainConfig LoadTrainConfig(const std::vector<std::string>& paths) {
   for (const std::string& path : paths) {
     MergeInto(merged, WithModelFromFileFolder(LoadConfigFile(path), path));
   }
-  YAML::Emitter out;
-  out << merged;
-  return ParseTrainConfig(out.c_str(), fmt::format("{}", fmt::join(paths, "' + '")));
+  return ParseTrainConfigDocument(merged, fmt::format("{}", fmt::join(paths, "' + '")));
 }
 
 namespace {
@@ -720,11 +829,19 @@ TrainConfig ApplyConfigOverrides(const TrainConfig& config,
     const YAML::Node parent = section.empty() ? document : document[section];
     Require(parent.IsMap() && parent[name], "{} '{}': unknown key '{}'", source, item, key);
     YAML::Node value;
+    const std::string text = item.substr(equals + 1);
+    const std::string where = fmt::format("{} '{}'", source, item);
     try {
-      value = YAML::Load(item.substr(equals + 1));
+      std::istringstream in(text);
+      YAML::Parser parser(in);
+      BoundedYaml bounds(where);  // no anchors, aliases or type tags; bounded depth
+      while (parser.HandleNextDocument(bounds)) {
+      }
+      value = YAML::Load(text);
     } catch (const YAML::Exception& error) {
-      Fail("{} '{}': the value is not valid YAML: {}", source, item, error.what());
+      Fail("{}: the value is not valid YAML: {}", where, error.what());
     }
+    Require(!value.IsNull(), "{}: the value is null: give one", where);
     YAML::Node patch(YAML::NodeType::Map);
     if (section.empty()) {
       patch[name] = value;
@@ -733,9 +850,7 @@ TrainConfig ApplyConfigOverrides(const TrainConfig& config,
     }
     MergeInto(document, patch);  // a mapping merges into its section, keeping its other keys
   }
-  YAML::Emitter out;
-  out << document;
-  return ParseTrainConfig(out.c_str(), source);
+  return ParseTrainConfigDocument(document, source);
 }
 
 }  // namespace cmbrl

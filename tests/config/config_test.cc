@@ -3,6 +3,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <chrono>
+#include <sys/stat.h>
 #include <cctype>
 #include <filesystem>
 #include <fstream>
@@ -130,6 +132,69 @@ TEST(ConfigTest, PythonPartsDeclaredByNameNameTheTaskAndTheObjective) {
                                                          folder.string(), "/abs"}));
 }
 
+// A config is bounded before it is read: a regular file of at most 1 MiB, no anchors or aliases
+// (an alias bomb would expand exponentially), no type tags, a bounded depth; a key without a
+// value (a bare section) and a quoted number are refused by name, from a file, a dict's text or
+// an override alike. Each refusal is quick.
+TEST(ConfigTest, InputsAreBoundedBeforeTheyAreRead) {
+  const auto refused = [](const std::string& text) {
+    return ErrorMessage([&] { ParseTrainConfig("task: PointGoal1\n" + text, "c"); });
+  };
+  std::string bomb = "a: &a [1, 1]\n";
+  for (char c = 'b'; c <= 'z'; ++c) {
+    bomb += fmt::format("{0}: &{0} [*{1}, *{1}, *{1}, *{1}]\n", c, static_cast<char>(c - 1));
+  }
+  const auto start = std::chrono::steady_clock::now();
+  EXPECT_THAT(refused(bomb), ::testing::HasSubstr("line 2: YAML anchors (&name) are not accepted"));
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 1.0);
+  EXPECT_THAT(refused("planning: {population: !!str 24}"),
+              ::testing::HasSubstr("the YAML tag 'tag:yaml.org,2002:str' is not accepted"));
+  EXPECT_THAT(refused("planning:\n"),
+              ::testing::HasSubstr("key 'planning' has no value: give it one"));
+  EXPECT_THAT(refused("planning: {population: '24'}"),
+              ::testing::HasSubstr("key 'planning.population' is '24', a string: expected an "
+                                   "integer (write it without quotes)"));
+  EXPECT_THAT(refused("ensemble: {hidden_sizes: ['64']}"),
+              ::testing::HasSubstr("key 'ensemble.hidden_sizes' is '[64]', a string"));
+  EXPECT_EQ(ParseTrainConfig("task: PointGoal1\ndevice: 'cpu'", "c").device, "cpu");  // a string
+  std::string deep = "x: ";
+  for (int i = 0; i < 40; ++i) deep += "[";
+  EXPECT_THAT(refused(deep), ::testing::HasSubstr("nested more than 16 levels deep"));
+  EXPECT_THAT(refused("x: " + std::string(2 << 20, 'a')),
+              ::testing::HasSubstr("bytes: a config is at most 1048576 bytes (1 MiB)"));
+  EXPECT_THAT(ErrorMessage([] {
+                ApplyConfigOverrides(ParseTrainConfig("task: PointGoal1", "c"),
+                                     {"planning.population='24'"}, "--set");
+              }),
+              ::testing::HasSubstr("a string: expected an integer"));
+  EXPECT_THAT(ErrorMessage([] {
+                ApplyConfigOverrides(ParseTrainConfig("task: PointGoal1", "c"),
+                                     {"planning.population=~"}, "--set");
+              }),
+              ::testing::HasSubstr("the value is null"));
+  // Only a regular file is read.
+  EXPECT_THAT(ErrorMessage([] { LoadTrainConfig("/dev/zero"); }),
+              ::testing::HasSubstr("is not a regular file (a folder, a FIFO or a device)"));
+  const std::filesystem::path folder = testing::TestTempDir() / "bounded";
+  std::filesystem::create_directories(folder);
+  EXPECT_THAT(ErrorMessage([&] { LoadTrainConfig(folder.string()); }),
+              ::testing::HasSubstr("is not a regular file"));
+  const std::filesystem::path fifo = folder / "fifo.yaml";
+  std::filesystem::remove(fifo);
+  ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
+  EXPECT_THAT(ErrorMessage([&] { LoadTrainConfig(fifo.string()); }),
+              ::testing::HasSubstr("is not a regular file"));
+  const std::filesystem::path big = folder / "big.yaml";
+  std::ofstream(big) << "task: PointGoal1\n# " << std::string(2 << 20, 'x') << "\n";
+  EXPECT_THAT(ErrorMessage([&] { LoadTrainConfig(big.string()); }),
+              ::testing::HasSubstr("bytes: a config is at most 1048576 bytes (1 MiB)"));
+  const std::filesystem::path loop = folder / "loop.yaml";
+  std::filesystem::remove(loop);
+  std::filesystem::create_symlink(loop, loop);
+  EXPECT_THAT(ErrorMessage([&] { LoadTrainConfig(loop.string()); }),
+              ::testing::HasSubstr("cannot be read: Too many levels of symbolic links"));
+}
+
 TEST(ConfigTest, EveryYamlFileUnderConfigsLoads) {
   int files = 0;
   for (const auto& entry :
@@ -213,7 +278,7 @@ TEST(ConfigTest, BadConfigurationsNameTheKeyAndTheValue) {
   EXPECT_THAT(ErrorMessage([] { ParseTrainConfig("task: [", "c.yaml"); }),
               ::testing::HasSubstr("config 'c.yaml' is not valid YAML"));
   EXPECT_EQ(ErrorMessage([] { LoadTrainConfig("/nonexistent/x.yaml"); }),
-            "config file '/nonexistent/x.yaml' cannot be opened: expected a YAML file");
+            "config file '/nonexistent/x.yaml' does not exist: expected a YAML file");
 }
 
 TEST(ConfigTest, OverridesChangeTheirKeysAndAreValidatedAsAFileIs) {
