@@ -40,10 +40,18 @@ LoadedRun::LoadedRun(const std::string& run_dir, std::uint64_t seed,
   Require(VerifiedCheckpoint(run).has_value(), "'{}' holds no trained run yet (no checkpoint)",
           run_dir);
   config_ = LoadTrainConfig(run.config_file().string());
+  const FamilySheet& family = FamilyOf(config_.algorithm);
   for (const std::string& item : overrides) {
     Require(IsPlanningOverride(item),
             "override '{}': only {} can change for a trained run (the others shape its models)",
             item, fmt::join(PlanningOverrideKeys(), ", "));
+    // Each applies to a planner: a family that plans with none would ignore it.
+    const std::string key = item.substr(0, item.find('='));
+    const std::string section = key.find('.') == std::string::npos ? "" : key.substr(0, key.find('.'));
+    Require(section.empty() ? family.Reads("planning") : family.Reads(section),
+            "override '{}': a {} run ({}) has no planner, objective or classifier to change: "
+            "evaluate it without overrides",
+            item, family.name, config_.algorithm);
   }
   if (!overrides.empty()) config_ = ApplyConfigOverrides(config_, overrides, "overrides");
   agent_ = RegistrationOf(FamilyOf(config_.algorithm))

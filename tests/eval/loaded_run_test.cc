@@ -1,5 +1,6 @@
 #include "cmbrl/eval/loaded_run.h"
 
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -7,6 +8,7 @@
 #include "cmbrl/agent/policy.h"
 #include "cmbrl/env/env.h"
 #include "cmbrl/train/trainer.h"
+#include "tests/error_message.h"
 #include "tests/temp_path.h"
 
 namespace cmbrl {
@@ -50,6 +52,30 @@ TEST(LoadedRunTest, OnlyCheckpointOldLeftIsReadInPlace) {
     EXPECT_TRUE(fs::exists(dir / "checkpoint.old"));
     fs::remove_all(dir);
   }
+}
+
+// Overrides change how a trained planner plans: a model-free run, which has none, refuses them
+// by name instead of ignoring them; an MPC run takes them, and still refuses the model keys.
+TEST(LoadedRunTest, OverridesThatDoNotApplyToTheRunsFamilyAreRefused) {
+  const fs::path dir = testing::TestTempPath("loaded_run_overrides");
+  fs::remove_all(dir);
+  Trainer::Start(ParseTrainConfig("task: PointGoal1\nvariant: paper-lidar\nalgorithm: trpo\n"
+                                  "training: {total_steps: 300}\npolicy_optimisation: "
+                                  "{steps_per_epoch: 300, envs: 1, env_threads: 1, "
+                                  "policy_hidden: [8], value_hidden: [8]}\n",
+                                  "overrides test"),
+                 dir.string())
+      ->Run();
+  for (const std::string item :
+       {"planning.population=50", "objective.gamma=0.9", "classifier.threshold=0.3", "planner=cem"}) {
+    SCOPED_TRACE(item);
+    EXPECT_THAT(testing::ErrorMessage([&] { LoadedRun(dir.string(), 0, {item}); }),
+                ::testing::HasSubstr(fmt::format(
+                    "override '{}': a policy optimisation run (trpo) has no planner", item)));
+  }
+  EXPECT_THAT(testing::ErrorMessage([&] { LoadedRun(dir.string(), 0, {"ensemble.max_epochs=3"}); }),
+              ::testing::HasSubstr("can change for a trained run"));
+  fs::remove_all(dir);
 }
 
 }  // namespace
