@@ -274,14 +274,6 @@ std::vector<std::pair<SweepRun, TrainConfig>> ResolveExperimentRuns(const Experi
           fmt::format("experiment '{}', run {}: override", experiment.file().string(), run.name));
     }
     config.seed = run.seed;
-    // A task of the experiment's own is the one its preset names (a built-in one's may be
-    // renamed by the experiment's family, as the paper's presets are not).
-    const std::vector<std::string>& built_in = EnvNames();
-    Require(std::find(built_in.begin(), built_in.end(), run.task) != built_in.end() ||
-                config.task == run.task,
-            "experiment '{}', run {}: its preset names task '{}', not '{}': give the preset "
-            "'task: {}'",
-            experiment.file().string(), run.name, config.task, run.task, run.task);
     resolved.emplace_back(run, config);
   }
   return resolved;

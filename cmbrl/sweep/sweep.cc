@@ -136,6 +136,15 @@ std::vector<SweepRun> PlanSweep(const SweepGrid& grid, const std::string& sweep_
       Require(fs::exists(config), "no config '{}' for {} with {}: expected <task>-<planner>.yaml "
               "in --config-dir",
               config.string(), task, planner);
+      // A run is what its name says: its preset (with the overlays) trains that task and method.
+      std::vector<std::string> composed = {config.string()};
+      composed.insert(composed.end(), grid.overlays.begin(), grid.overlays.end());
+      const TrainConfig preset = LoadTrainConfig(composed);
+      Require(preset.task == task && MethodOf(preset) == planner,
+              "'{}' trains task '{}' with '{}', not '{}' with '{}' as its name says: give the "
+              "preset 'task: {}' and its method",
+              fmt::format("{}", fmt::join(composed, "' + '")), preset.task, MethodOf(preset), task,
+              planner, task);
       for (const auto& [setting, point_overrides] : points) {
         for (const std::uint64_t seed : grid.seeds) {
           SweepRun run;

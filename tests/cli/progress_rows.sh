@@ -3,3 +3,24 @@
 # stopped, resumed or scheduled.
 # Usage: deterministic_rows PROGRESS_CSV
 deterministic_rows() { cut -d, -f1-6,8-11,13- "$1"; }
+
+# Trains CUT_DIR with the train arguments given, checkpointing after every step, kills it with
+# SIGKILL at its first checkpoint in the middle of an episode, resumes it, and fails (exit 1,
+# naming the difference) unless its rows are WHOLE_DIR's.
+# Usage: killed_mid_episode_resumes CMBRL WHOLE_DIR CUT_DIR TRAIN_ARGUMENTS...
+killed_mid_episode_resumes() {
+  local cmbrl=$1 whole=$2 cut=$3
+  shift 3
+  "$cmbrl" train "$@" --out "$cut" --checkpoint-seconds 0 > /dev/null 2>&1 &
+  local pid=$!
+  for _ in $(seq 1 600); do
+    [ -f "$cut/checkpoint/episode.json" ] && break
+    sleep 0.02
+  done
+  kill -9 $pid 2> /dev/null || true
+  wait $pid 2> /dev/null || true
+  "$cmbrl" train --resume "$cut" > /dev/null 2>&1
+  if ! diff <(deterministic_rows "$whole/progress.csv") <(deterministic_rows "$cut/progress.csv"); then
+    echo "resumed rows differ"; exit 1
+  fi
+}

@@ -5,6 +5,7 @@
 # declaration. Its bad names are refused before a run directory exists.
 # usage: python_env_sweep_test.sh CMBRL EXAMPLES_DIR WORK_DIR
 set -euo pipefail
+source "$(dirname "${BASH_SOURCE[0]}")/progress_rows.sh"
 cmbrl=$1; examples=$2; work=$3
 rm -rf "$work"; mkdir -p "$work/exp/presets"
 cd "$work"
@@ -27,18 +28,7 @@ head -1 whole/progress.csv | grep -q ",EpRawCost$" || { echo "no raw cost column
 rows=$(($(wc -l < whole/progress.csv) - 1))
 [ "$rows" -ge 2 ] || { echo "expected episodes, got $rows rows"; exit 1; }
 # Killed in the middle of an episode (the env pickles), resumed: the same rows.
-"$cmbrl" train --config ../di.yaml --out cut --checkpoint-seconds 0 > /dev/null &
-pid=$!
-for _ in $(seq 1 600); do
-  [ -f cut/checkpoint/episode.json ] && break
-  sleep 0.02
-done
-kill -9 $pid 2> /dev/null || true
-wait $pid 2> /dev/null || true
-"$cmbrl" train --resume cut > /dev/null
-strip() { cut -d, -f1-6,8-11,13- "$1"; }  # every column but Time and MsPerPlan
-diff <(strip whole/progress.csv) <(strip cut/progress.csv) > /dev/null ||
-  { echo "resumed rows differ"; diff <(strip whole/progress.csv) <(strip cut/progress.csv); exit 1; }
+killed_mid_episode_resumes "$cmbrl" whole cut --config ../di.yaml
 "$cmbrl" eval --run whole --episodes 1 | grep -q '"steps":100' || { echo "eval gave no episode"; exit 1; }
 # Drawn by the env itself: its factory takes render_mode, and eval makes one with rgb_array.
 "$cmbrl" eval --run whole --episodes 1 --render pictures | grep -q '"picture":"pictures/episode-0.png"' ||

@@ -3,6 +3,7 @@
 # evaluates, and its bad inputs are refused by name before the run directory exists.
 # usage: task_file_test.sh CMBRL EXAMPLES_DIR WORK_DIR
 set -euo pipefail
+source "$(dirname "${BASH_SOURCE[0]}")/progress_rows.sh"
 cmbrl=$1; examples=$2; work=$3
 rm -rf "$work"; mkdir -p "$work"
 # The example's task (a copy), at a tiny size, from another folder: its model is found from
@@ -22,18 +23,7 @@ grep -q "model: $examples/arm-reach/arm.xml" whole/config.yaml || { echo "config
 rows=$(($(wc -l < whole/progress.csv) - 1))
 [ "$rows" -ge 2 ] || { echo "expected episodes, got $rows rows"; exit 1; }
 # Stopped within its first episode, resumed: the same rows.
-"$cmbrl" train --config "$task" tiny.yaml --out cut --checkpoint-seconds 0 > /dev/null &
-pid=$!
-for _ in $(seq 1 600); do
-  [ -d cut/checkpoint ] && [ -f cut/checkpoint/episode.json ] && break
-  sleep 0.05
-done
-kill -9 $pid 2> /dev/null || true
-wait $pid 2> /dev/null || true
-"$cmbrl" train --resume cut > /dev/null
-strip() { cut -d, -f1-6,8-11,13- "$1"; }  # every column but Time and MsPerPlan
-diff <(strip whole/progress.csv) <(strip cut/progress.csv) > /dev/null ||
-  { echo "resumed rows differ"; diff <(strip whole/progress.csv) <(strip cut/progress.csv); exit 1; }
+killed_mid_episode_resumes "$cmbrl" whole cut --config "$task" tiny.yaml
 "$cmbrl" eval --run whole --episodes 1 | grep -q '"steps":100' || { echo "eval gave no episode"; exit 1; }
 if "$cmbrl" eval --run whole --render pictures 2> err.txt; then echo "render accepted"; exit 1; fi
 grep -q "task 'ArmReach' has neither" err.txt || { echo "render: $(cat err.txt)"; exit 1; }

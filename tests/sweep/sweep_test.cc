@@ -97,6 +97,20 @@ TEST(SweepTest, BadGridsAreNamed) {
   grid.config_dir = "/nonexistent";
   EXPECT_THAT(ErrorMessage([&] { PlanSweep(grid, "s"); }),
               HasSubstr("no config '/nonexistent/pointgoal1-rce.yaml' for PointGoal1 with rce"));
+  // A run is what its name says: a preset that trains another method or task is refused.
+  const fs::path presets = testing::TestTempDir() / "contradicting";
+  fs::create_directories(presets);
+  std::ofstream(presets / "pointgoal1-rce.yaml") << "task: PointGoal1\nplanner: cem\n";
+  std::ofstream(presets / "pointgoal1-cem.yaml") << "task: CarGoal1\nplanner: cem\n";
+  grid = PaperGrid();
+  grid.tasks = {"PointGoal1"};
+  grid.config_dir = presets.string();
+  grid.planners = {"rce"};
+  EXPECT_THAT(ErrorMessage([&] { PlanSweep(grid, "s"); }),
+              HasSubstr("trains task 'PointGoal1' with 'cem', not 'PointGoal1' with 'rce'"));
+  grid.planners = {"cem"};
+  EXPECT_THAT(ErrorMessage([&] { PlanSweep(grid, "s"); }),
+              HasSubstr("trains task 'CarGoal1' with 'cem', not 'PointGoal1' with 'cem'"));
 }
 
 TEST(SweepTest, SlurmScriptHasOneArrayTaskPerRun) {
