@@ -33,6 +33,23 @@ void WriteAll(const std::filesystem::path& path, std::string_view bytes, int fla
 
 }  // namespace
 
+std::ifstream OpenToRead(const std::filesystem::path& path, bool binary) {
+  std::error_code error;
+  const std::filesystem::file_status status = std::filesystem::status(path, error);
+  if (error && error != std::errc::no_such_file_or_directory) {
+    Fail("cannot read '{}': {}", path.string(), error.message());
+  }
+  Require(std::filesystem::exists(status), "cannot read '{}': it does not exist", path.string());
+  Require(!std::filesystem::is_directory(status), "cannot read '{}': it is a folder",
+          path.string());
+  std::ifstream in(path, binary ? std::ios::in | std::ios::binary : std::ios::in);
+  if (!in) {
+    const int cause = errno;
+    Fail("cannot read '{}': {}", path.string(), std::strerror(cause));
+  }
+  return in;
+}
+
 void FailToWrite(const std::filesystem::path& path) {
   const int cause = errno;  // before the message's arguments, which may call into libc
   Fail("could not write '{}': {}", path.string(), std::strerror(cause));

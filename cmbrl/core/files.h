@@ -27,6 +27,10 @@ void CloseChecked(std::ofstream& out, const std::filesystem::path& path);
 // cmbrl::Error naming the file when it exists but cannot be read.
 std::string ReadWholeLines(const std::filesystem::path& path);
 
+// `path` opened for reading (binary where asked). Throws cmbrl::Error naming the file and why it
+// cannot be read: missing ("does not exist"), or the system's cause (a folder, no permission).
+std::ifstream OpenToRead(const std::filesystem::path& path, bool binary = false);
+
 // "could not write '<path>': <cause>", the cause from errno (the last failed call's).
 [[noreturn]] void FailToWrite(const std::filesystem::path& path);
 

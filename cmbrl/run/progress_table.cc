@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "cmbrl/core/check.h"
+#include "cmbrl/core/files.h"
 
 namespace cmbrl {
 namespace {
@@ -54,8 +55,7 @@ std::string ProgressNumber(double value) {
 
 ProgressTable ProgressTable::Read(const std::filesystem::path& path,
                                   std::optional<size_t> max_rows) {
-  std::ifstream in(path);
-  Require(static_cast<bool>(in), "cannot read '{}'", path.string());
+  std::ifstream in = OpenToRead(path);
   ProgressTable table;
   table.path_ = path;
   std::string line;

@@ -37,8 +37,7 @@ struct ProgressPrefix {
 };
 
 ProgressPrefix ReadProgressPrefix(const RunDirectory& run, std::int64_t rows) {
-  std::ifstream in(run.progress_file());
-  Require(static_cast<bool>(in), "cannot read '{}'", run.progress_file().string());
+  std::ifstream in = OpenToRead(run.progress_file());
   ProgressPrefix prefix;
   std::string line;
   for (std::int64_t i = -1; std::getline(in, line); ++i) {
@@ -210,8 +209,7 @@ void RunDirectory::ReplaceConfig(const std::string& config_yaml) const {
 }
 
 std::uint32_t FileCrc(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  Require(static_cast<bool>(in), "cannot read '{}'", path.string());
+  std::ifstream in = OpenToRead(path, /*binary=*/true);
   std::uint32_t crc = Crc(0, nullptr, 0);
   std::vector<char> block(1 << 20);
   while (in) {

@@ -514,6 +514,12 @@ TEST(TrainerTest, ARunWhosePartsDisagreeIsRefusedByName) {
                     "progress.csv' has {} rows but the run has no checkpoint", n)));
   }
   {
+    const fs::path dir = copy("no_progress");  // named as missing, not as unreadable
+    fs::remove(dir / "progress.csv");
+    EXPECT_THAT(ErrorMessage([&] { Trainer::Resume(dir.string()); }),
+                ::testing::HasSubstr("progress.csv': it does not exist"));
+  }
+  {
     const fs::path dir = copy("shortened");
     std::vector<std::string> lines = rows(dir);
     lines.pop_back();
