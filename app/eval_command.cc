@@ -2,7 +2,6 @@
 // with the planner's predicted trajectories.
 #include <fmt/format.h>
 
-#include <filesystem>
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -43,16 +42,14 @@ void RunEval(const EvalArgs& args) {
   EvaluationOptions options = args.options;
   if (!args.render.empty()) options.frame_every = kFrameEvery;
   const std::vector<EvaluatedEpisode> episodes = EvaluateRun(args.run, options);
-  if (!args.render.empty()) {  // none drawn unless every episode can be
-    for (const EvaluatedEpisode& episode : episodes) {
-      try {
-        RequireEpisodePicture(episode.record);
-      } catch (const Error& error) {
-        Fail("--render: {}", error.what());
-      }
+  std::vector<std::string> pictures;
+  if (!args.render.empty()) {
+    try {
+      pictures = WriteEpisodePictures(episodes, args.render);
+    } catch (const Error& error) {
+      Fail("--render: {}", error.what());
     }
   }
-  if (!args.render.empty()) std::filesystem::create_directories(args.render);
   for (size_t k = 0; k < episodes.size(); ++k) {
     const EvaluatedEpisode& episode = episodes[k];
     const EpisodeRecord& r = episode.record;
@@ -73,12 +70,7 @@ void RunEval(const EvalArgs& args) {
       line["fallback_steps"] = *episode.fallback_step_fraction;
     }
     if (!args.options.overrides.empty()) line["overrides"] = args.options.overrides;
-    if (!args.render.empty()) {
-      const std::string path =
-          (std::filesystem::path(args.render) / fmt::format("episode-{}.png", k)).string();
-      WriteEpisodePicture(episode, static_cast<int>(k), path);
-      line["picture"] = path;
-    }
+    if (!pictures.empty()) line["picture"] = pictures[k];
     std::cout << line.dump() << std::endl;
   }
 }

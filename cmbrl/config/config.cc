@@ -340,6 +340,14 @@ class ConfigWriter {
   std::string open_section_;
 };
 
+// Whether `task` can name a task of one's own (a task file's, a Python environment's given a
+// name): not empty, not a built-in task's, not "python:...".
+bool IsOwnTaskName(const std::string& task) {
+  const std::vector<std::string> built_in = EnvNames();
+  return !task.empty() && !IsPythonTask(task) &&
+         std::find(built_in.begin(), built_in.end(), task) == built_in.end();
+}
+
 // Runs a component's validation and names the section in its message ("planning.elites is ...").
 template <typename Check>
 void InSection(const std::string& source, const std::string& section, Check&& check) {
@@ -415,16 +423,22 @@ class BoundedYaml final : public YAML::EventHandler {
   int depth_ = 0;
 };
 
+// Throws cmbrl::Error naming `source` for YAML text beyond BoundedYaml's bounds; YAML's own
+// exception for text that is not YAML.
+void RequireBoundedYaml(const std::string& text, const std::string& source) {
+  std::istringstream in(text);
+  YAML::Parser parser(in);
+  BoundedYaml bounds(source);
+  while (parser.HandleNextDocument(bounds)) {
+  }
+}
+
 YAML::Node LoadConfigDocument(const std::string& text, const std::string& source) {
   Require(text.size() <= kMaxConfigBytes,
           "config '{}' is {} bytes: a config is at most {} bytes (1 MiB)", source, text.size(),
           kMaxConfigBytes);
   try {
-    std::istringstream in(text);
-    YAML::Parser parser(in);
-    BoundedYaml bounds(source);
-    while (parser.HandleNextDocument(bounds)) {
-    }
+    RequireBoundedYaml(text, source);
   } catch (const YAML::Exception& error) {
     Fail("config '{}' is not valid YAML: {}", source, error.what());
   }
@@ -509,7 +523,7 @@ void MergeInto(YAML::Node base, const YAML::Node& overlay) {
 }
 
 // A config that declares Python parts (section python) names its task and planning functions
-// by them: the task "python:" + DeclaredEnvName(python.env) (a file that names another task is
+// by them: the task DeclaredEnvTask(python.env) (a file that names another task is
 // refused), objective.reward python where python.reward is declared and the reward left
 // analytic, and objective.termination python likewise (a learned one with a declared function
 // is refused).
@@ -517,12 +531,9 @@ void ApplyDeclaredPython(const YAML::Node& document, TrainConfig& c, const std::
   InSection(source, "python", [&] { ValidatePythonSourceOptions(c.python); });
   if (!c.python.env.empty()) {
     // A name of its own where the file gives one (a sweep's task), else what made it.
-    const std::string made = kPythonTaskPrefix + DeclaredEnvName(c.python.env);
+    const std::string made = DeclaredEnvTask(c.python.env);
     if (!document["task"]) c.task = made;
-    const std::vector<std::string> built_in = EnvNames();
-    Require(c.task == made || (!IsPythonTask(c.task) && !c.task.empty() &&
-                               std::find(built_in.begin(), built_in.end(), c.task) ==
-                                   built_in.end()),
+    Require(c.task == made || IsOwnTaskName(c.task),
             "config '{}': key 'task' is '{}' with python.env '{}' declared: expected a name of "
             "its own (not a built-in task's, not python:...), or no task (it is then '{}')",
             source, c.task, c.python.env, made);
@@ -668,10 +679,7 @@ int ValidatedObservationSize(const TrainConfig& c, const std::string& source) {
             "config '{}': keys 'mujoco_task.model' and 'python.env' are both set: a task is "
             "declared as a MuJoCo model or made by Python, not both",
             source);
-    const std::vector<std::string> built_in = EnvNames();
-    Require(!IsPythonTask(c.task) &&
-                std::find(built_in.begin(), built_in.end(), c.task) == built_in.end() &&
-                !c.task.empty(),
+    Require(IsOwnTaskName(c.task),
             "config '{}': key 'task' is '{}' with a mujoco_task declared: expected a name of its "
             "own (not a built-in task's, not python:...)",
             source, c.task);
@@ -832,11 +840,7 @@ TrainConfig ApplyConfigOverrides(const TrainConfig& config,
     const std::string text = item.substr(equals + 1);
     const std::string where = fmt::format("{} '{}'", source, item);
     try {
-      std::istringstream in(text);
-      YAML::Parser parser(in);
-      BoundedYaml bounds(where);  // no anchors, aliases or type tags; bounded depth
-      while (parser.HandleNextDocument(bounds)) {
-      }
+      RequireBoundedYaml(text, where);  // no anchors, aliases or type tags; bounded depth
       value = YAML::Load(text);
     } catch (const YAML::Exception& error) {
       Fail("{}: the value is not valid YAML: {}", where, error.what());

@@ -3,6 +3,7 @@
 #include <cctype>
 
 #include "cmbrl/core/check.h"
+#include "cmbrl/env/task_list.h"
 
 namespace cmbrl {
 namespace {
@@ -48,6 +49,10 @@ void ValidatePythonSourceOptions(const PythonSourceOptions& p) {
 std::string DeclaredEnvName(const std::string& declared) {
   const size_t colon = declared.find(':');
   return declared.substr(0, colon) + "." + declared.substr(colon + 1) + "()";
+}
+
+std::string DeclaredEnvTask(const std::string& declared) {
+  return kPythonTaskPrefix + DeclaredEnvName(declared);
 }
 
 }  // namespace cmbrl

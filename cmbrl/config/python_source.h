@@ -31,4 +31,8 @@ void ValidatePythonSourceOptions(const PythonSourceOptions& options);
 // as cmbrl.train(env=module.attribute) names it.
 std::string DeclaredEnvName(const std::string& declared);
 
+// "python:module.attribute()": the task of a run on the environment `declared` names (the
+// config's task when it names none of its own).
+std::string DeclaredEnvTask(const std::string& declared);
+
 }  // namespace cmbrl

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <filesystem>
 #include <cmath>
 
 #include "cmbrl/learners/mpc/mpc_agent.h"
@@ -155,16 +156,11 @@ std::vector<EvaluatedEpisode> EvaluateRun(const std::string& run_dir,
   return episodes;
 }
 
-void RequireEpisodePicture(const EpisodeRecord& record) {
-  Require(!record.path.empty() || !record.frames.empty(),
-          "the run's environment draws no pictures: a Python environment draws itself where its "
-          "render_mode is 'rgb_array' (its factory is called with render_mode='rgb_array' where "
-          "it takes one), and a task file has no arena to draw");
-}
+namespace {
 
+// Draws one episode, k, into `path` (WriteEpisodePictures).
 void WriteEpisodePicture(const EvaluatedEpisode& episode, int k, const std::string& path) {
   const EpisodeRecord& r = episode.record;
-  RequireEpisodePicture(r);
   if (!r.path.empty()) {  // the Goal world's arena
     const ScenePicture picture{
         r.final_scene,
@@ -192,6 +188,25 @@ void WriteEpisodePicture(const EvaluatedEpisode& episode, int k, const std::stri
                                  "steps and the last)",
                                  k, r.episode_return, r.episode_cost, r.steps, kFrameEvery),
                      path);
+}
+
+}  // namespace
+
+std::vector<std::string> WriteEpisodePictures(const std::vector<EvaluatedEpisode>& episodes,
+                                              const std::string& folder) {
+  for (const EvaluatedEpisode& episode : episodes) {
+    Require(!episode.record.path.empty() || !episode.record.frames.empty(),
+            "the run's environment draws no pictures: a Python environment draws itself where "
+            "its render_mode is 'rgb_array' (its factory is called with render_mode='rgb_array' "
+            "where it takes one), and a task file has no arena to draw");
+  }
+  std::filesystem::create_directories(folder);
+  std::vector<std::string> paths;
+  for (size_t k = 0; k < episodes.size(); ++k) {
+    paths.push_back((std::filesystem::path(folder) / fmt::format("episode-{}.png", k)).string());
+    WriteEpisodePicture(episodes[k], static_cast<int>(k), paths.back());
+  }
+  return paths;
 }
 
 }  // namespace cmbrl

@@ -45,16 +45,14 @@ struct EvaluatedEpisode {
 // every this many steps (EvaluationOptions::frame_every).
 inline constexpr int kFrameEvery = 25;
 
-// Throws cmbrl::Error unless episode `record` can be drawn: the Goal world's arena (its path),
-// or the environment's own pictures (its frames; a Python environment made with render_mode
-// "rgb_array"). A task file's episodes have neither.
-void RequireEpisodePicture(const EpisodeRecord& record);
-
-// Draws episode `k` as one PNG: the arena with its path, goals and the recorded plans; or the
-// environment's own pictures side by side (at most 8, evenly spaced, the first and the last
-// kept), under its return and cost. Throws as RequireEpisodePicture, or for a file that cannot
-// be written.
-void WriteEpisodePicture(const EvaluatedEpisode& episode, int k, const std::string& path);
+// Draws each episode k as `folder`/episode-<k>.png (the folder made): the arena with its path,
+// goals and the recorded plans; or the environment's own pictures side by side (at most 8,
+// evenly spaced, the first and the last kept), under its return and cost. Returns the paths.
+// Throws cmbrl::Error, before anything is written, unless every episode can be drawn (a task
+// file's have neither an arena nor pictures of their own), and for a file that cannot be
+// written.
+std::vector<std::string> WriteEpisodePictures(const std::vector<EvaluatedEpisode>& episodes,
+                                              const std::string& folder);
 
 class MpcAgent;
 

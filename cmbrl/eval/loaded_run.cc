@@ -47,7 +47,8 @@ LoadedRun::LoadedRun(const std::string& run_dir, std::uint64_t seed,
             item, fmt::join(PlanningOverrideKeys(), ", "));
     // Each applies to a planner: a family that plans with none would ignore it.
     const std::string key = item.substr(0, item.find('='));
-    const std::string section = key.find('.') == std::string::npos ? "" : key.substr(0, key.find('.'));
+    const size_t dot = key.find('.');
+    const std::string section = dot == std::string::npos ? "" : key.substr(0, dot);
     Require(section.empty() ? family.Reads("planning") : family.Reads(section),
             "override '{}': a {} run ({}) has no planner, objective or classifier to change: "
             "evaluate it without overrides",

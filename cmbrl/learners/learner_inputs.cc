@@ -53,7 +53,7 @@ void RecordPythonEnv(TrainConfig& config, const LearnerInputs& inputs) {
   if (config.python.env.empty()) {
     config.task = inputs.python_task;
   } else {
-    const std::string declared = kPythonTaskPrefix + DeclaredEnvName(config.python.env);
+    const std::string declared = DeclaredEnvTask(config.python.env);
     Require(declared == inputs.python_task,
             "the config declares python.env '{}' ({}), and another environment is given ({}): "
             "give one of them",

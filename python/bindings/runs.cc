@@ -10,7 +10,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
-#include <filesystem>
 #include <functional>
 #include <optional>
 #include <string>
@@ -44,7 +43,7 @@ void CheckFunctionsGiven(const TrainConfig& config, bool reward, bool terminatio
   if (env) {  // a declared one is named by what makes it, whatever the task is called
     const std::string made = config.python.env.empty()
                                  ? config.task
-                                 : kPythonTaskPrefix + DeclaredEnvName(config.python.env);
+                                 : DeclaredEnvTask(config.python.env);
     Require(made == env->task(),
             "{} was trained on task '{}': the environment given is '{}' (give the one it was "
             "trained on)",
@@ -335,10 +334,8 @@ py::list Evaluate(const std::string& run_dir, int episodes, std::uint64_t seed,
     py::gil_scoped_release release;
     results = EvaluateRun(run_dir, options, inputs);
   }
-  if (render) {  // none drawn unless every episode can be
-    for (const EvaluatedEpisode& episode : results) RequireEpisodePicture(episode.record);
-    std::filesystem::create_directories(*render);
-  }
+  const std::vector<std::string> pictures =
+      render ? WriteEpisodePictures(results, *render) : std::vector<std::string>();
   py::list out;
   for (const EvaluatedEpisode& episode : results) {
     const EpisodeRecord& r = episode.record;
@@ -352,12 +349,7 @@ py::list Evaluate(const std::string& run_dir, int episodes, std::uint64_t seed,
       d["feasible_fraction"] = *episode.mean_feasible_fraction;
       d["fallback_steps"] = *episode.fallback_step_fraction;
     }
-    if (render) {
-      const std::string path =
-          (std::filesystem::path(*render) / fmt::format("episode-{}.png", out.size())).string();
-      WriteEpisodePicture(episode, static_cast<int>(out.size()), path);
-      d["picture"] = path;
-    }
+    if (!pictures.empty()) d["picture"] = pictures[out.size()];
     out.append(d);
   }
   return out;
