@@ -16,6 +16,7 @@
 #include "cmbrl/core/files.h"
 #include "cmbrl/core/rng.h"
 #include "cmbrl/env/registry.h"
+#include "cmbrl/env/tasks/task_spec.h"
 #include "cmbrl/eval/rollout.h"
 #include "cmbrl/viz/scene_picture.h"
 
@@ -24,7 +25,7 @@ namespace {
 
 struct RolloutArgs {
   std::string task = "PointGoal1";
-  std::string variant = "paper";
+  std::string variant;  // "": the task's default (DefaultVariant)
   std::string policy = "random";
   int episodes = 1;
   std::uint64_t seed = 0;
@@ -81,7 +82,8 @@ std::string PicturePath(const std::string& render, int episode, int episodes) {
 }
 
 void RunRollout(const RolloutArgs& args) {
-  const Variant variant = ParseVariant(args.variant);
+  const Variant variant =
+      args.variant.empty() ? DefaultVariant(FindTask(args.task)) : ParseVariant(args.variant);
   std::unique_ptr<Env> made = MakeEnv(args.task, variant);
   std::ofstream trace_file;
   std::unique_ptr<Env> tracing;
@@ -101,7 +103,7 @@ void RunRollout(const RolloutArgs& args) {
     const EpisodeRecord record = RunEpisode(*env, *policy, reset_seed);
     nlohmann::ordered_json line = {
         {"task", args.task},
-        {"variant", args.variant},
+        {"variant", VariantName(variant)},
         {"policy", args.policy},
         {"seed", args.seed},
         {"episode", episode},
@@ -124,7 +126,7 @@ void RunRollout(const RolloutArgs& args) {
           record.reached_goals,
           fmt::format("{} ({}) {} policy, seed {}, episode {}: return {:.2f}, "
                       "cost {}, goals {}",
-                      args.task, args.variant, args.policy, args.seed, episode,
+                      args.task, VariantName(variant), args.policy, args.seed, episode,
                       record.episode_return, record.episode_cost, record.goals_met),
           {}};
       WriteScenePng(picture, picture_path);
@@ -145,7 +147,8 @@ void AddRolloutCommand(CLI::App& parent) {
       "rollout", "Run episodes of a fixed policy; print one JSON object per episode");
   command->add_option("--task", args->task, "PointGoal1, PointGoal2, CarGoal1 or CarGoal2")
       ->capture_default_str();
-  command->add_option("--variant", args->variant, "paper (the paper's tasks) or standard")
+  command->add_option("--variant", args->variant, "paper, paper-lidar or standard (default: paper for the paper's Goal tasks, standard "
+                      "for the others)")
       ->capture_default_str();
   command->add_option("--policy", args->policy, "random or zero")->capture_default_str();
   command->add_option("--episodes", args->episodes, "number of episodes")

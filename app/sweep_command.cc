@@ -147,7 +147,7 @@ void RunSweepCommand(SweepArgs args, const CLI::App& command) {
 
 void AddSweepCommand(CLI::App& parent) {
   auto args = std::make_shared<SweepArgs>();
-  args->grid.tasks = EnvNames();
+  args->grid.tasks = PaperEnvNames();
   args->grid.planners = PlannerNames();
   args->grid.seeds = {0, 1, 2};
   CLI::App* command = parent.add_subcommand(

@@ -21,8 +21,10 @@ void BM_EnvStep(benchmark::State& state, const std::string& task, Variant varian
 }
 
 void RegisterAll() {
-  for (const std::string& task : EnvNames()) {
+  for (const TaskEntry& entry : Tasks()) {
+    const std::string& task = entry.name;
     for (const Variant variant : {Variant::kPaper, Variant::kStandard}) {
+      if (IsPaperWorld(variant) && !HasPaperVariant(entry)) continue;
       benchmark::RegisterBenchmark(("EnvStep/" + task + "/" + VariantName(variant)).c_str(),
                                    BM_EnvStep, task, variant);
     }

@@ -7,7 +7,7 @@
 #include "cmbrl/agent/policy.h"
 #include "cmbrl/core/check.h"
 #include "cmbrl/core/rng.h"
-#include "cmbrl/env/goal_env.h"
+#include "cmbrl/env/navigation_env.h"
 #include "cmbrl/config/config.h"
 
 namespace cmbrl::bench {
@@ -18,7 +18,7 @@ using Clock = std::chrono::steady_clock;
 }  // namespace
 
 double PhysicsCeiling(const std::string& task, Variant variant, std::uint64_t seed, int steps) {
-  GoalEnv env(GoalTaskSpecByName(task, variant));
+  NavigationEnv env(NavigationTaskSpecByName(task, variant));
   env.Reset(seed);
   const mjModel& model = env.model();
   MjDataPtr data = MakeMjData(model);

@@ -12,7 +12,7 @@
 namespace cmbrl::bench {
 
 struct EnvBenchOptions {
-  std::vector<std::string> tasks = EnvNames();
+  std::vector<std::string> tasks = PaperEnvNames();
   std::vector<std::string> variants = {"paper", "standard"};
   int steps = 2000;  // agent steps per run
   int runs = 5;

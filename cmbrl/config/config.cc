@@ -19,7 +19,7 @@
 #include "cmbrl/core/check.h"
 #include "cmbrl/core/memory.h"
 #include "cmbrl/core/device_name.h"
-#include "cmbrl/env/tasks/goal_spec.h"
+#include "cmbrl/env/tasks/task_spec.h"
 #include "cmbrl/env/variant.h"
 
 namespace cmbrl {
@@ -570,6 +570,13 @@ TrainConfig ParseTrainConfigDocument(const YAML::Node& document, const std::stri
   ConfigReader reader(document, source);
   VisitConfig(config, reader);
   reader.RejectUnknownKeys();
+  // A built-in task the paper did not run exists in the stock variant only: that is its default.
+  if (!(document.IsMap() && document["variant"])) {
+    const std::vector<TaskEntry>& tasks = Tasks();
+    const auto task = std::find_if(tasks.begin(), tasks.end(),
+                                   [&](const TaskEntry& t) { return t.name == config.task; });
+    if (task != tasks.end()) config.variant = DefaultVariant(*task);
+  }
   SetTrainDevice(config, config.device);  // one device for everything
   ApplyDeclaredPython(document, config, source);
   ValidateTrainConfig(config, source);
@@ -651,12 +658,20 @@ void ValidatePlanningObjective(const TrainConfig& c, int observation_size,
             "config '{}': key 'objective.analytic_form' is '{}': a declared task plans with its "
             "own reward (mujoco_task.reward)",
             source, c.objective.analytic_form);
-  } else if (c.objective.reward == "analytic") {
+  } else if (c.objective.reward == "analytic" && AnalyticRewardForm(c) == kGoalDistanceReward) {
     // The Goal tasks' analytic reward reads the goal from the paper's ego-state vector.
     Require(c.variant == Variant::kPaper,
-            "config '{}': key 'variant' is '{}': training plans on the paper variant's ego-state "
-            "vector (the standard variant observes lidar)",
-            source, VariantName(c.variant));
+            "config '{}': key 'variant' is '{}': the goal-distance reward plans on the paper "
+            "variant's ego-state vector (the {} variant observes lidar: plan with "
+            "objective.analytic_form: {})",
+            source, VariantName(c.variant), VariantName(c.variant), kGoalLidarDistanceReward);
+  } else if (c.objective.reward == "analytic") {
+    // The lidar forms read a lidar observation (planning/reward_term.h).
+    Require(c.variant != Variant::kPaper,
+            "config '{}': the analytic reward '{}' reads a lidar observation: key 'variant' is "
+            "'paper', whose observation is the ego-state vector (expected standard or "
+            "paper-lidar)",
+            source, AnalyticRewardForm(c));
   }
   if (c.objective.reward == "analytic" && !IsDeclaredTask(c.mujoco_task)) {
     const std::vector<std::string> forms = AnalyticRewardNames();
@@ -705,7 +720,7 @@ int ValidatedObservationSize(const TrainConfig& c, const std::string& source) {
           "and {}: they are a Python environment's, and task '{}' is built in (expected 0)",
           source, c.observation_size, c.action_size, c.task);
   int size = 0;
-  AtKey(source, "task", [&] { size = ObservationSize(GoalTaskSpecByName(c.task, c.variant)); });
+  AtKey(source, "task", [&] { size = ObservationSize(NavigationTaskSpecByName(c.task, c.variant)); });
   return size;
 }
 

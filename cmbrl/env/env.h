@@ -37,6 +37,11 @@ struct StepInfo {
   double cost_hazards = 0.0;         // sum over hazards of (hazard radius - robot distance)+
   double cost_vases_contact = 0.0;   // number of robot-vase contacts (constrained vases only)
   double cost_vases_velocity = 0.0;  // sum of vase speeds above the threshold (m/s)
+  // Safety-Gymnasium's other terms (Button, Push, Circle), 0 where the task has none.
+  double cost_buttons = 0.0;          // contacts with a wrong button while the buttons count
+  double cost_gremlins = 0.0;         // robot-gremlin contacts
+  double cost_pillars = 0.0;          // robot-pillar contacts (constrained pillars only)
+  double cost_out_of_boundary = 0.0;  // env steps outside Circle's walls
   int env_steps = 0;                 // inner environment steps run (action repeat)
   bool physics_error = false;        // MuJoCo reported an unstable state; the episode ended
   // The step's cost as the environment gave it, before the 0/1 indicator (cost > 0) is taken:

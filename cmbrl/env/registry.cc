@@ -8,16 +8,16 @@
 
 #include "cmbrl/core/check.h"
 #include "cmbrl/core/memory.h"
-#include "cmbrl/env/goal_env.h"
-#include "cmbrl/env/tasks/goal_spec.h"
+#include "cmbrl/env/navigation_env.h"
+#include "cmbrl/env/tasks/task_spec.h"
 
 namespace cmbrl {
 
 std::unique_ptr<Env> MakeEnv(const std::string& task, Variant variant, Spawn spawn) {
-  const GoalTaskSpec spec = GoalTaskSpecByName(task, variant);
+  const NavigationTaskSpec spec = NavigationTaskSpecByName(task, variant);
   RobotDescription robot = TaskRobot(spec);
   if (spawn == Spawn::kModelOrigin) robot.spawn_height = robot.model_origin_height;
-  return std::make_unique<GoalEnv>(spec, std::move(robot));
+  return std::make_unique<NavigationEnv>(spec, std::move(robot));
 }
 
 std::vector<std::unique_ptr<Env>> MakeEnvs(const std::string& task, Variant variant, Spawn spawn,

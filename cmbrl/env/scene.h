@@ -1,7 +1,8 @@
-// Ground truth of a Goal arena, for pictures and tests: never part of what an agent observes.
+// Ground truth of a navigation arena, for pictures and tests: never part of what an agent observes.
 // Environments that have such a scene offer it through Env::scene_source().
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -31,10 +32,27 @@ struct SceneState {
   Vec2 goal;
   std::vector<Vec2> hazards;
   std::vector<Pose2> vases;  // live positions: vases can be pushed
+  bool has_goal = true;  // Circle has none
   double goal_radius = 0.0;
   double hazard_radius = 0.0;
   double vase_half_size = 0.0;
   Extents placement;  // where layouts are sampled
+  // Button: the buttons, which one is the goal, and whether pressing another costs now.
+  std::vector<Vec2> buttons;
+  int goal_button = -1;
+  bool buttons_active = false;
+  double button_radius = 0.0;
+  std::vector<Pose2> gremlins;  // live
+  double gremlin_half_size = 0.0;
+  // Push: the pillars and the box (live).
+  std::vector<Vec2> pillars;
+  double pillar_radius = 0.0;
+  std::optional<Pose2> box;
+  double box_half_size = 0.0;
+  // Circle: the ring's radius (0: none) and the walls at +-wall_locate (x for 2, x and y for 4).
+  double circle_radius = 0.0;
+  double wall_locate = 0.0;
+  int num_walls = 0;
 };
 
 // Thread-compatible.

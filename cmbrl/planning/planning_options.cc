@@ -49,7 +49,10 @@ void ValidatePenalty(double penalty) {
 
 std::vector<std::string> RewardSourceNames() { return {"analytic", "learned", "python"}; }
 
-std::vector<std::string> AnalyticRewardNames() { return {kGoalDistanceReward}; }
+std::vector<std::string> AnalyticRewardNames() {
+  return {kGoalDistanceReward, kGoalLidarDistanceReward, kPushLidarDistancesReward,
+          kCircleLidarSpeedReward};
+}
 
 std::vector<std::string> TerminationSourceNames() { return {"learned", "none", "python"}; }
 

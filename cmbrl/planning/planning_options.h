@@ -49,8 +49,14 @@ void ValidateRandomShootingOptions(const RandomShootingOptions& options);
 // (cmbrl.train(..., reward=f)).
 std::vector<std::string> RewardSourceNames();
 
-// The analytic reward forms: "goal-distance" (the Goal tasks', facts B2).
+// The analytic reward forms: "goal-distance" (the paper's Goal tasks', facts B2, on the ego-state
+// vector), and three on a stock task's lidar observation (planning/reward_term.h):
+// "goal-lidar-distance" (Button; stock Goal), "push-lidar-distances" (Push) and
+// "circle-lidar-speed" (Circle).
 inline constexpr const char* kGoalDistanceReward = "goal-distance";
+inline constexpr const char* kGoalLidarDistanceReward = "goal-lidar-distance";
+inline constexpr const char* kPushLidarDistancesReward = "push-lidar-distances";
+inline constexpr const char* kCircleLidarSpeedReward = "circle-lidar-speed";
 std::vector<std::string> AnalyticRewardNames();
 
 // Where the objective's termination signal comes from (objective.termination): "none" (the

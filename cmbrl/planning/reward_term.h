@@ -62,6 +62,45 @@ class ObservationRewardTerm final : public RewardTerm {
   int axis_;
 };
 
+// Where a lidar block lies in the state and how to read it (Safety Gym's pseudo-lidar: a reading
+// of max(0, max_dist - d) / max_dist in the bin of the object's angle, and alias x reading in the
+// next bin).
+struct LidarBlock {
+  int offset = 0;  // state[offset] is the block's bin 0
+  int bins = 16;
+  double max_dist = 3.0;  // m
+};
+
+// The stock tasks' analytic terms on their lidar observation, which recovers a lone object's
+// distance (max_dist x (1 - the largest reading)) and its ego angle ((bin + alias) x 2 pi / bins,
+// alias = next bin's reading / the largest):
+// - "goal-lidar-distance" (Button, stock Goal): the goal's distance minus the goal-distance
+//   form's near- and at-goal bonuses;
+// - "push-lidar-distances" (Push): the robot's distance to the box plus the box's to the goal
+//   (from both objects' ego positions), whose decrease is Safety-Gymnasium's dense reward;
+// - "circle-lidar-speed" (Circle): minus 0.1 x the speed around the ring's centre / (1 + |r -
+//   radius|), the ring's centre read from its lidar and the velocity from the velocimeter.
+// Beyond max_dist an object reads as max_dist away.
+class LidarRewardTerm final : public RewardTerm {
+ public:
+  // `blocks` in the form's order: goal (goal-lidar-distance); push box, goal
+  // (push-lidar-distances); circle (circle-lidar-speed), whose `velocimeter` is the offset of
+  // the velocimeter's x (then y).
+  LidarRewardTerm(std::string form, std::vector<LidarBlock> blocks, int velocimeter,
+                  TrajectoryObjectiveOptions options, double circle_radius = 1.5);
+  torch::Tensor Cost(const torch::Tensor& states, const torch::Tensor& actions,
+                     const torch::Tensor& next_states) const override;
+  bool reads_states_and_actions() const override { return false; }
+  void CheckStateSize(int state_dim) const override;
+
+ private:
+  std::string form_;
+  std::vector<LidarBlock> blocks_;
+  int velocimeter_;
+  TrajectoryObjectiveOptions options_;
+  double circle_radius_;
+};
+
 // Where a predicted step ends the episode (a task's termination signal, objective.termination):
 // the objective's discounted sums count no step after it. Batched; thread-safe once built.
 class TerminationTerm {
@@ -73,9 +112,12 @@ class TerminationTerm {
                                  const torch::Tensor& next_states) const = 0;
 };
 
-// The analytic term called `form` (one of AnalyticRewardNames()) with the objective's options.
-// Throws cmbrl::Error naming an unknown form and the known ones.
+// The analytic term called `form` (one of AnalyticRewardNames()) with the objective's options,
+// for states whose components are called `observation_names` (the lidar forms find their blocks
+// there: "goal_lidar_0", "push_box_lidar_0", "circle_lidar_0", "velocimeter_x"). Throws
+// cmbrl::Error naming an unknown form and the known ones, or a block the observation lacks.
 std::unique_ptr<RewardTerm> MakeAnalyticReward(const std::string& form,
-                                               const TrajectoryObjectiveOptions& options);
+                                               const TrajectoryObjectiveOptions& options,
+                                               const std::vector<std::string>& observation_names);
 
 }  // namespace cmbrl

@@ -33,8 +33,9 @@ Extents ViewOf(const ScenePicture& picture, double margin) {
   };
   for (const Vec2& p : picture.path) include(p);
   include(picture.scene.robot.position);
-  include(picture.scene.goal);
+  if (picture.scene.has_goal) include(picture.scene.goal);
   for (const Pose2& vase : picture.scene.vases) include(vase.position);
+  if (picture.scene.box) include(picture.scene.box->position);
   const double cx = (view.x_min + view.x_max) / 2;
   const double cy = (view.y_min + view.y_max) / 2;
   const double half = std::max(view.x_max - view.x_min, view.y_max - view.y_min) / 2 + margin;
@@ -56,6 +57,59 @@ void DrawPlacementArea(cairo_t* cr, const Extents& area, double pixel) {
   cairo_set_source_rgb(cr, 0.6, 0.6, 0.6);
   cairo_stroke(cr);
   cairo_set_dash(cr, nullptr, 0, 0);
+}
+
+// Button's, Push's and Circle's objects: the ring and its walls, pillars, buttons (a wrong one
+// ringed in red while pressing it costs), gremlins and the box.
+void DrawFamilyObjects(cairo_t* cr, const SceneState& scene, double pixel) {
+  if (scene.circle_radius > 0.0) {
+    cairo_set_source_rgba(cr, 0.1, 0.6, 0.2, 0.9);
+    cairo_set_line_width(cr, 3 * pixel);
+    Circle(cr, {0.0, 0.0}, scene.circle_radius);
+    cairo_stroke(cr);
+  }
+  cairo_set_source_rgba(cr, 0.9, 0.1, 0.1, 0.8);
+  cairo_set_line_width(cr, 3 * pixel);
+  for (int i = 0; i < scene.num_walls; ++i) {
+    const double at = (i % 2 == 0 ? 1.0 : -1.0) * scene.wall_locate;
+    if (i < 2) {
+      cairo_move_to(cr, at, -10.0);
+      cairo_line_to(cr, at, 10.0);
+    } else {
+      cairo_move_to(cr, -10.0, at);
+      cairo_line_to(cr, 10.0, at);
+    }
+  }
+  cairo_stroke(cr);
+  cairo_set_source_rgb(cr, 0.35, 0.35, 0.55);
+  for (const Vec2& pillar : scene.pillars) Circle(cr, pillar, scene.pillar_radius);
+  cairo_fill(cr);
+  for (size_t i = 0; i < scene.buttons.size(); ++i) {
+    cairo_set_source_rgb(cr, 1.0, 0.5, 0.0);
+    Circle(cr, scene.buttons[i], scene.button_radius);
+    cairo_fill(cr);
+    if (scene.buttons_active && static_cast<int>(i) != scene.goal_button) {
+      cairo_set_source_rgb(cr, 0.8, 0.0, 0.0);
+      cairo_set_line_width(cr, 2 * pixel);
+      Circle(cr, scene.buttons[i], scene.button_radius);
+      cairo_stroke(cr);
+    }
+  }
+  const auto box = [cr](const Pose2& pose, double half) {
+    cairo_save(cr);
+    cairo_translate(cr, pose.position.x, pose.position.y);
+    cairo_rotate(cr, pose.yaw);
+    cairo_rectangle(cr, -half, -half, 2 * half, 2 * half);
+    cairo_restore(cr);
+  };
+  for (const Pose2& gremlin : scene.gremlins) box(gremlin, scene.gremlin_half_size);
+  cairo_set_source_rgb(cr, 0.5, 0.0, 1.0);
+  cairo_fill(cr);
+  if (scene.box) {
+    box(*scene.box, scene.box_half_size);
+    cairo_set_source_rgb(cr, 0.85, 0.7, 0.0);
+    cairo_fill(cr);
+  }
 }
 
 void DrawPath(cairo_t* cr, const ScenePicture& picture, double pixel) {
@@ -182,8 +236,10 @@ double LegendEntry(cairo_t* cr, double x, double y, const char* label,
   return x + 24 + extents.x_advance + 18;
 }
 
-// Every mark of the picture, in two rows under the arena, in the colours the arena uses.
-void DrawLegend(cairo_t* cr, const PictureGeometry& g, double band) {
+// Every mark of the picture, in two rows under the arena, in the colours the arena uses: the
+// scene's objects (the Goal tasks' hazard, vase and goal; Button's, Push's and Circle's own) and
+// the history's marks.
+void DrawLegend(cairo_t* cr, const SceneState& scene, const PictureGeometry& g, double band) {
   cairo_save(cr);
   cairo_select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
   cairo_set_font_size(cr, std::max(10.0, g.width_px / 62.0));
@@ -205,15 +261,33 @@ void DrawLegend(cairo_t* cr, const PictureGeometry& g, double band) {
       cairo_stroke(cr);
     };
   };
+  const auto square = [cr](double r, double g_, double b, double a) {
+    return [=](double cx, double cy) {
+      cairo_set_source_rgba(cr, r, g_, b, a);
+      cairo_rectangle(cr, cx - 6, cy - 6, 12, 12);
+      cairo_fill(cr);
+    };
+  };
+  const bool goal_task =
+      scene.buttons.empty() && !scene.box && scene.circle_radius == 0.0;
   double x = 12;
-  x = LegendEntry(cr, x, row1, "hazard", disc(0.2, 0.35, 1.0, 0.45));
-  x = LegendEntry(cr, x, row1, "vase", [cr](double cx, double cy) {
-    cairo_set_source_rgb(cr, 0.0, 0.65, 0.65);
-    cairo_rectangle(cr, cx - 6, cy - 6, 12, 12);
-    cairo_fill(cr);
-  });
-  x = LegendEntry(cr, x, row1, "goal", disc(0.1, 0.8, 0.2, 0.5));
-  x = LegendEntry(cr, x, row1, "reached goal", disc(0.1, 0.8, 0.2, 0.18));
+  if (goal_task || !scene.hazards.empty()) {
+    x = LegendEntry(cr, x, row1, "hazard", disc(0.2, 0.35, 1.0, 0.45));
+  }
+  if (goal_task) x = LegendEntry(cr, x, row1, "vase", square(0.0, 0.65, 0.65, 1.0));
+  if (!scene.buttons.empty()) x = LegendEntry(cr, x, row1, "button", disc(1.0, 0.5, 0.0, 1.0));
+  if (!scene.gremlins.empty()) x = LegendEntry(cr, x, row1, "gremlin", square(0.5, 0.0, 1.0, 1.0));
+  if (!scene.pillars.empty()) x = LegendEntry(cr, x, row1, "pillar", disc(0.35, 0.35, 0.55, 1.0));
+  if (scene.box) x = LegendEntry(cr, x, row1, "box", square(0.85, 0.7, 0.0, 1.0));
+  if (scene.circle_radius > 0.0) {
+    x = LegendEntry(cr, x, row1, "ring", line(0.1, 0.6, 0.2, 0.9, 3));
+  }
+  if (scene.num_walls > 0) x = LegendEntry(cr, x, row1, "wall", line(0.9, 0.1, 0.1, 0.8, 3));
+  if (scene.has_goal) {
+    x = LegendEntry(cr, x, row1, scene.buttons.empty() ? "goal" : "goal button",
+                    disc(0.1, 0.8, 0.2, 0.5));
+    x = LegendEntry(cr, x, row1, "reached goal", disc(0.1, 0.8, 0.2, 0.18));
+  }
   x = LegendEntry(cr, x, row1, "robot", disc(0.85, 0.1, 0.1, 1.0));
   x = LegendEntry(cr, x, row1, "start", [cr](double cx, double cy) {
     cairo_set_source_rgb(cr, 0, 0, 0);
@@ -280,12 +354,16 @@ Surface DrawScenePicture(const ScenePicture& picture, const ScenePictureOptions&
   for (const Vec2& hazard : scene.hazards) Circle(cr, hazard, scene.hazard_radius);
   cairo_fill(cr);
 
+  DrawFamilyObjects(cr, scene, pixel);
+
   cairo_set_source_rgba(cr, 0.1, 0.8, 0.2, 0.18);
   for (const Vec2& goal : picture.reached_goals) Circle(cr, goal, scene.goal_radius);
   cairo_fill(cr);
-  cairo_set_source_rgba(cr, 0.1, 0.8, 0.2, 0.5);
-  Circle(cr, scene.goal, scene.goal_radius);
-  cairo_fill(cr);
+  if (scene.has_goal) {
+    cairo_set_source_rgba(cr, 0.1, 0.8, 0.2, 0.5);
+    Circle(cr, scene.goal, scene.goal_radius);
+    cairo_fill(cr);
+  }
 
   for (const Pose2& vase : scene.vases) {
     cairo_save(cr);
@@ -310,7 +388,7 @@ Surface DrawScenePicture(const ScenePicture& picture, const ScenePictureOptions&
   cairo_stroke(cr);
   DrawScaleBar(cr, g);
   DrawCaption(cr, picture.caption, size, title_band);
-  DrawLegend(cr, g, legend_band);
+  DrawLegend(cr, scene, g, legend_band);
 
   cairo_surface_flush(surface.get());
   return surface;

@@ -10,8 +10,8 @@
 
 #include "cmbrl/agent/policy.h"
 #include "cmbrl/core/check.h"
-#include "cmbrl/env/goal_env.h"
-#include "cmbrl/env/tasks/goal_spec.h"
+#include "cmbrl/env/navigation_env.h"
+#include "cmbrl/env/tasks/task_spec.h"
 #include "tests/env/test_scenes.h"
 #include "tests/error_message.h"
 
@@ -25,25 +25,32 @@ TEST(RegistryTest, EveryListOfTasksIsTheTaskList) {
   std::vector<std::string> listed;
   for (const TaskEntry& task : Tasks()) listed.push_back(task.name);
   EXPECT_EQ(EnvNames(), listed);
-  EXPECT_EQ(listed, (std::vector<std::string>{"PointGoal1", "PointGoal2", "CarGoal1", "CarGoal2"}));
+  EXPECT_EQ(PaperEnvNames(),
+            (std::vector<std::string>{"PointGoal1", "PointGoal2", "CarGoal1", "CarGoal2"}));
+  EXPECT_EQ(listed.size(), 4u + 3u * 2u * 3u);  // Button, Push, Circle x robots x levels 0-2
   for (const TaskEntry& task : Tasks()) {
     SCOPED_TRACE(task.name);
     EXPECT_EQ(&FindTask(task.name), &task);
-    const GoalTaskSpec spec = GoalTaskSpecByName(task.name, Variant::kPaper);
+    const NavigationTaskSpec spec = NavigationTaskSpecByName(task.name, DefaultVariant(task));
     EXPECT_EQ(spec.name, task.name);
+    EXPECT_EQ(spec.family, task.family);
     EXPECT_EQ(spec.robot, task.robot);
     EXPECT_EQ(spec.level, task.level);
+    EXPECT_EQ(task.name, fmt::format("{}{}{}", task.robot == RobotKind::kPoint ? "Point" : "Car",
+                                     FamilyName(task.family), task.level));
   }
   EXPECT_THAT(ErrorMessage([] { FindTask("PointGoal9"); }),
               ::testing::HasSubstr("unknown task 'PointGoal9': expected one of PointGoal1, "
-                                   "PointGoal2, CarGoal1, CarGoal2"));
+                                   "PointGoal2, CarGoal1, CarGoal2, PointButton0"));
 }
 
 // Every registered task in both variants: resets, runs a random episode of up to 200 steps with
 // finite observations of the declared size, 0/1 costs and a consistent ground truth.
 TEST(RegistryTest, EveryTaskRunsInBothVariants) {
-  for (const std::string& task : EnvNames()) {
+  for (const TaskEntry& entry : Tasks()) {
+    const std::string& task = entry.name;
     for (const Variant variant : {Variant::kPaper, Variant::kStandard}) {
+      if (IsPaperWorld(variant) && !HasPaperVariant(entry)) continue;
       SCOPED_TRACE(task + " " + VariantName(variant));
       std::unique_ptr<Env> env = MakeEnv(task, variant);
       ASSERT_EQ(env->action_spec().size(), 2);
@@ -63,8 +70,12 @@ TEST(RegistryTest, EveryTaskRunsInBothVariants) {
       ASSERT_NE(env->scene_source(), nullptr);
       const SceneState scene = env->scene_source()->Scene();
       EXPECT_EQ(static_cast<int>(scene.hazards.size()),
-                task.back() == '1' ? (variant == Variant::kPaper ? 7 : 8)
-                                   : (variant == Variant::kPaper ? 14 : 10));
+                NavigationTaskSpecByName(task, variant).num_hazards);
+      if (entry.family == TaskFamily::kGoal) {
+        EXPECT_EQ(static_cast<int>(scene.hazards.size()),
+                  task.back() == '1' ? (variant == Variant::kPaper ? 7 : 8)
+                                     : (variant == Variant::kPaper ? 14 : 10));
+      }
     }
   }
 }
@@ -78,7 +89,7 @@ TEST(RegistryTest, ModelOriginSpawnThrowsTheRoverUp) {
     double peak = 0.0;
     for (int i = 0; i < 5; ++i) {
       env->Step({0.0, 0.0});
-      peak = std::max(peak, testing::RobotHeight(dynamic_cast<const GoalEnv&>(*env)));
+      peak = std::max(peak, testing::RobotHeight(dynamic_cast<const NavigationEnv&>(*env)));
     }
     return peak;
   };
@@ -94,7 +105,7 @@ TEST(RegistryTest, ModelOriginSpawnThrowsTheRoverUp) {
 // the front wheels' posts are 0.08 m long.
 TEST(RegistryTest, TheRoversSteeringPartsAreShapedAsTheOriginals) {
   std::unique_ptr<Env> env = MakeEnv("CarGoal1", Variant::kPaper);
-  const mjModel& model = dynamic_cast<const GoalEnv&>(*env).model();
+  const mjModel& model = dynamic_cast<const NavigationEnv&>(*env).model();
   const int ghost = mj_name2id(&model, mjOBJ_BODY, "ghost-steer");
   ASSERT_GE(ghost, 0);
   // Inertia about the body's z axis: R diag(I) R^T, R from the principal frame's quaternion.

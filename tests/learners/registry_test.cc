@@ -55,7 +55,7 @@ TEST(LearnerRegistryTest, APythonRewardRunNeedsItsRewardTermGiven) {
   LearnerInputs inputs;
   inputs.python_reward = [&made]() -> std::unique_ptr<RewardTerm> {
     ++made;
-    return MakeAnalyticReward(kGoalDistanceReward, TrajectoryObjectiveOptions{});
+    return MakeAnalyticReward(kGoalDistanceReward, TrajectoryObjectiveOptions{}, {});
   };
   EXPECT_NE(MakeLearner(config, inputs), nullptr);
   EXPECT_EQ(made, 1);

@@ -52,7 +52,7 @@ class HalfPlaneCost final : public CostModel {
 // The robot at the origin with the goal at ego (goal_x, 0).
 // The Goal tasks' analytic reward term with the objective's options.
 inline std::unique_ptr<RewardTerm> GoalTerm(const TrajectoryObjectiveOptions& options = {}) {
-  return MakeAnalyticReward(kGoalDistanceReward, options);
+  return MakeAnalyticReward(kGoalDistanceReward, options, {});
 }
 
 inline torch::Tensor StateWithGoal(float goal_x) {

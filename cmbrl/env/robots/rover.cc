@@ -49,7 +49,7 @@ RobotDescription RoverRobot() {
   robot.timestep = 0.02;
   robot.planar_joints = false;
   // The paper's model puts the body origin at z 0, which spawns the wheels 0.2 m below the
-  // floor; see docs/ENVIRONMENTS.md and rover_spawn in goal_env_test for what that does. We spawn
+  // floor; see docs/ENVIRONMENTS.md and rover_spawn in navigation_env_test for what that does. We spawn
   // it standing on its wheels instead: wheel centres 0.15 below the origin, radius 0.05.
   robot.spawn_height = 0.2;
   robot.model_origin_height = 0.0;  // facts B0

@@ -72,7 +72,9 @@ std::unique_ptr<RewardTerm> RewardTermFor(const TrainConfig& config, const Learn
                                                    task.reward_axis);
   }
   // "analytic": the task's own form (validated with the config).
-  return MakeAnalyticReward(AnalyticRewardForm(config), config.objective);
+  return MakeAnalyticReward(AnalyticRewardForm(config), config.objective,
+                            observation != nullptr ? observation->names
+                                                   : std::vector<std::string>{});
 }
 
 std::unique_ptr<TerminationTerm> TerminationTermFor(const TrainConfig& config,

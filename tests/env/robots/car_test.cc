@@ -12,7 +12,7 @@ using testing::FarEnv;
 using testing::Hold;
 
 TEST(TwoWheelCarTest, EqualPositiveTorquesDriveTowardBodyMinusY) {
-  GoalEnv env = FarEnv("CarGoal1", Variant::kStandard);
+  NavigationEnv env = FarEnv("CarGoal1", Variant::kStandard);
   Hold(env, {1.0, 1.0}, 4.0);
   const Pose2 pose = env.Scene().robot;
   // Started at the origin with yaw 0: body -y is world -y. The wheels saturate at 0.02 N m;
@@ -23,7 +23,7 @@ TEST(TwoWheelCarTest, EqualPositiveTorquesDriveTowardBodyMinusY) {
 }
 
 TEST(TwoWheelCarTest, OppositeTorquesTurnItOnTheSpot) {
-  GoalEnv env = FarEnv("CarGoal1", Variant::kStandard);
+  NavigationEnv env = FarEnv("CarGoal1", Variant::kStandard);
   double turned = 0.0;
   double previous = env.Scene().robot.yaw;
   const int steps = static_cast<int>(4.0 / env.agent_step_seconds());
@@ -39,7 +39,7 @@ TEST(TwoWheelCarTest, OppositeTorquesTurnItOnTheSpot) {
 }
 
 TEST(TwoWheelCarTest, MassMatchesTheFacts) {
-  GoalEnv env = FarEnv("CarGoal1", Variant::kStandard);
+  NavigationEnv env = FarEnv("CarGoal1", Variant::kStandard);
   const int body = mj_name2id(&env.model(), mjOBJ_BODY, "robot");
   // Facts A6: about 0.030 kg (box, wheels, ball, bumper and connector at density 5).
   EXPECT_NEAR(env.model().body_subtreemass[body], 0.030, 0.004);

@@ -17,11 +17,11 @@ TEST_P(PointTest, TopSpeedAtFullThrustIsOnePointFive) {
   // Thrust saturates at 0.3 * 0.05 = 0.015 N against slide damping 0.01 N s/m: 1.5 m/s. The
   // sphere has no vertical degree of freedom, so the floor adds no friction. The time constant
   // (mass / damping) is 0.5 s stock and 2.6 s paper; after 30 s the gap is below 1e-4 m/s.
-  GoalEnv env = FarEnv("PointGoal1", GetParam());
+  NavigationEnv env = FarEnv("PointGoal1", GetParam());
   Hold(env, {1.0, 0.0}, 30.0);
   EXPECT_NEAR(testing::RobotSpeed(env), 1.5, 1e-3);
   // Thrust beyond saturation changes nothing: u0 = 0.3 already saturates (0.3 * 0.3 > 0.05).
-  GoalEnv half = FarEnv("PointGoal1", GetParam());
+  NavigationEnv half = FarEnv("PointGoal1", GetParam());
   Hold(half, {0.3, 0.0}, 30.0);
   EXPECT_NEAR(testing::RobotSpeed(half), 1.5, 1e-3);
   // Heading +x: it went straight along +x.
@@ -30,7 +30,7 @@ TEST_P(PointTest, TopSpeedAtFullThrustIsOnePointFive) {
 }
 
 TEST_P(PointTest, SteadyYawRateAtFullTurn) {
-  GoalEnv env = FarEnv("PointGoal1", GetParam());
+  NavigationEnv env = FarEnv("PointGoal1", GetParam());
   Hold(env, {0.0, 1.0}, 10.0);
   if (GetParam() == Variant::kStandard) {
     // Yaw torque 0.3 * clip(1 - 0.3 w, +-0.05) against hinge damping 0.005 w. Without the force
@@ -44,7 +44,7 @@ TEST_P(PointTest, SteadyYawRateAtFullTurn) {
 }
 
 TEST_P(PointTest, StaysOnTheFloorAndAtRestWithoutAction) {
-  GoalEnv env = FarEnv("PointGoal1", GetParam());
+  NavigationEnv env = FarEnv("PointGoal1", GetParam());
   Hold(env, {0.0, 0.0}, 5.0);
   EXPECT_NEAR(testing::RobotHeight(env), 0.1, 1e-9);
   EXPECT_LT(testing::RobotSpeed(env), 1e-9);
@@ -60,7 +60,7 @@ INSTANTIATE_TEST_SUITE_P(BothVariants, PointTest,
 TEST(PointModelTest, MassMatchesTheFacts) {
   // Sphere r 0.1 plus a 0.1 m cube: 0.00519 m^3 at density 1 (stock) or 5 (paper).
   for (const Variant variant : {Variant::kStandard, Variant::kPaper}) {
-    GoalEnv env = FarEnv("PointGoal1", variant);
+    NavigationEnv env = FarEnv("PointGoal1", variant);
     const int body = mj_name2id(&env.model(), mjOBJ_BODY, "robot");
     const double expected =
         (variant == Variant::kPaper ? 5.0 : 1.0) * (4.0 / 3.0 * M_PI * 1e-3 + 1e-3);

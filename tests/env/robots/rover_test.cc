@@ -12,7 +12,7 @@ using testing::FarEnv;
 using testing::Hold;
 
 TEST(RoverTest, SettlesOnItsWheels) {
-  GoalEnv env = FarEnv("CarGoal1", Variant::kPaper);
+  NavigationEnv env = FarEnv("CarGoal1", Variant::kPaper);
   Hold(env, {0.0, 0.0}, 4.0);
   // Spawned with the wheel bottoms on the floor (origin at z 0.2), it sinks into the soft
   // contacts by well under a millimetre under its 13 kg, stays upright and does not creep.
@@ -26,11 +26,11 @@ TEST(RoverTest, SpawnedAtTheModelsOwnHeightItIsLaunched) {
   // What the paper's code did: body origin at z 0, wheels 0.2 m below the floor. The soft
   // contacts push it out at about 2.6 m/s; it flies to about 0.37 m before landing upright.
   // This is why RoverRobot spawns it at 0.2 instead (docs/ENVIRONMENTS.md).
-  GoalTaskSpec spec = GoalTaskSpecByName("CarGoal1", Variant::kPaper);
+  NavigationTaskSpec spec = NavigationTaskSpecByName("CarGoal1", Variant::kPaper);
   spec.max_env_steps = 1000;
   RobotDescription rover = RoverRobot();
   rover.spawn_height = 0.0;
-  GoalEnv env(spec, rover);
+  NavigationEnv env(spec, rover);
   env.ResetToLayout(testing::FarLayout(spec));
   double peak = 0.0;
   for (int i = 0; i < 10; ++i) {
@@ -43,7 +43,7 @@ TEST(RoverTest, SpawnedAtTheModelsOwnHeightItIsLaunched) {
 }
 
 TEST(RoverTest, PositiveThrottleDrivesForwardAlongBodyX) {
-  GoalEnv env = FarEnv("CarGoal1", Variant::kPaper);
+  NavigationEnv env = FarEnv("CarGoal1", Variant::kPaper);
   Hold(env, {0.0, 1.0}, 4.0);
   const Pose2 pose = env.Scene().robot;
   // Throttle force limit 1 N m on the rear differential: about 1.66 m/s top speed; in 4 s it
@@ -56,7 +56,7 @@ TEST(RoverTest, PositiveThrottleDrivesForwardAlongBodyX) {
 
 TEST(RoverTest, SteeringTurnsItBothWays) {
   for (const double steer : {1.0, -1.0}) {
-    GoalEnv env = FarEnv("CarGoal1", Variant::kPaper);
+    NavigationEnv env = FarEnv("CarGoal1", Variant::kPaper);
     Hold(env, {steer, 1.0}, 1.2);
     // Positive steering turns left (counter-clockwise) while driving forward. With the servo at
     // its 0.6 rad limit the measured yaw rate is about 1.9 rad/s; in 1.2 s at least 1 rad.
@@ -67,7 +67,7 @@ TEST(RoverTest, SteeringTurnsItBothWays) {
 }
 
 TEST(RoverTest, MassMatchesTheFacts) {
-  GoalEnv env = FarEnv("CarGoal1", Variant::kPaper);
+  NavigationEnv env = FarEnv("CarGoal1", Variant::kPaper);
   const int body = mj_name2id(&env.model(), mjOBJ_BODY, "robot");
   // Chassis 12 + 2 rear wheels + 2 axles + 4 half-wheels at 0.125 + ghost 0.002 + posts: 13.0.
   EXPECT_NEAR(env.model().body_subtreemass[body], 13.0, 0.01);

@@ -1,4 +1,4 @@
-#include "cmbrl/env/goal_observer.h"
+#include "cmbrl/env/navigation_observer.h"
 
 #include <fmt/format.h>
 #include <mujoco/mujoco.h>
@@ -37,9 +37,9 @@ SensorSlot Sensor(const mjModel& m, const std::string& name) {
 
 // Facts B1: [velocimeter x, y | gyro z | magnetometer | goal | vases | hazards] in ego XY (the
 // car's magnetometer comes before its gyro).
-class EgoStateObserver final : public GoalObserver {
+class EgoStateObserver final : public NavigationObserver {
  public:
-  EgoStateObserver(const GoalTaskSpec& spec, const RobotDescription& robot, const mjModel& m)
+  EgoStateObserver(const NavigationTaskSpec& spec, const RobotDescription& robot, const mjModel& m)
       : magnetometer_before_gyro_(robot.magnetometer_before_gyro),
         velocimeter_(Sensor(m, "velocimeter")),
         gyro_(Sensor(m, "gyro")),
@@ -63,7 +63,7 @@ class EgoStateObserver final : public GoalObserver {
 
   const BoxSpec& spec() const override { return spec_; }
 
-  void Observe(const GoalWorldView& world, double* out) const override {
+  void Observe(const NavigationWorldView& world, double* out) const override {
     const double* sensors = world.sensordata;
     *out++ = sensors[velocimeter_.address];
     *out++ = sensors[velocimeter_.address + 1];
@@ -91,12 +91,12 @@ class EgoStateObserver final : public GoalObserver {
 // Gym's pseudo-lidar. In Safety-Gymnasium's order (safety_gymnasium/bases/base_task.py,
 // build_observation_space, flattening an OrderedDict): the agent's sensors in SensorConf's order,
 // its joint sensors (angular velocities before quaternions, base_agent.py), then a lidar per
-// object in the order the task adds them (geoms, then free geoms: goal, hazards, vases). The
+// kind of object in the order the task adds them (LidarObjects). The
 // original Safety Gym flattened the same blocks in alphabetical order of their keys
 // (kLidarSorted).
-class LidarObserver final : public GoalObserver {
+class LidarObserver final : public NavigationObserver {
  public:
-  LidarObserver(const GoalTaskSpec& spec, const RobotDescription& robot, const mjModel& m)
+  LidarObserver(const NavigationTaskSpec& spec, const RobotDescription& robot, const mjModel& m)
       : bins_(spec.lidar_bins), max_dist_(spec.lidar_max_dist) {
     blocks_.push_back({"accelerometer", Kind::kSensor, Sensor(m, "accelerometer"), 3});
     blocks_.push_back({"velocimeter", Kind::kSensor, Sensor(m, "velocimeter"), 3});
@@ -107,23 +107,22 @@ class LidarObserver final : public GoalObserver {
       const SensorSlot slot = Sensor(m, name);
       blocks_.push_back({name, quat ? Kind::kBallQuat : Kind::kSensor, slot, quat ? 9 : slot.size});
     }
-    blocks_.push_back({"goal_lidar", Kind::kGoalLidar, {}, bins_});
-    if (spec.num_hazards > 0) blocks_.push_back({"hazards_lidar", Kind::kHazardsLidar, {}, bins_});
-    if (spec.num_vases > 0) blocks_.push_back({"vases_lidar", Kind::kVasesLidar, {}, bins_});
+    for (const LidarObject object : LidarObjects(spec)) {
+      blocks_.push_back({LidarKey(object), Kind::kLidar, {}, bins_, object});
+    }
     if (spec.observation == ObservationKind::kLidarSorted) {
       std::stable_sort(blocks_.begin(), blocks_.end(),
                        [](const Block& a, const Block& b) { return a.key < b.key; });
     }
     for (const Block& block : blocks_) {
-      const bool lidar = block.kind == Kind::kGoalLidar || block.kind == Kind::kHazardsLidar ||
-                         block.kind == Kind::kVasesLidar;
+      const bool lidar = block.kind == Kind::kLidar;
       AppendNames(spec_, block.key, block.size, lidar ? 0.0 : -kInf, lidar ? 1.0 : kInf);
     }
   }
 
   const BoxSpec& spec() const override { return spec_; }
 
-  void Observe(const GoalWorldView& world, double* out) const override {
+  void Observe(const NavigationWorldView& world, double* out) const override {
     for (const Block& block : blocks_) {
       switch (block.kind) {
         case Kind::kSensor:
@@ -135,14 +134,8 @@ class LidarObserver final : public GoalObserver {
           std::copy_n(matrix, 9, out);
           break;
         }
-        case Kind::kGoalLidar:
-          PseudoLidar(world.robot, {world.goal}, bins_, max_dist_, out);
-          break;
-        case Kind::kHazardsLidar:
-          PseudoLidar(world.robot, *world.hazards, bins_, max_dist_, out);
-          break;
-        case Kind::kVasesLidar:
-          PseudoLidar(world.robot, world.vases, bins_, max_dist_, out);
+        case Kind::kLidar:
+          ObserveLidar(world, block.object, out);
           break;
       }
       out += block.size;
@@ -150,13 +143,47 @@ class LidarObserver final : public GoalObserver {
   }
 
  private:
-  enum class Kind { kSensor, kBallQuat, kGoalLidar, kHazardsLidar, kVasesLidar };
+  enum class Kind { kSensor, kBallQuat, kLidar };
   struct Block {
     std::string key;
     Kind kind = Kind::kSensor;
     SensorSlot sensor;  // for kSensor and kBallQuat
     int size = 0;       // values written
+    LidarObject object = LidarObject::kGoal;  // for kLidar
   };
+
+  void ObserveLidar(const NavigationWorldView& world, LidarObject object, double* out) const {
+    switch (object) {
+      case LidarObject::kGoal:
+        PseudoLidar(world.robot, {world.goal}, bins_, max_dist_, out);
+        return;
+      case LidarObject::kHazards:
+        PseudoLidar(world.robot, *world.hazards, bins_, max_dist_, out);
+        return;
+      case LidarObject::kVases:
+        PseudoLidar(world.robot, world.vases, bins_, max_dist_, out);
+        return;
+      case LidarObject::kButtons:
+        if (world.buttons_hidden) {
+          std::fill(out, out + bins_, 0.0);
+        } else {
+          PseudoLidar(world.robot, *world.buttons, bins_, max_dist_, out);
+        }
+        return;
+      case LidarObject::kGremlins:
+        PseudoLidar(world.robot, world.gremlins, bins_, max_dist_, out);
+        return;
+      case LidarObject::kPillars:
+        PseudoLidar(world.robot, *world.pillars, bins_, max_dist_, out);
+        return;
+      case LidarObject::kPushBox:
+        PseudoLidar(world.robot, world.box, bins_, max_dist_, out);
+        return;
+      case LidarObject::kCircle:
+        PseudoLidar(world.robot, world.circle, bins_, max_dist_, out);
+        return;
+    }
+  }
   int bins_;
   double max_dist_;
   std::vector<Block> blocks_;
@@ -165,7 +192,7 @@ class LidarObserver final : public GoalObserver {
 
 }  // namespace
 
-std::unique_ptr<GoalObserver> MakeGoalObserver(const GoalTaskSpec& spec,
+std::unique_ptr<NavigationObserver> MakeNavigationObserver(const NavigationTaskSpec& spec,
                                                const RobotDescription& robot,
                                                const mjModel& model) {
   if (IsLidarObservation(spec.observation)) {

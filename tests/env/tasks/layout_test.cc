@@ -1,4 +1,4 @@
-#include "cmbrl/env/tasks/goal_layout.h"
+#include "cmbrl/env/tasks/layout.h"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -20,7 +20,7 @@ struct Keepout {
   const char* what;
 };
 
-std::vector<Keepout> KeepoutsOf(const GoalTaskSpec& spec, const GoalLayout& layout) {
+std::vector<Keepout> KeepoutsOf(const NavigationTaskSpec& spec, const NavigationLayout& layout) {
   std::vector<Keepout> objects = {{layout.robot.position, spec.robot_keepout, "robot"},
                                   {layout.goal, spec.goal_keepout, "goal"}};
   for (const Vec2& h : layout.hazards) objects.push_back({h, spec.hazard_keepout, "hazard"});
@@ -30,7 +30,7 @@ std::vector<Keepout> KeepoutsOf(const GoalTaskSpec& spec, const GoalLayout& layo
 
 // Every pair is at least the sum of its keep-outs apart, every object lies in the placement
 // area shrunk by its own keep-out, every yaw in [0, 2 pi).
-void ExpectValid(const GoalTaskSpec& spec, const GoalLayout& layout) {
+void ExpectValid(const NavigationTaskSpec& spec, const NavigationLayout& layout) {
   const std::vector<Keepout> objects = KeepoutsOf(spec, layout);
   for (size_t i = 0; i < objects.size(); ++i) {
     const Keepout& a = objects[i];
@@ -52,25 +52,25 @@ void ExpectValid(const GoalTaskSpec& spec, const GoalLayout& layout) {
   }
 }
 
-class GoalLayoutTest : public ::testing::TestWithParam<std::tuple<std::string, Variant>> {
+class NavigationLayoutTest : public ::testing::TestWithParam<std::tuple<std::string, Variant>> {
  protected:
-  GoalTaskSpec spec_ = GoalTaskSpecByName(std::get<0>(GetParam()), std::get<1>(GetParam()));
+  NavigationTaskSpec spec_ = NavigationTaskSpecByName(std::get<0>(GetParam()), std::get<1>(GetParam()));
 };
 
-TEST_P(GoalLayoutTest, KeepoutsHoldOverAThousandLayouts) {
+TEST_P(NavigationLayoutTest, KeepoutsHoldOverAThousandLayouts) {
   Rng rng(2024);
   for (int i = 0; i < 1000; ++i) {
-    const GoalLayout layout = SampleGoalLayout(spec_, rng);
+    const NavigationLayout layout = SampleLayout(spec_, rng);
     ASSERT_EQ(static_cast<int>(layout.hazards.size()), spec_.num_hazards);
     ASSERT_EQ(static_cast<int>(layout.vases.size()), spec_.num_vases);
     ExpectValid(spec_, layout);
   }
 }
 
-TEST_P(GoalLayoutTest, ResampledGoalsKeepTheirDistance) {
+TEST_P(NavigationLayoutTest, ResampledGoalsKeepTheirDistance) {
   Rng rng(11);
   for (int i = 0; i < 1000; ++i) {
-    GoalLayout layout = SampleGoalLayout(spec_, rng);
+    NavigationLayout layout = SampleLayout(spec_, rng);
     const Vec2 before = layout.goal;
     ASSERT_TRUE(ResampleGoal(spec_, layout, rng));
     ExpectValid(spec_, layout);
@@ -78,11 +78,11 @@ TEST_P(GoalLayoutTest, ResampledGoalsKeepTheirDistance) {
   }
 }
 
-TEST_P(GoalLayoutTest, SameSeedSameLayoutDifferentSeedsDifferentLayouts) {
+TEST_P(NavigationLayoutTest, SameSeedSameLayoutDifferentSeedsDifferentLayouts) {
   Rng a(5), b(5), c(6);
-  const GoalLayout first = SampleGoalLayout(spec_, a);
-  const GoalLayout again = SampleGoalLayout(spec_, b);
-  const GoalLayout other = SampleGoalLayout(spec_, c);
+  const NavigationLayout first = SampleLayout(spec_, a);
+  const NavigationLayout again = SampleLayout(spec_, b);
+  const NavigationLayout other = SampleLayout(spec_, c);
   EXPECT_EQ(first.robot.position, again.robot.position);
   EXPECT_EQ(first.goal, again.goal);
   for (int i = 0; i < spec_.num_hazards; ++i) EXPECT_EQ(first.hazards[i], again.hazards[i]);
@@ -90,14 +90,14 @@ TEST_P(GoalLayoutTest, SameSeedSameLayoutDifferentSeedsDifferentLayouts) {
   EXPECT_NE(first.goal, other.goal);
 }
 
-TEST_P(GoalLayoutTest, PositionsCoverThePlacementArea) {
+TEST_P(NavigationLayoutTest, PositionsCoverThePlacementArea) {
   // Uniform draws: over 1000 layouts the robot visits all four quadrants of the area and
   // reaches within 10% of each shrunk edge.
   Rng rng(3);
   double x_min = 1e9, x_max = -1e9;
   int quadrants[4] = {0, 0, 0, 0};
   for (int i = 0; i < 1000; ++i) {
-    const Vec2 p = SampleGoalLayout(spec_, rng).robot.position;
+    const Vec2 p = SampleLayout(spec_, rng).robot.position;
     x_min = std::min(x_min, p.x);
     x_max = std::max(x_max, p.x);
     ++quadrants[(p.x > 0) + 2 * (p.y > 0)];
@@ -108,7 +108,7 @@ TEST_P(GoalLayoutTest, PositionsCoverThePlacementArea) {
   for (int count : quadrants) EXPECT_GT(count, 150);
 }
 
-INSTANTIATE_TEST_SUITE_P(AllTasks, GoalLayoutTest,
+INSTANTIATE_TEST_SUITE_P(AllTasks, NavigationLayoutTest,
                          ::testing::Combine(::testing::Values("PointGoal1", "PointGoal2",
                                                               "CarGoal1", "CarGoal2"),
                                             ::testing::Values(Variant::kPaper, Variant::kStandard)),
@@ -116,19 +116,19 @@ INSTANTIATE_TEST_SUITE_P(AllTasks, GoalLayoutTest,
                            return std::get<0>(info.param) + VariantName(std::get<1>(info.param));
                          });
 
-TEST(GoalLayoutErrorTest, ImpossibleLayoutIsReportedNotLooped) {
-  GoalTaskSpec spec = GoalTaskSpecByName("PointGoal1", Variant::kPaper);
+TEST(NavigationLayoutErrorTest, ImpossibleLayoutIsReportedNotLooped) {
+  NavigationTaskSpec spec = NavigationTaskSpecByName("PointGoal1", Variant::kPaper);
   spec.num_hazards = 200;  // cannot fit in 3 x 3 m with 0.36 m between centres
   spec.layout_tries = 20;
   Rng rng(0);
-  EXPECT_EQ(ErrorMessage([&] { SampleGoalLayout(spec, rng); }),
+  EXPECT_EQ(ErrorMessage([&] { SampleLayout(spec, rng); }),
             "no layout of PointGoal1 fits its keep-outs after 20 tries");
 }
 
-TEST(GoalLayoutErrorTest, GoalThatCannotFitLeavesTheLayoutAlone) {
-  GoalTaskSpec spec = GoalTaskSpecByName("PointGoal1", Variant::kPaper);
+TEST(NavigationLayoutErrorTest, GoalThatCannotFitLeavesTheLayoutAlone) {
+  NavigationTaskSpec spec = NavigationTaskSpecByName("PointGoal1", Variant::kPaper);
   Rng rng(0);
-  GoalLayout layout = SampleGoalLayout(spec, rng);
+  NavigationLayout layout = SampleLayout(spec, rng);
   const Vec2 goal = layout.goal;
   spec.goal_keepout = 5.0;  // larger than the area
   EXPECT_FALSE(ResampleGoal(spec, layout, rng));

@@ -1,4 +1,4 @@
-#include "cmbrl/env/tasks/goal_spec.h"
+#include "cmbrl/env/tasks/task_spec.h"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -14,7 +14,7 @@ using testing::ErrorMessage;
 TEST(GoalSpecTest, PaperSuiteCountsAndTiming) {
   // Facts B0: 7 / 14 hazards, 1 / 2 constrained vases, goal keep-out 0.35, action repeat
   // 3 (Point) / 2 (Car), episodes of 300 / 150 env steps, ego-state observations.
-  const GoalTaskSpec pg1 = GoalTaskSpecByName("PointGoal1", Variant::kPaper);
+  const NavigationTaskSpec pg1 = NavigationTaskSpecByName("PointGoal1", Variant::kPaper);
   EXPECT_EQ(pg1.num_hazards, 7);
   EXPECT_EQ(pg1.num_vases, 1);
   EXPECT_TRUE(pg1.vases_constrained);
@@ -24,7 +24,7 @@ TEST(GoalSpecTest, PaperSuiteCountsAndTiming) {
   EXPECT_EQ(pg1.max_env_steps, 300);
   EXPECT_EQ(pg1.observation, ObservationKind::kEgoState);
   EXPECT_DOUBLE_EQ(pg1.placement.x_max, 1.5);
-  const GoalTaskSpec cg2 = GoalTaskSpecByName("CarGoal2", Variant::kPaper);
+  const NavigationTaskSpec cg2 = NavigationTaskSpecByName("CarGoal2", Variant::kPaper);
   EXPECT_EQ(cg2.num_hazards, 14);
   EXPECT_EQ(cg2.num_vases, 2);
   EXPECT_EQ(cg2.action_repeat, 2);
@@ -34,7 +34,7 @@ TEST(GoalSpecTest, PaperSuiteCountsAndTiming) {
 
 TEST(GoalSpecTest, StandardSuiteCountsAndTiming) {
   // Facts A1, A4: 8 hazards and 1 unconstrained vase / 10 and 10 constrained; 1000 steps.
-  const GoalTaskSpec pg1 = GoalTaskSpecByName("PointGoal1", Variant::kStandard);
+  const NavigationTaskSpec pg1 = NavigationTaskSpecByName("PointGoal1", Variant::kStandard);
   EXPECT_EQ(pg1.num_hazards, 8);
   EXPECT_EQ(pg1.num_vases, 1);
   EXPECT_FALSE(pg1.vases_constrained);
@@ -43,20 +43,20 @@ TEST(GoalSpecTest, StandardSuiteCountsAndTiming) {
   EXPECT_EQ(pg1.frame_skip, 10);
   EXPECT_EQ(pg1.max_env_steps, 1000);
   EXPECT_EQ(pg1.observation, ObservationKind::kLidar);
-  const GoalTaskSpec cg2 = GoalTaskSpecByName("CarGoal2", Variant::kStandard);
+  const NavigationTaskSpec cg2 = NavigationTaskSpecByName("CarGoal2", Variant::kStandard);
   EXPECT_EQ(cg2.num_hazards, 10);
   EXPECT_EQ(cg2.num_vases, 10);
   EXPECT_TRUE(cg2.vases_constrained);
 }
 
 TEST(GoalSpecTest, UnknownTaskAndLevelAreNamed) {
-  EXPECT_EQ(ErrorMessage([&] { GoalTaskSpecByName("PointGoal3", Variant::kPaper); }),
+  EXPECT_EQ(ErrorMessage([&] { NavigationTaskSpecByName("PointGoal3", Variant::kPaper); }),
             "unknown task 'PointGoal3': expected one of PointGoal1, PointGoal2, CarGoal1, "
             "CarGoal2 (or an environment given from Python)");
-  EXPECT_THAT(ErrorMessage([&] { GoalTaskSpecByName("python:m.make()", Variant::kPaper); }),
+  EXPECT_THAT(ErrorMessage([&] { NavigationTaskSpecByName("python:m.make()", Variant::kPaper); }),
               ::testing::HasSubstr("is an environment given from Python: train, resume and load "
                                    "it from Python"));
-  EXPECT_THROW(MakeGoalTaskSpec({"CarGoal0", RobotKind::kCar, 0}, Variant::kPaper), Error);
+  EXPECT_THROW(MakeNavigationTaskSpec({"CarGoal0", TaskFamily::kGoal, RobotKind::kCar, 0}, Variant::kPaper), Error);
 }
 
 TEST(GoalSpecTest, VariantNamesRoundTripAndUnknownOnesAreNamed) {
