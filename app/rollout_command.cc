@@ -1,6 +1,7 @@
 // `cmbrl rollout`: runs episodes of a fixed policy, prints one JSON object per episode and
 // optionally draws each episode from above.
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <cstdint>
 #include <filesystem>
@@ -30,6 +31,7 @@ struct RolloutArgs {
   int episodes = 1;
   std::uint64_t seed = 0;
   std::string render;
+  int picture_size = 800;  // pixels
   std::string trace;
 };
 
@@ -129,7 +131,9 @@ void RunRollout(const RolloutArgs& args) {
                       args.task, VariantName(variant), args.policy, args.seed, episode,
                       record.episode_return, record.episode_cost, record.goals_met),
           {}};
-      WriteScenePng(picture, picture_path);
+      ScenePictureOptions options;
+      options.size_px = args.picture_size;
+      WriteScenePng(picture, picture_path, options);
       line["picture"] = picture_path;
     }
     // A trace cut short by a full disk stops the rollout at this episode, naming the file.
@@ -145,11 +149,11 @@ void AddRolloutCommand(CLI::App& parent) {
   auto args = std::make_shared<RolloutArgs>();
   CLI::App* command = parent.add_subcommand(
       "rollout", "Run episodes of a fixed policy; print one JSON object per episode");
-  command->add_option("--task", args->task, "PointGoal1, PointGoal2, CarGoal1 or CarGoal2")
+  command->add_option("--task", args->task, fmt::format("one of {}", fmt::join(EnvNames(), ", ")))
       ->capture_default_str();
-  command->add_option("--variant", args->variant, "paper, paper-lidar or standard (default: paper for the paper's Goal tasks, standard "
-                      "for the others)")
-      ->capture_default_str();
+  command->add_option("--variant", args->variant,
+                      "paper, paper-lidar or standard (default: paper for the paper's Goal tasks, "
+                      "standard for the others)");
   command->add_option("--policy", args->policy, "random or zero")->capture_default_str();
   command->add_option("--episodes", args->episodes, "number of episodes")
       ->check(IntegerIn(1, 1'000'000))
@@ -160,6 +164,9 @@ void AddRolloutCommand(CLI::App& parent) {
   command->add_option("--render", args->render,
                       "write a top-down PNG of each episode here (FILE, or FILE-epK.png when "
                       "several)");
+  command->add_option("--picture-size", args->picture_size, "the picture's width in pixels")
+      ->check(IntegerIn(64, 8192))
+      ->capture_default_str();
   command->add_option("--trace", args->trace,
                       "write every reset and step here as JSON lines (action, observation, reward, "
                       "cost), doubles at full precision");

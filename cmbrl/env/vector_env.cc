@@ -102,6 +102,10 @@ VectorStep VectorEnv::Step(const std::vector<double>& actions,
   out.cost_hazards.resize(n);
   out.cost_vases_contact.resize(n);
   out.cost_vases_velocity.resize(n);
+  out.cost_buttons.resize(n);
+  out.cost_gremlins.resize(n);
+  out.cost_pillars.resize(n);
+  out.cost_out_of_boundary.resize(n);
   out.observations.assign(n * width, 0.0);
   pool_->Run(n, [&](std::int64_t begin, std::int64_t end) {
     for (std::int64_t k = begin; k < end; ++k) {
@@ -118,6 +122,10 @@ VectorStep VectorEnv::Step(const std::vector<double>& actions,
       out.cost_hazards[k] = step.info.cost_hazards;
       out.cost_vases_contact[k] = step.info.cost_vases_contact;
       out.cost_vases_velocity[k] = step.info.cost_vases_velocity;
+      out.cost_buttons[k] = step.info.cost_buttons;
+      out.cost_gremlins[k] = step.info.cost_gremlins;
+      out.cost_pillars[k] = step.info.cost_pillars;
+      out.cost_out_of_boundary[k] = step.info.cost_out_of_boundary;
       if ((step.terminated || step.truncated) && autoreset_ == Autoreset::kSameStep) {
         std::copy(step.observation.begin(), step.observation.end(),
                   out.final_observations.begin() + k * width);

@@ -27,6 +27,7 @@ struct VectorStep {
   std::vector<double> final_observations;  // (N x O): kSameStep: the ended episodes' last ones
   std::vector<std::uint8_t> goal_met;      // (N) 0/1
   std::vector<double> cost_hazards, cost_vases_contact, cost_vases_velocity;  // (N)
+  std::vector<double> cost_buttons, cost_gremlins, cost_pillars, cost_out_of_boundary;  // (N)
 };
 
 // Gymnasium 1.x's AutoresetMode, less NEXT_STEP.

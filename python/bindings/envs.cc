@@ -13,6 +13,7 @@
 #include "cmbrl/core/check.h"
 #include "cmbrl/core/parallel.h"
 #include "cmbrl/env/registry.h"
+#include "cmbrl/env/tasks/task_spec.h"
 #include "cmbrl/env/scene.h"
 #include "cmbrl/env/vector_env.h"
 #include "cmbrl/viz/scene_picture.h"
@@ -91,6 +92,10 @@ class PyEnv {
     info["cost_hazards"] = step.info.cost_hazards;
     info["cost_vases_contact"] = step.info.cost_vases_contact;
     info["cost_vases_velocity"] = step.info.cost_vases_velocity;
+    info["cost_buttons"] = step.info.cost_buttons;
+    info["cost_gremlins"] = step.info.cost_gremlins;
+    info["cost_pillars"] = step.info.cost_pillars;
+    info["cost_out_of_boundary"] = step.info.cost_out_of_boundary;
     info["env_steps"] = step.info.env_steps;
     info["physics_error"] = step.info.physics_error;
     return py::make_tuple(Own(std::move(step.observation)), step.reward, step.cost, step.terminated,
@@ -302,6 +307,10 @@ class PyVectorEnv {
     info["cost_hazards"] = Own(std::move(step.cost_hazards));
     info["cost_vases_contact"] = Own(std::move(step.cost_vases_contact));
     info["cost_vases_velocity"] = Own(std::move(step.cost_vases_velocity));
+    info["cost_buttons"] = Own(std::move(step.cost_buttons));
+    info["cost_gremlins"] = Own(std::move(step.cost_gremlins));
+    info["cost_pillars"] = Own(std::move(step.cost_pillars));
+    info["cost_out_of_boundary"] = Own(std::move(step.cost_out_of_boundary));
     if (!disabled_) {  // with autoreset disabled the observation is the last one itself
       // Gymnasium 1.x's same-step names: the ended episodes' last observations and the info of
       // their last step (this step's, as the reset adds none), each with its mask.
@@ -357,6 +366,10 @@ std::string BenchEnv(const std::string& task, const std::string& variant, int st
 
 void BindEnvs(py::module_& m) {
   m.def("env_names", &EnvNames, "the registered tasks");
+  m.def(
+      "default_variant",
+      [](const std::string& task) { return VariantName(DefaultVariant(FindTask(task))); },
+      py::arg("task"), "the variant a task is made in when none is named");
   py::class_<PyEnv>(m, "Env")
       .def(py::init<const std::string&, const std::string&, const std::string&>(), py::arg("task"),
            py::arg("variant"), py::arg("spawn"))

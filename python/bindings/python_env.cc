@@ -99,7 +99,11 @@ void PythonEnv::ReadKnownInfo(const py::dict& info, StepInfo& out) const {
   const std::pair<const char*, double StepInfo::*> costs[] = {
       {"cost_hazards", &StepInfo::cost_hazards},
       {"cost_vases_contact", &StepInfo::cost_vases_contact},
-      {"cost_vases_velocity", &StepInfo::cost_vases_velocity}};
+      {"cost_vases_velocity", &StepInfo::cost_vases_velocity},
+      {"cost_buttons", &StepInfo::cost_buttons},
+      {"cost_gremlins", &StepInfo::cost_gremlins},
+      {"cost_pillars", &StepInfo::cost_pillars},
+      {"cost_out_of_boundary", &StepInfo::cost_out_of_boundary}};
   for (const auto& [key, member] : costs) {
     if (info.contains(key)) out.*member = Number(info[key], "info cost");
   }

@@ -33,7 +33,7 @@ class PythonEnv final : public Env {
   std::vector<double> Reset(std::optional<std::uint64_t> seed) override;
   // The env's step on the action mapped onto its box. A violation is a cost above 0 (the raw
   // cost is in info.raw_cost). Safety-Gymnasium's info keys goal_met (a step that jumps, which
-  // the dynamics do not learn), cost_hazards, cost_vases_contact and cost_vases_velocity fill
+  // the dynamics do not learn) and the cost_* terms of StepInfo (cost_hazards, cost_buttons, ...) fill
   // info's fields where the env gives them. Throws cmbrl::Error naming the episode and step for an
   // exception the env raises, a result of another form, or a non-finite observation, reward or
   // cost.

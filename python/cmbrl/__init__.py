@@ -22,7 +22,7 @@ from . import _cmbrl
 from ._common import Error
 from .agents import Agent, evaluate, load_run, train
 from .envs import (CostInInfo, Env, EnvSpec, VectorCostInInfo, VectorEnv, make, make_vec,
-                   tasks)
+                   tasks, variants)
 from .models import CostClassifier, Ensemble, RewardModel
 from .results import read_runs, report
 from .spaces import Box
@@ -33,5 +33,5 @@ __version__ = _cmbrl.__version__
 __commit__ = _cmbrl.__commit__
 
 __all__ = ["Error", "Box", "Env", "EnvSpec", "VectorEnv", "Agent", "Ensemble", "CostClassifier",
-           "RewardModel", "make", "make_vec", "tasks", "train", "load_run", "evaluate",
+           "RewardModel", "make", "make_vec", "tasks", "variants", "train", "load_run", "evaluate",
            "read_runs", "report", "CostInInfo", "VectorCostInInfo"]

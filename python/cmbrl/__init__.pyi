@@ -15,6 +15,7 @@ from .envs import VectorEnv as VectorEnv
 from .envs import make as make
 from .envs import make_vec as make_vec
 from .envs import tasks as tasks
+from .envs import variants as variants
 from .models import CostClassifier as CostClassifier
 from .models import Ensemble as Ensemble
 from .models import RewardModel as RewardModel
@@ -25,5 +26,5 @@ from .spaces import Box as Box
 __version__: str
 __commit__: str
 __all__ = ["Error", "Box", "Env", "EnvSpec", "VectorEnv", "Agent", "Ensemble", "CostClassifier",
-           "RewardModel", "make", "make_vec", "tasks", "train", "load_run", "evaluate",
+           "RewardModel", "make", "make_vec", "tasks", "variants", "train", "load_run", "evaluate",
            "read_runs", "report", "CostInInfo", "VectorCostInInfo"]

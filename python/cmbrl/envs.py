@@ -26,8 +26,16 @@ def tasks():
     return list(_cmbrl.env_names())
 
 
+def variants(task):
+    """The variants a task exists in, its default first: the paper's Goal tasks 'paper',
+    'standard' and 'paper-lidar'; Button, Push and Circle 'standard' only."""
+    if _cmbrl.default_variant(task) == "paper":
+        return ["paper", "standard", "paper-lidar"]
+    return ["standard"]
+
+
 class Env(_Closable, _EnvBase):
-    """One Goal environment with Safety-Gymnasium's API (reset, step with a separate cost,
+    """One navigation environment with Safety-Gymnasium's API (reset, step with a separate cost,
     observation_space, action_space, render to an RGB array, close). Where gymnasium is
     importable it is a gymnasium.Env (and its spaces gymnasium's Boxes), as Safety-Gymnasium's
     environments are; step() returns the cost as Safety-Gymnasium's do.
@@ -262,20 +270,25 @@ _SAFETY_GYMNASIUM_ID = re.compile(r"Safety(\w+)-v0")
 
 def _task_and_variant(task, variant):
     """A task name or a Safety-Gymnasium id ("SafetyPointGoal1-v0": that task's stock variant,
-    'standard'), and the variant: the one given, else 'standard' for such an id and 'paper'."""
+    'standard'), and the variant: the one given, else 'standard' for such an id and the task's
+    default: 'paper' for the paper's Goal tasks, 'standard' for the others (Button, Push,
+    Circle)."""
     if not isinstance(task, str):
         raise Error(f"task is {task!r}: expected a task name ({', '.join(tasks())}) or a "
                     "Safety-Gymnasium id such as 'SafetyPointGoal1-v0'")
     match = _SAFETY_GYMNASIUM_ID.fullmatch(task)
     if match and match.group(1) in tasks():  # the task list is the C++ core's, named once
         return match.group(1), "standard" if variant is None else variant
-    return task, "paper" if variant is None else variant
+    if variant is None:
+        variant = _cmbrl.default_variant(task) if task in tasks() else "paper"
+    return task, variant
 
 
 def make(task, variant=None, spawn="standing", render_mode=None, render_size=400):
     """An environment: task is one of tasks() or a Safety-Gymnasium id ('SafetyPointGoal1-v0',
-    which gives that task's stock variant); variant 'paper' (the default for a task name: the
-    paper's modified suite), 'standard' (Safety-Gymnasium's stock tasks) or 'paper-lidar' (the
+    which gives that task's stock variant); variant 'paper' (the default for the paper's Goal
+    tasks: the paper's modified suite), 'standard' (Safety-Gymnasium's stock tasks; the default
+    and only variant of Button, Push and Circle) or 'paper-lidar' (the
     paper's world as its model-free baselines observed it); spawn 'standing' or
     'model-origin'."""
     return Env(task, variant=variant, spawn=spawn, render_mode=render_mode,

@@ -8,6 +8,7 @@ from ._common import _Bools, _Closable, _Floats, _NotCopyable, _Path
 from .spaces import _Box
 
 def tasks() -> list[str]: ...
+def variants(task: str) -> list[str]: ...
 
 class EnvSpec:
     id: str

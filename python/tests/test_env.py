@@ -9,7 +9,8 @@ import pytest
 import cmbrl
 
 
-@pytest.mark.parametrize("task", ["PointGoal1", "CarGoal2"])
+@pytest.mark.parametrize("task", ["PointGoal1", "CarGoal2", "PointButton1", "CarPush2",
+                                  "PointCircle2"])
 def test_an_episode_from_python_equals_cmbrl_rollout_bit_for_bit(task, cmbrl_binary, tmp_path):
     trace = tmp_path / "trace.jsonl"
     subprocess.run([cmbrl_binary, "rollout", "--task", task, "--seed", "7", "--trace", str(trace)],
@@ -310,3 +311,23 @@ def test_cost_in_info_gives_gymnasiums_five_values():
         five = vec.step(actions)
         assert np.array_equal(five[0], obs) and np.array_equal(five[1], rewards)
         assert np.array_equal(five[4]["cost"], step_costs)
+
+
+def test_button_push_and_circle_are_stock_tasks_with_their_cost_terms():
+    assert {"PointButton0", "CarPush2", "PointCircle1"} <= set(cmbrl.tasks())
+    env = cmbrl.make("PointButton1")  # its only variant, the stock one, by default
+    assert env.observation_names[12:14] == ["buttons_lidar_0", "buttons_lidar_1"]
+    env.reset(seed=0)
+    _, _, _, _, _, info = env.step(np.zeros(2))
+    for term in ("cost_hazards", "cost_buttons", "cost_gremlins", "cost_pillars",
+                 "cost_out_of_boundary"):
+        assert info[term] == 0.0
+    same = cmbrl.make("SafetyPointButton1-v0")
+    assert same.observation_names == env.observation_names
+    with pytest.raises(cmbrl.Error, match="has no variant 'paper'"):
+        cmbrl.make("PointCircle1", variant="paper")
+    vec = cmbrl.make_vec("PointPush1", num_envs=2)
+    vec.reset(seed=0)
+    _, _, _, _, _, info = vec.step(np.zeros((2, 2)))
+    assert info["cost_pillars"].shape == (2,)
+    vec.close()

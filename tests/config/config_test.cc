@@ -38,6 +38,41 @@ TEST(ConfigTest, AnEmptyFileGivesThePapersSettings) {
   EXPECT_TRUE(config.objective.at_goal_test_after_near_bonus);
 }
 
+// The navigation suite's other families exist in the stock variant only, which is then their
+// default; each plans with its own lidar form, which a paper variant's observation lacks.
+TEST(ConfigTest, TheOtherFamiliesAreStockTasksWithLidarRewards) {
+  const TrainConfig button = ParseTrainConfig("task: PointButton1", "c.yaml");
+  EXPECT_EQ(button.variant, Variant::kStandard);
+  EXPECT_EQ(AnalyticRewardForm(button), "goal-lidar-distance");
+  EXPECT_EQ(AnalyticRewardForm(ParseTrainConfig("task: CarPush2", "c.yaml")),
+            "push-lidar-distances");
+  EXPECT_EQ(AnalyticRewardForm(ParseTrainConfig("task: PointCircle0", "c.yaml")),
+            "circle-lidar-speed");
+  EXPECT_THAT(ErrorMessage([] { ParseTrainConfig("{task: PointButton1, variant: paper}", "c.yaml"); }),
+              ::testing::HasSubstr("task 'PointButton1' has no variant 'paper'"));
+  EXPECT_THAT(ErrorMessage([] {
+                ParseTrainConfig("objective: {analytic_form: circle-lidar-speed}", "c.yaml");
+              }),
+              ::testing::HasSubstr("the analytic reward 'circle-lidar-speed' reads a lidar "
+                                   "observation: key 'variant' is 'paper'"));
+  // The stock Goal tasks plan with the goal's lidar when asked to.
+  const TrainConfig goal = ParseTrainConfig(
+      "{variant: standard, objective: {analytic_form: goal-lidar-distance}}", "c.yaml");
+  EXPECT_EQ(AnalyticRewardForm(goal), "goal-lidar-distance");
+  // Every preset of the new tasks reads.
+  for (const TaskEntry& task : Tasks()) {
+    if (HasPaperVariant(task)) continue;
+    for (const std::string method : {"rce", "cem", "random"}) {
+      std::string lower = task.name;
+      std::transform(lower.begin(), lower.end(), lower.begin(), ::tolower);
+      const TrainConfig preset = LoadTrainConfig(std::string(CMBRL_SOURCE_DIR) + "/configs/" +
+                                                 lower + "-" + method + ".yaml");
+      EXPECT_EQ(preset.task, task.name);
+      EXPECT_EQ(preset.planner, method);
+    }
+  }
+}
+
 // objective.reward: the Goal tasks plan with their own analytic form; every task names a form
 // that planning knows, and a source that is not offered is named by its key.
 TEST(ConfigTest, TheRewardTermIsTheTasksAnalyticForm) {
@@ -272,7 +307,9 @@ TEST(ConfigTest, BadConfigurationsNameTheKeyAndTheValue) {
   EXPECT_EQ(ErrorMessage([] { ParseTrainConfig("planning: {population: many}", "c.yaml"); }),
             "config 'c.yaml': key 'planning.population' is 'many': expected an integer");
   EXPECT_THAT(ErrorMessage([] { ParseTrainConfig("variant: standard", "c.yaml"); }),
-              ::testing::HasSubstr("training plans on the paper variant"));
+              ::testing::HasSubstr("the goal-distance reward plans on the paper variant's "
+                                   "ego-state vector (the standard variant observes lidar: plan "
+                                   "with objective.analytic_form: goal-lidar-distance)"));
   EXPECT_THAT(ErrorMessage([] { ParseTrainConfig("planning: [1, 2]", "c.yaml"); }),
               ::testing::HasSubstr("'planning' must be a mapping"));
   EXPECT_THAT(ErrorMessage([] { ParseTrainConfig("task: [", "c.yaml"); }),
@@ -409,7 +446,7 @@ TEST(ConfigTest, EveryPresetInConfigsLoads) {
       EXPECT_EQ(config.policy_optimisation.policy_hidden, std::vector<int>({256, 256}));
     }
   }
-  EXPECT_EQ(mpc, 12);         // 4 tasks x 3 planners
+  EXPECT_EQ(mpc, 12 + 54);     // 4 Goal tasks x 3 planners; 18 stock tasks x 3 planners
   EXPECT_EQ(model_free, 12);  // 4 tasks x trpo, trpo-lagrangian, cpo
 }
 
