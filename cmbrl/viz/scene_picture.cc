@@ -270,37 +270,55 @@ void DrawLegend(cairo_t* cr, const SceneState& scene, const PictureGeometry& g, 
   };
   const bool goal_task =
       scene.buttons.empty() && !scene.box && scene.circle_radius == 0.0;
-  double x = 12;
+  using Swatch = std::function<void(double, double)>;
+  std::vector<std::pair<std::string, Swatch>> rows[2];
+  std::vector<std::pair<std::string, Swatch>>& objects = rows[0];
   if (goal_task || !scene.hazards.empty()) {
-    x = LegendEntry(cr, x, row1, "hazard", disc(0.2, 0.35, 1.0, 0.45));
+    objects.push_back({"hazard", disc(0.2, 0.35, 1.0, 0.45)});
   }
-  if (goal_task) x = LegendEntry(cr, x, row1, "vase", square(0.0, 0.65, 0.65, 1.0));
-  if (!scene.buttons.empty()) x = LegendEntry(cr, x, row1, "button", disc(1.0, 0.5, 0.0, 1.0));
-  if (!scene.gremlins.empty()) x = LegendEntry(cr, x, row1, "gremlin", square(0.5, 0.0, 1.0, 1.0));
-  if (!scene.pillars.empty()) x = LegendEntry(cr, x, row1, "pillar", disc(0.35, 0.35, 0.55, 1.0));
-  if (scene.box) x = LegendEntry(cr, x, row1, "box", square(0.85, 0.7, 0.0, 1.0));
-  if (scene.circle_radius > 0.0) {
-    x = LegendEntry(cr, x, row1, "ring", line(0.1, 0.6, 0.2, 0.9, 3));
-  }
-  if (scene.num_walls > 0) x = LegendEntry(cr, x, row1, "wall", line(0.9, 0.1, 0.1, 0.8, 3));
+  if (goal_task) objects.push_back({"vase", square(0.0, 0.65, 0.65, 1.0)});
+  if (!scene.buttons.empty()) objects.push_back({"button", disc(1.0, 0.5, 0.0, 1.0)});
+  if (!scene.gremlins.empty()) objects.push_back({"gremlin", square(0.5, 0.0, 1.0, 1.0)});
+  if (!scene.pillars.empty()) objects.push_back({"pillar", disc(0.35, 0.35, 0.55, 1.0)});
+  if (scene.box) objects.push_back({"box", square(0.85, 0.7, 0.0, 1.0)});
+  if (scene.circle_radius > 0.0) objects.push_back({"ring", line(0.1, 0.6, 0.2, 0.9, 3)});
+  if (scene.num_walls > 0) objects.push_back({"wall", line(0.9, 0.1, 0.1, 0.8, 3)});
   if (scene.has_goal) {
-    x = LegendEntry(cr, x, row1, scene.buttons.empty() ? "goal" : "goal button",
-                    disc(0.1, 0.8, 0.2, 0.5));
-    x = LegendEntry(cr, x, row1, "reached goal", disc(0.1, 0.8, 0.2, 0.18));
+    objects.push_back({scene.buttons.empty() ? "goal" : "goal button", disc(0.1, 0.8, 0.2, 0.5)});
+    objects.push_back({"reached goal", disc(0.1, 0.8, 0.2, 0.18)});
   }
-  x = LegendEntry(cr, x, row1, "robot", disc(0.85, 0.1, 0.1, 1.0));
-  x = LegendEntry(cr, x, row1, "start", [cr](double cx, double cy) {
-    cairo_set_source_rgb(cr, 0, 0, 0);
-    cairo_set_line_width(cr, 2);
-    cairo_arc(cr, cx, cy, 6, 0, 2 * M_PI);
-    cairo_stroke(cr);
-  });
-  x = 12;
-  x = LegendEntry(cr, x, row2, "path", line(0.45, 0.1, 0.1, 0.8, 2));
-  x = LegendEntry(cr, x, row2, "violating step", disc(1.0, 0.5, 0.0, 1.0));
-  x = LegendEntry(cr, x, row2, "feasible plan", line(0.0, 0.6, 0.2, 0.6, 1.5));
-  x = LegendEntry(cr, x, row2, "infeasible plan", line(0.9, 0.1, 0.1, 0.6, 1.5));
-  LegendEntry(cr, x, row2, "executed plan", line(0.1, 0.1, 0.1, 0.9, 2.5));
+  objects.push_back({"robot", disc(0.85, 0.1, 0.1, 1.0)});
+  objects.push_back({"start", [cr](double cx, double cy) {
+                       cairo_set_source_rgb(cr, 0, 0, 0);
+                       cairo_set_line_width(cr, 2);
+                       cairo_arc(cr, cx, cy, 6, 0, 2 * M_PI);
+                       cairo_stroke(cr);
+                     }});
+  rows[1] = {{"path", line(0.45, 0.1, 0.1, 0.8, 2)},
+             {"violating step", disc(1.0, 0.5, 0.0, 1.0)},
+             {"feasible plan", line(0.0, 0.6, 0.2, 0.6, 1.5)},
+             {"infeasible plan", line(0.9, 0.1, 0.1, 0.6, 1.5)},
+             {"executed plan", line(0.1, 0.1, 0.1, 0.9, 2.5)}};
+  // A row too wide for the picture gets a smaller font (each entry keeps its 42-pixel swatch and
+  // gap), so that every entry shows.
+  const double font = std::max(10.0, g.width_px / 62.0);
+  double scale = 1.0;
+  for (const auto& row : rows) {
+    double text = 0.0, fixed = 12.0;
+    for (const auto& [label, swatch] : row) {
+      cairo_text_extents_t extents;
+      cairo_text_extents(cr, label.c_str(), &extents);
+      text += extents.x_advance;
+      fixed += 42.0;
+    }
+    if (fixed + text > g.width_px) scale = std::min(scale, (g.width_px - fixed) / text);
+  }
+  cairo_set_font_size(cr, font * std::max(scale, 0.3));
+  const double heights[2] = {row1, row2};
+  for (int r = 0; r < 2; ++r) {
+    double x = 12;
+    for (const auto& [label, swatch] : rows[r]) x = LegendEntry(cr, x, heights[r], label.c_str(), swatch);
+  }
   cairo_restore(cr);
 }
 
