@@ -86,6 +86,13 @@ NavigationEnv::NavigationEnv(NavigationTaskSpec spec, RobotDescription robot)
   }
   observer_ = MakeNavigationObserver(spec_, robot_, m);
   BuildSpecs();
+  // A layout of the spec's sizes before the first reset, so that the state of an environment
+  // never reset is one another of its kind accepts (a copy made before reset).
+  layout_.hazards.assign(static_cast<size_t>(spec_.num_hazards), Vec2{});
+  layout_.vases.assign(static_cast<size_t>(spec_.num_vases), Pose2{});
+  layout_.buttons.assign(static_cast<size_t>(spec_.num_buttons), Vec2{});
+  layout_.gremlins.assign(static_cast<size_t>(spec_.num_gremlins), Pose2{});
+  layout_.pillars.assign(static_cast<size_t>(spec_.num_pillars), Vec2{});
 }
 
 void NavigationEnv::BuildSpecs() {

@@ -370,6 +370,13 @@ void BindEnvs(py::module_& m) {
       "default_variant",
       [](const std::string& task) { return VariantName(DefaultVariant(FindTask(task))); },
       py::arg("task"), "the variant a task is made in when none is named");
+  m.def(
+      "episode_steps",
+      [](const std::string& task, const std::string& variant) {
+        const NavigationTaskSpec spec = NavigationTaskSpecByName(task, ParseVariant(variant));
+        return (spec.max_env_steps + spec.action_repeat - 1) / spec.action_repeat;
+      },
+      py::arg("task"), py::arg("variant"), "agent steps in an episode of a task and variant");
   py::class_<PyEnv>(m, "Env")
       .def(py::init<const std::string&, const std::string&, const std::string&>(), py::arg("task"),
            py::arg("variant"), py::arg("spawn"))

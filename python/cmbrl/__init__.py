@@ -26,6 +26,7 @@ from .envs import (CostInInfo, Env, EnvSpec, VectorCostInInfo, VectorEnv, make, 
 from .models import CostClassifier, Ensemble, RewardModel
 from .results import read_runs, report
 from .spaces import Box
+from . import registration  # registers every task in Gymnasium's registry (where importable)
 
 # The version of the C++ core this module was built from, and its source commit ("744c47e1a2b3",
 # with "+dirty" for uncommitted changes): what a run's sessions.jsonl records as "cmbrl".

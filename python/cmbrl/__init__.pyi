@@ -16,6 +16,7 @@ from .envs import make as make
 from .envs import make_vec as make_vec
 from .envs import tasks as tasks
 from .envs import variants as variants
+from . import registration as registration
 from .models import CostClassifier as CostClassifier
 from .models import Ensemble as Ensemble
 from .models import RewardModel as RewardModel

@@ -1,5 +1,6 @@
 """The Safety Gym Goal environments: one (Env, make), vectors of them stepped in C++ threads
 (VectorEnv, make_vec), and Gymnasium's five-value step (CostInInfo, VectorCostInInfo)."""
+import json
 import math
 import os
 import re
@@ -19,6 +20,10 @@ try:  # gymnasium is optional: where it is importable, the environments are of i
 except ImportError:  # pragma: no cover - depends on the machine
     _EnvBase = _VectorEnvBase = object
     _WrapperBase = _VectorWrapperBase = None
+try:  # Gymnasium's EnvSpec, where its registry is importable
+    from gymnasium.envs.registration import EnvSpec as _EnvSpecBase
+except ImportError:  # pragma: no cover - depends on the machine
+    _EnvSpecBase = None
 
 
 def tasks():
@@ -72,9 +77,9 @@ class Env(_Closable, _EnvBase):
         # Per instance: Gymnasium's wrappers read render_fps, and it follows the agent's step.
         self.metadata = {"render_modes": ["rgb_array"],
                          "render_fps": round(1.0 / self.agent_step_seconds)}
-        self.spec = EnvSpec(env_id, self.max_episode_steps,
-                            {"variant": variant, "spawn": spawn})
+        self.spec = _env_spec(env_id, task, variant, spawn)
         self._np_random = None
+        self._np_random_seed = None
 
     def reset(self, seed=None, options=None):
         """Starts an episode: (observation, info). A seed re-seeds the layouts' generator;
@@ -86,6 +91,7 @@ class Env(_Closable, _EnvBase):
             seed = _as_seed(seed)
             self.action_space.seed(seed)
             self._np_random = np.random.default_rng(seed)
+            self._np_random_seed = seed
         self._seeded = True
         return self._env.reset(seed)
 
@@ -95,12 +101,23 @@ class Env(_Closable, _EnvBase):
         wrappers' own draws). The environment's layouts draw from its C++ generator, seeded with
         the same seed, not from this one."""
         if self._np_random is None:
-            self._np_random = np.random.default_rng(_entropy_seed())
+            self._np_random_seed = _entropy_seed()
+            self._np_random = np.random.default_rng(self._np_random_seed)
         return self._np_random
 
     @np_random.setter
     def np_random(self, generator):
         self._np_random = generator
+        self._np_random_seed = -1  # Gymnasium's value for a generator set from outside
+
+    @property
+    def np_random_seed(self):
+        """The seed np_random was seeded with: the last seeded reset's (Gymnasium's
+        env.np_random_seed); -1 after np_random was set from outside. Reading it changes
+        nothing."""
+        if self._np_random is None:
+            self.np_random  # noqa: B018 (draws np_random's seed, as Gymnasium does)
+        return self._np_random_seed
 
     def step(self, action):
         """(observation, reward, cost, terminated, truncated, info) for one agent step."""
@@ -129,19 +146,22 @@ class Env(_Closable, _EnvBase):
         if self.closed:
             raise Error(f"a closed cmbrl.Env ({self.task}) cannot be pickled or copied: "
                         "it has no state left")
-        return {"id": self.spec.id, "variant": self.variant, "spawn": self.spawn,
-                "render_mode": self.render_mode, "render_size": self.render_size,
-                "observation_space": self.observation_space, "action_space": self.action_space,
-                "np_random": self._np_random, "seeded": getattr(self, "_seeded", False),
-                "state": self._env.state()}
+        return {"task": self.task, "spec": self.spec, "variant": self.variant,
+                "spawn": self.spawn, "render_mode": self.render_mode,
+                "render_size": self.render_size, "observation_space": self.observation_space,
+                "action_space": self.action_space, "np_random": self._np_random,
+                "np_random_seed": self._np_random_seed,
+                "seeded": getattr(self, "_seeded", False), "state": self._env.state()}
 
     def __setstate__(self, state):
-        self.__init__(state["id"], state["variant"], state["spawn"], state["render_mode"],
+        self.__init__(state["task"], state["variant"], state["spawn"], state["render_mode"],
                       state["render_size"])
         self._env.set_state(state["state"])
+        self.spec = state["spec"]  # the id it was made under (a registered one, say)
         self.observation_space = state["observation_space"]
         self.action_space = state["action_space"]
         self._np_random = state["np_random"]
+        self._np_random_seed = state["np_random_seed"]
         self._seeded = state["seeded"]
 
     __copy__ = __deepcopy__ = _copy_through_state
@@ -254,14 +274,61 @@ class VectorEnv(_Closable, _NotCopyable, _VectorEnvBase):
 
 
 class EnvSpec:
-    """What made an environment, as gymnasium.envs.registration.EnvSpec names it: id (the name
-    given to make), max_episode_steps and kwargs (variant, spawn)."""
+    """What made an environment, with gymnasium.envs.registration.EnvSpec's fields, where gymnasium
+    is not importable (where it is, environments carry Gymnasium's own EnvSpec): id (the name
+    given to make), entry_point, kwargs (task, variant, spawn), max_episode_steps (None: the
+    environment truncates its own episodes, and Gymnasium's TimeLimit expects five values),
+    disable_env_checker (True: the six-value step is Safety-Gymnasium's, not Gymnasium's) and the
+    rest at Gymnasium's defaults. make() makes the environment again; to_json() writes it."""
 
-    def __init__(self, id, max_episode_steps, kwargs):  # noqa: A002 (Gymnasium's name)
-        self.id, self.max_episode_steps, self.kwargs = id, max_episode_steps, dict(kwargs)
+    def __init__(self, id, entry_point=None, reward_threshold=None,  # noqa: A002 (Gymnasium's)
+                 nondeterministic=False, max_episode_steps=None, order_enforce=True,
+                 disable_env_checker=False, kwargs=None, additional_wrappers=(),
+                 vector_entry_point=None):
+        self.id, self.entry_point = id, entry_point
+        self.reward_threshold, self.nondeterministic = reward_threshold, nondeterministic
+        self.max_episode_steps, self.order_enforce = max_episode_steps, order_enforce
+        self.disable_env_checker = disable_env_checker
+        self.kwargs = dict(kwargs or {})
+        self.additional_wrappers, self.vector_entry_point = tuple(additional_wrappers), \
+            vector_entry_point
+        match = re.fullmatch(r"(?:(?P<namespace>[\w:.-]+)/)?(?P<name>[\w:.-]+?)(?:-v(?P<version>\d+))?",
+                             id)
+        self.namespace = match.group("namespace") if match else None
+        self.name = match.group("name") if match else id
+        self.version = int(match.group("version")) if match and match.group("version") else None
+
+    def make(self, **kwargs):
+        """The environment this spec describes, its kwargs updated with `kwargs`."""
+        module, _, attribute = self.entry_point.partition(":")
+        import importlib
+        creator = getattr(importlib.import_module(module), attribute)
+        return creator(**{**self.kwargs, **kwargs})
+
+    def to_json(self):
+        """The spec as a JSON string (Gymnasium's field names)."""
+        return json.dumps({"id": self.id, "entry_point": self.entry_point,
+                           "reward_threshold": self.reward_threshold,
+                           "nondeterministic": self.nondeterministic,
+                           "max_episode_steps": self.max_episode_steps,
+                           "order_enforce": self.order_enforce,
+                           "disable_env_checker": self.disable_env_checker,
+                           "kwargs": self.kwargs, "additional_wrappers": [],
+                           "vector_entry_point": self.vector_entry_point})
 
     def __repr__(self):
-        return f"EnvSpec(id={self.id!r}, max_episode_steps={self.max_episode_steps})"
+        return f"EnvSpec(id={self.id!r}, entry_point={self.entry_point!r}, kwargs={self.kwargs!r})"
+
+
+def _env_spec(env_id, task, variant, spawn):
+    """The spec of an Env made by make(): Gymnasium's EnvSpec where gymnasium is importable,
+    whose make() (gymnasium.make) gives the same six-value environment again."""
+    fields = dict(id=env_id, entry_point="cmbrl.registration:make_safety_gymnasium_env",
+                  max_episode_steps=None, disable_env_checker=True,
+                  kwargs={"task": task, "variant": variant, "spawn": spawn})
+    if _EnvSpecBase is not None:
+        return _EnvSpecBase(**fields)
+    return EnvSpec(**fields)
 
 
 # Safety-Gymnasium's id of a task: "Safety" + its name + a version ("SafetyPointGoal1-v0").

@@ -12,9 +12,26 @@ def variants(task: str) -> list[str]: ...
 
 class EnvSpec:
     id: str
-    max_episode_steps: int
+    entry_point: Optional[str]
+    reward_threshold: Optional[float]
+    nondeterministic: bool
+    max_episode_steps: Optional[int]
+    order_enforce: bool
+    disable_env_checker: bool
     kwargs: dict[str, Any]
-    def __init__(self, id: str, max_episode_steps: int, kwargs: Mapping[str, Any]) -> None: ...
+    additional_wrappers: tuple[Any, ...]
+    vector_entry_point: Optional[str]
+    namespace: Optional[str]
+    name: str
+    version: Optional[int]
+    def __init__(self, id: str, entry_point: Optional[str] = ...,
+                 reward_threshold: Optional[float] = ..., nondeterministic: bool = ...,
+                 max_episode_steps: Optional[int] = ..., order_enforce: bool = ...,
+                 disable_env_checker: bool = ..., kwargs: Optional[Mapping[str, Any]] = ...,
+                 additional_wrappers: Sequence[Any] = ...,
+                 vector_entry_point: Optional[str] = ...) -> None: ...
+    def make(self, **kwargs: Any) -> Any: ...
+    def to_json(self) -> str: ...
 
 class Env(_Closable):
     reward_range: tuple[float, float]
@@ -39,6 +56,8 @@ class Env(_Closable):
     def np_random(self) -> np.random.Generator: ...
     @np_random.setter
     def np_random(self, generator: np.random.Generator) -> None: ...
+    @property
+    def np_random_seed(self) -> int: ...
     # (observation, reward, cost, terminated, truncated, info): Safety-Gymnasium's six values.
     def step(self, action: npt.ArrayLike
              ) -> tuple[_Floats, float, float, bool, bool, dict[str, Any]]: ...

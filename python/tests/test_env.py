@@ -189,8 +189,12 @@ def test_gymnasium_attributes_and_safety_gymnasium_ids():
     env = cmbrl.make("SafetyPointGoal1-v0")
     assert (env.task, env.variant) == ("PointGoal1", "standard")
     assert env.spec.id == "SafetyPointGoal1-v0"
-    assert env.spec.max_episode_steps == env.max_episode_steps
+    assert env.spec.max_episode_steps is None  # it truncates itself (no TimeLimit)
     assert env.spec.kwargs["variant"] == "standard"
+    assert env.spec.disable_env_checker  # the six-value step is Safety-Gymnasium's
+    again = env.spec.make().unwrapped  # gymnasium.make(spec) wraps it, where importable
+    assert (again.task, again.variant) == ("PointGoal1", "standard")
+    assert json.loads(env.spec.to_json())["kwargs"]["task"] == "PointGoal1"
     assert cmbrl.make("SafetyCarGoal2-v0", variant="paper").variant == "paper"
     assert cmbrl.make("PointGoal1").variant == "paper"
     assert env.reward_range == (-math.inf, math.inf)
@@ -331,3 +335,28 @@ def test_button_push_and_circle_are_stock_tasks_with_their_cost_terms():
     _, _, _, _, _, info = vec.step(np.zeros((2, 2)))
     assert info["cost_pillars"].shape == (2,)
     vec.close()
+
+
+def test_registered_ids_follow_safety_gymnasiums_conventions():
+    ids = {env_id: (entry, kwargs, five) for env_id, entry, kwargs, five in
+           cmbrl.registration.registered_ids()}
+    for task in cmbrl.tasks():
+        assert ids[f"Safety{task}Gymnasium-v0"][1:] == ({"task": task, "variant": "standard"}, True)
+        assert ids[f"Safety{task}-v0"][1:] == ({"task": task, "variant": "standard"}, False)
+        assert (f"cmbrl/{task}-v0" in ids) == ("paper" in cmbrl.variants(task))
+    five = cmbrl.registration.make_gymnasium_env("PointCircle1")
+    five.reset(seed=1)
+    assert len(five.step(np.zeros(2))) == 5
+    env = cmbrl.make("CarButton1")  # copied and pickled before its first reset
+    import copy
+    import pickle
+    for twin in (copy.deepcopy(env), pickle.loads(pickle.dumps(env))):
+        a, _ = env.reset(seed=3)
+        b, _ = twin.reset(seed=3)
+        assert np.array_equal(a, b)
+    env.reset(seed=9)
+    assert env.np_random_seed == 9
+    generator = env.np_random
+    assert env.np_random_seed == 9 and env.np_random is generator
+    env.np_random = np.random.default_rng(1)
+    assert env.np_random_seed == -1

@@ -1,0 +1,73 @@
+"""cmbrl's tasks in Gymnasium's registry, under Safety-Gymnasium's ids (its
+safety_gymnasium/__init__.py and utils/registration.py), registered when cmbrl is imported where
+gymnasium is importable:
+
+- ``Safety<Robot><Task><Level>Gymnasium-v0``: the stock task in Gymnasium's five-value form, the
+  cost in ``info["cost"]`` (Safety-Gymnasium's SafetyGymnasium2Gymnasium), for Gymnasium's own
+  tooling: ``gymnasium.make``, ``check_env``, ``make_vec``, its wrappers;
+- ``Safety<Robot><Task><Level>-v0``: the stock task in Safety-Gymnasium's six-value form, as
+  ``safety_gymnasium.make`` gives it (Gymnasium's environment checker, which expects five
+  values, is off for it);
+- ``cmbrl/<Robot>Goal<Level>-v0``: the paper's modified Goal tasks (variant ``paper``) in the
+  five-value form.
+
+``gymnasium.make("cmbrl:SafetyPointGoal1Gymnasium-v0")`` imports cmbrl first (Gymnasium's
+``module:id``)."""
+from . import _cmbrl
+from .envs import CostInInfo, Env, tasks
+
+try:  # gymnasium is optional
+    import gymnasium.envs.registration as _gymnasium_registration
+except ImportError:  # pragma: no cover - depends on the machine
+    _gymnasium_registration = None
+
+
+def make_gymnasium_env(task, variant="standard", spawn="standing", render_mode=None,
+                       render_size=400):
+    """The five-value environment of a registered id: Env wrapped in CostInInfo."""
+    return CostInInfo(Env(task, variant=variant, spawn=spawn, render_mode=render_mode,
+                          render_size=render_size))
+
+
+def make_safety_gymnasium_env(task, variant="standard", spawn="standing", render_mode=None,
+                              render_size=400):
+    """The six-value environment of a registered id (Safety-Gymnasium's form)."""
+    return Env(task, variant=variant, spawn=spawn, render_mode=render_mode,
+               render_size=render_size)
+
+
+def registered_ids():
+    """Every id this module registers, with its entry point and kwargs:
+    [(id, entry_point, kwargs, five_value)]."""
+    ids = []
+    for task in tasks():
+        stock = {"task": task, "variant": "standard"}
+        ids.append((f"Safety{task}Gymnasium-v0", "cmbrl.registration:make_gymnasium_env",
+                    stock, True))
+        ids.append((f"Safety{task}-v0", "cmbrl.registration:make_safety_gymnasium_env", stock,
+                    False))
+        if _cmbrl.default_variant(task) == "paper":
+            ids.append((f"cmbrl/{task}-v0", "cmbrl.registration:make_gymnasium_env",
+                        {"task": task, "variant": "paper"}, True))
+    return ids
+
+
+def register_envs():
+    """Registers registered_ids() in Gymnasium's registry (once; ids already there are left as
+    they are). Nothing happens where gymnasium is not importable."""
+    if _gymnasium_registration is None:
+        return
+    registry = _gymnasium_registration.registry
+    for env_id, entry_point, kwargs, five_value in registered_ids():
+        if env_id in registry:
+            continue
+        _gymnasium_registration.register(
+            id=env_id, entry_point=entry_point, kwargs=dict(kwargs),
+            # The environment truncates its own episodes at this step; Gymnasium's TimeLimit
+            # (five values only) repeats that at the same step.
+            max_episode_steps=(_cmbrl.episode_steps(kwargs["task"], kwargs["variant"])
+                               if five_value else None),
+            disable_env_checker=not five_value)
+
+
+register_envs()  # at import: `import cmbrl` registers, as `import safety_gymnasium` does
