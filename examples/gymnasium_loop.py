@@ -51,9 +51,8 @@ def main() -> None:
         returns += rewards
         costs += step_costs
         for k in np.flatnonzero(terminations | truncations):
-            # Same-step autoreset: obs[k] already starts the next episode; the last observation
-            # of the one that ended is info["final_obs"][k].
-            assert info["_final_obs"][k]
+            # Next-step autoreset (Gymnasium's default): obs[k] is the ended episode's last
+            # observation; the next step resets environment k (its action unread, reward 0).
             ended.append((float(returns[k]), float(costs[k])))
             returns[k] = costs[k] = 0.0
     envs.close()

@@ -49,6 +49,14 @@ struct StepInfo {
   double raw_cost = 0.0;
 };
 
+// Safety-Gymnasium's info["cost_sum"]: the sum of the step's cost terms (before the 0/1
+// indicator), 1 for a step whose physics failed (its cost_exception).
+inline double CostSum(const StepInfo& info) {
+  return info.cost_hazards + info.cost_vases_contact + info.cost_vases_velocity +
+         info.cost_buttons + info.cost_gremlins + info.cost_pillars + info.cost_out_of_boundary +
+         (info.physics_error ? 1.0 : 0.0);
+}
+
 // A picture of an environment's state as the environment draws it: rows of RGB bytes, top row
 // first (height x width x 3).
 struct RgbFrame {

@@ -78,8 +78,12 @@ VectorStep VectorEnv::Step(const std::vector<double>& actions,
           "active mask of {} entries for {} environments: expected none or one per environment",
           active.size(), n);
   const auto steps = [&](size_t k) { return active.empty() || active[k] != 0; };
+  // kNextStep: an environment that ended at the last step is reset now, its action unread.
+  const auto resets = [&](size_t k) {
+    return autoreset_ == Autoreset::kNextStep && steps(k) && needs_reset_[k] != 0;
+  };
   for (size_t i = 0; i < actions.size(); ++i) {
-    if (!steps(i / action_dim)) continue;
+    if (!steps(i / action_dim) || resets(i / action_dim)) continue;
     Require(std::isfinite(actions[i]), "action {} of environment {} is {}: expected a finite value",
             i % action_dim, i / action_dim, actions[i]);
   }
@@ -106,11 +110,19 @@ VectorStep VectorEnv::Step(const std::vector<double>& actions,
   out.cost_gremlins.resize(n);
   out.cost_pillars.resize(n);
   out.cost_out_of_boundary.resize(n);
+  out.reset.assign(n, 0);
+  out.cost_sums.assign(n, 0.0);
   out.observations.assign(n * width, 0.0);
-  pool_->Run(n, [&](std::int64_t begin, std::int64_t end) {
+  const WorkerPool::Work body = [&](std::int64_t begin, std::int64_t end) {
     for (std::int64_t k = begin; k < end; ++k) {
       if (!steps(static_cast<size_t>(k))) continue;
       Env& env = *envs_[static_cast<size_t>(k)];
+      if (resets(static_cast<size_t>(k))) {
+        const std::vector<double> first = env.Reset();
+        std::copy(first.begin(), first.end(), out.observations.begin() + k * width);
+        out.reset[k] = 1;
+        continue;
+      }
       StepResult step = env.Step(std::vector<double>(actions.begin() + k * action_dim,
                                                      actions.begin() + (k + 1) * action_dim));
       out.rewards[k] = step.reward;
@@ -126,6 +138,7 @@ VectorStep VectorEnv::Step(const std::vector<double>& actions,
       out.cost_gremlins[k] = step.info.cost_gremlins;
       out.cost_pillars[k] = step.info.cost_pillars;
       out.cost_out_of_boundary[k] = step.info.cost_out_of_boundary;
+      out.cost_sums[k] = CostSum(step.info);
       if ((step.terminated || step.truncated) && autoreset_ == Autoreset::kSameStep) {
         std::copy(step.observation.begin(), step.observation.end(),
                   out.final_observations.begin() + k * width);
@@ -134,13 +147,51 @@ VectorStep VectorEnv::Step(const std::vector<double>& actions,
       std::copy(step.observation.begin(), step.observation.end(),
                 out.observations.begin() + k * width);
     }
-  });
-  if (autoreset_ == Autoreset::kDisabled) {
+  };
+  RunStep(n, body);
+  if (autoreset_ != Autoreset::kSameStep) {
     for (int k = 0; k < n; ++k) {
+      if (out.reset[k] != 0) needs_reset_[k] = 0;
       if (out.terminated[k] != 0 || out.truncated[k] != 0) needs_reset_[k] = 1;
     }
   }
   return out;
+}
+
+void VectorEnv::RunStep(int n, const WorkerPool::Work& body) {
+  // Adaptive: the first kProbeSteps steps of every kProbeInterval on the pool, the next
+  // kProbeSteps on this thread alone; then the faster by the median step.
+  const std::int64_t phase = steps_ % kProbeInterval;
+  const bool probing = adaptive_ && phase < 2 * kProbeSteps;
+  const bool on_pool = probing ? phase < kProbeSteps : on_pool_;
+  const auto start = std::chrono::steady_clock::now();
+  if (on_pool) {
+    pool_->Run(n, body);
+  } else {
+    body(0, n);
+  }
+  ++steps_;
+  if (!probing) return;
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  (on_pool ? probe_pool_ : probe_inline_).push_back(seconds);
+  if (phase + 1 == 2 * kProbeSteps) {
+    const auto median = [](std::vector<double>& values) {
+      std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
+      return values[values.size() / 2];
+    };
+    on_pool_ = median(probe_pool_) <= median(probe_inline_);
+    probe_pool_.clear();
+    probe_inline_.clear();
+  }
+}
+
+void VectorEnv::SetAdaptiveThreads(bool adaptive) {
+  adaptive_ = adaptive && pool_->threads() > 1;
+  on_pool_ = true;
+  steps_ = 0;
+  probe_pool_.clear();
+  probe_inline_.clear();
 }
 
 VectorEnvState VectorEnv::State() const {

@@ -28,10 +28,16 @@ struct VectorStep {
   std::vector<std::uint8_t> goal_met;      // (N) 0/1
   std::vector<double> cost_hazards, cost_vases_contact, cost_vases_velocity;  // (N)
   std::vector<double> cost_buttons, cost_gremlins, cost_pillars, cost_out_of_boundary;  // (N)
+  std::vector<double> cost_sums;    // (N): CostSum of each step's info
+  std::vector<std::uint8_t> reset;  // (N) 0/1: kNextStep: reset by this step instead of stepped
 };
 
-// Gymnasium 1.x's AutoresetMode, less NEXT_STEP.
+// Gymnasium 1.x's AutoresetMode.
 enum class Autoreset {
+  // The step after an ended episode resets that environment instead of stepping it (its action
+  // is not read): the next episode's first observation, reward and cost 0, neither terminated
+  // nor truncated, and `reset` set for it. Gymnasium's default.
+  kNextStep,
   kSameStep,  // an ended episode is followed at once by the next one's first observation
   kDisabled,  // an ended environment waits for ResetWhere; stepping it first is an error
 };
@@ -81,6 +87,18 @@ class VectorEnv {
   // for a wrong size, a non-finite action, or (kDisabled) an ended environment not reset since.
   VectorStep Step(const std::vector<double>& actions, const std::vector<std::uint8_t>& active = {});
 
+  // Adaptive threads: Step measures, every kProbeInterval steps, kProbeSteps steps on its threads
+  // and kProbeSteps on the calling thread alone, and runs on whichever was faster (median step)
+  // until the next measurement. On a machine whose other cores are busy, threads that wait for
+  // a core can make a step slower than stepping the environments one after another; this keeps
+  // the vector never much slower than that (docs/PERFORMANCE.md). Results are the same either
+  // way: environments are independent. Off by default.
+  void SetAdaptiveThreads(bool adaptive);
+  bool adaptive_threads() const { return adaptive_; }
+  bool on_threads() const { return on_pool_; }  // where Step runs now
+  static constexpr std::int64_t kProbeInterval = 2048;
+  static constexpr std::int64_t kProbeSteps = 16;
+
   // The vector's state, which SetState restores exactly in a vector made the same way: its next
   // steps and resets then equal this one's. SetState throws cmbrl::Error, changing nothing, for a
   // state of another number of environments or one that an environment refuses (Env::SetState).
@@ -91,7 +109,13 @@ class VectorEnv {
   std::vector<std::unique_ptr<Env>> envs_;
   std::unique_ptr<WorkerPool> pool_;
   Autoreset autoreset_;
-  std::vector<std::uint8_t> needs_reset_;  // kDisabled: ended and not reset since (or never reset)
+  void RunStep(int n, const WorkerPool::Work& body);
+  bool adaptive_ = false;
+  bool on_pool_ = true;
+  std::int64_t steps_ = 0;
+  std::vector<double> probe_pool_, probe_inline_;  // seconds per step, this measurement's
+  // kDisabled, kNextStep: ended and not reset since (or never reset).
+  std::vector<std::uint8_t> needs_reset_;
 };
 
 }  // namespace cmbrl

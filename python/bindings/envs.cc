@@ -96,6 +96,7 @@ class PyEnv {
     info["cost_gremlins"] = step.info.cost_gremlins;
     info["cost_pillars"] = step.info.cost_pillars;
     info["cost_out_of_boundary"] = step.info.cost_out_of_boundary;
+    info["cost_sum"] = CostSum(step.info);
     info["env_steps"] = step.info.env_steps;
     info["physics_error"] = step.info.physics_error;
     return py::make_tuple(Own(std::move(step.observation)), step.reward, step.cost, step.terminated,
@@ -247,15 +248,22 @@ class PyVectorEnv {
               const std::string& spawn, int threads, std::int64_t spin_us,
               const std::string& autoreset_mode)
       : task_(task) {
-    Require(autoreset_mode == "same-step" || autoreset_mode == "disabled",
-            "autoreset_mode is '{}': expected 'same-step' or 'disabled'", autoreset_mode);
+    Require(autoreset_mode == "next-step" || autoreset_mode == "same-step" ||
+                autoreset_mode == "disabled",
+            "autoreset_mode is '{}': expected 'next-step', 'same-step' or 'disabled'",
+            autoreset_mode);
     disabled_ = autoreset_mode == "disabled";
+    same_step_ = autoreset_mode == "same-step";
     std::vector<std::unique_ptr<Env>> envs =
         MakeEnvs(task, ParseVariant(variant), ParseSpawn(spawn), num_envs);
     // 0: one thread per core this process may use (VectorEnv keeps at most one per env).
     vector_ = std::make_unique<VectorEnv>(
         std::move(envs), threads == 0 ? CoreCount() : threads, std::chrono::microseconds(spin_us),
-        disabled_ ? Autoreset::kDisabled : Autoreset::kSameStep);
+        disabled_    ? Autoreset::kDisabled
+        : same_step_ ? Autoreset::kSameStep
+                     : Autoreset::kNextStep);
+    // Threads chosen for the caller: it measures whether they pay on this machine now.
+    vector_->SetAdaptiveThreads(threads == 0);
   }
 
   // Gymnasium's reset_mask: resets environment k where mask[k], with seeds[k] when given.
@@ -311,7 +319,15 @@ class PyVectorEnv {
     info["cost_gremlins"] = Own(std::move(step.cost_gremlins));
     info["cost_pillars"] = Own(std::move(step.cost_pillars));
     info["cost_out_of_boundary"] = Own(std::move(step.cost_out_of_boundary));
-    if (!disabled_) {  // with autoreset disabled the observation is the last one itself
+    info["cost_sum"] = Own(std::move(step.cost_sums));
+    // Gymnasium's masks: which environments' info has each key. An environment reset by this
+    // step (next-step autoreset) has its reset's info, which has none of them.
+    std::vector<std::uint8_t> stepped(n);
+    for (py::ssize_t k = 0; k < n; ++k) stepped[k] = step.reset[k] == 0;
+    std::vector<std::string> keys;
+    for (const auto& [key, value] : info) keys.push_back(py::cast<std::string>(key));
+    for (const std::string& key : keys) info[py::str("_" + key)] = Flags(stepped);
+    if (same_step_) {  // with the other modes the observation is the last one itself
       // Gymnasium 1.x's same-step names: the ended episodes' last observations and the info of
       // their last step (this step's, as the reset adds none), each with its mask.
       py::dict final_info;
@@ -337,6 +353,7 @@ class PyVectorEnv {
 
  private:
   py::ssize_t Width() const { return vector_->env(0).observation_spec().size(); }
+  bool same_step_ = false;
   void Open() const { Require(!closed_, "the vector of {} environments is closed", task_); }
 
   mutable std::mutex mutex_;  // ObjectLock: one call at a time

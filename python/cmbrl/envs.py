@@ -172,10 +172,15 @@ class Env(_Closable, _EnvBase):
 
 class VectorEnv(_Closable, _NotCopyable, _VectorEnvBase):
     """num_envs environments stepped together in C++ threads, in Gymnasium's vector API:
-    batched (num_envs, ...) arrays in and out. Resets follow Gymnasium 1.x's autoreset modes:
-    "same-step" (the default: an environment whose episode ended returns its next episode's first
+    batched (num_envs, ...) arrays in and out, each info key with its mask info["_key"].
+    Resets follow Gymnasium 1.x's autoreset modes (metadata["autoreset_mode"], Gymnasium's
+    AutoresetMode where importable): "next-step" (the default, as Gymnasium's: the step after an
+    episode ended resets that environment instead, its action unread, returning the next
+    episode's first observation with reward and cost 0; its info keys' masks are False),
+    "same-step" (an environment whose episode ended returns its next episode's first
     observation; the last one is info["final_obs"][k] and its step's info info["final_info"],
-    with info["_final_obs"][k] and info["_final_info"][k] True, Gymnasium 1.x's names) or "disabled" (an ended environment returns its last observation and must be reset with
+    with info["_final_obs"][k] and info["_final_info"][k] True) or "disabled" (an ended
+    environment returns its last observation and must be reset with
     reset(options={"reset_mask": mask}) before it steps again).
 
     Threads: calls on one object from several threads take turns (one lock per object, taken
@@ -185,7 +190,7 @@ class VectorEnv(_Closable, _NotCopyable, _VectorEnvBase):
     _instead = "make another with cmbrl.make_vec(...)"
 
     def __init__(self, task, num_envs, variant=None, spawn="standing", threads=None,
-                 spin_us=2000, autoreset_mode="same-step"):
+                 spin_us=0, autoreset_mode="next-step"):
         mode = _autoreset_mode(autoreset_mode)
         task, variant = _task_and_variant(task, variant)
         # 0: one thread per core this process may use (its affinity mask), at most one per env.
@@ -193,7 +198,8 @@ class VectorEnv(_Closable, _NotCopyable, _VectorEnvBase):
         threads = 0 if threads is None else _as_int(threads, "threads", 1, 4096)
         self._env = _cmbrl.VectorEnv(task, num_envs, variant, spawn, threads,
                                      _as_int(spin_us, "spin_us", 0, 10**9), mode)
-        self.metadata = {"autoreset_mode": mode}
+        self._mode = mode
+        self.metadata = {"autoreset_mode": _gymnasium_autoreset_mode(mode)}
         self._observations = None
         self.task, self.variant, self.num_envs = task, variant, num_envs
         obs_spec, act_spec = self._env.observation_spec(), self._env.action_spec()
@@ -207,26 +213,19 @@ class VectorEnv(_Closable, _NotCopyable, _VectorEnvBase):
             high=np.tile(act_spec["high"], (self.num_envs, 1)), dtype=np.float64)
 
     def reset(self, seed=None, options=None):
-        """Resets all; with a seed, environment k gets seed + k, and a list of seeds may give
-        them as [s, s + 1, ...]. A first reset without a seed draws one from the operating
-        system's entropy, so unseeded environments differ from each other and from run to run.
-        With autoreset "disabled", options={"reset_mask": mask} (num_envs booleans) resets only
-        the environments marked True (with seed + k, or seeds[k], when a seed is given); the
-        others keep their current observation."""
+        """Resets all; with a seed, environment k gets seed + k; a list gives each its own seed
+        (None: its generator continues, or, at a first reset, a seed from the operating system's
+        entropy). A first reset without a seed draws one from the entropy, so unseeded
+        environments differ from each other and from run to run. options={"reset_mask": mask}
+        (num_envs booleans) resets only the environments marked True (with seed + k, or
+        seeds[k], when a seed is given); the others keep their current observation."""
         options = {} if options is None else options
         if not isinstance(options, dict) or set(options) - {"reset_mask"}:
             raise Error(f"options {options!r}: expected None or a dict with only 'reset_mask'")
         if "reset_mask" in options:
             return self._reset_where(options["reset_mask"], seed)
         if isinstance(seed, (list, tuple, np.ndarray)):
-            seeds = [_as_seed(item, "a seed of the list") for item in seed]
-            if len(seeds) != self.num_envs:
-                raise Error(f"{len(seeds)} seeds for {self.num_envs} environments: expected one "
-                            "each")
-            if any(later != seeds[0] + k for k, later in enumerate(seeds)):
-                raise Error(f"seeds {seeds}: this vector seeds environment k with seed + k, so "
-                            "a list must be consecutive; give one seed for other layouts")
-            seed = seeds[0]
+            return self._reset_where(np.ones(self.num_envs, dtype=bool), seed)
         if seed is None and not getattr(self, "_seeded", False):
             seed = max(0, _entropy_seed() - self.num_envs)  # room for seed + k
         if seed is not None:
@@ -238,9 +237,6 @@ class VectorEnv(_Closable, _NotCopyable, _VectorEnvBase):
         return observations, info
 
     def _reset_where(self, mask, seed):
-        if self.metadata["autoreset_mode"] != "disabled":
-            raise Error("options['reset_mask'] needs autoreset_mode 'disabled': with 'same-step' "
-                        "the environments reset themselves")
         mask = np.asarray(mask)
         if mask.shape != (self.num_envs,) or mask.dtype != np.bool_:
             raise Error(f"reset_mask has shape {mask.shape} and dtype {mask.dtype}: expected "
@@ -248,16 +244,30 @@ class VectorEnv(_Closable, _NotCopyable, _VectorEnvBase):
         if self._observations is None and not mask.all():
             raise Error("the first reset must reset every environment: reset_mask has False")
         if isinstance(seed, (list, tuple, np.ndarray)):
-            seeds = [_as_seed(item, "a seed of the list") for item in seed]
-            if len(seeds) != self.num_envs:
-                raise Error(f"{len(seeds)} seeds for {self.num_envs} environments: expected one "
+            if len(seed) != self.num_envs:
+                raise Error(f"{len(seed)} seeds for {self.num_envs} environments: expected one "
                             "each")
+            # None: the environment's generator continues (a first reset draws from entropy).
+            first_time = not getattr(self, "_seeded", False)
+            seeds = [None if item is None else _as_seed(item, "a seed of the list")
+                     for item in seed]
+            seeds = [_entropy_seed() if item is None and first_time else item for item in seeds]
+            if seeds and seeds[0] is not None:
+                self.action_space.seed(seeds[0])
         elif seed is not None:
             first = _as_seed(seed)
             seeds = [first + k for k in range(self.num_envs)]
+            self.action_space.seed(first)
         else:
-            seeds = []
-        first_observations = self._env.reset_where(mask.tolist(), seeds)
+            seeds = [None] * self.num_envs
+        seeded = [item is not None for item in seeds]
+        first_observations = np.zeros((self.num_envs, self.single_observation_space.shape[0]))
+        for with_seed in (True, False):  # the seeded ones, then those whose generator continues
+            part = mask & (np.asarray(seeded) == with_seed)
+            if part.any():
+                rows = self._env.reset_where(
+                    part.tolist(), [item or 0 for item in seeds] if with_seed else [])
+                first_observations[part] = rows[part]
         if self._observations is None:
             self._observations = first_observations
         else:
@@ -363,22 +373,35 @@ def make(task, variant=None, spawn="standing", render_mode=None, render_size=400
 
 
 def _autoreset_mode(mode):
-    """'same-step' or 'disabled', also from Gymnasium's AutoresetMode (SAME_STEP, DISABLED)."""
+    """'next-step', 'same-step' or 'disabled', also from Gymnasium's AutoresetMode (NEXT_STEP,
+    SAME_STEP, DISABLED)."""
     value = getattr(mode, "value", mode)
-    names = {"same-step": "same-step", "SameStep": "same-step", "disabled": "disabled",
-             "Disabled": "disabled"}
+    names = {"next-step": "next-step", "NextStep": "next-step", "same-step": "same-step",
+             "SameStep": "same-step", "disabled": "disabled", "Disabled": "disabled"}
     if not isinstance(value, str) or value not in names:
-        raise Error(f"autoreset_mode is {mode!r}: expected 'same-step' or 'disabled' "
-                    "(NEXT_STEP is not offered)")
+        raise Error(f"autoreset_mode is {mode!r}: expected 'next-step', 'same-step' or "
+                    "'disabled' (or Gymnasium's AutoresetMode)")
     return names[value]
 
 
-def make_vec(task, num_envs, variant=None, spawn="standing", threads=None, spin_us=2000,
-             autoreset_mode="same-step"):
+def _gymnasium_autoreset_mode(mode):
+    """Gymnasium's AutoresetMode member of a mode's name, where gymnasium is importable; the
+    name otherwise."""
+    try:
+        from gymnasium.vector import AutoresetMode
+    except ImportError:
+        return mode
+    return {"next-step": AutoresetMode.NEXT_STEP, "same-step": AutoresetMode.SAME_STEP,
+            "disabled": AutoresetMode.DISABLED}[mode]
+
+
+def make_vec(task, num_envs, variant=None, spawn="standing", threads=None, spin_us=0,
+             autoreset_mode="next-step"):
     """A VectorEnv of num_envs environments on `threads` threads (default: one per core this
     process may use, at most one per environment). Between steps the threads spin for up to
-    spin_us microseconds before they sleep: the default suits a loop that steps at once again;
-    0 spares the cores of a loop that does much else between steps."""
+    spin_us microseconds before they sleep: the default, 0, spares the cores for the rest of the
+    program (on a busy machine spinning threads compete with it: docs/PERFORMANCE.md); a loop
+    that does nothing but step may gain from a few thousand."""
     return VectorEnv(task, num_envs, variant=variant, spawn=spawn, threads=threads,
                      spin_us=spin_us, autoreset_mode=autoreset_mode)
 

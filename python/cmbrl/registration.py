@@ -14,7 +14,7 @@ gymnasium is importable:
 ``gymnasium.make("cmbrl:SafetyPointGoal1Gymnasium-v0")`` imports cmbrl first (Gymnasium's
 ``module:id``)."""
 from . import _cmbrl
-from .envs import CostInInfo, Env, tasks
+from .envs import CostInInfo, Env, VectorCostInInfo, make_vec, tasks
 
 try:  # gymnasium is optional
     import gymnasium.envs.registration as _gymnasium_registration
@@ -27,6 +27,23 @@ def make_gymnasium_env(task, variant="standard", spawn="standing", render_mode=N
     """The five-value environment of a registered id: Env wrapped in CostInInfo."""
     return CostInInfo(Env(task, variant=variant, spawn=spawn, render_mode=render_mode,
                           render_size=render_size))
+
+
+def make_gymnasium_vector_env(num_envs, task, variant="standard", spawn="standing",
+                              max_episode_steps=None, **kwargs):
+    """The vector_entry_point of the five-value ids (gymnasium.make_vec(...,
+    vectorization_mode="vector_entry_point")): cmbrl's C++ VectorEnv in VectorCostInInfo.
+    max_episode_steps, which Gymnasium passes from the spec, must be the task's own: the
+    environments truncate their episodes themselves. Other kwargs go to make_vec (threads,
+    spin_us, autoreset_mode)."""
+    if max_episode_steps is not None and max_episode_steps != _cmbrl.episode_steps(task,
+                                                                                  variant):
+        raise _cmbrl.Error(f"max_episode_steps {max_episode_steps}: {task} ({variant}) episodes "
+                           f"are {_cmbrl.episode_steps(task, variant)} steps, and the vector "
+                           "cannot cut them shorter; use vectorization_mode 'sync' with a "
+                           "TimeLimit")
+    kwargs.pop("render_mode", None)  # a vector does not render
+    return VectorCostInInfo(make_vec(task, num_envs, variant=variant, spawn=spawn, **kwargs))
 
 
 def make_safety_gymnasium_env(task, variant="standard", spawn="standing", render_mode=None,
@@ -67,7 +84,9 @@ def register_envs():
             # (five values only) repeats that at the same step.
             max_episode_steps=(_cmbrl.episode_steps(kwargs["task"], kwargs["variant"])
                                if five_value else None),
-            disable_env_checker=not five_value)
+            disable_env_checker=not five_value,
+            vector_entry_point=("cmbrl.registration:make_gymnasium_vector_env" if five_value
+                                else None))
 
 
 register_envs()  # at import: `import cmbrl` registers, as `import safety_gymnasium` does

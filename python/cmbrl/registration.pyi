@@ -1,10 +1,13 @@
 # Type stubs of cmbrl.registration.
-from typing import Optional
+from typing import Any, Optional
 
-from .envs import CostInInfo, Env
+from .envs import CostInInfo, Env, VectorCostInInfo
 
 def make_gymnasium_env(task: str, variant: str = ..., spawn: str = ...,
                        render_mode: Optional[str] = ..., render_size: int = ...) -> CostInInfo: ...
+def make_gymnasium_vector_env(num_envs: int, task: str, variant: str = ..., spawn: str = ...,
+                              max_episode_steps: Optional[int] = ...,
+                              **kwargs: Any) -> VectorCostInInfo: ...
 def make_safety_gymnasium_env(task: str, variant: str = ..., spawn: str = ...,
                               render_mode: Optional[str] = ..., render_size: int = ...) -> Env: ...
 def registered_ids() -> list[tuple[str, str, dict[str, str], bool]]: ...

@@ -147,15 +147,19 @@ def test_an_unseeded_first_reset_draws_from_entropy_and_seeds_must_be_integers()
             env.reset(seed=bad)
 
 
-def test_unseeded_vector_envs_differ_and_a_list_of_seeds_is_consecutive():
+def test_unseeded_vector_envs_differ_and_any_list_of_seeds_seeds_each():
     envs = cmbrl.make_vec("PointGoal1", num_envs=3)
     obs, _ = envs.reset()
     assert not np.array_equal(obs[0], obs[1]) and not np.array_equal(obs[1], obs[2])
     by_list, _ = envs.reset(seed=[7, 8, 9])
     by_base, _ = cmbrl.make_vec("PointGoal1", num_envs=3).reset(seed=7)
     assert np.array_equal(by_list, by_base)
-    with pytest.raises(cmbrl.Error, match="must be consecutive"):
-        envs.reset(seed=[7, 9, 11])
+    # Any list (Gymnasium's SyncVectorEnv): each its own seed, None where it continues.
+    spread, _ = envs.reset(seed=[11, 3, None])
+    single = [cmbrl.make("PointGoal1").reset(seed=s)[0] for s in (11, 3)]
+    assert np.array_equal(spread[0], single[0]) and np.array_equal(spread[1], single[1])
+    fresh, _ = cmbrl.make_vec("PointGoal1", num_envs=2).reset(seed=[None, None])
+    assert not np.array_equal(fresh[0], fresh[1])  # a first reset's None draws from entropy
     with pytest.raises(cmbrl.Error, match="2 seeds for 3 environments"):
         envs.reset(seed=[7, 8])
     with pytest.raises(cmbrl.Error, match="expected an integer"):
@@ -360,3 +364,31 @@ def test_registered_ids_follow_safety_gymnasiums_conventions():
     assert env.np_random_seed == 9 and env.np_random is generator
     env.np_random = np.random.default_rng(1)
     assert env.np_random_seed == -1
+
+
+def test_next_step_autoreset_is_the_default_with_gymnasiums_masks():
+    vec = cmbrl.make_vec("PointGoal1", num_envs=2)
+    assert str(getattr(vec.metadata["autoreset_mode"], "value", vec.metadata["autoreset_mode"])) \
+        in ("NextStep", "next-step")
+    single = cmbrl.make("PointGoal1")
+    vec.reset(seed=[4, 5])
+    first, _ = single.reset(seed=4)
+    actions = np.zeros((2, 2))
+    for step in range(single.max_episode_steps):
+        obs, rewards, costs, terminated, truncated, info = vec.step(actions)
+        out = single.step(actions[0])
+        assert np.array_equal(obs[0], out[0]) and rewards[0] == out[1]
+        assert info["_cost_hazards"].all() and info["cost_sum"].shape == (2,)
+        if truncated[0]:
+            break
+    assert truncated.all() and step + 1 == single.max_episode_steps
+    # The next step resets both, their actions unread: first observations, zeros, masks False.
+    obs, rewards, costs, terminated, truncated, info = vec.step(np.full((2, 2), np.nan))
+    again, _ = single.reset()
+    assert np.array_equal(obs[0], again)
+    assert not rewards.any() and not costs.any() and not (terminated | truncated).any()
+    assert not info["_cost_hazards"].any()
+    obs, *_ , info = vec.step(actions)
+    assert info["_cost_hazards"].all()
+    with pytest.raises(cmbrl.Error, match="expected 'next-step', 'same-step' or 'disabled'"):
+        cmbrl.make_vec("PointGoal1", num_envs=2, autoreset_mode="sometimes")

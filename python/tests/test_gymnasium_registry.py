@@ -45,3 +45,31 @@ def test_the_six_value_id_and_the_module_prefix():
     paper.reset(seed=1)
     _, _, _, _, info = paper.step(np.zeros(2))
     assert "cost" in info
+
+
+def _vector_wrappers():
+    from gymnasium.wrappers import vector as vw
+    return [("RecordEpisodeStatistics", vw.RecordEpisodeStatistics),
+            ("NormalizeObservation", vw.NormalizeObservation),
+            ("FlattenObservation", vw.FlattenObservation),
+            ("TransformObservation", lambda e: vw.TransformObservation(e, lambda o: 2 * o,
+                                                                       e.observation_space)),
+            ("DtypeObservation", lambda e: vw.DtypeObservation(e, np.float32)),
+            ("NormalizeReward", vw.NormalizeReward), ("ClipAction", vw.ClipAction),
+            ("RescaleAction", lambda e: vw.RescaleAction(e, -2.0, 2.0)),
+            ("DictInfoToList", vw.DictInfoToList)]
+
+
+@pytest.mark.parametrize("mode", ["sync", "async", "vector_entry_point"])
+def test_make_vec_in_every_mode_under_every_vector_wrapper(mode):
+    vec = gymnasium.make_vec("SafetyCarGoal2Gymnasium-v0", num_envs=4, vectorization_mode=mode)
+    assert vec.metadata["autoreset_mode"] in list(gymnasium.vector.AutoresetMode)
+    vec.close()
+    for name, wrap in _vector_wrappers():
+        # The paper's CarGoal2: 75-step episodes, so that autoresets happen.
+        env = wrap(gymnasium.make_vec("cmbrl/CarGoal2-v0", num_envs=4, vectorization_mode=mode))
+        env.reset(seed=[1, None, 5, 9])
+        for _ in range(160):
+            out = env.step(env.action_space.sample())
+        assert len(out) == 5, name
+        env.close()

@@ -8,7 +8,8 @@ import cmbrl
 @pytest.mark.parametrize("spin_us", [2000, 0])
 def test_a_vector_steps_as_its_environments_do_one_by_one_with_auto_reset(spin_us):
     n = 3
-    envs = cmbrl.make_vec("PointGoal1", num_envs=n, threads=2, spin_us=spin_us)
+    envs = cmbrl.make_vec("PointGoal1", num_envs=n, threads=2, spin_us=spin_us,
+                          autoreset_mode="same-step")
     singles = [cmbrl.make("PointGoal1") for _ in range(n)]
     obs, _ = envs.reset(seed=10)
     assert obs.shape == (n, envs.single_observation_space.shape[0])
@@ -59,7 +60,8 @@ def test_bad_actions_for_a_vector_are_named():
 def test_disabled_autoreset_waits_for_a_masked_reset():
     n = 2
     envs = cmbrl.make_vec("PointGoal1", num_envs=n, threads=2, autoreset_mode="disabled")
-    assert envs.metadata["autoreset_mode"] == "disabled"
+    assert getattr(envs.metadata["autoreset_mode"], "value", "disabled") in ("Disabled",
+                                                                             "disabled")
     singles = [cmbrl.make("PointGoal1") for _ in range(n)]
     with pytest.raises(cmbrl.Error, match="first reset must reset every environment"):
         envs.reset(seed=3, options={"reset_mask": np.array([True, False])})
@@ -92,12 +94,13 @@ def test_disabled_autoreset_waits_for_a_masked_reset():
         envs.reset(options={"reset_mask": [True]})
     with pytest.raises(cmbrl.Error, match="only 'reset_mask'"):
         envs.reset(options={"mask": [True, True]})
-    with pytest.raises(cmbrl.Error, match="autoreset_mode is 'next-step'"):
-        cmbrl.make_vec("PointGoal1", num_envs=1, autoreset_mode="next-step")
-    same_step = cmbrl.make_vec("PointGoal1", num_envs=1)
+    with pytest.raises(cmbrl.Error, match="autoreset_mode is 'never'"):
+        cmbrl.make_vec("PointGoal1", num_envs=1, autoreset_mode="never")
+    # A masked reset works in every mode, as Gymnasium's (the environment then steps on).
+    same_step = cmbrl.make_vec("PointGoal1", num_envs=2, autoreset_mode="same-step")
     same_step.reset(seed=0)
-    with pytest.raises(cmbrl.Error, match="needs autoreset_mode 'disabled'"):
-        same_step.reset(options={"reset_mask": np.array([True])})
+    obs, _ = same_step.reset(seed=[None, 8], options={"reset_mask": np.array([False, True])})
+    assert np.array_equal(obs[1], cmbrl.make("PointGoal1").reset(seed=8)[0])
 
 
 def test_a_vector_too_large_for_the_memory_is_refused_by_name():

@@ -181,3 +181,47 @@ TEST(VectorEnvTest, BadActionsAreNamedBeforeAnyEnvironmentSteps) {
 
 }  // namespace
 }  // namespace cmbrl
+
+namespace cmbrl {
+namespace {
+
+// Next-step autoreset (Gymnasium's default): the step after an episode ended resets that
+// environment instead, its action unread (a NaN passes), with reward and cost 0 and `reset` set;
+// adaptive threads give the same results as fixed ones.
+TEST(VectorEnvTest, NextStepAutoresetResetsOnTheFollowingStep) {
+  for (const bool adaptive : {false, true}) {
+    SCOPED_TRACE(adaptive);
+    VectorEnv vector(Envs("PointGoal1", 2), 2, VectorEnv::kDefaultSpin, Autoreset::kNextStep);
+    vector.SetAdaptiveThreads(adaptive);
+    EXPECT_EQ(vector.adaptive_threads(), adaptive);
+    std::vector<std::unique_ptr<Env>> alone = Envs("PointGoal1", 1);
+    const int width = alone[0]->observation_spec().size();
+    vector.Reset(3);
+    alone[0]->Reset(3);
+    VectorStep step;
+    bool ended = false;  // a goal met inside an action repeat lengthens an episode
+    for (int t = 0; t < 10 * alone[0]->max_episode_steps() && !ended; ++t) {
+      step = vector.Step({0.4, 0.2, 0.4, 0.2});
+      const StepResult expected = alone[0]->Step({0.4, 0.2});
+      ASSERT_EQ(std::vector<double>(step.observations.begin(), step.observations.begin() + width),
+                expected.observation);
+      EXPECT_EQ(step.reset[0], 0);
+      ended = expected.terminated || expected.truncated;
+      EXPECT_EQ(step.terminated[0] || step.truncated[0], ended);
+    }
+    ASSERT_TRUE(ended);
+    step = vector.Step({std::nan(""), 0.0, 0.4, 0.2});
+    EXPECT_EQ(step.reset[0], 1);
+    EXPECT_EQ(step.rewards[0], 0.0);
+    EXPECT_EQ(step.truncated[0] + step.terminated[0], 0);
+    EXPECT_EQ(std::vector<double>(step.observations.begin(), step.observations.begin() + width),
+              alone[0]->Reset());
+    step = vector.Step({0.4, 0.2, 0.4, 0.2});
+    EXPECT_EQ(step.reset[0], 0);
+    EXPECT_EQ(std::vector<double>(step.observations.begin(), step.observations.begin() + width),
+              alone[0]->Step({0.4, 0.2}).observation);
+  }
+}
+
+}  // namespace
+}  // namespace cmbrl
