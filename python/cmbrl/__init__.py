@@ -20,7 +20,7 @@ what they share.
 """
 from . import _cmbrl
 from ._common import Error
-from .agents import Agent, evaluate, load_run, train
+from .agents import Agent, evaluate, load_run, presets, train
 from .envs import (CostInInfo, Env, EnvSpec, VectorCostInInfo, VectorEnv, make, make_vec,
                    tasks, variants)
 from .models import CostClassifier, Ensemble, RewardModel
@@ -34,5 +34,5 @@ __version__ = _cmbrl.__version__
 __commit__ = _cmbrl.__commit__
 
 __all__ = ["Error", "Box", "Env", "EnvSpec", "VectorEnv", "Agent", "Ensemble", "CostClassifier",
-           "RewardModel", "make", "make_vec", "tasks", "variants", "train", "load_run", "evaluate",
+           "RewardModel", "make", "make_vec", "tasks", "variants", "presets", "train", "load_run", "evaluate",
            "read_runs", "report", "CostInInfo", "VectorCostInInfo"]

@@ -7,6 +7,7 @@ from .agents import Agent as Agent
 from .agents import evaluate as evaluate
 from .agents import load_run as load_run
 from .agents import train as train
+from .agents import presets as presets
 from .envs import CostInInfo as CostInInfo
 from .envs import Env as Env
 from .envs import EnvSpec as EnvSpec
@@ -27,5 +28,5 @@ from .spaces import Box as Box
 __version__: str
 __commit__: str
 __all__ = ["Error", "Box", "Env", "EnvSpec", "VectorEnv", "Agent", "Ensemble", "CostClassifier",
-           "RewardModel", "make", "make_vec", "tasks", "variants", "train", "load_run", "evaluate",
+           "RewardModel", "make", "make_vec", "tasks", "variants", "presets", "train", "load_run", "evaluate",
            "read_runs", "report", "CostInInfo", "VectorCostInInfo"]

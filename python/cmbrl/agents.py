@@ -57,12 +57,41 @@ def _env_source(env):
                 "zero-argument function that makes one")
 
 
+_PRESETS = os.path.join(os.path.dirname(os.path.abspath(__file__)), "presets")
+
+
+def presets():
+    """The presets the package ships (configs/ of the source: each task's paper preset per
+    method, the families "cpu" and "quickstart", the PPO ones), by the name train() takes."""
+    names = []
+    for folder in (_PRESETS, os.path.join(_PRESETS, "ppo")):
+        if os.path.isdir(folder):
+            names += [name[:-5] for name in os.listdir(folder) if name.endswith(".yaml")]
+    return sorted(names)
+
+
+def _preset_or_path(config):
+    """A config file's path: a path as given, or a preset's name ("pointgoal1-rce",
+    "quickstart": no folder, no .yaml, no such file here) in the package's presets."""
+    path = os.fspath(config)
+    if (not isinstance(path, str) or os.sep in path or path.endswith((".yaml", ".yml"))
+            or os.path.exists(path)):
+        return path
+    for folder in (_PRESETS, os.path.join(_PRESETS, "ppo")):
+        candidate = os.path.join(folder, path + ".yaml")
+        if os.path.isfile(candidate):
+            return candidate
+    raise Error(f"config '{path}' is neither a file nor a preset: expected a YAML file's path "
+                f"or one of cmbrl.presets() ({', '.join(presets()[:6])}, ...)")
+
+
 def train(config=None, out=None, steps=None, seed=None, device=None, resume=None, progress=None,
           checkpoint_seconds=300.0, reward=None, termination=None, env=None):
     """Trains a run as `cmbrl train` does, into the run directory `out`.
 
-    config: a YAML file (path), a list of them composed in order (a task's paper preset, then a
-    preset family: ["configs/pointgoal1-rce.yaml", "configs/quickstart.yaml"]), or a dict of
+    config: a YAML file (path) or a preset's name (cmbrl.presets(): "pointgoal1-rce"), a list of
+    them composed in order (a task's paper preset, then a preset family: ["pointgoal1-rce",
+    "quickstart"]), or a dict of
     the same keys. steps, seed and device override the config's. resume=RUN_DIR continues a stopped run instead (steps then gives a new budget).
     progress(summary) is called after each unit of work (an MPC episode or a model-free epoch)
     with a dict of epoch, steps, budget, episode_return, episode_cost and seconds. An exception
@@ -113,9 +142,9 @@ def train(config=None, out=None, steps=None, seed=None, device=None, resume=None
                         "paper-size PointGoal1 run: name one ({'task': 'PointGoal1', ...})")
         config_text = json.dumps(config, default=_json_number)  # JSON is YAML
     elif isinstance(config, (list, tuple)):
-        config_path = [os.fspath(path) for path in config]
+        config_path = [_preset_or_path(path) for path in config]
     elif config is not None:
-        config_path = [os.fspath(config)]
+        config_path = [_preset_or_path(config)]
     out = os.fspath(out) if out is not None else None
     resume = os.fspath(resume) if resume is not None else None
     return _cmbrl.train(config_path, config_text, out, resume,

@@ -17,6 +17,7 @@ from .spaces import _Box
 # zero-argument function or class that makes one.
 _EnvSource = Union[Any, Callable[[], Any]]
 
+def presets() -> list[str]: ...
 def train(config: Union[_Path, Sequence[_Path], Mapping[str, Any], None] = ...,
           out: Optional[_Path] = ..., steps: Optional[int] = ..., seed: Optional[int] = ...,
           device: Optional[str] = ..., resume: Optional[_Path] = ...,

@@ -23,4 +23,9 @@ program=$("$cmbrl" --version | sed -E 's/^cmbrl ([0-9.]+) .*/\1/')
 [ "$installed" = "$program" ] || { echo "FAILED: cmbrl.__version__ $installed, cmbrl --version $program"; exit 1; }
 "$venv/bin/python" "$source_dir/examples/gymnasium_loop.py" --num-envs 2 --steps 20 > loop.txt
 grep -q "SafetyPointGoal1-v0: one episode" loop.txt
-echo "pip install: cmbrl $installed installed into a venv, imported and the example ran"
+# The README's Python snippet, verbatim, in this empty folder.
+awk '/^## Python/{p=1} p&&/^```python/{q=1;next} q&&/^```/{exit} q' "$source_dir/README.md" > snippet.py
+[ -s snippet.py ] || { echo "FAILED: no Python snippet in the README"; exit 1; }
+"$venv/bin/python" snippet.py > snippet.txt 2>&1 || { cat snippet.txt; echo "FAILED: the README's snippet"; exit 1; }
+[ -f my-report/report.md ] || { echo "FAILED: the README's snippet wrote no report"; exit 1; }
+echo "pip install: cmbrl $installed installed into a venv, imported, the example and the README's snippet ran"

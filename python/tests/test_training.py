@@ -280,3 +280,12 @@ def test_a_python_termination_is_called_beside_the_reward_and_checked(tmp_path):
     with pytest.raises(cmbrl.Error, match=r"the termination function .*two returned 2: expected "
                                           r"booleans \(or 0 and 1\)"):
         cmbrl.train(config=tiny_config(20), out=tmp_path / "two", termination=two)
+
+
+def test_presets_ship_in_the_package_and_are_named_not_pathed(tmp_path):
+    names = cmbrl.presets()
+    for name in ("pointgoal1-rce", "quickstart", "cpu", "pointbutton1-cem",
+                 "pointgoal1-ppo-lagrangian"):
+        assert name in names
+    with pytest.raises(cmbrl.Error, match="'pointgoal9-rce' is neither a file nor a preset"):
+        cmbrl.train(config=["pointgoal9-rce", "quickstart"], out=str(tmp_path / "r"))
