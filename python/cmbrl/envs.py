@@ -59,8 +59,9 @@ class Env(_Closable, _EnvBase):
     reward_range = (-math.inf, math.inf)
 
     def __init__(self, task, variant=None, spawn="standing", render_mode=None, render_size=400):
-        if render_mode not in (None, "rgb_array"):
-            raise Error(f"render_mode '{render_mode}': expected None or 'rgb_array'")
+        if render_mode not in (None, "rgb_array", "human"):
+            raise Error(f"render_mode '{render_mode}': expected None, 'rgb_array' or 'human'")
+        self._window = _HumanWindow.check() if render_mode == "human" else None
         env_id = task
         task, variant = _task_and_variant(task, variant)
         self._env = _cmbrl.Env(task, variant, spawn)
@@ -75,9 +76,11 @@ class Env(_Closable, _EnvBase):
         self.max_episode_steps = self._env.max_episode_steps
         self.agent_step_seconds = self._env.agent_step_seconds
         # Per instance: Gymnasium's wrappers read render_fps, and it follows the agent's step.
-        self.metadata = {"render_modes": ["rgb_array"],
+        # "human" where it can open a window (Gymnasium's check_env makes every mode listed).
+        self.metadata = {"render_modes": ["rgb_array"] + (["human"] if _HumanWindow.available()
+                                                           else []),
                          "render_fps": round(1.0 / self.agent_step_seconds)}
-        self.spec = _env_spec(env_id, task, variant, spawn)
+        self.spec = _env_spec(env_id, task, variant, spawn, render_mode, render_size)
         self._np_random = None
         self._np_random_seed = None
 
@@ -93,7 +96,9 @@ class Env(_Closable, _EnvBase):
             self._np_random = np.random.default_rng(seed)
             self._np_random_seed = seed
         self._seeded = True
-        return self._env.reset(seed)
+        result = self._env.reset(seed)
+        self._show()
+        return result
 
     @property
     def np_random(self):
@@ -121,7 +126,23 @@ class Env(_Closable, _EnvBase):
 
     def step(self, action):
         """(observation, reward, cost, terminated, truncated, info) for one agent step."""
-        return self._env.step(action)
+        result = self._env.step(action)
+        self._show()
+        return result
+
+    def _show(self):
+        """render_mode "human": the arena in a window after every reset and step (Gymnasium's
+        convention; render() then returns None)."""
+        if self._window is not None:
+            self._window.show(self._env.render(self.render_size),
+                              f"cmbrl {self.task} ({self.variant})")
+
+    def close(self):
+        """Frees the environment (and closes its window); later calls raise cmbrl.Error."""
+        if getattr(self, "_window", None) is not None:
+            self._window.close()
+            self._window = None
+        super().close()
 
     def ground_truth(self):
         """What the agent does not observe, in world coordinates: a dict of the robot's position
@@ -129,7 +150,11 @@ class Env(_Closable, _EnvBase):
         return self._env.ground_truth()
 
     def render(self):
-        """The arena from above as an (H, W, 3) uint8 array."""
+        """The arena from above as an (H, W, 3) uint8 array; with render_mode "human" it is
+        shown in the window instead (after every step already) and None is returned."""
+        if self._window is not None:
+            self._show()
+            return None
         return self._env.render(self.render_size)
 
     def save_picture(self, path, caption="", predictions=None):
@@ -167,7 +192,9 @@ class Env(_Closable, _EnvBase):
     __copy__ = __deepcopy__ = _copy_through_state
 
     def __repr__(self):
-        return f"cmbrl.Env({self.task!r}, variant={self.variant!r})"
+        # (also for an Env whose construction failed, which has neither yet)
+        return (f"cmbrl.Env({getattr(self, 'task', None)!r}, "
+                f"variant={getattr(self, 'variant', None)!r})")
 
 
 class VectorEnv(_Closable, _NotCopyable, _VectorEnvBase):
@@ -283,6 +310,54 @@ class VectorEnv(_Closable, _NotCopyable, _VectorEnvBase):
         return result
 
 
+class _HumanWindow:
+    """render_mode "human": a Tk window showing the latest picture. check() refuses, naming the
+    cause, where there is no display or no tkinter."""
+
+    @staticmethod
+    def available():
+        """Whether a window can be opened here."""
+        try:
+            _HumanWindow.check()
+        except Error:
+            return False
+        return True
+
+    @staticmethod
+    def check():
+        if not (os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY")):
+            raise Error("render_mode 'human' needs a display: neither DISPLAY nor "
+                        "WAYLAND_DISPLAY is set; use render_mode 'rgb_array' (render() gives "
+                        "the picture) or save_picture(path)")
+        try:
+            import tkinter  # noqa: F401
+        except ImportError as error:
+            raise Error("render_mode 'human' draws with tkinter (Debian's python3-tk), which is "
+                        f"not importable here ({error}); use render_mode 'rgb_array'") from None
+        return _HumanWindow()
+
+    def __init__(self):
+        self._root = self._label = self._image = None
+
+    def show(self, rgb, title):
+        import tkinter
+        if self._root is None:
+            self._root = tkinter.Tk()
+            self._label = tkinter.Label(self._root)
+            self._label.pack()
+        self._root.title(title)
+        height, width, _ = rgb.shape
+        ppm = b"P6 %d %d 255\n" % (width, height) + np.ascontiguousarray(rgb).tobytes()
+        self._image = tkinter.PhotoImage(data=ppm, format="PPM")
+        self._label.configure(image=self._image)
+        self._root.update()
+
+    def close(self):
+        if self._root is not None:
+            self._root.destroy()
+            self._root = None
+
+
 class EnvSpec:
     """What made an environment, with gymnasium.envs.registration.EnvSpec's fields, where gymnasium
     is not importable (where it is, environments carry Gymnasium's own EnvSpec): id (the name
@@ -330,12 +405,13 @@ class EnvSpec:
         return f"EnvSpec(id={self.id!r}, entry_point={self.entry_point!r}, kwargs={self.kwargs!r})"
 
 
-def _env_spec(env_id, task, variant, spawn):
+def _env_spec(env_id, task, variant, spawn, render_mode=None, render_size=400):
     """The spec of an Env made by make(): Gymnasium's EnvSpec where gymnasium is importable,
     whose make() (gymnasium.make) gives the same six-value environment again."""
     fields = dict(id=env_id, entry_point="cmbrl.registration:make_safety_gymnasium_env",
                   max_episode_steps=None, disable_env_checker=True,
-                  kwargs={"task": task, "variant": variant, "spawn": spawn})
+                  kwargs={"task": task, "variant": variant, "spawn": spawn,
+                          "render_mode": render_mode, "render_size": render_size})
     if _EnvSpecBase is not None:
         return _EnvSpecBase(**fields)
     return EnvSpec(**fields)

@@ -392,3 +392,18 @@ def test_next_step_autoreset_is_the_default_with_gymnasiums_masks():
     assert info["_cost_hazards"].all()
     with pytest.raises(cmbrl.Error, match="expected 'next-step', 'same-step' or 'disabled'"):
         cmbrl.make_vec("PointGoal1", num_envs=2, autoreset_mode="sometimes")
+
+
+def test_human_rendering_names_what_it_lacks(monkeypatch):
+    monkeypatch.delenv("DISPLAY", raising=False)
+    monkeypatch.delenv("WAYLAND_DISPLAY", raising=False)
+    with pytest.raises(cmbrl.Error, match="render_mode 'human' needs a display: neither DISPLAY"):
+        cmbrl.make("PointGoal1", render_mode="human")
+    monkeypatch.setenv("DISPLAY", ":99")
+    try:
+        import tkinter  # noqa: F401
+    except ImportError:
+        with pytest.raises(cmbrl.Error, match="draws with tkinter"):
+            cmbrl.make("PointGoal1", render_mode="human")
+        # Listed only where it works: Gymnasium's check_env makes every listed mode.
+        assert "human" not in cmbrl.make("PointGoal1").metadata["render_modes"]
