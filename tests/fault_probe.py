@@ -329,6 +329,15 @@ def python_cases(p):
         ("step with a wrong shape", "e = cmbrl.make('PointGoal1'); e.reset(seed=0); "
                                     "e.step([0, 0, 0])", r"shape|2"),
         ("step before reset", "cmbrl.make('PointGoal1').step([0, 0])", r"reset"),
+        ("render before reset", "cmbrl.make('PointGoal1').render()", r"before reset"),
+        ("classifier predict before fit", "cmbrl.CostClassifier(3).predict(np.zeros((1, 3)))",
+         r"before fit"),
+        ("ensemble predict before fit",
+         "cmbrl.Ensemble(3, 2, hidden_sizes=[8]).predict(np.zeros((1, 3)), np.zeros((1, 2)))",
+         r"before fit"),
+        ("render_mode human without a display",
+         "import os; os.environ.pop('DISPLAY', None); os.environ.pop('WAYLAND_DISPLAY', None); "
+         "cmbrl.make('PointGoal1', render_mode='human')", r"needs a display"),
         ("train a config dict without task", "cmbrl.train(config={}, out='/tmp/probe-x')",
          r"no task"),
         ("classifier fit of 10^9 rows",

@@ -122,6 +122,9 @@ class PyEnsemble {
   // states (N, S), actions (N, A) -> every member's next state (E, N, S).
   py::array_t<double> Predict(const py::handle& states, const py::handle& actions) const {
     const ObjectLock lock(mutex_);
+    Require(buffer_.size() > 0,
+            "Ensemble.predict before fit: its networks are untrained; fit it on transitions "
+            "first, or load a fitted one");
     const py::ssize_t n = RowsOf(states, "states");
     return PredictNextStates(dynamics_, Matrix(states, n, dynamics_.state_dim(), "states"),
                              Matrix(actions, n, dynamics_.action_dim(), "actions"), n);
@@ -195,6 +198,7 @@ class PyCostClassifier {
                                      NoSignalRaised);
     }
     if (report.interrupted && PyErr_Occurred() != nullptr) throw py::error_already_set();
+    fitted_ = true;
     using R = CostFitReport;
     return AsDict(report, Field("trained", &R::trained), Field("safe_used", &R::safe_used),
                   Field("unsafe_used", &R::unsafe_used), Field("safe_accuracy", &R::safe_accuracy),
@@ -204,6 +208,9 @@ class PyCostClassifier {
 
   py::array Predict(const py::handle& states) const {
     const ObjectLock lock(mutex_);
+    Require(fitted_,
+            "CostClassifier.predict before fit: it has learned nothing (its answer would be "
+            "False everywhere); fit it on labelled states first, or load a fitted one");
     return PredictViolations(classifier_, states);
   }
 
@@ -215,10 +222,12 @@ class PyCostClassifier {
   void Load(const std::string& path) {
     const ObjectLock lock(mutex_);
     classifier_.Load(path);
+    fitted_ = true;
   }
 
  private:
   mutable std::mutex mutex_;  // ObjectLock: one call at a time
+  bool fitted_ = false;  // fitted or loaded: predict refuses before
   static XgbCostModelOptions Options(int rounds, double threshold) {
     XgbCostModelOptions o;
     o.rounds = rounds;
@@ -256,6 +265,9 @@ class PyRewardModel {
 
   py::array_t<double> Predict(const py::handle& inputs) {
     const ObjectLock lock(mutex_);
+    Require(model_.fitted(),
+            "RewardModel.predict before fit: its weights are untrained; fit it first, or load a "
+            "fitted one");
     const py::ssize_t n = RowsOf(inputs, "inputs");
     const torch::Tensor x = Rows(Matrix(inputs, n, model_.input_dim(), "inputs"), n);
     torch::Tensor out;

@@ -152,6 +152,9 @@ class Env(_Closable, _EnvBase):
     def render(self):
         """The arena from above as an (H, W, 3) uint8 array; with render_mode "human" it is
         shown in the window instead (after every step already) and None is returned."""
+        if not getattr(self, "_seeded", False):
+            raise Error("render() before reset(): there is no arena yet; reset the environment "
+                        "first")
         if self._window is not None:
             self._show()
             return None

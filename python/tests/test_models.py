@@ -174,7 +174,13 @@ def test_ctrl_c_stops_a_fit_after_its_epoch_and_keeps_what_was_learned():
     states, actions, next_states = _pendulum_data(0, 20000)
     model = cmbrl.Ensemble(state_dim=4, action_dim=2, ensemble_size=2, hidden_sizes=[32],
                            max_epochs=100000, seed=1)
-    untrained = model.predict(states[:20], actions[:20])
+    with pytest.raises(cmbrl.Error, match="Ensemble.predict before fit"):
+        model.predict(states[:20], actions[:20])  # untrained networks are not an answer
+    # What one epoch learns, from an identical model: the interrupted fit must keep more.
+    one_epoch = cmbrl.Ensemble(state_dim=4, action_dim=2, ensemble_size=2, hidden_sizes=[32],
+                               max_epochs=1, seed=1)
+    one_epoch.fit(states, actions, next_states)
+    untrained = one_epoch.predict(states[:20], actions[:20])
     timer = threading.Timer(0.5, lambda: os.kill(os.getpid(), signal.SIGINT))
     timer.start()
     with pytest.raises(KeyboardInterrupt):
@@ -209,3 +215,15 @@ def test_ctrl_c_abandons_a_classifier_fit_and_leaves_the_classifier_as_it_was(tm
         slow.fit(states, ~unsafe)
     timer.join()
     assert np.array_equal(slow.predict(states), before)
+
+
+def test_models_refuse_to_predict_before_they_are_fitted():
+    with pytest.raises(cmbrl.Error, match="CostClassifier.predict before fit"):
+        cmbrl.CostClassifier(state_dim=3).predict(np.zeros((2, 3)))
+    with pytest.raises(cmbrl.Error, match="RewardModel.predict before fit"):
+        cmbrl.RewardModel(input_dim=3).predict(np.zeros((2, 3)))
+    with pytest.raises(cmbrl.Error, match="render\\(\\) before reset\\(\\)"):
+        cmbrl.make("PointGoal1", render_mode="rgb_array").render()
+    classifier = cmbrl.CostClassifier(state_dim=1, rounds=5)
+    classifier.fit(np.array([[0.0], [1.0]] * 20), np.array([0, 1] * 20))
+    assert classifier.predict(np.array([[1.0]])).tolist() == [True]
