@@ -4,6 +4,7 @@
 #include <fmt/ranges.h>
 
 #include <algorithm>
+#include <cstdlib>
 #include <ctime>
 #include <filesystem>
 #include <fstream>
@@ -116,7 +117,11 @@ struct ReferenceRuns {
 ReferenceRuns ReadReference(const ReportRequest& args) {
   ReferenceRuns reference;
   const std::string dir = args.reference.value_or(DefaultReferenceDir());
-  if (args.reference || fs::is_directory(fs::path(dir) / "mbrl")) {
+  // A folder someone named (--reference, CMBRL_REFERENCE_DIR) must hold the logs: a wrong one
+  // is an error, not a report that quietly lacks the comparison.
+  const char* from_environment = std::getenv("CMBRL_REFERENCE_DIR");
+  const bool named = args.reference || (from_environment != nullptr && *from_environment != '\0');
+  if (named || fs::is_directory(fs::path(dir) / "mbrl")) {
     reference.runs = ReadReferenceRuns(dir);
     // Relative to where the report was made, so that a committed report names no machine's path.
     reference.note = fmt::format("The original's logs: {} runs from '{}'.", reference.runs.size(),

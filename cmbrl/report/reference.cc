@@ -1,5 +1,7 @@
 #include "cmbrl/report/reference.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cstdlib>
 #include <filesystem>
@@ -27,10 +29,15 @@ std::string DefaultConfigsDir() {
 
 std::vector<RunRecord> ReadReferenceRuns(const std::string& dir) {
   const fs::path folder = fs::path(dir) / "mbrl";
+  const char* from_environment = std::getenv("CMBRL_REFERENCE_DIR");
   Require(fs::is_directory(folder),
           "'{}' is not a folder: expected the original's logs (data/reference/mbrl of the source "
-          "tree, or set --reference / CMBRL_REFERENCE_DIR)",
-          folder.string());
+          "tree){}",
+          folder.string(),
+          from_environment != nullptr && *from_environment != '\0'
+              ? fmt::format("; CMBRL_REFERENCE_DIR is '{}': unset it or point it at them",
+                            from_environment)
+              : std::string("; give --reference DIR or set CMBRL_REFERENCE_DIR"));
   std::vector<fs::path> files;
   for (const fs::directory_entry& entry : fs::directory_iterator(folder)) {
     if (entry.path().extension() == ".csv") files.push_back(entry.path());

@@ -4,12 +4,14 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "cmbrl/core/check.h"
 #include "cmbrl/report/table.h"
 #include "tests/error_message.h"
 #include "tests/report/report_fixture.h"
@@ -76,6 +78,20 @@ TEST_F(ReportTest, ShippedReferenceLogsGiveTheOriginalsCounts) {
   }
   EXPECT_EQ(violations, (std::vector<double>{8, 2, 4}));
   EXPECT_EQ(returns, (std::vector<double>{28.1, 27.9, 29.8}));
+}
+
+// CMBRL_REFERENCE_DIR pointing nowhere is an error that names it, not a report without the
+// comparison.
+TEST(ReferenceTest, AReferenceFolderNamedByTheEnvironmentMustHoldTheLogs) {
+  ASSERT_EQ(setenv("CMBRL_REFERENCE_DIR", "/nowhere/at/all", 1), 0);
+  EXPECT_EQ(DefaultReferenceDir(), "/nowhere/at/all");
+  try {
+    ReadReferenceRuns(DefaultReferenceDir());
+    ADD_FAILURE() << "no error";
+  } catch (const Error& error) {
+    EXPECT_THAT(error.what(), ::testing::HasSubstr("CMBRL_REFERENCE_DIR is '/nowhere/at/all'"));
+  }
+  unsetenv("CMBRL_REFERENCE_DIR");
 }
 
 }  // namespace
