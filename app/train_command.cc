@@ -19,6 +19,7 @@
 #include "app/arguments.h"
 #include "app/commands.h"
 #include "cmbrl/core/check.h"
+#include "cmbrl/core/shell.h"
 #include "cmbrl/core/utc_time.h"
 #include "cmbrl/train/trainer.h"
 
@@ -151,9 +152,10 @@ int RunTrain(const TrainArgs& args) {
   const int signal = stop_signal.load();
   if (signal != 0 && !trainer->learner().Finished()) {
     std::cerr << fmt::format(
-        "cmbrl: {} stopped the run; its last checkpoint is at step {}: 'cmbrl train --resume "
-        "{}' goes on from there\n",
-        signal == SIGTERM ? "SIGTERM" : "SIGINT", trainer->checkpointed_steps(), run_dir);
+        "cmbrl: {} stopped the run; its last checkpoint is at step {}: `cmbrl train --resume "
+        "{}` goes on from there\n",
+        signal == SIGTERM ? "SIGTERM" : "SIGINT", trainer->checkpointed_steps(),
+        ShellWord(run_dir));
     return signal;
   }
   return 0;

@@ -12,6 +12,7 @@
 #include "cmbrl/core/build_info.h"
 #include "cmbrl/core/check.h"
 #include "cmbrl/core/files.h"
+#include "cmbrl/core/shell.h"
 #include "cmbrl/report/curves.h"
 #include "cmbrl/report/reference.h"
 #include "cmbrl/report/setup_diff.h"
@@ -223,7 +224,8 @@ std::string ExperimentOpening(const ExperimentStamp& e, std::size_t runs,
       "# Experiment report: {0}\n\nMade by `cmbrl report {1}` on {2} with cmbrl {3}.\n\n"
       "From `{1}/{4}` (SHA-256 {5}){10} and the logs of its {6}{7} (run-logs/).\n\n"
       "## Outcome per task\n\n{8}\n## Every cell\n\n{9}\n{11}",
-      e.name, e.dir, Now(), fmt::format("{} ({})", CmbrlVersion(), CmbrlCommit()), e.file, e.sha256,
+      e.name, ShellWord(e.dir), Now(), fmt::format("{} ({})", CmbrlVersion(), CmbrlCommit()),
+      e.file, e.sha256,
       RunCount(runs),
       // Runs still going are not named: the committed report must come out the same from
       // its committed logs alone, where they are absent (the summary names them).

@@ -12,6 +12,7 @@
 #include "cmbrl/config/config.h"
 #include "cmbrl/core/check.h"
 #include "cmbrl/core/files.h"
+#include "cmbrl/core/shell.h"
 #include "cmbrl/env/task_list.h"
 #include "cmbrl/report/run_logs.h"
 #include "cmbrl/run/run_directory.h"
@@ -27,12 +28,6 @@ std::string Lower(std::string text) {
 }
 
 // A shell word in single quotes.
-std::string Quote(const std::string& word) {
-  std::string quoted = "'";
-  for (char c : word) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return quoted + "'";
-}
-
 // A value as a word of a folder name: "[256, 256]" becomes "256x256", other characters that a
 // shell or a path would trip on become '_'.
 std::string PathWord(const std::string& value) {
@@ -368,6 +363,17 @@ PreparedSweep PrepareSweep(const SweepGrid& grid, const std::string& sweep_dir,
   return prepared;
 }
 
+// A value of an #SBATCH line: as it is, or in double quotes (which sbatch's directive parser
+// removes) where it holds a space or another character a shell would split on. Throws
+// cmbrl::Error for a double quote or a line break, which no #SBATCH line can carry.
+static std::string SbatchWord(const std::string& value) {
+  Require(value.find_first_of("\"\n\r") == std::string::npos,
+          "'{}': a Slurm sweep's folder cannot hold a double quote or a line break (#SBATCH "
+          "--output cannot name it): choose another --out",
+          value);
+  return ShellWord(value) == value ? value : "\"" + value + "\"";
+}
+
 std::string SlurmScript(const std::vector<SweepRun>& runs, const SweepGrid& grid,
                         const std::string& sweep_dir, const std::string& program) {
   const std::string dir = fs::absolute(sweep_dir).lexically_normal().string();
@@ -380,7 +386,7 @@ std::string SlurmScript(const std::vector<SweepRun>& runs, const SweepGrid& grid
       "#SBATCH --job-name=cmbrl-sweep\n"
       "#SBATCH --array=0-{1}\n"
       "#SBATCH --cpus-per-task=2\n"
-      "#SBATCH --output={0}/logs/slurm-%a.log\n"
+      "#SBATCH --output={4}\n"
       "#SBATCH --open-mode=append\n"
       "#SBATCH --requeue\n"
       "#SBATCH --signal=B:USR1@{3}\n"
@@ -389,15 +395,16 @@ std::string SlurmScript(const std::vector<SweepRun>& runs, const SweepGrid& grid
       "export OPENBLAS_NUM_THREADS=\"${{OPENBLAS_NUM_THREADS:-${{SLURM_CPUS_PER_TASK:-1}}}}\"\n"
       "cmbrl={2}\n"
       "case \"$SLURM_ARRAY_TASK_ID\" in\n",
-      dir, runs.size() - 1, Quote(program), kSlurmTimeLimitLeadSeconds);
+      dir, runs.size() - 1, ShellQuote(program), kSlurmTimeLimitLeadSeconds,
+      SbatchWord(dir + "/logs/slurm-%a.log"));
   const std::string steps = grid.steps ? fmt::format(" --steps {}", *grid.steps) : "";
   for (size_t index = 0; index < runs.size(); ++index) {
     SweepRun run = runs[index];
     run.run_dir = fs::absolute(run.run_dir).string();
     for (std::string& path : run.config_paths) path = fs::absolute(path).string();
     std::vector<std::string> words;
-    for (const std::string& word : NewRunArguments(run)) words.push_back(Quote(word));
-    script += fmt::format("  {}) run_dir={}; start=({});;\n", index, Quote(run.run_dir),
+    for (const std::string& word : NewRunArguments(run)) words.push_back(ShellQuote(word));
+    script += fmt::format("  {}) run_dir={}; start=({});;\n", index, ShellQuote(run.run_dir),
                           fmt::join(words, " "));
   }
   script += "esac\n";

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "cmbrl/core/shell.h"
 #include "cmbrl/learners/mpc/mpc_learner.h"
 #include "cmbrl/run/run_directory.h"
 #include "tests/error_message.h"
@@ -129,6 +130,21 @@ TEST(SweepTest, SlurmScriptHasOneArrayTaskPerRun) {
   EXPECT_THAT(script,
               HasSubstr(fmt::format("#SBATCH --signal=B:USR1@{}\n", kSlurmTimeLimitLeadSeconds)));
   EXPECT_THAT(script, HasSubstr("scontrol requeue \"$SLURM_JOB_ID\""));
+  EXPECT_THAT(script, HasSubstr("#SBATCH --output=/tmp/sweep/logs/slurm-%a.log\n"));
+  // A folder with a space: the #SBATCH line quotes it (sbatch removes the quotes), a double
+  // quote is refused by name.
+  const std::string spaced = SlurmScript(runs, grid, "/tmp/my sweep", "/opt/cmbrl/bin/cmbrl");
+  EXPECT_THAT(spaced, HasSubstr("#SBATCH --output=\"/tmp/my sweep/logs/slurm-%a.log\"\n"));
+  EXPECT_THAT(ErrorMessage([&] { SlurmScript(runs, grid, "/tmp/a\"b", "/opt/cmbrl"); }),
+              HasSubstr("cannot hold a double quote"));
+}
+
+TEST(SweepTest, ShellWordsPasteAsOneWord) {
+  EXPECT_EQ(ShellWord("runs/q-1"), "runs/q-1");
+  EXPECT_EQ(ShellWord("my runs/q"), "'my runs/q'");
+  EXPECT_EQ(ShellWord("it's"), "'it'\\''s'");
+  EXPECT_EQ(ShellWord(""), "''");
+  EXPECT_EQ(ShellQuote("a b"), "'a b'");
 }
 
 TEST(SweepTest, ARestartWithOtherSettingsIsRefused) {
