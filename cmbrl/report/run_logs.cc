@@ -80,12 +80,23 @@ std::optional<size_t> RowLimit(std::optional<std::int64_t> rows) {
 
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
 
-// The folders under `parent` that hold a run (config.yaml), in name order.
+// The folders under `parent` that hold a run (config.yaml), in name order. Throws cmbrl::Error
+// naming a folder with a run's log but no config.yaml (deleted by hand): such a run can be
+// neither read nor silently left out of a count.
 std::vector<fs::path> RunFolders(const fs::path& parent) {
   std::vector<fs::path> dirs;
   if (!fs::is_directory(parent)) return dirs;
   for (const fs::directory_entry& entry : fs::directory_iterator(parent)) {
-    if (entry.is_directory() && RunDirectory(entry.path()).HoldsRun()) dirs.push_back(entry.path());
+    if (!entry.is_directory()) continue;
+    const RunDirectory run(entry.path());
+    if (run.HoldsRun()) {
+      dirs.push_back(entry.path());
+    } else {
+      Require(!fs::exists(run.progress_file()),
+              "'{}' has a progress.csv but no config.yaml: the run cannot be read without it "
+              "(restore its config.yaml, or move the folder away)",
+              entry.path().string());
+    }
   }
   std::sort(dirs.begin(), dirs.end());
   return dirs;

@@ -211,14 +211,20 @@ RunProgress ProgressOf(const SweepRun& run, std::optional<std::int64_t> budget) 
   if (!progress.in_report) {
     // A checkpoint in the middle of an episode (hours long at the paper's sizes) is ahead of
     // the rows. Its manifest alone is read; a damaged one is for the resume to name.
+    // A run with a checkpoint folder is finished only when that checkpoint holds it: rows
+    // beside a deleted manifest or a damaged checkpoint go to the resume, which names what is
+    // wrong, instead of passing as finished.
+    bool held = !fs::exists(dir->checkpoint_dir());
     try {
       const std::optional<CheckpointManifest> checkpoint =
           VerifiedCheckpoint(*dir, /*files=*/false);
+      held = held || checkpoint.has_value();
       if (checkpoint && checkpoint->steps_done && *checkpoint->steps_done > progress.steps) {
         progress.steps = *checkpoint->steps_done;
       }
     } catch (const Error&) {
     }
+    if (!held && progress.status == RunStatus::kFinished) progress.status = RunStatus::kStarted;
   }
   return progress;
 }

@@ -82,4 +82,17 @@ grep -q 'no run has reached the window of 300 steps' <<< "$refused" ||
   --complete > /dev/null
 grep -q 'left out, short of the window: pointgoal1-rce-short (100 steps)' \
   "$work/short-report/report.md" || { echo "FAILED: the report names no run left out"; exit 1; }
+# A run whose checkpoint manifest was deleted is not "already finished": the sweep resumes it,
+# and the resume names what is wrong.
+rm "$work/cut/runs/pointgoal1-rce-s0/checkpoint/manifest.json"
+again=$("$cmbrl" "${sweep[@]}" --out "$work/cut" 2>&1 || true)
+grep -q '"already_finished":3' <<< "$again" ||
+  { echo "FAILED: a run without its manifest passed as finished: $again"; exit 1; }
+grep -q 'pointgoal1-rce-s0' <<< "$again" && grep -qi 'checkpoint' "$work/cut/logs/pointgoal1-rce-s0.log" ||
+  { echo "FAILED: the resume of a run without its manifest named nothing"; exit 1; }
+# A report over a run whose config.yaml was deleted refuses it by name.
+rm "$work/whole/runs/pointgoal1-random-s1/config.yaml"
+refused=$("$cmbrl" report "$work/whole" --out "$work/no-config" --window 300 2>&1 || true)
+grep -q 'pointgoal1-random-s1' <<< "$refused" && grep -q 'config.yaml' <<< "$refused" ||
+  { echo "FAILED: a run without its config.yaml was reported: $refused"; exit 1; }
 echo "sweep killed and restarted: $runs runs with identical rows"
