@@ -740,8 +740,11 @@ void ValidateTrainConfig(const TrainConfig& c, const std::string& source) {
   AtKey(source, "device", [&] { CheckDeviceName(c.device); });
   const TrainingLoopOptions& t = c.training;
   InSection(source, "training", [&] {
-    Require(t.pretrain_episodes >= 0 && t.pretrain_episodes <= 10'000'000,
-            "pretrain_episodes is {}: expected 0 to 10000000", t.pretrain_episodes);
+    // MPC fits its first models on the random episodes: it needs at least one.
+    const int least = c.algorithm == "mpc" ? 1 : 0;
+    Require(t.pretrain_episodes >= least && t.pretrain_episodes <= 10'000'000,
+            "pretrain_episodes is {}: expected {} to 10000000{}", t.pretrain_episodes, least,
+            least == 1 ? " (the first models are fitted on these random episodes)" : "");
     Require(t.pretrain_steps >= 1 && t.pretrain_steps <= 1'000'000,
             "pretrain_steps is {}: expected 1 to 1000000", t.pretrain_steps);
     Require(t.episodes_per_epoch >= 1 && t.episodes_per_epoch <= 1'000'000,

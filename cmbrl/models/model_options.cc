@@ -36,8 +36,9 @@ void ValidateEnsembleOptions(const EnsembleOptions& o) {
     Require(o.hidden_sizes[i] >= 1 && o.hidden_sizes[i] <= 65536,
             "hidden_sizes[{}] is {}: expected a width from 1 to 65536", i, o.hidden_sizes[i]);
   }
-  Require(o.learning_rate > 0 && std::isfinite(o.learning_rate),
-          "learning_rate is {}: expected a positive number", o.learning_rate);
+  // Upper bounds here and below: values no one means (an Adam step of 1e300 trains to NaN).
+  Require(o.learning_rate > 0 && o.learning_rate <= 1,
+          "learning_rate is {}: expected a number in (0, 1]", o.learning_rate);
   Require(o.batch_size >= 1 && o.batch_size <= 10'000'000,
           "batch_size is {}: expected 1 to 10000000", o.batch_size);
   Require(o.max_epochs >= 1 && o.max_epochs <= 100'000,
@@ -50,9 +51,10 @@ void ValidateEnsembleOptions(const EnsembleOptions& o) {
           "validate_every is {}: expected 1 to 100000 epochs", o.validate_every);
   Require(o.patience >= 1 && o.patience <= 100'000, "patience is {}: expected 1 to 100000",
           o.patience);
-  Require(o.init_std > 0 && std::isfinite(o.init_std), "init_std is {}: expected a positive number",
+  Require(o.init_std > 0 && o.init_std <= 10, "init_std is {}: expected a number in (0, 10]",
           o.init_std);
-  Require(o.min_std >= 0, "min_std is {}: expected a non-negative number", o.min_std);
+  Require(o.min_std >= 0 && o.min_std <= 10, "min_std is {}: expected a number in [0, 10]",
+          o.min_std);
   Require(o.precision == "fp32" || o.precision == "tf32" || o.precision == "bf16",
           "precision is '{}': expected fp32, tf32 or bf16", o.precision);
   Require(o.precision != "tf32" || o.device.rfind("cuda", 0) == 0,
@@ -69,8 +71,8 @@ void ValidateEnsembleOptions(const EnsembleOptions& o) {
 
 void ValidateXgbCostModelOptions(const XgbCostModelOptions& o) {
   Require(o.rounds >= 1 && o.rounds <= 100'000, "rounds is {}: expected 1 to 100000", o.rounds);
-  Require(o.learning_rate > 0 && std::isfinite(o.learning_rate),
-          "learning_rate is {}: expected a positive number", o.learning_rate);
+  Require(o.learning_rate > 0 && o.learning_rate <= 1,
+          "learning_rate is {}: expected a number in (0, 1]", o.learning_rate);
   Require(o.max_depth >= 1 && o.max_depth <= 64, "max_depth is {}: expected 1 to 64",
           o.max_depth);
   Require(o.max_leaves >= 2 && o.max_leaves <= 1'000'000,

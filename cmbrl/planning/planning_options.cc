@@ -30,11 +30,13 @@ void ValidateCrossEntropyOptions(const CrossEntropyOptions& o) {
           o.elites);
   Require(o.max_iterations >= 1 && o.max_iterations <= 1000,
           "max_iterations is {}: expected 1 to 1000", o.max_iterations);
-  Require(o.epsilon >= 0 && std::isfinite(o.epsilon),
-          "epsilon is {}: expected a non-negative number", o.epsilon);
+  // Actions lie in [-1, 1]: their variance is at most 1, so an epsilon above it ends every
+  // search after one iteration (a choice), and far above, a typing slip.
+  Require(o.epsilon >= 0 && o.epsilon <= 1000, "epsilon is {}: expected a number in [0, 1000]",
+          o.epsilon);
   Require(o.alpha >= 0 && o.alpha < 1, "alpha is {}: expected a number in [0, 1)", o.alpha);
-  Require(o.initial_variance > 0 && std::isfinite(o.initial_variance),
-          "initial_variance is {}: expected a positive number", o.initial_variance);
+  Require(o.initial_variance > 0 && o.initial_variance <= 100,
+          "initial_variance is {}: expected a number in (0, 100]", o.initial_variance);
 }
 
 void ValidateRandomShootingOptions(const RandomShootingOptions& o) {
@@ -43,7 +45,7 @@ void ValidateRandomShootingOptions(const RandomShootingOptions& o) {
 }
 
 void ValidatePenalty(double penalty) {
-  Require(penalty >= 0 && std::isfinite(penalty), "penalty is {}: expected a non-negative number",
+  Require(penalty >= 0 && penalty <= 1e9, "penalty is {}: expected a number in [0, 1e9]",
           penalty);
 }
 
@@ -81,8 +83,14 @@ void ValidateTrajectoryObjectiveOptions(const TrajectoryObjectiveOptions& o, int
   if (o.reward == "analytic" && state_dim != 0) RequireGoalIndexFits(o, state_dim);
   Require(o.gamma > 0 && o.gamma <= 1, "gamma is {}: expected a number in (0, 1]", o.gamma);
   Require(o.beta > 0 && o.beta <= 1, "beta is {}: expected a number in (0, 1]", o.beta);
-  Require(o.near_goal_radius >= 0 && o.at_goal_radius >= 0,
-          "goal radii must be non-negative, got {} and {}", o.near_goal_radius, o.at_goal_radius);
+  Require(o.near_goal_radius >= 0 && o.near_goal_radius <= 100 && o.at_goal_radius >= 0 &&
+              o.at_goal_radius <= 100,
+          "near_goal_radius is {} and at_goal_radius {}: expected metres from 0 to 100",
+          o.near_goal_radius, o.at_goal_radius);
+  Require(std::isfinite(o.near_goal_bonus) && std::abs(o.near_goal_bonus) <= 1e6 &&
+              std::isfinite(o.at_goal_bonus) && std::abs(o.at_goal_bonus) <= 1e6,
+          "near_goal_bonus is {} and at_goal_bonus {}: expected numbers from -1e6 to 1e6",
+          o.near_goal_bonus, o.at_goal_bonus);
 }
 
 const std::vector<PlannerInfo>& PlannerInfos() {

@@ -25,15 +25,16 @@ void ValidatePolicyOptimisationOptions(const PolicyOptimisationOptions& o) {
   }
   Require(std::isfinite(o.initial_log_std) && o.initial_log_std > -20 && o.initial_log_std < 5,
           "initial_log_std is {}: expected a number in (-20, 5)", o.initial_log_std);
-  Require(o.value_learning_rate > 0 && std::isfinite(o.value_learning_rate),
-          "value_learning_rate is {}: expected a positive number", o.value_learning_rate);
+  // Upper bounds: values no one means, which train to NaN or never move.
+  Require(o.value_learning_rate > 0 && o.value_learning_rate <= 1,
+          "value_learning_rate is {}: expected a number in (0, 1]", o.value_learning_rate);
   Require(o.value_iterations >= 0 && o.value_iterations <= 100'000,
           "value_iterations is {}: expected 0 to 100000", o.value_iterations);
   Require(o.gamma >= 0 && o.gamma <= 1, "gamma is {}: expected a number in [0, 1]", o.gamma);
   Require(o.lambda >= 0 && o.lambda <= 1, "lambda is {}: expected a number in [0, 1]", o.lambda);
-  Require(o.target_kl > 0 && std::isfinite(o.target_kl),
-          "target_kl is {}: expected a positive number", o.target_kl);
-  Require(o.damping >= 0 && std::isfinite(o.damping), "damping is {}: expected 0 or more",
+  Require(o.target_kl > 0 && o.target_kl <= 10, "target_kl is {}: expected a number in (0, 10]",
+          o.target_kl);
+  Require(o.damping >= 0 && o.damping <= 1000, "damping is {}: expected a number in [0, 1000]",
           o.damping);
   Require(o.cg_iterations >= 1 && o.cg_iterations <= 1000,
           "cg_iterations is {}: expected 1 to 1000", o.cg_iterations);
@@ -45,10 +46,10 @@ void ValidatePolicyOptimisationOptions(const PolicyOptimisationOptions& o) {
           "cost_limit is {}: expected 0 or more", o.cost_limit);
   Require(o.penalty_init > 0 && std::isfinite(o.penalty_init),
           "penalty_init is {}: expected a positive number", o.penalty_init);
-  Require(o.penalty_learning_rate > 0 && std::isfinite(o.penalty_learning_rate),
-          "penalty_learning_rate is {}: expected a positive number", o.penalty_learning_rate);
-  Require(o.policy_learning_rate > 0 && std::isfinite(o.policy_learning_rate),
-          "policy_learning_rate is {}: expected a positive number", o.policy_learning_rate);
+  Require(o.penalty_learning_rate > 0 && o.penalty_learning_rate <= 1,
+          "penalty_learning_rate is {}: expected a number in (0, 1]", o.penalty_learning_rate);
+  Require(o.policy_learning_rate > 0 && o.policy_learning_rate <= 1,
+          "policy_learning_rate is {}: expected a number in (0, 1]", o.policy_learning_rate);
   Require(o.policy_iterations >= 1 && o.policy_iterations <= 100'000,
           "policy_iterations is {}: expected 1 to 100000", o.policy_iterations);
   Require(o.clip_ratio > 0 && o.clip_ratio < 1, "clip_ratio is {}: expected a number in (0, 1)",

@@ -38,6 +38,28 @@ TEST(ConfigTest, AnEmptyFileGivesThePapersSettings) {
   EXPECT_TRUE(config.objective.at_goal_test_after_near_bonus);
 }
 
+// Absurd finite values of the keys the last probe found training on (or failing at run time
+// without a name) are refused under their key.
+TEST(ConfigTest, AbsurdFiniteValuesAreRefusedByTheirKey) {
+  const std::vector<std::string> keys = {
+      "ensemble: {min_std: 1e300}",          "ensemble: {init_std: 1e300}",
+      "ensemble: {learning_rate: 1e300}",    "planning: {epsilon: 1e300}",
+      "planning: {penalty: 1e300}",          "planning: {initial_variance: 1e300}",
+      "objective: {near_goal_radius: 1e300}", "objective: {at_goal_bonus: 1e300}",
+      "classifier: {learning_rate: 1e300}",  "training: {pretrain_episodes: 0}",
+      "{algorithm: trpo, variant: paper-lidar, policy_optimisation: {damping: 1e300}}",
+      "{algorithm: trpo, variant: paper-lidar, policy_optimisation: {target_kl: 1e300}}",
+      "{algorithm: trpo, variant: paper-lidar, policy_optimisation: {value_learning_rate: 1e300}}"};
+  for (const std::string& yaml : keys) {
+    SCOPED_TRACE(yaml);
+    const std::string message = ErrorMessage([&] { ParseTrainConfig(yaml, "c.yaml"); });
+    const std::string key = yaml.substr(yaml.rfind('{') + 1, yaml.find(':', yaml.rfind('{')) -
+                                                                  yaml.rfind('{') - 1);
+    EXPECT_THAT(message, ::testing::HasSubstr(key)) << message;
+    EXPECT_THAT(message, ::testing::HasSubstr("expected")) << message;
+  }
+}
+
 // The navigation suite's other families exist in the stock variant only, which is then their
 // default; each plans with its own lidar form, which a paper variant's observation lacks.
 TEST(ConfigTest, TheOtherFamiliesAreStockTasksWithLidarRewards) {

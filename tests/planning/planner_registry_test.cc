@@ -109,7 +109,7 @@ TEST(PlannerFactoryTest, BadSettingsAreNamed) {
     settings = PlannerSettings{};
     settings.penalty = -1.0;
     EXPECT_EQ(ErrorMessage([&] { MakePlanner(name, settings, 0); }),
-              "penalty is -1: expected a non-negative number")
+              "penalty is -1: expected a number in [0, 1e9]")
         << name;
   }
   settings = PlannerSettings{};
