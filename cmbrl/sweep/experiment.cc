@@ -14,6 +14,7 @@
 
 #include "cmbrl/core/check.h"
 #include "cmbrl/env/task_list.h"
+#include "cmbrl/report/reference.h"
 #include "cmbrl/run/run_directory.h"
 
 namespace cmbrl {
@@ -222,7 +223,16 @@ Experiment LoadExperiment(const fs::path& dir, const fs::path& configs_dir) {
     Require(fs::is_directory(e.configs_dir), "experiment '{}': key 'configs' is '{}': no folder {}",
             source, own.Scalar(), e.configs_dir.string());
   } else {
+    // experiments/<name> of a checkout: the checkout's configs/. Elsewhere (an experiment of
+    // one's own in any folder): the presets of the source tree this program was built from.
     e.configs_dir = absolute.parent_path().parent_path() / "configs";
+    if (!fs::is_directory(e.configs_dir)) e.configs_dir = DefaultConfigsDir();
+    Require(fs::is_directory(e.configs_dir),
+            "experiment '{}': its presets are looked for in the folder two above it "
+            "({}) and in this program's source tree ({}); neither exists: name the presets' "
+            "folder with the key 'configs' (relative to the experiment)",
+            source, (absolute.parent_path().parent_path() / "configs").string(),
+            DefaultConfigsDir());
   }
   Require(document["family"] && document["family"].IsScalar(),
           "experiment '{}': key 'family' is missing: expected 'paper' or the name of a preset "

@@ -7,6 +7,7 @@
 #include <fstream>
 #include <map>
 
+#include "cmbrl/report/reference.h"
 #include "tests/error_message.h"
 #include "tests/temp_path.h"
 
@@ -197,6 +198,19 @@ TEST(ExperimentTest, TheDecisionRuleIsDeclaredWithTheExperiment) {
       WriteExperiment("difference", base + "decision: {rule: difference}\n"), kConfigs);
   EXPECT_EQ(difference.decision->kind, DecisionRule::Kind::kDifference);
   EXPECT_FALSE(LoadExperiment(WriteExperiment("none", base), kConfigs).decision.has_value());
+}
+
+// An experiment of one's own outside a checkout's experiments/ (no configs/ two folders above)
+// takes the presets of the source tree the program was built from.
+TEST(ExperimentTest, AnExperimentAnywhereFindsThePresets) {
+  const fs::path dir = fs::path(testing::TestTempPath("anywhere")) / "deep" / "mine";
+  fs::create_directories(dir);
+  std::ofstream(dir / kExperimentFile)
+      << "family: cpu\ntasks: [PointButton1]\nmethods: [rce]\nseeds: [0]\nwindow: 3000\n";
+  ASSERT_FALSE(fs::exists(dir.parent_path().parent_path() / "configs"));
+  const Experiment experiment = LoadExperiment(dir);
+  EXPECT_EQ(experiment.configs_dir, fs::path(DefaultConfigsDir()));
+  EXPECT_TRUE(fs::is_regular_file(experiment.family_file()));
 }
 
 TEST(ExperimentTest, TheHashIsTheFilesSha256) {
