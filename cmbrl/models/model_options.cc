@@ -81,10 +81,12 @@ void ValidateXgbCostModelOptions(const XgbCostModelOptions& o) {
           "grow_policy is '{}': expected 'lossguide' or 'depthwise'", o.grow_policy);
   Require(o.tree_method == "hist" || o.tree_method == "approx" || o.tree_method == "exact",
           "tree_method is '{}': expected 'hist', 'approx' or 'exact'", o.tree_method);
-  Require(o.l2_regularization >= 0, "l2_regularization is {}: expected a non-negative number",
-          o.l2_regularization);
-  Require(o.min_child_weight >= 0, "min_child_weight is {}: expected a non-negative number",
-          o.min_child_weight);
+  // Named here rather than by XGBoost, which refuses some values at the first fit under its own
+  // parameter names, and takes others to trees that never split.
+  Require(o.l2_regularization >= 0 && o.l2_regularization <= 1e6,
+          "l2_regularization is {}: expected a number in [0, 1e6]", o.l2_regularization);
+  Require(o.min_child_weight >= 0 && o.min_child_weight <= 1e6,
+          "min_child_weight is {}: expected a number in [0, 1e6]", o.min_child_weight);
   Require(o.threshold > 0 && o.threshold < 1, "threshold is {}: expected a probability in (0, 1)",
           o.threshold);
   Require(o.safe_per_unsafe >= 0 && o.safe_per_unsafe <= 1000,

@@ -15,9 +15,11 @@ void ValidatePlanningProblem(const PlanningProblem& p) {
           p.horizon);
   Require(p.action_dim >= 1, "action_dim is {}: expected at least 1", p.action_dim);
   Require(
-      std::isfinite(p.action_low) && std::isfinite(p.action_high) && p.action_low < p.action_high,
-      "action bounds [{}, {}]: expected finite numbers with low < high", p.action_low,
-      p.action_high);
+      std::abs(p.action_low) <= 1e6 && std::abs(p.action_high) <= 1e6 &&
+          p.action_low < p.action_high,
+      "action_low and action_high are {} and {}: expected numbers from -1e6 to 1e6 with "
+      "action_low < action_high (the planner samples in float32)",
+      p.action_low, p.action_high);
 }
 
 void ValidateCrossEntropyOptions(const CrossEntropyOptions& o) {

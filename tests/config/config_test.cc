@@ -47,6 +47,8 @@ TEST(ConfigTest, AbsurdFiniteValuesAreRefusedByTheirKey) {
       "planning: {penalty: 1e300}",          "planning: {initial_variance: 1e300}",
       "objective: {near_goal_radius: 1e300}", "objective: {at_goal_bonus: 1e300}",
       "classifier: {learning_rate: 1e300}",  "training: {pretrain_episodes: 0}",
+      "classifier: {min_child_weight: 1e300}", "classifier: {l2_regularization: 1e300}",
+      "planning: {action_high: 1e300}",
       "{algorithm: trpo, variant: paper-lidar, policy_optimisation: {damping: 1e300}}",
       "{algorithm: trpo, variant: paper-lidar, policy_optimisation: {target_kl: 1e300}}",
       "{algorithm: trpo, variant: paper-lidar, policy_optimisation: {value_learning_rate: 1e300}}"};
