@@ -21,6 +21,17 @@ double Distance3(const std::array<double, 3>& a, const std::array<double, 3>& b)
   return std::sqrt(dx * dx + dy * dy + dz * dz);
 }
 
+// A free joint's 7 positions: on the floor at `pose`, at height `z`, turned about z by its yaw.
+void SetFreeJointPose(mjtNum* qpos, const Pose2& pose, double z) {
+  qpos[0] = pose.position.x;
+  qpos[1] = pose.position.y;
+  qpos[2] = z;
+  qpos[3] = std::cos(pose.yaw / 2);
+  qpos[4] = 0.0;
+  qpos[5] = 0.0;
+  qpos[6] = std::sin(pose.yaw / 2);
+}
+
 }  // namespace
 
 RobotDescription TaskRobot(const NavigationTaskSpec& spec) {
@@ -189,24 +200,11 @@ void NavigationEnv::PlaceLayout(const NavigationLayout& layout) {
     d.qpos[planar_qpos_[1]] = robot.position.y;
     d.qpos[planar_qpos_[2]] = robot.yaw;
   } else {
-    mjtNum* qpos = d.qpos + free_qpos_;
-    qpos[0] = robot.position.x;
-    qpos[1] = robot.position.y;
-    qpos[2] = robot_.spawn_height;
-    qpos[3] = std::cos(robot.yaw / 2);
-    qpos[4] = 0.0;
-    qpos[5] = 0.0;
-    qpos[6] = std::sin(robot.yaw / 2);
+    SetFreeJointPose(d.qpos + free_qpos_, robot, robot_.spawn_height);
   }
   for (int i = 0; i < spec_.num_vases; ++i) {
-    mjtNum* qpos = d.qpos + vase_qpos_[i];
-    qpos[0] = layout.vases[i].position.x;
-    qpos[1] = layout.vases[i].position.y;
-    qpos[2] = spec_.vase_half_size - spec_.vase_sink;
-    qpos[3] = std::cos(layout.vases[i].yaw / 2);
-    qpos[4] = 0.0;
-    qpos[5] = 0.0;
-    qpos[6] = std::sin(layout.vases[i].yaw / 2);
+    SetFreeJointPose(d.qpos + vase_qpos_[i], layout.vases[i],
+                     spec_.vase_half_size - spec_.vase_sink);
   }
   if (HasGoal(spec_)) MoveGoal(layout.goal);
   for (int i = 0; i < spec_.num_hazards; ++i) {
@@ -220,22 +218,12 @@ void NavigationEnv::PlaceLayout(const NavigationLayout& layout) {
   };
   for (int i = 0; i < spec_.num_buttons; ++i) place_mocap(button_mocaps_[i], layout.buttons[i]);
   for (int i = 0; i < spec_.num_pillars; ++i) place_mocap(pillar_mocaps_[i], layout.pillars[i]);
-  const auto place_free = [&d](int qpos_address, const Pose2& pose, double z) {
-    mjtNum* qpos = d.qpos + qpos_address;
-    qpos[0] = pose.position.x;
-    qpos[1] = pose.position.y;
-    qpos[2] = z;
-    qpos[3] = std::cos(pose.yaw / 2);
-    qpos[4] = 0.0;
-    qpos[5] = 0.0;
-    qpos[6] = std::sin(pose.yaw / 2);
-  };
-  if (spec_.push_box) place_free(box_qpos_, layout.box, spec_.box_size);
+  if (spec_.push_box) SetFreeJointPose(d.qpos + box_qpos_, layout.box, spec_.box_size);
   // A gremlin starts where it was placed, its mocap `size` below it (the weld's rest), turned as
   // the gremlin; the first physics step moves the mocap onto its circle.
   for (int i = 0; i < spec_.num_gremlins; ++i) {
     const Pose2& gremlin = layout.gremlins[i];
-    place_free(gremlin_qpos_[i], gremlin, spec_.gremlin_size);
+    SetFreeJointPose(d.qpos + gremlin_qpos_[i], gremlin, spec_.gremlin_size);
     const int mocap = gremlin_mocaps_[i];
     place_mocap(mocap, gremlin.position);
     d.mocap_pos[3 * mocap + 2] = 0.0;
@@ -285,7 +273,6 @@ StepResult NavigationEnv::Step(const std::vector<double>& action) {
   }
 
   StepResult result;
-  bool violated = false;
   for (int repeat = 0; repeat < spec_.action_repeat; ++repeat) {
     const EnvStepOutcome outcome = EnvStep();
     ++env_steps_;
@@ -298,10 +285,6 @@ StepResult NavigationEnv::Step(const std::vector<double>& action) {
     result.info.cost_gremlins += outcome.cost_gremlins;
     result.info.cost_pillars += outcome.cost_pillars;
     result.info.cost_out_of_boundary += outcome.cost_out_of_boundary;
-    violated = violated || outcome.physics_error || outcome.cost_hazards > 0.0 ||
-               outcome.cost_vases_contact > 0.0 || outcome.cost_vases_velocity > 0.0 ||
-               outcome.cost_buttons > 0.0 || outcome.cost_gremlins > 0.0 ||
-               outcome.cost_pillars > 0.0 || outcome.cost_out_of_boundary > 0.0;
     result.info.goal_met = result.info.goal_met || outcome.goal_met;
     result.info.physics_error = outcome.physics_error;
     result.terminated = outcome.physics_error || outcome.goal_resample_failed;
@@ -309,7 +292,9 @@ StepResult NavigationEnv::Step(const std::vector<double>& action) {
     // The paper's wrapper stops repeating once the goal is reached or the episode ends.
     if (outcome.goal_met || result.terminated || result.truncated) break;
   }
-  result.cost = violated ? 1.0 : 0.0;
+  // Every term is non-negative: their sum over the env steps is positive exactly when one of
+  // them was (or the physics failed).
+  result.cost = CostSum(result.info) > 0.0 ? 1.0 : 0.0;
   result.info.raw_cost = result.cost;
   episode_over_ = result.terminated || result.truncated;
   result.observation = Observe();
@@ -345,18 +330,6 @@ NavigationEnv::EnvStepOutcome NavigationEnv::EnvStep() {
     mj_sensorVel(&m, &d);
   }
   ComputeCostTerms(outcome);
-  if (spec_.family == TaskFamily::kGoal) {
-    const double distance = DistanceToGoal();
-    outcome.reward = std::clamp((last_goal_distance_ - distance) * spec_.reward_distance,
-                                -spec_.reward_clip, spec_.reward_clip);
-    last_goal_distance_ = distance;
-    if (distance <= spec_.goal_size) {
-      outcome.goal_met = true;
-      outcome.reward += spec_.reward_goal;
-      outcome.goal_resample_failed = !UpdateWorld();
-    }
-    return outcome;
-  }
   // builder.py, step: reward, then cost (above), then the buttons' timer, then a reached goal.
   const bool goal_met = GoalAchieved();
   outcome.reward = FamilyReward(goal_met);
@@ -385,8 +358,7 @@ bool NavigationEnv::GoalAchieved() const {
       return RobotContacts({button_geoms_[static_cast<size_t>(goal_button_)]}) > 0;
     // push_level0.py: the box's centre within the goal's size of the goal (3-D).
     case TaskFamily::kPush:
-      return Distance3(BodyPosition(box_body_),
-                       GoalPosition()) <= spec_.goal_size;
+      return Distance3(BodyPosition(box_body_), GoalPosition()) <= spec_.goal_size;
     case TaskFamily::kCircle: return false;
   }
   return false;
@@ -399,6 +371,10 @@ double NavigationEnv::FamilyReward(bool goal_met) {
     case TaskFamily::kButton: {
       const double distance = DistanceToGoal();
       reward = (last_goal_distance_ - distance) * spec_.reward_distance;
+      // The Goal tasks' safety net on the progress (a goal that jumps is not progress).
+      if (spec_.family == TaskFamily::kGoal) {
+        reward = std::clamp(reward, -spec_.reward_clip, spec_.reward_clip);
+      }
       last_goal_distance_ = distance;
       break;
     }
@@ -410,8 +386,7 @@ double NavigationEnv::FamilyReward(bool goal_met) {
       const bool gate = last_box_distance_ > spec_.box_null_dist * spec_.box_size;
       reward += (last_box_distance_ - box_distance) * spec_.reward_box_dist * (gate ? 1.0 : 0.0);
       last_box_distance_ = box_distance;
-      const double box_goal =
-          Distance3(box, GoalPosition());
+      const double box_goal = Distance3(box, GoalPosition());
       reward += (last_box_goal_distance_ - box_goal) * spec_.reward_box_goal;
       last_box_goal_distance_ = box_goal;
       break;
@@ -481,7 +456,9 @@ void NavigationEnv::ComputeCostTerms(EnvStepOutcome& outcome) const {
   }
   // The other families' terms (buttons.py, gremlins.py, pillars.py, sigwalls.py).
   if (spec_.buttons_constrained && button_timer_ == 0) {
-    outcome.cost_buttons = spec_.button_cost * RobotContacts(button_geoms_, button_geoms_[static_cast<size_t>(goal_button_)]);
+    outcome.cost_buttons =
+        spec_.button_cost *
+        RobotContacts(button_geoms_, button_geoms_[static_cast<size_t>(goal_button_)]);
   }
   if (!gremlin_geoms_.empty()) {
     outcome.cost_gremlins = spec_.gremlin_contact_cost * RobotContacts(gremlin_geoms_);
@@ -497,20 +474,7 @@ void NavigationEnv::ComputeCostTerms(EnvStepOutcome& outcome) const {
   if (!spec_.vases_constrained) return;
   const mjModel& m = *model_;
   const mjData& d = *data_;
-  const auto is_vase = [this](int geom) {
-    return std::find(vase_geoms_.begin(), vase_geoms_.end(), geom) != vase_geoms_.end();
-  };
-  const auto is_robot = [this](int geom) {
-    return std::find(robot_contact_geoms_.begin(), robot_contact_geoms_.end(), geom) !=
-           robot_contact_geoms_.end();
-  };
-  for (int i = 0; i < d.ncon; ++i) {
-    const int g1 = d.contact[i].geom1;
-    const int g2 = d.contact[i].geom2;
-    if ((is_vase(g1) && is_robot(g2)) || (is_vase(g2) && is_robot(g1))) {
-      outcome.cost_vases_contact += spec_.vase_contact_cost;
-    }
-  }
+  outcome.cost_vases_contact = spec_.vase_contact_cost * RobotContacts(vase_geoms_);
   for (const int body : vase_bodies_) {
     mjtNum velocity[6];  // rotational then linear, world frame
     mj_objectVelocity(&m, &d, mjOBJ_BODY, body, velocity, 0);

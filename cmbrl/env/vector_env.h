@@ -63,6 +63,7 @@ class VectorEnv {
   static constexpr std::chrono::microseconds kDefaultSpin{2000};
 
   int size() const { return static_cast<int>(envs_.size()); }
+  Autoreset autoreset() const { return autoreset_; }
   const Env& env(int k) const { return *envs_[static_cast<size_t>(k)]; }
   // Environment k itself, for what the vector does not batch (its generator's state, for
   // checkpoints). Stepping or resetting it behind the vector's back breaks kDisabled's checks.

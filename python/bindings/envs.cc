@@ -252,16 +252,15 @@ class PyVectorEnv {
                 autoreset_mode == "disabled",
             "autoreset_mode is '{}': expected 'next-step', 'same-step' or 'disabled'",
             autoreset_mode);
-    disabled_ = autoreset_mode == "disabled";
-    same_step_ = autoreset_mode == "same-step";
+    const Autoreset autoreset = autoreset_mode == "disabled"    ? Autoreset::kDisabled
+                                : autoreset_mode == "same-step" ? Autoreset::kSameStep
+                                                                : Autoreset::kNextStep;
     std::vector<std::unique_ptr<Env>> envs =
         MakeEnvs(task, ParseVariant(variant), ParseSpawn(spawn), num_envs);
     // 0: one thread per core this process may use (VectorEnv keeps at most one per env).
     vector_ = std::make_unique<VectorEnv>(
         std::move(envs), threads == 0 ? CoreCount() : threads, std::chrono::microseconds(spin_us),
-        disabled_    ? Autoreset::kDisabled
-        : same_step_ ? Autoreset::kSameStep
-                     : Autoreset::kNextStep);
+        autoreset);
     // Threads chosen for the caller: it measures whether they pay on this machine now.
     vector_->SetAdaptiveThreads(threads == 0);
   }
@@ -327,7 +326,7 @@ class PyVectorEnv {
     std::vector<std::string> keys;
     for (const auto& [key, value] : info) keys.push_back(py::cast<std::string>(key));
     for (const std::string& key : keys) info[py::str("_" + key)] = Flags(stepped);
-    if (same_step_) {  // with the other modes the observation is the last one itself
+    if (vector_->autoreset() == Autoreset::kSameStep) {  // with the other modes the observation is the last one itself
       // Gymnasium 1.x's same-step names: the ended episodes' last observations and the info of
       // their last step (this step's, as the reset adds none), each with its mask.
       py::dict final_info;
@@ -353,7 +352,6 @@ class PyVectorEnv {
 
  private:
   py::ssize_t Width() const { return vector_->env(0).observation_spec().size(); }
-  bool same_step_ = false;
   void Open() const { Require(!closed_, "the vector of {} environments is closed", task_); }
 
   mutable std::mutex mutex_;  // ObjectLock: one call at a time
@@ -361,7 +359,6 @@ class PyVectorEnv {
   std::string task_;
   bool closed_ = false;
   bool started_ = false;
-  bool disabled_ = false;  // autoreset_mode "disabled"
 };
 
 // `cmbrl bench env` for one task and variant, in this process: its JSON line.

@@ -48,19 +48,16 @@ bool PlaceObject(const NavigationTaskSpec& spec, double keepout, int tries, Rng&
   return PlaceObjectIn(spec, spec.placement, keepout, tries, rng, placed, position);
 }
 
-// Places every point of `points` with `keepout`; false when one ran out of tries.
-bool PlaceAll(const NavigationTaskSpec& spec, double keepout, Rng& rng,
-              std::vector<Placed>& placed, std::vector<Vec2>& points) {
-  for (Vec2& point : points) {
-    if (!PlaceObject(spec, keepout, spec.placement_tries, rng, placed, point)) return false;
-  }
-  return true;
-}
+Vec2& PositionOf(Vec2& point) { return point; }
+Vec2& PositionOf(Pose2& pose) { return pose.position; }
 
+// Places every object of `objects` (points or poses) with `keepout`; false when one ran out of
+// tries.
+template <typename Object>
 bool PlaceAll(const NavigationTaskSpec& spec, double keepout, Rng& rng,
-              std::vector<Placed>& placed, std::vector<Pose2>& poses) {
-  for (Pose2& pose : poses) {
-    if (!PlaceObject(spec, keepout, spec.placement_tries, rng, placed, pose.position)) {
+              std::vector<Placed>& placed, std::vector<Object>& objects) {
+  for (Object& object : objects) {
+    if (!PlaceObject(spec, keepout, spec.placement_tries, rng, placed, PositionOf(object))) {
       return false;
     }
   }
@@ -70,7 +67,8 @@ bool PlaceAll(const NavigationTaskSpec& spec, double keepout, Rng& rng,
 // One attempt at a whole layout; false when an object ran out of tries.
 bool TrySampleLayout(const NavigationTaskSpec& spec, Rng& rng, NavigationLayout& layout) {
   std::vector<Placed> placed;
-  placed.reserve(2 + spec.num_hazards + spec.num_vases);
+  placed.reserve(3 + spec.num_hazards + spec.num_vases + spec.num_buttons + spec.num_gremlins +
+                 spec.num_pillars);
   layout.hazards.assign(spec.num_hazards, Vec2{});
   layout.vases.assign(spec.num_vases, Pose2{});
   layout.buttons.assign(spec.num_buttons, Vec2{});
