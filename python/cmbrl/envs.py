@@ -7,24 +7,10 @@ import re
 
 import numpy as np
 
-from . import _cmbrl
+from . import _cmbrl, _gymnasium
 from ._common import (Error, _as_int, _as_seed, _box, _Closable, _copy_through_state,
                       _entropy_seed, _NotCopyable)
 from .spaces import Box
-
-try:  # gymnasium is optional: where it is importable, the environments are of its own kinds
-    import gymnasium as _gymnasium
-    import gymnasium.vector  # noqa: F401 (makes _gymnasium.vector available)
-    _EnvBase, _VectorEnvBase = _gymnasium.Env, _gymnasium.vector.VectorEnv
-    _WrapperBase, _VectorWrapperBase = _gymnasium.Wrapper, _gymnasium.vector.VectorWrapper
-except ImportError:  # pragma: no cover - depends on the machine
-    _EnvBase = _VectorEnvBase = object
-    _WrapperBase = _VectorWrapperBase = None
-try:  # Gymnasium's EnvSpec, where its registry is importable
-    from gymnasium.envs.registration import EnvSpec as _EnvSpecBase
-except ImportError:  # pragma: no cover - depends on the machine
-    _EnvSpecBase = None
-
 
 def tasks():
     """The registered task names."""
@@ -39,7 +25,7 @@ def variants(task):
     return ["standard"]
 
 
-class Env(_Closable, _EnvBase):
+class Env(_Closable, _gymnasium.Env):
     """One navigation environment with Safety-Gymnasium's API (reset, step with a separate cost,
     observation_space, action_space, render to an RGB array, close). Where gymnasium is
     importable it is a gymnasium.Env (and its spaces gymnasium's Boxes), as Safety-Gymnasium's
@@ -137,6 +123,16 @@ class Env(_Closable, _EnvBase):
             self._window.show(self._env.render(self.render_size),
                               f"cmbrl {self.task} ({self.variant})")
 
+    @property
+    def spec(self):
+        """What made this environment: its id, entry point and kwargs (gymnasium.make sets the
+        registered id's spec here, as it does on every gymnasium.Env)."""
+        return self._spec
+
+    @spec.setter
+    def spec(self, spec):
+        self._spec = spec
+
     def close(self):
         """Frees the environment (and closes its window); later calls raise cmbrl.Error."""
         if getattr(self, "_window", None) is not None:
@@ -200,7 +196,7 @@ class Env(_Closable, _EnvBase):
                 f"variant={getattr(self, 'variant', None)!r})")
 
 
-class VectorEnv(_Closable, _NotCopyable, _VectorEnvBase):
+class VectorEnv(_Closable, _NotCopyable, _gymnasium.VectorEnv):
     """num_envs environments stepped together in C++ threads, in Gymnasium's vector API:
     batched (num_envs, ...) arrays in and out, each info key with its mask info["_key"].
     Resets follow Gymnasium 1.x's autoreset modes (metadata["autoreset_mode"], Gymnasium's
@@ -241,6 +237,12 @@ class VectorEnv(_Closable, _NotCopyable, _VectorEnvBase):
         self.action_space = Box(
             low=np.tile(act_spec["low"], (self.num_envs, 1)),
             high=np.tile(act_spec["high"], (self.num_envs, 1)), dtype=np.float64)
+
+    def close(self, **kwargs):
+        """Frees the environments and stops their threads. kwargs: what Gymnasium's vector
+        close passes on (an async vector's timeout, say), which, as its sync vector does, this
+        one has no use for."""
+        self._env.close()
 
     def reset(self, seed=None, options=None):
         """Resets all; with a seed, environment k gets seed + k; a list gives each its own seed
@@ -361,9 +363,9 @@ class _HumanWindow:
             self._root = None
 
 
-class EnvSpec:
+class _EnvSpec:
     """What made an environment, with gymnasium.envs.registration.EnvSpec's fields, where gymnasium
-    is not importable (where it is, environments carry Gymnasium's own EnvSpec): id (the name
+    is not importable (where it is, EnvSpec is Gymnasium's own): id (the name
     given to make), entry_point, kwargs (task, variant, spawn), max_episode_steps (None: the
     environment truncates its own episodes, and Gymnasium's TimeLimit expects five values),
     disable_env_checker (True: the six-value step is Safety-Gymnasium's, not Gymnasium's) and the
@@ -408,6 +410,11 @@ class EnvSpec:
         return f"EnvSpec(id={self.id!r}, entry_point={self.entry_point!r}, kwargs={self.kwargs!r})"
 
 
+# What made an environment: Gymnasium's EnvSpec where gymnasium is importable, the look-alike
+# otherwise.
+EnvSpec = _gymnasium.EnvSpec or _EnvSpec
+
+
 def _env_spec(env_id, task, variant, spawn, render_mode=None, render_size=400):
     """The spec of an Env made by make(): Gymnasium's EnvSpec where gymnasium is importable,
     whose make() (gymnasium.make) gives the same six-value environment again."""
@@ -415,8 +422,6 @@ def _env_spec(env_id, task, variant, spawn, render_mode=None, render_size=400):
                   max_episode_steps=None, disable_env_checker=True,
                   kwargs={"task": task, "variant": variant, "spawn": spawn,
                           "render_mode": render_mode, "render_size": render_size})
-    if _EnvSpecBase is not None:
-        return _EnvSpecBase(**fields)
     return EnvSpec(**fields)
 
 
@@ -466,12 +471,11 @@ def _autoreset_mode(mode):
 def _gymnasium_autoreset_mode(mode):
     """Gymnasium's AutoresetMode member of a mode's name, where gymnasium is importable; the
     name otherwise."""
-    try:
-        from gymnasium.vector import AutoresetMode
-    except ImportError:
+    modes = _gymnasium.AutoresetMode
+    if modes is None:
         return mode
-    return {"next-step": AutoresetMode.NEXT_STEP, "same-step": AutoresetMode.SAME_STEP,
-            "disabled": AutoresetMode.DISABLED}[mode]
+    return {"next-step": modes.NEXT_STEP, "same-step": modes.SAME_STEP,
+            "disabled": modes.DISABLED}[mode]
 
 
 def make_vec(task, num_envs, variant=None, spawn="standing", threads=None, spin_us=0,
@@ -504,8 +508,8 @@ class _Forwarding:
     def reset(self, *, seed=None, options=None):
         return self.env.reset(seed=seed, options=options)
 
-    def close(self):
-        self.env.close()
+    def close(self, **kwargs):
+        self.env.close(**kwargs)
 
 
 def _with_cost(info, cost):
@@ -514,7 +518,7 @@ def _with_cost(info, cost):
     return info
 
 
-class CostInInfo(_WrapperBase or _Forwarding):
+class CostInInfo(_gymnasium.Wrapper or _Forwarding):
     """An Env with Gymnasium's five-value step: (observation, reward, terminated, truncated, info),
     the cost moved into info["cost"], for Gymnasium's own wrappers and the libraries built on
     them (Safety-Gymnasium's SafetyGymnasium2Gymnasium does the same). Where gymnasium is
@@ -526,7 +530,7 @@ class CostInInfo(_WrapperBase or _Forwarding):
         return observation, reward, terminated, truncated, _with_cost(info, cost)
 
 
-class VectorCostInInfo(_VectorWrapperBase or _Forwarding):
+class VectorCostInInfo(_gymnasium.VectorWrapper or _Forwarding):
     """A VectorEnv with Gymnasium's five-value step, the (num_envs) costs in info["cost"]. Where
     gymnasium is importable it is a gymnasium.vector.VectorWrapper. Threads: as the VectorEnv it
     wraps."""

@@ -4,13 +4,15 @@ from typing import Any, Iterable, Mapping, Optional, Sequence, Union
 import numpy as np
 import numpy.typing as npt
 
+from . import _gymnasium
 from ._common import _Bools, _Closable, _Floats, _NotCopyable, _Path
 from .spaces import _Box
 
 def tasks() -> list[str]: ...
 def variants(task: str) -> list[str]: ...
 
-class EnvSpec:
+# Gymnasium's EnvSpec where gymnasium is importable, a look-alike with its fields otherwise.
+class EnvSpec(_gymnasium.EnvSpec):
     id: str
     entry_point: Optional[str]
     reward_threshold: Optional[float]
@@ -33,7 +35,8 @@ class EnvSpec:
     def make(self, **kwargs: Any) -> Any: ...
     def to_json(self) -> str: ...
 
-class Env(_Closable):
+# Where gymnasium is installed, a gymnasium.Env whose step gives Safety-Gymnasium's six values.
+class Env(_Closable, _gymnasium.Env[_Floats, _Floats]):
     reward_range: tuple[float, float]
     task: str
     variant: str
@@ -60,7 +63,7 @@ class Env(_Closable):
     def np_random_seed(self) -> int: ...
     def close(self) -> None: ...
     # (observation, reward, cost, terminated, truncated, info): Safety-Gymnasium's six values.
-    def step(self, action: npt.ArrayLike
+    def step(self, action: npt.ArrayLike  # type: ignore[override]
              ) -> tuple[_Floats, float, float, bool, bool, dict[str, Any]]: ...
     def ground_truth(self) -> dict[str, Any]: ...
     def render(self) -> Optional[npt.NDArray[np.uint8]]: ...
@@ -73,7 +76,10 @@ class Env(_Closable):
     def __copy__(self, memo: Any = ...) -> Env: ...
     def __deepcopy__(self, memo: Any = ...) -> Env: ...
 
-class VectorEnv(_Closable, _NotCopyable):
+# Where gymnasium is installed, a gymnasium.vector.VectorEnv whose step gives six values. (Its
+# `closed` is _Closable's read-only property, where Gymnasium's is a plain attribute.)
+class VectorEnv(_Closable, _NotCopyable,  # type: ignore[misc]
+                _gymnasium.VectorEnv[_Floats, _Floats, npt.NDArray[Any]]):
     metadata: dict[str, Any]
     task: str
     variant: str
@@ -85,10 +91,11 @@ class VectorEnv(_Closable, _NotCopyable):
     def __init__(self, task: str, num_envs: int, variant: Optional[str] = ...,
                  spawn: str = ..., threads: Optional[int] = ..., spin_us: int = ...,
                  autoreset_mode: Any = ...) -> None: ...
-    def reset(self, seed: Union[int, Sequence[int], None] = ...,
+    def close(self, **kwargs: Any) -> None: ...
+    def reset(self, seed: Union[int, Sequence[Optional[int]], None] = ...,
               options: Optional[Mapping[str, Any]] = ...) -> tuple[_Floats, dict[str, Any]]: ...
     # (observations, rewards, costs, terminations, truncations, infos), batched.
-    def step(self, actions: npt.ArrayLike
+    def step(self, actions: npt.ArrayLike  # type: ignore[override]
              ) -> tuple[_Floats, _Floats, _Floats, _Bools, _Bools, dict[str, Any]]: ...
 
 def make(task: str, variant: Optional[str] = ..., spawn: str = ...,
@@ -106,15 +113,23 @@ class _Forwarding:
               options: Optional[Mapping[str, Any]] = ...) -> tuple[_Floats, dict[str, Any]]: ...
     def close(self) -> None: ...
 
-# Gymnasium's five-value step, the cost in info["cost"] (gymnasium wrappers where importable).
-class CostInInfo(_Forwarding):
+# Gymnasium's five-value step, the cost in info["cost"]: a gymnasium.Wrapper where gymnasium is
+# importable (then what the wrapped Env lacks is gymnasium's), a _Forwarding otherwise.
+class CostInInfo(_gymnasium.Wrapper[_Floats, _Floats, _Floats, _Floats]):
     env: Env
     def __init__(self, env: Env) -> None: ...
+    def reset(self, *, seed: Optional[int] = ...,
+              options: Optional[dict[str, Any]] = ...) -> tuple[_Floats, dict[str, Any]]: ...
     def step(self, action: npt.ArrayLike
              ) -> tuple[_Floats, float, bool, bool, dict[str, Any]]: ...
 
-class VectorCostInInfo(_Forwarding):
+class VectorCostInInfo(_gymnasium.VectorWrapper):
     env: VectorEnv
     def __init__(self, env: VectorEnv) -> None: ...
-    def step(self, actions: npt.ArrayLike
+    # Gymnasium's VectorWrapper leaves its types unbound, which its subclasses cannot match.
+    def reset(self, *,  # type: ignore[override]
+              seed: Union[int, Sequence[Optional[int]], None] = ...,
+              options: Optional[dict[str, Any]] = ...) -> tuple[_Floats, dict[str, Any]]: ...
+    def step(self, actions: npt.ArrayLike  # type: ignore[override]
              ) -> tuple[_Floats, _Floats, _Bools, _Bools, dict[str, Any]]: ...
+    def close(self, **kwargs: Any) -> None: ...

@@ -13,13 +13,9 @@ gymnasium is importable:
 
 ``gymnasium.make("cmbrl:SafetyPointGoal1Gymnasium-v0")`` imports cmbrl first (Gymnasium's
 ``module:id``)."""
-from . import _cmbrl
+from . import _cmbrl, _gymnasium
 from .envs import CostInInfo, Env, VectorCostInInfo, make_vec, tasks
 
-try:  # gymnasium is optional
-    import gymnasium.envs.registration as _gymnasium_registration
-except ImportError:  # pragma: no cover - depends on the machine
-    _gymnasium_registration = None
 
 
 def make_gymnasium_env(task, variant="standard", spawn="standing", render_mode=None,
@@ -72,13 +68,13 @@ def registered_ids():
 def register_envs():
     """Registers registered_ids() in Gymnasium's registry (once; ids already there are left as
     they are). Nothing happens where gymnasium is not importable."""
-    if _gymnasium_registration is None:
+    if _gymnasium.registration is None:
         return
-    registry = _gymnasium_registration.registry
+    registry = _gymnasium.registration.registry
     for env_id, entry_point, kwargs, five_value in registered_ids():
         if env_id in registry:
             continue
-        _gymnasium_registration.register(
+        _gymnasium.registration.register(
             id=env_id, entry_point=entry_point, kwargs=dict(kwargs),
             # The environment truncates its own episodes at this step; Gymnasium's TimeLimit
             # (five values only) repeats that at the same step.

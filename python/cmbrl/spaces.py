@@ -2,10 +2,7 @@
 with the same attributes (low, high, shape, dtype) and methods (sample, seed, contains)."""
 import numpy as np
 
-try:  # gymnasium is optional
-    from gymnasium.spaces import Box as _GymBox
-except ImportError:  # pragma: no cover - depends on the machine
-    _GymBox = None
+from . import _gymnasium
 
 
 class _Box:
@@ -18,25 +15,21 @@ class _Box:
         if self.low.shape != self.high.shape:
             raise ValueError(f"low has shape {self.low.shape}, high {self.high.shape}: expected one")
         self.shape = self.low.shape
+        self.bounded_below, self.bounded_above = np.isfinite(self.low), np.isfinite(self.high)
         self._rng = np.random.default_rng()
 
     def seed(self, seed=None):
-        """Seeds the space's own generator (sample()); returns [seed] as gymnasium does."""
+        """Seeds the space's own generator (sample()) and returns the seed it used, drawn from
+        the operating system's entropy when seed is None, as gymnasium's Space.seed does."""
+        if seed is None:
+            seed = int(np.random.SeedSequence().entropy)
         self._rng = np.random.default_rng(seed)
-        return [seed]
+        return seed
 
     @property
     def np_random(self):
         """The generator sample() draws from (gymnasium's Space.np_random)."""
         return self._rng
-
-    @property
-    def bounded_below(self):
-        return np.isfinite(self.low)
-
-    @property
-    def bounded_above(self):
-        return np.isfinite(self.high)
 
     def is_bounded(self, manner="both"):
         """Whether every entry is bounded: manner 'both', 'below' or 'above' (gymnasium's)."""
@@ -53,8 +46,11 @@ class _Box:
     def is_np_flattenable(self):
         return True
 
-    def sample(self):
-        """Uniform where bounded on both sides, normal where unbounded, as gymnasium does."""
+    def sample(self, mask=None, probability=None):
+        """Uniform where bounded on both sides, normal where unbounded, as gymnasium does (which
+        takes no mask or probability for a Box either)."""
+        if mask is not None or probability is not None:
+            raise ValueError("a Box samples without a mask or probability: expected None")
         low, high = self.low, self.high
         bounded = np.isfinite(low) & np.isfinite(high)
         out = self._rng.normal(size=self.shape)
@@ -92,7 +88,7 @@ class _Box:
 def Box(low, high, dtype=np.float64):  # noqa: N802 (a class-like factory)
     """A box space from low to high: gymnasium.spaces.Box where gymnasium is importable, the
     look-alike otherwise."""
-    if _GymBox is not None:
-        return _GymBox(low=np.asarray(low, dtype=dtype), high=np.asarray(high, dtype=dtype),
-                       dtype=dtype)
+    if _gymnasium.Box is not None:
+        return _gymnasium.Box(low=np.asarray(low, dtype=dtype),
+                              high=np.asarray(high, dtype=dtype), dtype=dtype)
     return _Box(low, high, dtype)

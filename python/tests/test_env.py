@@ -111,28 +111,19 @@ def test_bad_use_raises_python_exceptions():
 
 
 def test_spaces_are_gymnasiums_boxes_when_gymnasium_is_importable(monkeypatch):
-    import importlib
-    import sys
-    import types
+    import cmbrl._gymnasium
 
     class FakeBox:
         def __init__(self, low, high, dtype):
             self.low, self.high, self.dtype = low, high, dtype
 
-    gymnasium = types.ModuleType("gymnasium")
-    spaces = types.ModuleType("gymnasium.spaces")
-    spaces.Box = FakeBox
-    gymnasium.spaces = spaces
-    monkeypatch.setitem(sys.modules, "gymnasium", gymnasium)
-    monkeypatch.setitem(sys.modules, "gymnasium.spaces", spaces)
-    import cmbrl.spaces
-    try:
-        box = importlib.reload(cmbrl.spaces).Box(low=[-1, -1], high=[1, 1])
+    with monkeypatch.context() as patch:  # gymnasium's Box, as cmbrl._gymnasium finds it
+        patch.setattr(cmbrl._gymnasium, "Box", FakeBox)
+        box = cmbrl.spaces.Box(low=[-1, -1], high=[1, 1])
         assert isinstance(box, FakeBox) and box.dtype == np.float64
-    finally:
-        monkeypatch.undo()
-        importlib.reload(cmbrl.spaces)
-    assert not isinstance(cmbrl.spaces.Box(low=[0], high=[1]), FakeBox)
+    with monkeypatch.context() as patch:  # no gymnasium: the look-alike
+        patch.setattr(cmbrl._gymnasium, "Box", None)
+        assert isinstance(cmbrl.spaces.Box(low=[0], high=[1]), cmbrl.spaces._Box)
 
 
 def test_an_unseeded_first_reset_draws_from_entropy_and_seeds_must_be_integers():
@@ -221,9 +212,11 @@ def test_the_look_alike_box_has_gymnasiums_attributes_and_rules():
     box = _Box(low=[-1.0, 0.0], high=[1.0, np.inf], dtype=np.float32)
     assert box.is_bounded("below") and not box.is_bounded("above") and not box.is_bounded()
     assert list(box.bounded_above) == [True, False]
-    box.seed(4)
+    assert box.seed(4) == 4  # the seed used, as gymnasium's Space.seed returns it
     first = box.sample()
     assert box.np_random is box._rng
+    drawn = box.seed()
+    assert isinstance(drawn, int) and drawn >= 0  # None: one drawn from the system's entropy
     box.seed(4)
     assert np.array_equal(box.sample(), first) and first.dtype == np.float32
     assert box.contains(np.array([0.5, 3.0], dtype=np.float32))
@@ -236,6 +229,8 @@ def test_the_look_alike_box_has_gymnasiums_attributes_and_rules():
     assert box != _Box(low=[-1.0, 0.0], high=[2.0, np.inf], dtype=np.float32)
     with pytest.raises(ValueError, match="manner"):
         box.is_bounded("sideways")
+    with pytest.raises(ValueError, match="mask"):
+        box.sample(mask=np.ones(2, dtype=np.int8))
 
 
 @pytest.mark.parametrize("task,variant", [("PointGoal1", "paper"), ("CarGoal2", "standard"),

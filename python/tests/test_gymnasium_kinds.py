@@ -2,7 +2,8 @@
 gymnasium.vector.VectorEnv) and its spaces gymnasium's Boxes. gymnasium is not a dependency, so
 the test gives a fresh interpreter a stand-in package with the parts of gymnasium 1.x's classes
 that a subclass could trip on (np_random and unwrapped properties, a closed attribute that
-close() sets, __del__ closing, Generic bases), and runs a Gymnasium-style loop there. Where the
+close() sets, __del__ closing, Generic bases), with the registry and the names cmbrl imports, and
+runs a Gymnasium-style loop there. Where the
 real gymnasium is installed, it is used instead."""
 import os
 import subprocess
@@ -12,7 +13,7 @@ import textwrap
 FAKE_GYMNASIUM = {
     "gymnasium/__init__.py": """
         from typing import Generic, TypeVar
-        from gymnasium import spaces, vector  # noqa: F401
+        from gymnasium import envs, spaces, vector  # noqa: F401
         ObsType, ActType = TypeVar("ObsType"), TypeVar("ActType")
         FAKE = True
 
@@ -52,6 +53,25 @@ FAKE_GYMNASIUM = {
             def close(self):
                 return self.env.close()
     """,
+    "gymnasium/envs/__init__.py": """
+        from gymnasium.envs import registration  # noqa: F401
+    """,
+    "gymnasium/envs/registration.py": """
+        class EnvSpec:
+            def __init__(self, id, entry_point=None, reward_threshold=None,
+                         nondeterministic=False, max_episode_steps=None, order_enforce=True,
+                         disable_env_checker=False, kwargs=None, additional_wrappers=(),
+                         vector_entry_point=None):
+                self.id, self.entry_point, self.kwargs = id, entry_point, dict(kwargs or {})
+                self.max_episode_steps = max_episode_steps
+                self.disable_env_checker = disable_env_checker
+
+        registry = {}
+
+        def register(id, **fields):
+            assert id not in registry
+            registry[id] = EnvSpec(id, **fields)
+    """,
     "gymnasium/spaces.py": """
         import numpy as np
 
@@ -68,8 +88,14 @@ FAKE_GYMNASIUM = {
                 return self._rng.uniform(self.low, self.high).astype(self.dtype)
     """,
     "gymnasium/vector/__init__.py": """
+        from enum import Enum
         from typing import Generic, TypeVar
         ObsType, ActType, ArrayType = TypeVar("ObsType"), TypeVar("ActType"), TypeVar("ArrayType")
+
+        class AutoresetMode(Enum):
+            NEXT_STEP = "NextStep"
+            SAME_STEP = "SameStep"
+            DISABLED = "Disabled"
 
         class VectorEnv(Generic[ObsType, ActType, ArrayType]):
             metadata = {}
@@ -117,6 +143,9 @@ LOOP = """
         action = env.action_space.sample()
         assert np.array_equal(env.step(action)[0], twin.step(action)[0])
     assert pickle.loads(pickle.dumps(env)).spec.id == "PointGoal1"
+    assert isinstance(env.spec, gymnasium.envs.registration.EnvSpec) and cmbrl.EnvSpec is type(
+        env.spec)
+    assert "SafetyPointGoal1Gymnasium-v0" in gymnasium.envs.registration.registry
     five = cmbrl.CostInInfo(copy.deepcopy(env))
     assert isinstance(five, gymnasium.Wrapper) and five.unwrapped is five.env
     five.reset(seed=5)
@@ -127,6 +156,7 @@ LOOP = """
     assert env.closed
     vec = cmbrl.make_vec("CarGoal1", num_envs=3)
     assert isinstance(vec, gymnasium.vector.VectorEnv) and vec.num_envs == 3
+    assert vec.metadata["autoreset_mode"] is gymnasium.vector.AutoresetMode.NEXT_STEP
     obs, info = vec.reset(seed=[1, 2, 3])
     obs, reward, cost, terminated, truncated, info = vec.step(vec.action_space.sample())
     assert obs.shape[0] == 3 and not vec.closed
