@@ -21,6 +21,14 @@ for typed in py.typed __init__.pyi spaces.pyi; do
 done
 program=$("$cmbrl" --version | sed -E 's/^cmbrl ([0-9.]+) .*/\1/')
 [ "$installed" = "$program" ] || { echo "FAILED: cmbrl.__version__ $installed, cmbrl --version $program"; exit 1; }
+# Gymnasium's plugin entry point (group gymnasium.envs) names the function that registers the ids.
+"$venv/bin/python" -c "
+from importlib.metadata import entry_points
+(plugin,) = [p for p in entry_points(group='gymnasium.envs') if p.value.startswith('cmbrl')]
+assert (plugin.name, plugin.value) == ('__root__', 'cmbrl.registration:register_envs'), plugin
+import cmbrl.registration
+assert plugin.load() is cmbrl.registration.register_envs
+" || { echo "FAILED: no gymnasium.envs entry point"; exit 1; }
 "$venv/bin/python" "$source_dir/examples/gymnasium_loop.py" --num-envs 2 --steps 20 > loop.txt
 grep -q "SafetyPointGoal1-v0: one episode" loop.txt
 # The README's Python snippet, verbatim, in this empty folder.
