@@ -4,7 +4,9 @@
 
 #include <charconv>
 #include <cmath>
+#include <filesystem>
 #include <string>
+#include <system_error>
 
 namespace cmbrl::app {
 namespace {
@@ -18,7 +20,33 @@ bool ReadsWhole(const std::string& text, T& value) {
   return error == std::errc() && end == last;
 }
 
+// "" where `text` is an existing path of the kind wanted (a folder or not), otherwise what is
+// wrong with it.
+std::string PathFault(const std::string& text, bool folder) {
+  std::error_code error;
+  const std::filesystem::file_status status = std::filesystem::status(text, error);
+  if (error && error != std::errc::no_such_file_or_directory) {
+    return fmt::format("'{}' cannot be read: {}", text, error.message());
+  }
+  if (!std::filesystem::exists(status)) return fmt::format("'{}' does not exist", text);
+  if (folder && !std::filesystem::is_directory(status)) {
+    return fmt::format("'{}' is not a folder: expected a folder", text);
+  }
+  if (!folder && std::filesystem::is_directory(status)) {
+    return fmt::format("'{}' is a folder: expected a file", text);
+  }
+  return "";
+}
+
 }  // namespace
+
+CLI::Validator ExistingFile() {
+  return CLI::Validator([](std::string& text) { return PathFault(text, false); }, "FILE");
+}
+
+CLI::Validator ExistingFolder() {
+  return CLI::Validator([](std::string& text) { return PathFault(text, true); }, "DIR");
+}
 
 CLI::Validator IntegerIn(std::int64_t low, std::int64_t high) {
   return CLI::Validator(

@@ -22,7 +22,7 @@ void AddCommonOptions(CLI::App& command, bench::LearningBenchOptions& args) {
   command.add_option("--config", args.config_paths,
                      "training config files (YAML) whose settings to use, composed in order "
                      "(a task's preset, then a family such as configs/cpu.yaml)")
-      ->check(CLI::ExistingFile)
+      ->check(ExistingFile())
       ->capture_default_str();
   command.add_option("--device", args.device, "cpu, cuda or cuda:N (default: the config's)");
   command.add_option("--runs", args.runs, "runs per figure; the median is reported")
@@ -103,7 +103,7 @@ void AddBenchCommand(CLI::App& parent) {
   env->add_option("--seed", env_args->seed, "seed")->check(SeedInteger())->capture_default_str();
   env->add_option("--config", env_args->config_path,
                   "training config (YAML): measure its task and variant only")
-      ->check(CLI::ExistingFile);
+      ->check(ExistingFile());
   env->add_option("--device", env_args->device,
                   "accepted for symmetry with bench plan and train: MuJoCo simulates on the CPU")
       ->check(CLI::IsMember({"cpu", "cuda"}));
@@ -118,7 +118,7 @@ void AddBenchCommand(CLI::App& parent) {
       "rollout beside bare physics, the trust-region step, the value fits beside their GEMM "
       "floor");
   learn->add_option("--config", learn_args->config_path, "model-free config (YAML)")
-      ->check(CLI::ExistingFile)
+      ->check(ExistingFile())
       ->capture_default_str();
   learn->add_option("--runs", learn_args->runs, "epochs timed after a warm-up; the median is "
                     "reported")

@@ -33,15 +33,23 @@ int main(int argc, char** argv) {
   cmbrl::app::AddBenchCommand(app);
   cmbrl::app::AddSweepCommand(app);
   cmbrl::app::AddReportCommand(app);
-  // CLI11 answers a mistyped command with "A subcommand is required"; name it instead.
-  if (argc > 1 && argv[1][0] != '-') {
+  // CLI11 answers a mistyped command or bench subcommand with "A subcommand is required"; name
+  // it instead, with the commands it could have been.
+  const CLI::App* level = &app;
+  std::string words = "cmbrl";
+  for (int i = 1; i < argc && argv[i][0] != '-'; ++i) {
     std::vector<std::string> names;
-    for (const CLI::App* command : app.get_subcommands({})) names.push_back(command->get_name());
-    if (std::find(names.begin(), names.end(), argv[1]) == names.end()) {
-      std::cerr << "cmbrl: error: unknown command '" << argv[1] << "': expected one of "
-                << fmt::format("{}", fmt::join(names, ", ")) << " (cmbrl --help)\n";
+    for (const CLI::App* command : level->get_subcommands({})) names.push_back(command->get_name());
+    if (names.empty()) break;  // a command's own arguments follow
+    const auto named = std::find(names.begin(), names.end(), argv[i]);
+    if (named == names.end()) {
+      std::cerr << "cmbrl: error: unknown command '" << words << " " << argv[i]
+                << "': expected one of " << fmt::format("{}", fmt::join(names, ", ")) << " ("
+                << words << " --help)\n";
       return 1;
     }
+    level = level->get_subcommand(*named);
+    words += " " + *named;
   }
   try {
     app.parse(argc, argv);

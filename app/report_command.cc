@@ -46,7 +46,7 @@ void AddReportCommand(CLI::App& parent) {
                    "one experiment folder (experiments/<name>): its runs and its report's logs, "
                    "reported into experiments/<name>/report over its window")
       ->required()
-      ->check(CLI::ExistingDirectory);
+      ->check(ExistingFolder());
   command->add_flag("--complete", args->complete,
                     "leave out runs that have not reached the window yet (named in the report)");
   command->add_option("--out", args->out, "report directory (without an experiment)");
@@ -58,14 +58,14 @@ void AddReportCommand(CLI::App& parent) {
   command
       ->add_option("--reference", args->reference,
                    "folder of the original's logs (default: data/reference of the source tree)")
-      ->check(CLI::ExistingDirectory);
+      ->check(ExistingFolder());
   command
       ->add_option("--earlier-table", args->earlier_tables,
                    "an earlier report's table-1.csv, for cells whose runs' logs are gone: its "
                    "cells of tasks and planners that the runs given do not cover join the table "
                    "(marked †; the original's side made again); one or more, the first holding "
                    "a cell gives it")
-      ->check(CLI::ExistingFile);
+      ->check(ExistingFile());
   command
       ->add_option("--grid-step", args->grid_step,
                    "agent steps between curve points (default: the longest run / 50)")

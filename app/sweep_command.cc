@@ -159,7 +159,7 @@ void AddSweepCommand(CLI::App& parent) {
       ->add_option("experiment", args->experiment,
                    "experiment folder (experiments/<name>, holding experiment.yaml): runs its "
                    "grid into experiments/<name>/runs, or resumes it")
-      ->check(CLI::ExistingDirectory);
+      ->check(ExistingFolder());
   command->add_option("--tasks", args->grid.tasks, "tasks")->capture_default_str();
   command->add_option("--planners,--methods", args->grid.planners,
                       "planners (rce, cem, random) and/or model-free algorithms (trpo, "
@@ -170,7 +170,7 @@ void AddSweepCommand(CLI::App& parent) {
       ->capture_default_str();
   command->add_option("--config-dir", args->grid.config_dir,
                       "folder of <task>-<planner>.yaml configs (task in lower case)")
-      ->check(CLI::ExistingDirectory)
+      ->check(ExistingFolder())
       ->capture_default_str();
   command->add_option("--steps", args->grid.steps,
                       "agent steps of every run (default: each config's training.total_steps)")
@@ -192,7 +192,7 @@ void AddSweepCommand(CLI::App& parent) {
                    "the cmbrl program that trains the runs (default: this one), so that a newer "
                    "build can carry on an experiment whose runs an older one makes (one binary "
                    "per experiment)")
-      ->check(CLI::ExistingFile);
+      ->check(ExistingFile());
   command->add_flag("--status", args->status,
                     "start nothing: print each run's status (new, started, finished), the steps "
                     "it has reached and its budget, one JSON line each, then the totals");

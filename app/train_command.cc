@@ -171,10 +171,10 @@ void AddTrainCommand(CLI::App& parent) {
       ->add_option("--config", args->config,
                    "YAML config (see configs/); several are composed in order, later keys over "
                    "earlier ones, e.g. --config configs/pointgoal2-rce.yaml configs/cpu.yaml")
-      ->check(CLI::ExistingFile);
+      ->check(ExistingFile());
   command->add_option("--out", args->out, "run directory to create");
   command->add_option("--resume", args->resume, "run directory to continue")
-      ->check(CLI::ExistingDirectory);
+      ->check(ExistingFolder());
   command
       ->add_option("--steps", args->steps,
                    "budget of agent steps (training.total_steps); with --resume, continues the "

@@ -9,6 +9,7 @@ and gets a verdict from what cmbrl did:
   accepted      exit 0 where an error was due (or an error where the input was fine: "refused")
   crash         a signal, "terminate called", a LibTorch frame or a Python traceback
   hang          no answer within the case's time
+  slow          a refusal that took more than a second beyond the program's start
   skipped       the case needs what this machine lacks (root for a tmpfs)
 
 Usage: tests/fault_probe.py [--cmbrl build/bin/cmbrl] [--work /tmp/cmbrl-probe] [--python-path build/python]
@@ -72,13 +73,24 @@ class Probe:
             return "accepted"
         return "clear error" if re.search(must_name, output) else "unclear error"
 
+    def startup_seconds(self):
+        """The program's start alone (`cmbrl --version`, median of 3), measured once."""
+        if not hasattr(self, "_startup"):
+            self._startup = sorted(self.run([self.cmbrl, "--version"], 60)[2]
+                                   for _ in range(3))[1]
+        return self._startup
+
     def case(self, cls, name, args, must_name, want_error=True, timeout=600, check=None,
-             env=None):
-        code, output, _ = self.run(args, timeout, env)
+             env=None, within_a_second=False):
+        code, output, seconds = self.run(args, timeout, env)
         verdict = self.verdict(code, output, must_name, want_error)
+        if verdict == "clear error" and within_a_second and seconds > self.startup_seconds() + 1:
+            verdict = "slow"
         if verdict in ("clear error", "ok") and check is not None and not check():
             verdict = "accepted"  # ran without error but did the wrong thing
-        last = output.strip().splitlines()[-1] if output.strip() else ""
+        # The line that says what is wrong (CLI11 adds "Run with --help" after it).
+        lines = [line for line in output.strip().splitlines() if "Run with --help" not in line]
+        last = lines[-1] if lines else ""
         self.results.append((cls, name, verdict, last[:160]))
         print(f"{verdict:13s} {cls:8s} {name}: {last[:140]}", flush=True)
 
@@ -131,10 +143,48 @@ def config_cases(p):
             "task: PointGoal1\nalgorithm: cpo\nvariant: paper-lidar\n"
             "policy_optimisation: {policy_hidden: [65536, 65536]}\n", r"policy_hidden"),
     }
+    # Values no one meant: a type changed by a tag, an absurd finite value.
+    cases.update({
+        "a tag that makes a number a string": (TINY.replace("population: 24",
+                                                            "population: !!str 24"), r"tag"),
+        "a quoted number": (TINY.replace("population: 24", "population: '24'"), r"population"),
+        "min_std 1e300": (TINY.replace("max_epochs: 5}", "max_epochs: 5, min_std: 1.0e+300}"),
+                          r"min_std"),
+        "penalty 1e300": (TINY.replace("random_samples: 50}", "random_samples: 50, "
+                                       "penalty: 1.0e+300}"), r"penalty"),
+    })
     for i, (name, (text, must)) in enumerate(cases.items()):
         path = p.write(f"config-{i}.yaml", text)
         p.case("config", name, [c, "train", "--config", path, "--out", out(f"c{i}")], must)
     base = p.write("tiny.yaml", TINY)
+    # A bare section in a later file is an error, not a reset of the section to the defaults.
+    bare = p.write("bare-planning.yaml", "planning:\n")
+    p.case("config", "a bare section in a later file", [c, "train", "--config", base, bare,
+                                                         "--out", out("bare")], r"planning")
+    # Inputs that never end: each refused within seconds (a hang is a verdict), naming the file.
+    bomb = "a: &a [x, x, x, x, x, x, x, x, x]\n" + "".join(
+        f"{chr(98 + i)}: &{chr(98 + i)} [*{chr(97 + i)}, *{chr(97 + i)}, *{chr(97 + i)}, "
+        f"*{chr(97 + i)}, *{chr(97 + i)}, *{chr(97 + i)}]\n" for i in range(9))
+    big = TINY + "".join(f"# {'x' * 100}\n" for _ in range(20000))  # 2 MB of comments
+    deep = TINY + "extra: " + "{a: " * 200 + "1" + "}" * 200 + "\n"
+    fifo = p.path("config.fifo")
+    os.mkfifo(fifo)
+    loop = p.path("loop-a.yaml")
+    os.symlink(p.path("loop-b.yaml"), loop)
+    os.symlink(loop, p.path("loop-b.yaml"))
+    endless = {
+        "a YAML alias bomb under an unused key": (p.write("bomb.yaml", TINY + bomb),
+                                                  r"bomb\.yaml.*(alias|anchor)"),
+        "a 2 MB config": (p.write("big.yaml", big), r"big\.yaml.*MiB"),
+        "nesting 200 deep": (p.write("deep.yaml", deep), r"deep\.yaml.*nest"),
+        "/dev/zero as the config": ("/dev/zero", r"/dev/zero.*regular file"),
+        "a FIFO as the config": (fifo, r"config\.fifo.*regular file"),
+        "a symlink loop as the config": (loop, r"loop-a\.yaml.*symbolic links"),
+        "a folder as the config": (p.path("runs"), r"runs' is a folder"),
+    }
+    for name, (path, must) in endless.items():
+        p.case("input", name, [c, "train", "--config", path, "--out", out("endless")], must,
+               timeout=20, within_a_second=True)
     p.case("config", "--set malformed", [c, "train", "--config", base, "--set", "planning",
                                          "--out", out("s1")], r"section\.key=value")
     p.case("config", "--set unknown key", [c, "train", "--config", base, "--set",
@@ -150,6 +200,7 @@ def config_cases(p):
     p.case("cli", "steps 0", [c, "train", "--config", base, "--steps", "0", "--out", out("z")],
            r"steps")
     p.case("cli", "unknown command", [c, "trian"], r"trian")
+    p.case("cli", "unknown bench command", [c, "bench", "foo"], r"'cmbrl bench foo'.*env, plan")
     for seconds in ("nan", "-1", "1e12", "soon"):
         p.case("cli", f"checkpoint seconds {seconds}",
                [c, "train", "--config", base, "--checkpoint-seconds", seconds,
@@ -240,6 +291,17 @@ def run_cases(p):
     p.case("run", "report: a row added after the last checkpoint is not counted",
            [c, "report", sweep, "--out", report, "--window", "100"], "", want_error=False,
            check=lambda: "999" not in open(os.path.join(report, "table-1.csv")).read())
+
+    # A run without its config.yaml is refused by name, not counted silently.
+    sweep, run = copy("no-config", lambda d: os.remove(os.path.join(d, "config.yaml")))
+    p.case("run", "report: config.yaml deleted", [c, "report", sweep, "--out",
+                                                  os.path.join(sweep, "report"), "--window",
+                                                  "100"], r"config\.yaml")
+    # The original's logs asked for where there are none: an error, not a report without them.
+    sweep, run = copy("no-reference", lambda d: None)
+    p.case("run", "report: CMBRL_REFERENCE_DIR pointing nowhere",
+           [c, "report", sweep, "--out", os.path.join(sweep, "report"), "--window", "100"],
+           r"CMBRL_REFERENCE_DIR", env=dict(os.environ, CMBRL_REFERENCE_DIR=p.path("nowhere")))
 
     # A copied run counts once.
     sweep, run = copy("copied", lambda d: None)
@@ -345,6 +407,22 @@ def python_cases(p):
          "np.broadcast_to(np.zeros(1), (10**9,)))", r"GiB"),
         ("Ensemble hidden size 3.5", "cmbrl.Ensemble(4, 2, hidden_sizes=[3.5])",
          r"hidden_sizes\[0\] is 3\.5"),
+        ("Ensemble hidden sizes '64'", "cmbrl.Ensemble(4, 2, hidden_sizes='64')",
+         r"hidden_sizes is '64'"),
+        # Wrong argument types are refused by name, not with pybind11's signature.
+        ("train(config=123)", "cmbrl.train(config=123)", r"config is 123"),
+        ("train(device=0)", "cmbrl.train(config='quickstart', device=0)", r"device is 0"),
+        ("train(progress=5)", "cmbrl.train(config='quickstart', progress=5)", r"progress is 5"),
+        ("make(spawn=3)", "cmbrl.make('PointGoal1', spawn=3)", r"spawn is 3"),
+        ("load_run(overrides=5)", "cmbrl.load_run('x', overrides=5)", r"overrides is 5"),
+        # A dict config gets YAML's type rules: no quoted numbers, no bare sections.
+        ("a dict config with population '24'",
+         "cmbrl.train(config={'task': 'PointGoal1', 'planning': {'population': '24'}}, "
+         "out='/tmp/cmbrl-probe-dict')",
+         r"planning\.population"),
+        ("a dict config with a section None",
+         "cmbrl.train(config={'task': 'PointGoal1', 'planning': None}, "
+         "out='/tmp/cmbrl-probe-dict')", r"planning"),
     ]
     for name, code_text, must in cases:
         p.python_case("python", name, code_text, must)

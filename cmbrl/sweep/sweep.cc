@@ -335,6 +335,8 @@ PreparedSweep PrepareSweep(const SweepGrid& grid, const std::string& sweep_dir,
                            const std::string& program, const SweepEventSink& on_event) {
   PreparedSweep prepared;
   prepared.runs = PlanSweep(grid, sweep_dir);
+  fs::create_directories(sweep_dir);
+  prepared.lock = std::make_unique<RunLock>(sweep_dir);
   RecordOrCheckSweep(grid, sweep_dir);
   fs::create_directories(fs::path(sweep_dir) / "logs");
   fs::create_directories(fs::path(sweep_dir) / "runs");

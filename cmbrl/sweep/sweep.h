@@ -6,9 +6,12 @@
 
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
+
+#include "cmbrl/core/run_lock.h"
 
 namespace cmbrl {
 
@@ -123,11 +126,14 @@ struct SweepOutcome {
 
 using SweepEventSink = std::function<void(const SweepEvent&)>;
 
-// A sweep directory made ready for an engine: its runs, and which of them are left to do.
+// A sweep directory made ready for an engine: its runs, and which of them are left to do. The
+// directory is locked against a second sweep while this lives (sweep_dir/lock): two sweeps of
+// one folder would each take the other's runs for failed ones.
 struct PreparedSweep {
   std::vector<SweepRun> runs;
   std::vector<size_t> unfinished;  // indices into runs, in grid order
   int already_finished = 0;
+  std::unique_ptr<RunLock> lock;
 };
 
 // Makes sweep_dir ready for either engine: plans the grid, records it (or checks it against the
@@ -135,7 +141,7 @@ struct PreparedSweep {
 // run to `on_event` as "already finished" ("already finished (in the report)" for one finished in
 // the grid's reported_dir). Throws cmbrl::Error as PlanSweep and RecordOrCheckSweep do, and
 // naming a run that the report holds unfinished while runs/ lacks it (its checkpoints are
-// elsewhere).
+// elsewhere), or another process that holds sweep_dir (a second sweep of it).
 PreparedSweep PrepareSweep(const SweepGrid& grid, const std::string& sweep_dir,
                            const std::string& program, const SweepEventSink& on_event);
 

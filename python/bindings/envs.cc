@@ -301,7 +301,7 @@ class PyVectorEnv {
     const py::ssize_t n = vector_->size();
     const std::vector<double> values =
         RealValues(actions, {n, static_cast<py::ssize_t>(vector_->env(0).action_spec().size())},
-                   "the actions");
+                   "the actions array");
     VectorStep step;
     {
       py::gil_scoped_release release;

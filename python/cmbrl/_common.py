@@ -1,6 +1,7 @@
 """What the modules of cmbrl share: its error, argument checks that name the bad value, and the
 copying and closing rules of the objects that hold a C++ object."""
 import copy
+import math
 import os
 
 import numpy as np
@@ -93,6 +94,62 @@ def _as_int(value, what, low=1, high=_INT_MAX):
     if not low <= value <= high:
         raise Error(f"{what} is {value}: {expected}")
     return value
+
+
+def _as_path(value, what):
+    """value (a str or os.PathLike) as a str; anything else refused with cmbrl.Error naming the
+    argument (where os.fspath's TypeError would not)."""
+    if isinstance(value, (str, os.PathLike)):
+        path = os.fspath(value)
+        if isinstance(path, str):
+            return path
+    raise Error(f"{what} is {value!r}: expected a path (a str or os.PathLike)")
+
+
+def _as_str(value, what, expected="a str"):
+    """value if it is a str; anything else refused with cmbrl.Error naming the argument."""
+    if not isinstance(value, str):
+        raise Error(f"{what} is {value!r}: expected {expected}")
+    return value
+
+
+def _as_flag(value, what):
+    """value if it is a bool (numpy's too); 1, "yes" and the like refused by name."""
+    if not isinstance(value, (bool, np.bool_)):
+        raise Error(f"{what} is {value!r}: expected True or False")
+    return bool(value)
+
+
+def _as_number(value, what, low=-math.inf, high=math.inf):
+    """value as a finite float from low to high; bools, strings and NaN refused by name."""
+    if (isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, float, np.integer,
+                                                                     np.floating))
+            or not math.isfinite(value) or not low <= value <= high):
+        raise Error(f"{what} is {value!r}: expected a finite number from {low} to {high}")
+    return float(value)
+
+
+def _as_sizes(value, what):
+    """A list or tuple of layer widths as ints, each from 1 to 2**31 - 1; a str ("64") or a
+    number refused as a whole, by name."""
+    if not isinstance(value, (list, tuple)):
+        raise Error(f"{what} is {value!r}: expected a list of integers")
+    return [_as_int(size, f"{what}[{i}]") for i, size in enumerate(value)]
+
+
+def _as_overrides(overrides, what="overrides"):
+    """overrides as "section.key=value" strings: from None, a dict {"section.key": value} or a
+    list of such strings; anything else refused by name."""
+    if overrides is None:
+        return []
+    if isinstance(overrides, dict):
+        return [f"{_as_str(key, f'{what} key', 'a str section.key')}={_yaml_value(value)}"
+                for key, value in overrides.items()]
+    if not isinstance(overrides, (list, tuple)):
+        raise Error(f"{what} is {overrides!r}: expected a dict {{'section.key': value}} or a "
+                    "list of 'section.key=value' strings")
+    return [_as_str(item, f"{what}[{i}]", "a 'section.key=value' str")
+            for i, item in enumerate(overrides)]
 
 
 def _as_seed(seed, what="seed"):

@@ -9,7 +9,8 @@ import os
 import numpy as np
 
 from . import _cmbrl
-from ._common import Error, _as_int, _as_seed, _box, _json_number, _NotCopyable, _yaml_value
+from ._common import (Error, _as_flag, _as_int, _as_overrides, _as_path, _as_seed, _as_str,
+                      _box, _json_number, _NotCopyable)
 from .envs import Env
 
 
@@ -73,8 +74,11 @@ def presets():
 def _preset_or_path(config):
     """A config file's path: a path as given, or a preset's name ("pointgoal1-rce",
     "quickstart": no folder, no .yaml, no such file here) in the package's presets."""
-    path = os.fspath(config)
-    if (not isinstance(path, str) or os.sep in path or path.endswith((".yaml", ".yml"))
+    if not isinstance(config, (str, os.PathLike)):
+        raise Error(f"config is {config!r}: expected a preset's name (cmbrl.presets()), a YAML "
+                    "file's path, a list of them, or a dict of config keys")
+    path = _as_path(config, "config")
+    if (os.sep in path or path.endswith((".yaml", ".yml"))
             or os.path.exists(path)):
         return path
     for folder in (_PRESETS, os.path.join(_PRESETS, "ppo")):
@@ -145,8 +149,12 @@ def train(config=None, out=None, steps=None, seed=None, device=None, resume=None
         config_path = [_preset_or_path(path) for path in config]
     elif config is not None:
         config_path = [_preset_or_path(config)]
-    out = os.fspath(out) if out is not None else None
-    resume = os.fspath(resume) if resume is not None else None
+    out = _as_path(out, "out") if out is not None else None
+    resume = _as_path(resume, "resume") if resume is not None else None
+    if device is not None:
+        _as_str(device, "device", "'cpu', 'cuda' or 'cuda:<index>'")
+    if progress is not None and not callable(progress):
+        raise Error(f"progress is {progress!r}: expected a function progress(summary) or None")
     return _cmbrl.train(config_path, config_text, out, resume,
                         None if steps is None else _as_int(steps, "steps", 1, 10**10),
                         None if seed is None else _as_seed(seed), device, progress,
@@ -168,11 +176,12 @@ class Agent(_NotCopyable):
 
     def __init__(self, run_dir, seed=0, overrides=(), reward=None, termination=None, env=None):
         self._env_factory, env_name = _env_source(env)
-        self._agent = _cmbrl.Agent(os.fspath(run_dir), _as_seed(seed), list(overrides),
+        run_dir = _as_path(run_dir, "run_dir")
+        self._agent = _cmbrl.Agent(run_dir, _as_seed(seed), _as_overrides(overrides),
                                    _step_function(reward, "reward", "rewards"),
                                    _step_function(termination, "termination", "booleans"),
                                    self._env_factory, env_name)
-        self.run_dir = os.fspath(run_dir)
+        self.run_dir = run_dir
         self.observation_space = _box(self._agent.observation_spec())
         self.action_space = _box(self._agent.action_spec())
         self.is_mpc = self._agent.is_mpc
@@ -238,11 +247,7 @@ def load_run(run_dir, seed=0, overrides=None, reward=None, termination=None, env
     reward=f, termination=g)).
     env: the environment of a run trained on one given from Python (train(env=...)): the same
     kind of factory or environment again; act() then returns actions in its action box."""
-    if overrides is None:
-        overrides = []
-    elif isinstance(overrides, dict):
-        overrides = [f"{key}={_yaml_value(value)}" for key, value in overrides.items()]
-    return Agent(run_dir, seed=seed, overrides=[str(item) for item in overrides], reward=reward,
+    return Agent(run_dir, seed=seed, overrides=_as_overrides(overrides), reward=reward,
                  termination=termination, env=env)
 
 
@@ -257,14 +262,11 @@ def evaluate(run_dir, episodes=1, seed=0, reseed_each_episode=False, overrides=N
     --render` does (the Goal world's arena with the plans, or a Python environment's own
     rgb_array pictures: its factory is called with render_mode="rgb_array" where it takes one),
     and each dict names its "picture"."""
-    if overrides is None:
-        overrides = []
-    elif isinstance(overrides, dict):
-        overrides = [f"{key}={_yaml_value(value)}" for key, value in overrides.items()]
     env_factory, env_name = _env_source(env)
-    return _cmbrl.evaluate(os.fspath(run_dir), _as_int(episodes, "episodes", 1, 10**6),
-                           _as_seed(seed), bool(reseed_each_episode),
-                           [str(item) for item in overrides],
+    return _cmbrl.evaluate(_as_path(run_dir, "run_dir"), _as_int(episodes, "episodes", 1, 10**6),
+                           _as_seed(seed), _as_flag(reseed_each_episode, "reseed_each_episode"),
+                           _as_overrides(overrides),
                            _step_function(reward, "reward", "rewards"),
                            _step_function(termination, "termination", "booleans"),
-                           env_factory, env_name, None if render is None else os.fspath(render))
+                           env_factory, env_name,
+                           None if render is None else _as_path(render, "render"))

@@ -8,7 +8,7 @@ import re
 import numpy as np
 
 from . import _cmbrl, _gymnasium
-from ._common import (Error, _as_int, _as_seed, _box, _Closable, _copy_through_state,
+from ._common import (Error, _as_int, _as_seed, _as_str, _box, _Closable, _copy_through_state,
                       _entropy_seed, _NotCopyable)
 from .spaces import Box
 
@@ -50,7 +50,7 @@ class Env(_Closable, _gymnasium.Env):
         self._window = _HumanWindow.check() if render_mode == "human" else None
         env_id = task
         task, variant = _task_and_variant(task, variant)
-        self._env = _cmbrl.Env(task, variant, spawn)
+        self._env = _cmbrl.Env(task, variant, _as_str(spawn, "spawn", _SPAWNS))
         self.task, self.variant, self.spawn = task, variant, spawn
         self.render_mode = render_mode
         self.render_size = _as_int(render_size, "render_size", 1, 16384)
@@ -73,7 +73,10 @@ class Env(_Closable, _gymnasium.Env):
     def reset(self, seed=None, options=None):
         """Starts an episode: (observation, info). A seed re-seeds the layouts' generator;
         without one the generator continues, and a first reset without one draws its seed from
-        the operating system's entropy (Gymnasium's convention)."""
+        the operating system's entropy (Gymnasium's convention). options: None or {} (this
+        environment takes none)."""
+        if options is not None and options != {}:
+            raise Error(f"options {options!r}: a cmbrl.Env takes no reset options (None or {{}})")
         if seed is None and not getattr(self, "_seeded", False):
             seed = _entropy_seed()
         if seed is not None:
@@ -222,8 +225,8 @@ class VectorEnv(_Closable, _NotCopyable, _gymnasium.VectorEnv):
         # 0: one thread per core this process may use (its affinity mask), at most one per env.
         num_envs = _as_int(num_envs, "num_envs")
         threads = 0 if threads is None else _as_int(threads, "threads", 1, 4096)
-        self._env = _cmbrl.VectorEnv(task, num_envs, variant, spawn, threads,
-                                     _as_int(spin_us, "spin_us", 0, 10**9), mode)
+        self._env = _cmbrl.VectorEnv(task, num_envs, variant, _as_str(spawn, "spawn", _SPAWNS),
+                                     threads, _as_int(spin_us, "spin_us", 0, 10**9), mode)
         self._mode = mode
         self.metadata = {"autoreset_mode": _gymnasium_autoreset_mode(mode)}
         self._observations = None
@@ -425,6 +428,8 @@ def _env_spec(env_id, task, variant, spawn, render_mode=None, render_size=400):
     return EnvSpec(**fields)
 
 
+_SPAWNS = "'standing' or 'model-origin'"
+
 # Safety-Gymnasium's id of a task: "Safety" + its name + a version ("SafetyPointGoal1-v0").
 _SAFETY_GYMNASIUM_ID = re.compile(r"Safety(\w+)-v0")
 
@@ -439,10 +444,11 @@ def _task_and_variant(task, variant):
                     "Safety-Gymnasium id such as 'SafetyPointGoal1-v0'")
     match = _SAFETY_GYMNASIUM_ID.fullmatch(task)
     if match and match.group(1) in tasks():  # the task list is the C++ core's, named once
-        return match.group(1), "standard" if variant is None else variant
+        return match.group(1), "standard" if variant is None else _as_str(
+            variant, "variant", "'paper', 'standard' or 'paper-lidar'")
     if variant is None:
         variant = _cmbrl.default_variant(task) if task in tasks() else "paper"
-    return task, variant
+    return task, _as_str(variant, "variant", "'paper', 'standard' or 'paper-lidar'")
 
 
 def make(task, variant=None, spawn="standing", render_mode=None, render_size=400):

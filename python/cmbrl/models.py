@@ -8,7 +8,8 @@ import tempfile
 import numpy as np
 
 from . import _cmbrl
-from ._common import Error, _as_int, _as_seed, _copy_through_state, _json_number
+from ._common import (Error, _as_flag, _as_int, _as_number, _as_seed, _as_sizes,
+                      _copy_through_state, _json_number)
 
 
 class _StandaloneModel:
@@ -92,14 +93,15 @@ class Ensemble(_StandaloneModel):
 
     def __init__(self, state_dim, action_dim, ensemble_size=4, hidden_sizes=(1024, 1024, 1024),
                  max_epochs=70, seed=0, predict_delta=False):
+        hidden_sizes = _as_sizes(hidden_sizes, "hidden_sizes")
         self._args = {"state_dim": state_dim, "action_dim": action_dim,
                       "ensemble_size": ensemble_size, "hidden_sizes": list(hidden_sizes),
                       "max_epochs": max_epochs, "seed": seed, "predict_delta": predict_delta}
         self._model = _cmbrl.Ensemble(
             _as_int(state_dim, "state_dim"), _as_int(action_dim, "action_dim"),
             _as_int(ensemble_size, "ensemble_size"),
-            [_as_int(h, f"hidden_sizes[{i}]") for i, h in enumerate(hidden_sizes)],
-            _as_int(max_epochs, "max_epochs"), bool(predict_delta), _as_seed(seed))
+            hidden_sizes, _as_int(max_epochs, "max_epochs"),
+            _as_flag(predict_delta, "predict_delta"), _as_seed(seed))
 
     def fit(self, states, actions, next_states):
         """(N, S), (N, A), (N, S) -> a dict: epochs, train and validation MSE, seconds, and
@@ -135,7 +137,8 @@ class CostClassifier(_StandaloneModel):
         self._args = {"state_dim": state_dim, "rounds": rounds, "threshold": threshold,
                       "seed": seed}
         self._model = _cmbrl.CostClassifier(_as_int(state_dim, "state_dim"),
-                                            _as_int(rounds, "rounds"), float(threshold),
+                                            _as_int(rounds, "rounds"),
+                                            _as_number(threshold, "threshold", 0.0, 1.0),
                                             _as_seed(seed))
 
     def fit(self, states, unsafe):
@@ -162,12 +165,13 @@ class RewardModel(_StandaloneModel):
     _kind = "reward_model"
 
     def __init__(self, input_dim, hidden_sizes=(200, 200), max_epochs=50, seed=0):
+        hidden_sizes = _as_sizes(hidden_sizes, "hidden_sizes")
         self._args = {"input_dim": input_dim, "hidden_sizes": list(hidden_sizes),
                       "max_epochs": max_epochs, "seed": seed}
         self._model = _cmbrl.RewardModel(
             _as_int(input_dim, "input_dim"),
-            [_as_int(h, f"hidden_sizes[{i}]") for i, h in enumerate(hidden_sizes)],
-            _as_int(max_epochs, "max_epochs"), _as_seed(seed))
+            hidden_sizes, _as_int(max_epochs, "max_epochs"),
+            _as_seed(seed))
 
     def fit(self, inputs, rewards):
         """inputs (N, input_dim), rewards (N) -> a dict: epochs, train and validation MSE (in

@@ -3,13 +3,15 @@ does."""
 import os
 
 from . import _cmbrl
-from ._common import Error, _as_int
+from ._common import Error, _as_flag, _as_int, _as_path
 
 
 def _paths(dirs, what):
-    if isinstance(dirs, (str, bytes, os.PathLike)):
+    if isinstance(dirs, (str, os.PathLike)):
         dirs = [dirs]
-    paths = [os.fspath(d) for d in dirs]
+    if not isinstance(dirs, (list, tuple)):
+        raise Error(f"{what} is {dirs!r}: expected a folder's path or a list of them")
+    paths = [_as_path(d, f"{what}[{i}]") for i, d in enumerate(dirs)]
     if not paths:
         raise Error(f"{what} is empty: expected at least one sweep or report folder")
     return paths
@@ -38,6 +40,7 @@ def report(dirs, out, window=None, reference=None, complete=False):
     out runs that have not reached the window. Returns {"report", "runs", "window", "cells",
     "left_out"}.
     """
-    return _cmbrl.report(_paths(dirs, "dirs"), os.fspath(out),
+    return _cmbrl.report(_paths(dirs, "dirs"), _as_path(out, "out"),
                          None if window is None else _as_int(window, "window", 1, 10**10),
-                         None if reference is None else os.fspath(reference), bool(complete))
+                         None if reference is None else _as_path(reference, "reference"),
+                         _as_flag(complete, "complete"))

@@ -2,7 +2,8 @@
 # kill -9 a sweep while its runs train, start it again, and compare every run's progress.csv with
 # an uninterrupted sweep's (the wall-clock columns Time and MsPerPlan aside): no row may be
 # missing or repeated. Also checks that the killed sweep left no training process behind and
-# that a second start skips what is finished, and that runs at a time get CPUs of their own.
+# that a second start skips what is finished, that runs at a time get CPUs of their own, and that
+# a second sweep of a folder being swept is refused.
 # Usage: sweep_resume_test.sh CMBRL CONFIG WORK_DIR
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/progress_rows.sh"
@@ -24,6 +25,13 @@ for _ in $(seq 600); do
   [ "${rows:-0}" -ge 6 ] && break
   sleep 0.05
 done
+# A second sweep of the same folder meanwhile is refused by name (it would take the first's
+# runs, locked by their trainers, for failed ones).
+if "$cmbrl" "${sweep[@]}" --out "$work/cut" > "$work/second.log" 2>&1; then
+  echo "FAILED: a second sweep of a folder being swept was accepted"; exit 1
+fi
+grep -q "cut' is in use by another cmbrl process (pid $pid" "$work/second.log" ||
+  { cat "$work/second.log"; echo "FAILED: the second sweep's refusal does not name the first"; exit 1; }
 kill -9 "$pid"
 wait "$pid" 2> /dev/null || true
 # Whether a process's command line names this sweep's runs (read from /proc: no procps needed).
