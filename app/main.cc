@@ -36,20 +36,21 @@ int main(int argc, char** argv) {
   // CLI11 answers a mistyped command or bench subcommand with "A subcommand is required"; name
   // it instead, with the commands it could have been.
   const CLI::App* level = &app;
-  std::string words = "cmbrl";
+  std::string words;  // the commands named so far: "", "bench"
   for (int i = 1; i < argc && argv[i][0] != '-'; ++i) {
     std::vector<std::string> names;
     for (const CLI::App* command : level->get_subcommands({})) names.push_back(command->get_name());
     if (names.empty()) break;  // a command's own arguments follow
     const auto named = std::find(names.begin(), names.end(), argv[i]);
+    const std::string said = words.empty() ? argv[i] : words + " " + argv[i];
     if (named == names.end()) {
-      std::cerr << "cmbrl: error: unknown command '" << words << " " << argv[i]
-                << "': expected one of " << fmt::format("{}", fmt::join(names, ", ")) << " ("
-                << words << " --help)\n";
+      std::cerr << "cmbrl: error: unknown command '" << said << "': expected one of "
+                << fmt::format("{}", fmt::join(names, ", ")) << " (cmbrl "
+                << (words.empty() ? "" : words + " ") << "--help)\n";
       return 1;
     }
     level = level->get_subcommand(*named);
-    words += " " + *named;
+    words = said;
   }
   try {
     app.parse(argc, argv);

@@ -200,7 +200,7 @@ def config_cases(p):
     p.case("cli", "steps 0", [c, "train", "--config", base, "--steps", "0", "--out", out("z")],
            r"steps")
     p.case("cli", "unknown command", [c, "trian"], r"trian")
-    p.case("cli", "unknown bench command", [c, "bench", "foo"], r"'cmbrl bench foo'.*env, plan")
+    p.case("cli", "unknown bench command", [c, "bench", "foo"], r"'bench foo'.*env, plan")
     for seconds in ("nan", "-1", "1e12", "soon"):
         p.case("cli", f"checkpoint seconds {seconds}",
                [c, "train", "--config", base, "--checkpoint-seconds", seconds,

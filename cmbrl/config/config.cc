@@ -685,6 +685,17 @@ void ValidatePlanningObjective(const TrainConfig& c, int observation_size,
             [&] { ValidateTrajectoryObjectiveOptions(c.objective, observation_size); });
 }
 
+// The mujoco_task keys declare a task of one's own: without its model they would be read and
+// ignored, so any of them that differs from its default is refused by name.
+void RefuseUndeclaredTaskKeys(const TrainConfig& c, const std::string& source) {
+  for (const ConfigDifference& difference : ConfigDifferences(c, TrainConfig{})) {
+    Require(difference.key.rfind("mujoco_task.", 0) != 0,
+            "config '{}': key '{}' is {}, but no mujoco_task.model is declared: expected no "
+            "value (the mujoco_task keys describe a task of one's own, with its model)",
+            source, difference.key, difference.ours);
+  }
+}
+
 // The task's observation size: its spec's for a built-in task, the recorded one for a Python
 // environment's (cmbrl.train(env=...) writes environment.observation_size and action_size); 0
 // for a declared task's, which only its model tells (its environment checks the rest).
@@ -701,6 +712,7 @@ int ValidatedObservationSize(const TrainConfig& c, const std::string& source) {
     InSection(source, "mujoco_task", [&] { ValidateMujocoTaskOptions(c.mujoco_task); });
     return 0;
   }
+  RefuseUndeclaredTaskKeys(c, source);
   if (IsPythonEnvTask(c)) {
     Require(!IsPythonTask(c.task) || c.task.size() > std::string(kPythonTaskPrefix).size(),
             "config '{}': key 'task' is '{}': expected what made the environment after '{}'",
@@ -779,6 +791,8 @@ void ValidateTrainConfig(const TrainConfig& c, const std::string& source) {
   };
   if (FamilyOf(c.algorithm).Reads("objective")) {
     ValidatePlanningObjective(c, observation_size, source);
+  } else {  // unread, but a value no run could use is still no one's meaning
+    InSection(source, "objective", [&] { ValidateTrajectoryObjectiveOptions(c.objective, 0); });
   }
   check_memory(EstimateRunMemory(c, observation_size, IsPythonEnvTask(c) ? c.action_size : 2));
 }

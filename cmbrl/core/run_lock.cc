@@ -70,15 +70,15 @@ RunLock::RunLock(const std::string& dir) {
     const std::string holder = ThisHolder() + "\n";
     if (ftruncate(file_fd_, 0) != 0) {
       const int cause = errno;
-      Fail("cannot write '{}': {}", path, std::strerror(cause));
+      Fail("could not write '{}': {}", path, std::strerror(cause));
     }
     const ssize_t written = pwrite(file_fd_, holder.data(), holder.size(), 0);
     if (written < 0) {
       const int cause = errno;
-      Fail("cannot write '{}': {}", path, std::strerror(cause));
+      Fail("could not write '{}': {}", path, std::strerror(cause));
     }
     Require(written == static_cast<ssize_t>(holder.size()),
-            "cannot write '{}': {} of {} bytes written (is the disk full?)", path, written,
+            "could not write '{}': {} of {} bytes written (is the disk full?)", path, written,
             holder.size());
   } catch (...) {
     if (dir_fd_ >= 0) close(dir_fd_);

@@ -42,8 +42,8 @@ void ValidateCrossEntropyOptions(const CrossEntropyOptions& o) {
 }
 
 void ValidateRandomShootingOptions(const RandomShootingOptions& o) {
-  Require(o.samples >= 1 && o.samples <= 10'000'000, "samples is {}: expected 1 to 10000000",
-          o.samples);
+  Require(o.samples >= 1 && o.samples <= 10'000'000,
+          "random_samples is {}: expected 1 to 10000000", o.samples);
 }
 
 void ValidatePenalty(double penalty) {
@@ -82,6 +82,8 @@ void ValidateTrajectoryObjectiveOptions(const TrajectoryObjectiveOptions& o, int
           o.termination, fmt::join(terminations, ", "));
   // Only the analytic goal distance reads the goal's place in the state (state_dim 0: a state
   // whose size is not known yet, a declared task's, which plans with its own form).
+  Require(o.goal_index >= 0 && o.goal_index < 1'000'000,
+          "goal_index is {}: expected an index into the state, 0 or more", o.goal_index);
   if (o.reward == "analytic" && state_dim != 0) RequireGoalIndexFits(o, state_dim);
   Require(o.gamma > 0 && o.gamma <= 1, "gamma is {}: expected a number in (0, 1]", o.gamma);
   Require(o.beta > 0 && o.beta <= 1, "beta is {}: expected a number in (0, 1]", o.beta);

@@ -19,8 +19,9 @@ void ValidatePolicyOptimisationOptions(const PolicyOptimisationOptions& o) {
     Require(!hidden->empty() && hidden->size() <= 16,
             "{}: {} hidden layers given, expected 1 to 16",
             hidden == &o.policy_hidden ? "policy_hidden" : "value_hidden", hidden->size());
-    for (const int width : *hidden) {
-      Require(width >= 1 && width <= 65536, "a hidden width is {}: expected 1 to 65536", width);
+    for (size_t i = 0; i < hidden->size(); ++i) {
+      Require((*hidden)[i] >= 1 && (*hidden)[i] <= 65536, "{}[{}] is {}: expected 1 to 65536",
+              hidden == &o.policy_hidden ? "policy_hidden" : "value_hidden", i, (*hidden)[i]);
     }
   }
   Require(std::isfinite(o.initial_log_std) && o.initial_log_std > -20 && o.initial_log_std < 5,
@@ -42,10 +43,12 @@ void ValidatePolicyOptimisationOptions(const PolicyOptimisationOptions& o) {
           "backtrack_coefficient is {}: expected a number in (0, 1)", o.backtrack_coefficient);
   Require(o.backtrack_iterations >= 1 && o.backtrack_iterations <= 1000,
           "backtrack_iterations is {}: expected 1 to 1000", o.backtrack_iterations);
-  Require(o.cost_limit >= 0 && std::isfinite(o.cost_limit),
-          "cost_limit is {}: expected 0 or more", o.cost_limit);
-  Require(o.penalty_init > 0 && std::isfinite(o.penalty_init),
-          "penalty_init is {}: expected a positive number", o.penalty_init);
+  // An episode's cost counts its violating steps: a limit above 1e9 is no limit, and a
+  // multiplier above 1e9 outweighs any float32 advantage.
+  Require(o.cost_limit >= 0 && o.cost_limit <= 1e9,
+          "cost_limit is {}: expected a number in [0, 1e9]", o.cost_limit);
+  Require(o.penalty_init > 0 && o.penalty_init <= 1e9,
+          "penalty_init is {}: expected a number in (0, 1e9]", o.penalty_init);
   Require(o.penalty_learning_rate > 0 && o.penalty_learning_rate <= 1,
           "penalty_learning_rate is {}: expected a number in (0, 1]", o.penalty_learning_rate);
   Require(o.policy_learning_rate > 0 && o.policy_learning_rate <= 1,
@@ -54,8 +57,9 @@ void ValidatePolicyOptimisationOptions(const PolicyOptimisationOptions& o) {
           "policy_iterations is {}: expected 1 to 100000", o.policy_iterations);
   Require(o.clip_ratio > 0 && o.clip_ratio < 1, "clip_ratio is {}: expected a number in (0, 1)",
           o.clip_ratio);
-  Require(o.kl_margin > 0 && std::isfinite(o.kl_margin), "kl_margin is {}: expected a positive "
-          "number", o.kl_margin);
+  // A step is kept while its KL is within kl_margin x target_kl: beyond 100x nothing is kept out.
+  Require(o.kl_margin > 0 && o.kl_margin <= 100, "kl_margin is {}: expected a number in (0, 100]",
+          o.kl_margin);
 }
 
 }  // namespace cmbrl

@@ -63,7 +63,7 @@ set -e
 expect_full rollout "$work/rollout.log" "trace.jsonl"
 rm -f "$disk/filler" "$disk/trace.jsonl"
 
-# 4. A sweep's own files (sweep.json, written first, then slurm.sh), before any run starts.
+# 4. A sweep's own files (its lock, sweep.json, then slurm.sh), before any run starts.
 mkdir -p "$disk/sweep"
 head -c $((298 * 1024)) /dev/zero > "$disk/filler" 2> /dev/null || true
 set +e
@@ -74,7 +74,7 @@ sed "s/^planner: .*/planner: random/" "$config" > "$work/configs/pointgoal1-rand
 code=$?
 set -e
 [ "$code" = 1 ] || { echo "FAILED: sweep exited $code on a full disk"; cat "$work/sweep.log"; exit 1; }
-expect_full sweep "$work/sweep.log" "\(slurm.sh\|sweep.json.tmp\)"
+expect_full sweep "$work/sweep.log" "\(lock\|slurm.sh\|sweep.json.tmp\)"
 [ ! -e "$disk/sweep/runs/pointgoal1-random-s0/config.yaml" ] || { echo "FAILED: a run started"; exit 1; }
 rm -rf "$disk/sweep" "$disk/filler"
 
@@ -119,7 +119,7 @@ set +e
 code=$?
 set -e
 [ "$code" = 1 ] || { echo "FAILED: a resume exited $code with no room for its lock"; cat "$work/lock.log"; exit 1; }
-grep -q "cannot write '[^']*locked/lock': No space left on device" "$work/lock.log" ||
+grep -q "could not write '[^']*locked/lock': No space left on device" "$work/lock.log" ||
   { echo "FAILED: the lock's error names no cause:"; cat "$work/lock.log"; exit 1; }
 rm -rf "$disk/locked" "$disk/filler"
 echo "full disk: train, report, rollout trace and sweep named the file and the cause; resumed exactly; a first checkpoint that did not fit resumed from the start (model-free and MPC); the lock named its cause"

@@ -115,7 +115,7 @@ TEST(PlannerFactoryTest, BadSettingsAreNamed) {
   settings = PlannerSettings{};
   settings.random.samples = 0;
   EXPECT_EQ(ErrorMessage([&] { MakePlanner("random", settings, 0); }),
-            "samples is 0: expected 1 to 10000000");
+            "random_samples is 0: expected 1 to 10000000");
 }
 
 }  // namespace

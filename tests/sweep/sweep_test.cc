@@ -289,11 +289,17 @@ TEST(SweepTest, RunsFinishedInTheReportAreNotRunAgain) {
   const auto record = [&](const SweepEvent& event) {
     events.push_back(event.run + ": " + event.status);
   };
-  PreparedSweep prepared = PrepareSweep(grid, dir, "cmbrl", record);
-  EXPECT_EQ(prepared.already_finished, 1);
-  EXPECT_EQ(prepared.unfinished.size(), runs.size() - 1);
-  EXPECT_EQ(prepared.unfinished.front(), 1u);
-  EXPECT_THAT(events, ::testing::ElementsAre(runs[0].name + ": already finished (in the report)"));
+  {
+    const PreparedSweep prepared = PrepareSweep(grid, dir, "cmbrl", record);
+    EXPECT_EQ(prepared.already_finished, 1);
+    EXPECT_EQ(prepared.unfinished.size(), runs.size() - 1);
+    EXPECT_EQ(prepared.unfinished.front(), 1u);
+    EXPECT_THAT(events,
+                ::testing::ElementsAre(runs[0].name + ": already finished (in the report)"));
+    // The folder is the sweep's while it is prepared: a second sweep of it is refused.
+    EXPECT_THAT(ErrorMessage([&] { PrepareSweep(grid, dir, "cmbrl", record); }),
+                HasSubstr("is in use by another cmbrl process"));
+  }
 
   // Half done elsewhere: its checkpoints are not here, so the sweep says so and starts nothing.
   WriteRunLog(runs[1].reported_run_dir, 2000, 1000);
