@@ -4,7 +4,8 @@
 # `cmbrl sweep --engine slurm --wait`, one task requeued and one cancelled while they train, and
 # the sweep submitted again; then a task warned that its time limit is near. Every run must
 # finish with the rows of the same sweep run locally (the wall-clock columns Time and MsPerPlan
-# aside), and the interrupted runs must have been resumed, not restarted. Exits 77 (skipped), saying why, only where the daemons cannot start.
+# aside), and the interrupted runs must have been resumed, not restarted. The sweep's folder has
+# spaces and non-ASCII letters in its name. Exits 77 (skipped), saying why, only where the daemons cannot start.
 # Usage: slurm_sweep_test.sh CMBRL CONFIG WORK_DIR
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/progress_rows.sh"
@@ -95,11 +96,13 @@ done
 sweep=(sweep --tasks PointGoal1 --planners rce random --seeds 0 1 --config-dir "$work/configs"
        --steps 2000)
 "$cmbrl" "${sweep[@]}" --jobs 2 --out "$work/local" > /dev/null
-slurm=("${sweep[@]}" --out "$work/slurm" --engine slurm --wait --poll 0.5
+# The Slurm sweep's folder has spaces and non-ASCII letters: every path in its script is quoted.
+out="$work/slurm sweep é ü"
+slurm=("${sweep[@]}" --out "$out" --engine slurm --wait --poll 0.5
        --sbatch=--cpus-per-task=1)
 "$cmbrl" "${slurm[@]}" > "$work/submit-1.log" 2>&1 &
 submitter=$!
-rows() { local file="$work/slurm/runs/$1/progress.csv"; [ -f "$file" ] && wc -l < "$file" || echo 0; }
+rows() { local file="$out/runs/$1/progress.csv"; [ -f "$file" ] && wc -l < "$file" || echo 0; }
 task_of() {
   sed -n "s/.*\"run\":\"$1\",\"status\":\"submitted\".*\"job\":\"\([0-9_]*\)\".*/\1/p" \
     "$work/submit-1.log"
@@ -136,7 +139,7 @@ grep -q '"run":"pointgoal1-rce-s1","status":"failed".*"state":"CANCELLED"' "$wor
   { echo "FAILED: the cancelled run was not reported failed"; cat "$work/submit-1.log"; exit 1; }
 # The cancellation's SIGTERM reached the run, which checkpointed and stopped (not killed with
 # its script).
-grep -q "SIGTERM stopped the run" "$work/slurm/logs/slurm-${cancelled#*_}.log" ||
+grep -q "SIGTERM stopped the run" "$out/logs/slurm-${cancelled#*_}.log" ||
   { echo "FAILED: the cancelled run did not stop at a checkpoint"; exit 1; }
 grep -q '"run":"pointgoal1-rce-s0","status":"finished"' "$work/submit-1.log" ||
   { echo "FAILED: the requeued run did not finish"; cat "$work/submit-1.log"; exit 1; }
@@ -152,7 +155,7 @@ grep -q '"already_finished":3,"submitted":1,.*"finished_now":1,"failed":\[\]' \
 runs=0
 for whole in "$work"/local/runs/*/progress.csv; do
   name=$(basename "$(dirname "$whole")")
-  through_slurm="$work/slurm/runs/$name/progress.csv"
+  through_slurm="$out/runs/$name/progress.csv"
   if ! diff <(deterministic_rows "$whole") <(deterministic_rows "$through_slurm"); then
     echo "FAILED: $name through Slurm differs from the local sweep's"
     exit 1
@@ -160,10 +163,10 @@ for whole in "$work"/local/runs/*/progress.csv; do
   runs=$((runs + 1))
 done
 for name in pointgoal1-rce-s0 pointgoal1-rce-s1; do
-  sessions=$(wc -l < "$work/slurm/runs/$name/sessions.jsonl")
+  sessions=$(wc -l < "$out/runs/$name/sessions.jsonl")
   [ "$sessions" -ge 2 ] || { echo "FAILED: $name was not resumed ($sessions session)"; exit 1; }
 done
-grep -q 'DUE TO JOB REQUEUE' "$work/slurm/logs/slurm-0.log" ||
+grep -q 'DUE TO JOB REQUEUE' "$out/logs/slurm-0.log" ||
   { echo "FAILED: the requeued task's log lost its first part"; exit 1; }
 # A task warned of its time limit (Slurm's USR1 to the script, which --signal in slurm.sh asks
 # for; sent here by hand) stops its run at a checkpoint and requeues itself; the run goes on to
