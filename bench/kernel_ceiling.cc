@@ -7,9 +7,12 @@
 
 #include "bench/bench_util.h"
 #include "cmbrl/core/check.h"
+#include "cmbrl/core/parallel.h"
 
 #ifdef CMBRL_HAVE_ONEDNN
 #include <oneapi/dnnl/dnnl.hpp>
+
+#include "cmbrl/models/onednn_common.h"
 #endif
 
 namespace cmbrl::bench {
@@ -54,7 +57,10 @@ class TorchKernel final : public ChainKernel {
 // oneDNN matmul primitives, weights reordered once into the layout each prefers. Either one 3D
 // primitive over the batch, or (per_member) one 2D primitive per shape run for each batch entry
 // with weights of its own: the form the ensemble's oneDNN backend uses, whose brgemm kernels
-// can outrun the batched primitive's.
+// can outrun the batched primitive's. Each uses every core this process may (as the figures it
+// bounds do): the batched primitive through OpenMP, the per-member ones as the backend runs
+// them, members spread over worker threads of one OpenMP thread each, each worker with its own
+// scratchpad.
 class OnednnKernel final : public ChainKernel {
  public:
   OnednnKernel(const std::vector<ProductShape>& shapes, bool bf16, bool per_member)
@@ -83,7 +89,10 @@ class OnednnKernel final : public ChainKernel {
       const memory::desc a(dims(s.rows, s.inner), type, plain_tag);
       const memory::desc b(dims(s.inner, s.cols), type, memory::format_tag::any);
       const memory::desc c(dims(s.rows, s.cols), type, plain_tag);
-      const dnnl::matmul::primitive_desc pd(dnnl::matmul::desc(a, b, c), engine_);
+      dnnl::primitive_attr attributes;
+      attributes.set_scratchpad_mode(dnnl::scratchpad_mode::user);
+      const dnnl::matmul::primitive_desc pd(dnnl::matmul::desc(a, b, c), attributes, engine_);
+      scratch_bytes_ = std::max<std::size_t>(scratch_bytes_, pd.scratchpad_desc().get_size());
       Product product{dnnl::matmul(pd), {}, {}, {}};
       for (std::int64_t m = 0; m < (per_member ? s.batch : 1); ++m) {
         product.sources.push_back(filled(dims(s.rows, s.inner), a));
@@ -97,16 +106,33 @@ class OnednnKernel final : public ChainKernel {
     return std::string(bf16_ ? "onednn_bf16" : "onednn_fp32") + (per_member_ ? "_per_member" : "");
   }
   double Seconds() override {
-    dnnl::stream stream(engine_);
+    const int cores = CoreCount();
+    const std::int64_t members = static_cast<std::int64_t>(products_.front().sources.size());
+    const int workers = per_member_ ? static_cast<int>(std::min<std::int64_t>(cores, members)) : 1;
+    while (static_cast<int>(scratch_.size()) < workers) {
+      scratch_.emplace_back(dnnl::memory::desc({static_cast<dnnl::memory::dim>(
+                                                    std::max<std::size_t>(scratch_bytes_, 1))},
+                                               dnnl::memory::data_type::u8,
+                                               dnnl::memory::format_tag::a),
+                            engine_);
+    }
     return SecondsOf([&] {
-      for (Product& p : products_) {
-        for (size_t m = 0; m < p.sources.size(); ++m) {
-          p.primitive.execute(stream, {{DNNL_ARG_SRC, p.sources[m]},
-                                       {DNNL_ARG_WEIGHTS, p.weights[m]},
-                                       {DNNL_ARG_DST, p.destinations[m]}});
+      ParallelRanges(members, workers, [&](std::int64_t first, std::int64_t end) {
+        const onednn::ScopedOmpThreads threads(per_member_ ? 1 : cores);
+        // This part's worker: ParallelRanges starts part w at floor(members * w / workers).
+        const auto worker = static_cast<size_t>((first * workers + members - 1) / members);
+        const dnnl::memory& scratch = scratch_[worker];
+        dnnl::stream stream(engine_);
+        for (Product& p : products_) {
+          for (std::int64_t m = first; m < end; ++m) {
+            p.primitive.execute(stream, {{DNNL_ARG_SRC, p.sources[m]},
+                                         {DNNL_ARG_WEIGHTS, p.weights[m]},
+                                         {DNNL_ARG_DST, p.destinations[m]},
+                                         {DNNL_ARG_SCRATCHPAD, scratch}});
+          }
         }
-      }
-      stream.wait();
+        stream.wait();
+      });
     });
   }
 
@@ -118,6 +144,8 @@ class OnednnKernel final : public ChainKernel {
   bool bf16_, per_member_;
   dnnl::engine engine_{dnnl::engine::kind::cpu, 0};
   std::vector<Product> products_;
+  std::size_t scratch_bytes_ = 0;
+  std::vector<dnnl::memory> scratch_;  // one per worker
 };
 #endif
 

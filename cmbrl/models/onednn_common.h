@@ -1,5 +1,6 @@
-// What the oneDNN backends (onednn_forward.cc, onednn_training.cc) share; included only by those
-// files, and only where the build has oneDNN (CMBRL_HAVE_ONEDNN).
+// What the oneDNN backends (onednn_forward.cc, onednn_training.cc) share, and the benchmarks'
+// oneDNN ceilings (bench/kernel_ceiling.cc) run as they do; included only where the build has
+// oneDNN (CMBRL_HAVE_ONEDNN).
 #pragma once
 
 #include <omp.h>
