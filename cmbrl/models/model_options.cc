@@ -93,7 +93,8 @@ void ValidateXgbCostModelOptions(const XgbCostModelOptions& o) {
           "safe_per_unsafe is {}: expected 0 to 1000", o.safe_per_unsafe);
   Require(o.safe_selection == "storage_order" || o.safe_selection == "newest",
           "safe_selection is '{}': expected 'storage_order' or 'newest'", o.safe_selection);
-  Require(o.threads >= 1 && o.threads <= 1024, "threads is {}: expected 1 to 1024", o.threads);
+  Require(o.threads >= 0 && o.threads <= 1024,
+          "threads is {}: expected 0 (one per core) to 1024", o.threads);
   Require(o.predict_threads >= 0 && o.predict_threads <= 1024,
           "predict_threads is {}: expected 0 (one per core) to 1024", o.predict_threads);
 }

@@ -78,7 +78,9 @@ struct XgbCostModelOptions {
   // Which safe states a fit takes: "storage_order", the last slots of the safe ring as the
   // original does (old states once the ring has wrapped), or "newest".
   std::string safe_selection = "storage_order";
-  int threads = 1;                 // XGBoost threads while fitting (the paper's n_jobs 1)
+  // XGBoost threads while fitting; 0: one per core this process may use. The trees are the same
+  // on any count (tested), so the original's n_jobs 1 is kept in results, not in speed.
+  int threads = 0;
   int predict_threads = 0;         // threads of the host tree walk; 0: one per core
   std::string device = "cpu";      // where PredictViolation evaluates tensors
 };

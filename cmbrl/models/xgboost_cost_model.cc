@@ -13,6 +13,7 @@
 
 #include "cmbrl/core/check.h"
 #include "cmbrl/core/files.h"
+#include "cmbrl/core/parallel.h"
 #include "cmbrl/core/torch_util.h"
 #include "cmbrl/models/tree_ensemble_tensor.h"
 
@@ -70,7 +71,7 @@ std::vector<std::pair<const char*, std::string>> BoosterParams(const XgbCostMode
       {"lambda", fmt::format("{}", o.l2_regularization)},
       {"min_child_weight", fmt::format("{}", o.min_child_weight)},
       {"base_score", fmt::format("{}", base_score)},
-      {"nthread", std::to_string(o.threads)},
+      {"nthread", std::to_string(o.threads == 0 ? CoreCount() : o.threads)},
       {"seed", std::to_string(seed % 2147483647ULL)},
       {"verbosity", "0"},
   };

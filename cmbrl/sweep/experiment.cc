@@ -323,18 +323,24 @@ void CheckRunsAgainstExperiment(const std::vector<RunRecord>& runs, const Experi
       expected.observation_size = run.config.observation_size;
       expected.action_size = run.config.action_size;
     }
-    std::istringstream ours(TrainConfigToYaml(run.config));
-    std::istringstream declared(TrainConfigToYaml(expected));
-    std::string our_line, declared_line;
-    while (std::getline(declared, declared_line)) {
-      std::getline(ours, our_line);
-      Require(our_line == declared_line,
-              "run '{}' (in '{}') was made with another config than '{}' declares now: its "
-              "config.yaml has '{}' where the declaration gives '{}'. A protocol is fixed before "
-              "its runs: make the run again, or declare a new experiment",
-              run.name, run.source.string(), experiment.file().string(), our_line,
-              declared_line);
+    // Every key of the method, the seed and the device; not the thread counts, which name the
+    // machine a run was given (the results do not depend on them).
+    std::vector<ConfigDifference> differences = ConfigDifferences(run.config, expected);
+    if (run.config.seed != expected.seed) {
+      differences.insert(differences.begin(), {"seed", std::to_string(run.config.seed),
+                                               std::to_string(expected.seed)});
     }
+    if (run.config.device != expected.device) {
+      differences.insert(differences.begin(), {"device", run.config.device, expected.device});
+    }
+    Require(differences.empty(),
+            "run '{}' (in '{}') was made with another config than '{}' declares now: its "
+            "config.yaml has '{}: {}' where the declaration gives {}. A protocol is fixed "
+            "before its runs: make the run again, or declare a new experiment",
+            run.name, run.source.string(), experiment.file().string(),
+            differences.empty() ? "" : differences.front().key,
+            differences.empty() ? "" : differences.front().ours,
+            differences.empty() ? "" : differences.front().theirs);
   }
 }
 

@@ -165,6 +165,23 @@ TEST_F(XgbCostModelTest, TensorTreesOnCudaAgreeWhenAvailable) {
             1e-4f);
 }
 
+// XGBoost's fit builds the same trees on any thread count: a run's classifier does not depend
+// on the cores it is given (the shared model fits with the default, one thread per core).
+TEST_F(XgbCostModelTest, AFitOnAnyThreadCountGivesTheSameTrees) {
+  for (const int threads : {1, 2, 4}) {
+    XgbCostModelOptions options;
+    options.threads = threads;
+    XgbCostModel threaded(kHazardStateDim, options, 3);
+    threaded.Fit(*buffer_);
+    EXPECT_EQ(threaded.Margins(test_->unsafe.data(), 2000),
+              model_->Margins(test_->unsafe.data(), 2000))
+        << threads << " threads";
+    EXPECT_EQ(threaded.Margins(test_->safe.data(), 10000),
+              model_->Margins(test_->safe.data(), 10000))
+        << threads << " threads";
+  }
+}
+
 TEST_F(XgbCostModelTest, SaveThenLoadPredictsTheSame) {
   const std::string path = testing::TestTempPath("cost_model_test.json");
   model_->Save(path);
