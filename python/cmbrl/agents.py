@@ -3,14 +3,11 @@ Agent)."""
 import copy
 import functools
 import json
-import math
 import os
 
-import numpy as np
-
 from . import _cmbrl
-from ._common import (Error, _as_flag, _as_int, _as_overrides, _as_path, _as_seed, _as_str,
-                      _box, _json_number, _NotCopyable)
+from ._common import (Error, _as_flag, _as_int, _as_number, _as_overrides, _as_path, _as_seed,
+                      _as_str, _box, _json_number, _NotCopyable)
 from .envs import Env
 
 
@@ -133,11 +130,7 @@ def train(config=None, out=None, steps=None, seed=None, device=None, resume=None
     a checkpoint starts again on resume, and the run's sessions.jsonl says so).
     Returns {"run", "steps", "budget"}.
     """
-    if (isinstance(checkpoint_seconds, (bool, np.bool_))
-            or not isinstance(checkpoint_seconds, (int, float, np.integer, np.floating))
-            or not math.isfinite(checkpoint_seconds) or checkpoint_seconds < 0):
-        raise Error(f"checkpoint_seconds is {checkpoint_seconds!r}: expected a finite number of "
-                    "seconds >= 0")
+    checkpoint_seconds = _as_number(checkpoint_seconds, "checkpoint_seconds", 0.0)
     config_path = config_text = None
     env_factory, env_name = _env_source(env)
     if isinstance(config, dict):
@@ -158,7 +151,7 @@ def train(config=None, out=None, steps=None, seed=None, device=None, resume=None
     return _cmbrl.train(config_path, config_text, out, resume,
                         None if steps is None else _as_int(steps, "steps", 1, 10**10),
                         None if seed is None else _as_seed(seed), device, progress,
-                        float(checkpoint_seconds), _step_function(reward, "reward", "rewards"),
+                        checkpoint_seconds, _step_function(reward, "reward", "rewards"),
                         _step_function(termination, "termination", "booleans"), env_factory,
                         env_name)
 
