@@ -1,5 +1,7 @@
 // `cmbrl bench ...`: the benchmarks of bench/ with their options; each figure printed as one
 // JSON line (median of several runs). Benchmarks print figures; nothing here judges them.
+#include <fmt/ranges.h>
+
 #include <iostream>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -38,7 +40,8 @@ void AddBenchLearningCommands(CLI::App& bench_command) {
       "Time of one MPC planning step (the action's copy to the host included) at a config's "
       "settings, with its dynamics and classifier parts, beside the matrix-product floor");
   AddCommonOptions(*plan, *plan_args);
-  plan->add_option("--planners", plan_args->planners, "rce, cem, random (default: the config's)")
+  plan->add_option("--planners", plan_args->planners,
+                   fmt::format("{} (default: the config's)", fmt::join(PlannerNames(), ", ")))
       ->check(CLI::IsMember(PlannerNames()));
   plan->add_option("--precisions", plan_args->precisions,
                    "fp32, tf32 (CUDA), bf16 (default: the config's); with several, the models are "

@@ -148,7 +148,7 @@ void RunSweepCommand(SweepArgs args, const CLI::App& command) {
 void AddSweepCommand(CLI::App& parent) {
   auto args = std::make_shared<SweepArgs>();
   args->grid.tasks = PaperEnvNames();
-  args->grid.planners = PlannerNames();
+  args->grid.planners = PaperPlannerNames();
   args->grid.seeds = {0, 1, 2};
   CLI::App* command = parent.add_subcommand(
       "sweep",
@@ -162,8 +162,11 @@ void AddSweepCommand(CLI::App& parent) {
       ->check(ExistingFolder());
   command->add_option("--tasks", args->grid.tasks, "tasks")->capture_default_str();
   command->add_option("--planners,--methods", args->grid.planners,
-                      "planners (rce, cem, random) and/or model-free algorithms (trpo, "
-                      "trpo-lagrangian, cpo, ppo, ppo-lagrangian)")
+                      fmt::format("planners ({}; without this option the paper's: {}) and/or "
+                                  "model-free algorithms (trpo, trpo-lagrangian, cpo, ppo, "
+                                  "ppo-lagrangian)",
+                                  fmt::join(PlannerNames(), ", "),
+                                  fmt::join(PaperPlannerNames(), ", ")))
       ->capture_default_str();
   command->add_option("--seeds", args->grid.seeds, "seeds")
       ->check(SeedInteger())

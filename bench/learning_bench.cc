@@ -285,7 +285,9 @@ void RunPlanBench(const LearningBenchOptions& args, const FigureSink& emit) {
                      RewardTermFor(config), DeriveSeed(args.seed, kPlannerSeedStream));
       const PlannerEntry& entry = FindPlanner(planner);
       const PlanWork work = entry.work(settings);
-      const std::int64_t population = work.samples;
+      // The ceiling is read on the largest iteration's products (a planner whose population
+      // shrinks runs its later iterations on smaller, slower-per-FLOP ones).
+      const std::int64_t population = work.largest();
       // On the CPU the ceiling is the fastest kernel here on this step's own products; on CUDA
       // a large square product at the precision.
       std::unique_ptr<ShapeCeiling> shape_ceiling;
@@ -300,12 +302,15 @@ void RunPlanBench(const LearningBenchOptions& args, const FigureSink& emit) {
         square_ceiling = std::make_unique<CeilingProbe>(device, variants[p].precision);
         probe = [&] { return square_ceiling->Measure(); };
       }
+      agent.Act(shape.start);  // a planner that carries elites from plan to plan now has some
       const TimedRuns step = TimeRunsBesideCeiling(args.runs, probe, [&] {
         agent.Act(shape.start);  // ends with the action's copy to the host
       });
-      const int iterations = work.iterations;
-      const std::int64_t forwards = iterations * horizon;
-      const double flops = ensemble.PredictFlops(population) * static_cast<double>(forwards);
+      const int iterations = work.iterations();
+      double flops = 0;
+      for (const std::int64_t samples : work.samples) {
+        flops += ensemble.PredictFlops(samples) * static_cast<double>(horizon);
+      }
 
       // The same work in parts, called as the objective calls it: the ensemble's forward passes
       // one horizon step at a time, and the classifier once an iteration on all H steps' states
@@ -315,7 +320,11 @@ void RunPlanBench(const LearningBenchOptions& args, const FigureSink& emit) {
       const torch::Tensor actions = torch::rand({members, population, shape.action_dim}, floats);
       const double forward_seconds = MedianSeconds(args.runs, [&] {
         const torch::NoGradGuard no_grad;
-        for (std::int64_t i = 0; i < forwards; ++i) ensemble.PredictUnchecked(states, actions);
+        for (const std::int64_t samples : work.samples) {
+          const torch::Tensor s = states.narrow(1, 0, samples).contiguous();
+          const torch::Tensor a = actions.narrow(1, 0, samples).contiguous();
+          for (std::int64_t i = 0; i < horizon; ++i) ensemble.PredictUnchecked(s, a);
+        }
         Synchronize(device);
       });
       const std::int64_t scored_members =
@@ -323,7 +332,9 @@ void RunPlanBench(const LearningBenchOptions& args, const FigureSink& emit) {
       const torch::Tensor scored =
           torch::randn({horizon, scored_members, population, shape.state_dim}, floats);
       const double classifier_seconds = MedianSeconds(args.runs, [&] {
-        for (int i = 0; i < iterations; ++i) classifier->PredictViolation(scored);
+        for (const std::int64_t samples : work.samples) {
+          classifier->PredictViolation(scored.narrow(2, 0, samples).contiguous());
+        }
         Synchronize(device);
       });
 
@@ -336,10 +347,12 @@ void RunPlanBench(const LearningBenchOptions& args, const FigureSink& emit) {
       line["members"] = members;
       line["hidden"] = config.ensemble.hidden_sizes;
       line["population"] = population;
+      line["samples_per_iteration"] = work.samples;
+      line["samples_per_step"] = work.total();
       line["iterations"] = iterations;
       line["horizon"] = horizon;
       line["classifier_trees"] = classifier->trees().num_trees();
-      line["classified_states"] = scored.numel() / shape.state_dim * iterations;
+      line["classified_states"] = work.total() * horizon * scored_members;
       line["dynamics_forward_ms"] = forward_seconds * 1e3;
       line["classifier_ms"] = classifier_seconds * 1e3;
       AddRate(line, flops, step);

@@ -206,6 +206,10 @@ void VisitConfig(Config& c, Visitor& v) {
   v.Field("planning", "penalty", c.planning.penalty);
   v.Field("planning", "warm_start", ce.warm_start);
   v.Field("planning", "random_samples", c.planning.random.samples);
+  auto& economy = c.planning.economy;
+  v.Field("planning", "population_decay", economy.population_decay);
+  v.Field("planning", "keep_elites", economy.keep_elites);
+  v.Field("planning", "noise_exponent", economy.noise_exponent);
   auto& o = c.objective;
   v.Field("objective", "reward", o.reward);
   v.Field("objective", "termination", o.termination);
@@ -778,6 +782,7 @@ void ValidateTrainConfig(const TrainConfig& c, const std::string& source) {
     ValidatePenalty(c.planning.penalty);
     ValidateCrossEntropyOptions(c.planning.cross_entropy);
     ValidateRandomShootingOptions(c.planning.random);
+    ValidateSampleEconomyOptions(c.planning.economy);
     ValidatePlanningProblem(c.planning.problem);
   });
   const auto check_memory = [&](const RunMemory& memory) {

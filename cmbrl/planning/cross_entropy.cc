@@ -16,13 +16,12 @@ CrossEntropyPlanner::CrossEntropyPlanner(PlanningProblem problem, CrossEntropyOp
                                          EliteRule rule, double penalty, std::uint64_t seed)
     : problem_(std::move(problem)),
       options_(options),
-      rule_(rule),
-      penalty_(penalty),
+      selection_{rule, options_.elites, options_.min_feasible_elites, penalty},
       device_(ParseDevice(problem_.device)),
       generator_(MakeGenerator(device_, seed)) {
   ValidatePlanningProblem(problem_);
   ValidateCrossEntropyOptions(options_);
-  ValidatePenalty(penalty_);
+  ValidatePenalty(selection_.penalty);
 }
 
 void CrossEntropyPlanner::Reset() { previous_mean_ = torch::Tensor(); }
@@ -45,35 +44,6 @@ void CrossEntropyPlanner::SetCarriedState(const torch::Tensor& state) {
           problem_.action_dim);
   CheckFinite(state, "the warm-start mean");
   previous_mean_ = state.to(device_).clone();
-}
-
-torch::Tensor CrossEntropyPlanner::EliteWeights(const ObjectiveValues& values) const {
-  const std::int64_t n = values.reward_cost.size(0);
-  const auto ranks = torch::arange(n, values.reward_cost.options().dtype(torch::kLong));
-  const auto sorted = [](const torch::Tensor& key) {
-    // Stable, so ties keep index order on every run.
-    return std::get<1>(torch::sort(key, /*stable=*/true, /*dim=*/0, /*descending=*/false));
-  };
-  const torch::Tensor zeros = torch::zeros_like(values.reward_cost);
-  if (rule_ == EliteRule::kPenalty) {
-    const torch::Tensor order = sorted(values.reward_cost + penalty_ * values.constraint_cost);
-    return zeros.scatter(0, order, (ranks < options_.elites).to(zeros.dtype()));
-  }
-  const torch::Tensor feasible = values.constraint_cost == 0;
-  const torch::Tensor feasible_count = feasible.sum();
-  // Enough feasible samples: the best `elites` of them by reward cost.
-  const torch::Tensor key =
-      torch::where(feasible, values.reward_cost, torch::full_like(values.reward_cost, INFINITY));
-  const torch::Tensor by_reward = sorted(key);
-  const torch::Tensor chosen =
-      (ranks < options_.elites) & torch::isfinite(key.index_select(0, by_reward));
-  const torch::Tensor enough = zeros.scatter(0, by_reward, chosen.to(zeros.dtype()));
-  // Too few: every feasible sample, plus the first (min - feasible) by constraint cost.
-  const torch::Tensor by_constraint = sorted(values.constraint_cost);
-  const torch::Tensor padding = (ranks < options_.min_feasible_elites - feasible_count);
-  const torch::Tensor too_few =
-      feasible.to(zeros.dtype()).index_add(0, by_constraint, padding.to(zeros.dtype()));
-  return torch::where(feasible_count >= options_.min_feasible_elites, enough, too_few);
 }
 
 PlanResult CrossEntropyPlanner::Plan(Objective& objective) {
@@ -102,7 +72,7 @@ PlanResult CrossEntropyPlanner::Plan(Objective& objective) {
     const ObjectiveValues values = objective.Evaluate(samples);
     CheckObjectiveValues(values, population, device_);
     nonfinite = nonfinite | AnyNonFinite(values);
-    const torch::Tensor weights = EliteWeights(values);  // (N)
+    const torch::Tensor weights = EliteWeights(values, selection_);  // (N)
     const torch::Tensor total = weights.sum();
     const torch::Tensor w = weights.view({population, 1, 1});
     const torch::Tensor elite_mean = (w * samples).sum(0) / total;

@@ -4,16 +4,10 @@
 
 #include <cstdint>
 
+#include "cmbrl/planning/elite_rule.h"
 #include "cmbrl/planning/planner.h"
 
 namespace cmbrl {
-
-enum class EliteRule {
-  kPenalty,  // CEM: the `elites` lowest reward_cost + penalty * constraint_cost
-  kRobust,   // RCE: the `elites` feasible samples with the lowest reward cost; with fewer than
-             // min_feasible_elites feasible, those plus the first (min - feasible) samples by
-             // constraint cost (feasible ones sort first, so they can count twice)
-};
 
 // Samples a truncated normal over (H, A), scores with the objective, refits mean and variance to
 // the elites with smoothing, and stops after max_iterations or once every variance is at most
@@ -35,14 +29,10 @@ class CrossEntropyPlanner final : public Planner {
   torch::Tensor CarriedState() const override;
   void SetCarriedState(const torch::Tensor& state) override;
 
-  // Elite weights (N) for scores: how often each sample counts among the elites.
-  torch::Tensor EliteWeights(const ObjectiveValues& values) const;
-
  private:
   PlanningProblem problem_;
   CrossEntropyOptions options_;
-  EliteRule rule_;
-  double penalty_;
+  EliteSelection selection_;
   torch::Device device_;
   at::Generator generator_;
   torch::Tensor previous_mean_;  // (H, A), warm start only

@@ -1,12 +1,29 @@
 #include "cmbrl/planning/planner_registry.h"
 
+#include <algorithm>
+#include <numeric>
+
 #include "cmbrl/core/check.h"
 
 namespace cmbrl {
 namespace {
 
 PlanWork CrossEntropyWork(const PlannerSettings& s) {
-  return {s.cross_entropy.population, s.cross_entropy.max_iterations};
+  // Every iteration is computed, converged ones masked (cross_entropy.h).
+  return {std::vector<std::int64_t>(static_cast<size_t>(s.cross_entropy.max_iterations),
+                                    s.cross_entropy.population)};
+}
+
+PlanWork SampleEconomyWork(const PlannerSettings& s) {
+  // The new samples, the kept elites beside them (at the first iteration too, once a plan has
+  // been made), and the mean among the last iteration's.
+  PlanWork work;
+  const int kept = KeptElites(s.cross_entropy, s.economy);
+  for (long long drawn : EconomyPopulations(s.cross_entropy, s.economy)) {
+    work.samples.push_back(drawn + kept);
+  }
+  work.samples.back() += 1;
+  return work;
 }
 
 // The factory of a planner's search: the one place that turns a PlannerInfo into code.
@@ -30,12 +47,28 @@ PlannerEntry EntryOf(const PlannerInfo& info) {
                 return std::make_unique<RandomShootingPlanner>(s.problem, s.random, s.penalty,
                                                                seed);
               },
-              [](const PlannerSettings& s) { return PlanWork{s.random.samples, 1}; }};
+              [](const PlannerSettings& s) { return PlanWork{{s.random.samples}}; }};
+    case PlannerSearch::kRobustSampleEconomy:
+      return {info,
+              [](const PlannerSettings& s, std::uint64_t seed) -> std::unique_ptr<Planner> {
+                return std::make_unique<SampleEconomyPlanner>(s.problem, s.cross_entropy,
+                                                              s.economy, EliteRule::kRobust,
+                                                              s.penalty, seed);
+              },
+              SampleEconomyWork};
   }
   Fail("planner '{}' has a search the registry cannot build", info.name);
 }
 
 }  // namespace
+
+std::int64_t PlanWork::total() const {
+  return std::accumulate(samples.begin(), samples.end(), std::int64_t{0});
+}
+
+std::int64_t PlanWork::largest() const {
+  return samples.empty() ? 0 : *std::max_element(samples.begin(), samples.end());
+}
 
 const std::vector<PlannerEntry>& Planners() {
   // Derived from PlannerInfos(), one for one and in its order: FindPlanner relies on it.

@@ -11,14 +11,18 @@
 
 #include "cmbrl/planning/cross_entropy.h"
 #include "cmbrl/planning/random_shooting.h"
+#include "cmbrl/planning/sample_economy.h"
 #include "cmbrl/planning/trajectory_objective.h"
 
 namespace cmbrl {
 
-// The model evaluations one plan costs at most: `samples` action sequences scored per iteration.
+// The model evaluations one plan costs at most: the action sequences scored at each iteration.
 struct PlanWork {
-  std::int64_t samples = 0;
-  int iterations = 0;
+  std::vector<std::int64_t> samples;  // one value per iteration
+
+  int iterations() const { return static_cast<int>(samples.size()); }
+  std::int64_t total() const;    // sequences scored in one plan
+  std::int64_t largest() const;  // the largest iteration's
 };
 
 struct PlannerEntry : PlannerInfo {
@@ -26,7 +30,7 @@ struct PlannerEntry : PlannerInfo {
   std::function<PlanWork(const PlannerSettings&)> work;  // for benchmarks' FLOP counts
 };
 
-// Every planner, the paper's order: rce, cem, random.
+// Every planner, in PlannerInfos()'s order.
 const std::vector<PlannerEntry>& Planners();
 
 // The entry of a planner; throws cmbrl::Error naming an unknown planner and the known ones.

@@ -41,6 +41,36 @@ void ValidateCrossEntropyOptions(const CrossEntropyOptions& o) {
           "initial_variance is {}: expected a number in (0, 100]", o.initial_variance);
 }
 
+void ValidateSampleEconomyOptions(const SampleEconomyOptions& o) {
+  Require(o.population_decay >= 1 && o.population_decay <= 100,
+          "population_decay is {}: expected a number in [1, 100] (1: every iteration draws the "
+          "whole population; iCEM: 1.25)",
+          o.population_decay);
+  Require(o.keep_elites >= 0 && o.keep_elites <= 1,
+          "keep_elites is {}: expected a share of the elites in [0, 1] (iCEM: 0.3)",
+          o.keep_elites);
+  Require(o.noise_exponent >= 0 && o.noise_exponent <= 10,
+          "noise_exponent is {}: expected a number in [0, 10] (0: white noise; iCEM: 2 to 4)",
+          o.noise_exponent);
+}
+
+std::vector<long long> EconomyPopulations(const CrossEntropyOptions& search,
+                                          const SampleEconomyOptions& economy) {
+  // Never fewer than twice the elites (iCEM's floor), nor more than the first population.
+  const long long floor = std::min<long long>(2LL * search.elites, search.population);
+  std::vector<long long> populations;
+  for (int i = 0; i < search.max_iterations; ++i) {
+    const double drawn = std::round(search.population / std::pow(economy.population_decay, i));
+    populations.push_back(std::max(floor, static_cast<long long>(drawn)));
+  }
+  return populations;
+}
+
+int KeptElites(const CrossEntropyOptions& search, const SampleEconomyOptions& economy) {
+  // The small margin keeps 0.3 * 10 at 3 although 0.3 is not exact in binary.
+  return static_cast<int>(std::floor(economy.keep_elites * search.elites + 1e-9));
+}
+
 void ValidateRandomShootingOptions(const RandomShootingOptions& o) {
   Require(o.samples >= 1 && o.samples <= 10'000'000,
           "random_samples is {}: expected 1 to 10000000", o.samples);
@@ -103,6 +133,8 @@ const std::vector<PlannerInfo>& PlannerInfos() {
        /*is_papers_method=*/true},
       {"cem", "MPC-CEM", PlannerSearch::kPenaltyCrossEntropy, Propagation::kEnsembleMean, false},
       {"random", "MPC-random", PlannerSearch::kRandomShooting, Propagation::kEnsembleMean, false},
+      {"rce-icem", "MPC-RCE-iCEM", PlannerSearch::kRobustSampleEconomy, Propagation::kPerMember,
+       false, /*in_paper=*/false},
   };
   return infos;
 }
@@ -110,6 +142,14 @@ const std::vector<PlannerInfo>& PlannerInfos() {
 std::vector<std::string> PlannerNames() {
   std::vector<std::string> names;
   for (const PlannerInfo& info : PlannerInfos()) names.push_back(info.name);
+  return names;
+}
+
+std::vector<std::string> PaperPlannerNames() {
+  std::vector<std::string> names;
+  for (const PlannerInfo& info : PlannerInfos()) {
+    if (info.in_paper) names.push_back(info.name);
+  }
   return names;
 }
 

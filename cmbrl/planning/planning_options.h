@@ -36,6 +36,30 @@ struct CrossEntropyOptions {
 // Throws cmbrl::Error naming the first bad field (more elites than samples, ...).
 void ValidateCrossEntropyOptions(const CrossEntropyOptions& options);
 
+// iCEM's sample economy (Pinneri et al. 2020) inside a cross-entropy search: the "rce-icem"
+// planner (sample_economy.h). It reads population (the first iteration's), elites,
+// min_feasible_elites, max_iterations (each one run: no early stop, so epsilon is not read),
+// alpha and initial_variance from CrossEntropyOptions, and these.
+struct SampleEconomyOptions {
+  // Iteration i draws max(population / population_decay^i, 2 elites) new samples (iCEM's 1.25).
+  double population_decay = 1.25;
+  // The share of the elites (rounded down) carried into the next iteration, and shifted by one
+  // step into the next plan's first (iCEM's 0.3).
+  double keep_elites = 0.3;
+  // Colored noise: power proportional to 1 / f^noise_exponent along the horizon (0: white).
+  double noise_exponent = 2.0;
+};
+
+// Throws cmbrl::Error naming the first bad field.
+void ValidateSampleEconomyOptions(const SampleEconomyOptions& options);
+
+// New samples drawn at each iteration (max_iterations values), by population_decay.
+std::vector<long long> EconomyPopulations(const CrossEntropyOptions& search,
+                                          const SampleEconomyOptions& economy);
+
+// How many elites are kept from one iteration to the next: floor(keep_elites * elites).
+int KeptElites(const CrossEntropyOptions& search, const SampleEconomyOptions& economy);
+
 struct RandomShootingOptions {
   int samples = 5000;  // uniform action sequences
 };
@@ -105,7 +129,8 @@ enum class Propagation {
 // Settings of every planner; each planner reads its own part.
 struct PlannerSettings {
   PlanningProblem problem;
-  CrossEntropyOptions cross_entropy;  // "cem", "rce"
+  CrossEntropyOptions cross_entropy;  // "cem", "rce", and "rce-icem" with economy
+  SampleEconomyOptions economy;       // "rce-icem"
   RandomShootingOptions random;       // "random"
   // CEM and random: a sample's score is reward_cost + penalty * constraint_cost (facts B2). One
   // value for both, handed to the planner by its factory (planner_registry.cc).
@@ -121,6 +146,9 @@ enum class PlannerSearch {
   kRobustCrossEntropy,   // RCE: cross-entropy, elites chosen among the feasible (Algorithm 1)
   kPenaltyCrossEntropy,  // CEM: cross-entropy, elites by reward_cost + penalty * constraint_cost
   kRandomShooting,       // the best of uniform action sequences by the same penalised score
+  // RCE's elite rule inside iCEM's sample economy: colored noise, elites kept across
+  // iterations and plans, a shrinking population; acts on its best sample (sample_economy.h)
+  kRobustSampleEconomy,
 };
 
 // What the rest of the program may know of a planner without building one.
@@ -132,13 +160,18 @@ struct PlannerInfo {
   // The paper's method, whose claim ("violates least at comparable reward") reports check
   // against every other planner.
   bool is_papers_method = false;
+  // One of the paper's planners (its Table I's MPC rows): what a sweep runs unless told.
+  bool in_paper = true;
 };
 
-// Every planner, the paper's order: rce, cem, random.
+// Every planner: the paper's, in its order (rce, cem, random), then rce-icem.
 const std::vector<PlannerInfo>& PlannerInfos();
 
-// "rce", "cem", "random".
+// "rce", "cem", "random", "rce-icem".
 std::vector<std::string> PlannerNames();
+
+// The paper's planners: "rce", "cem", "random".
+std::vector<std::string> PaperPlannerNames();
 
 // The planner called `name`, or nullptr for a name this build does not know.
 const PlannerInfo* FindPlannerInfoOrNull(const std::string& name);

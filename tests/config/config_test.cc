@@ -307,7 +307,7 @@ TEST(ConfigTest, BadConfigurationsNameTheKeyAndTheValue) {
   EXPECT_EQ(ErrorMessage([] { ParseTrainConfig("planning: {horizon: 0}", "c.yaml"); }),
             "config 'c.yaml': planning.horizon is 0: expected 1 to 1000 steps");
   EXPECT_EQ(ErrorMessage([] { ParseTrainConfig("planner: mppi", "c.yaml"); }),
-            "config 'c.yaml': key 'planner' is 'mppi': expected one of rce, cem, random");
+            "config 'c.yaml': key 'planner' is 'mppi': expected one of rce, cem, random, rce-icem");
   EXPECT_THAT(ErrorMessage([] { ParseTrainConfig("task: AntGoal1", "c.yaml"); }),
               ::testing::HasSubstr("config 'c.yaml': key 'task': unknown task 'AntGoal1'"));
   EXPECT_EQ(ErrorMessage([] { ParseTrainConfig("ensemble: {hiden_sizes: [8]}", "c.yaml"); }),

@@ -164,43 +164,5 @@ TEST(RobustCrossEntropyTest, ReturnsFeasiblePlansAndDrawsFewerInfeasibleElitesTh
   EXPECT_LT(rce_infeasible, 0.5 * cem_infeasible);
 }
 
-TEST(EliteWeightsTest, RobustRuleKeepsOnlyFeasibleSamplesWhenEnough) {
-  CrossEntropyOptions options;
-  options.population = 20;
-  CrossEntropyPlanner rce(PlanningProblem{}, options, EliteRule::kRobust, PlannerSettings{}.penalty,
-                          0);
-  CrossEntropyPlanner cem(PlanningProblem{}, options, EliteRule::kPenalty,
-                          PlannerSettings{}.penalty, 0);
-  // Samples 0..6 feasible with reward cost 10 + i; 7..19 infeasible but rewarding (cost i).
-  torch::Tensor reward = torch::arange(20, torch::kFloat);
-  reward.slice(0, 0, 7) += 10;
-  torch::Tensor constraint = torch::ones({20});
-  constraint.slice(0, 0, 7).zero_();
-  constraint.slice(0, 7, 12).fill_(0.001f);  // barely violating: the penalty still ranks them
-  const torch::Tensor robust = rce.EliteWeights({reward, constraint});
-  EXPECT_TRUE(torch::equal(robust, (torch::arange(20) < 7).to(torch::kFloat)));
-  const torch::Tensor penalty = cem.EliteWeights({reward, constraint});
-  EXPECT_EQ(penalty.sum().item<float>(), 12.0f);
-  EXPECT_EQ(penalty.slice(0, 0, 12).sum().item<float>(), 12.0f);  // 7 feasible + 5 barely
-}
-
-TEST(EliteWeightsTest, RobustRulePadsWithTheLeastViolatingWhenTooFew) {
-  CrossEntropyOptions options;
-  options.population = 10;
-  options.elites = 5;
-  CrossEntropyPlanner rce(PlanningProblem{}, options, EliteRule::kRobust, PlannerSettings{}.penalty,
-                          0);
-  // Two feasible samples (3 and 8); constraint costs rise with the index otherwise.
-  const torch::Tensor reward = torch::zeros({10});
-  torch::Tensor constraint = torch::arange(1, 11, torch::kFloat);
-  constraint[3] = 0;
-  constraint[8] = 0;
-  const torch::Tensor weights = rce.EliteWeights({reward, constraint});
-  // Feasible 3 and 8, plus the first 5 - 2 = 3 by constraint cost: 3 and 8 again (they sort
-  // first, so they count twice), then sample 0.
-  const torch::Tensor expected = torch::tensor({1.f, 0.f, 0.f, 2.f, 0.f, 0.f, 0.f, 0.f, 2.f, 0.f});
-  EXPECT_TRUE(torch::equal(weights, expected)) << weights;
-}
-
 }  // namespace
 }  // namespace cmbrl

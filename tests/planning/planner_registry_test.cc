@@ -29,8 +29,9 @@ TEST(PlannerRegistryTest, EveryEntryIsCompleteAndOneIsThePapersMethod) {
     EXPECT_EQ(PlannerLabel(entry.name), entry.label);
     papers += entry.is_papers_method;
     const PlanWork work = entry.work(settings);
-    EXPECT_GT(work.samples, 0);
-    EXPECT_GE(work.iterations, 1);
+    EXPECT_GT(work.total(), 0);
+    EXPECT_GE(work.iterations(), 1);
+    EXPECT_GE(work.largest(), work.samples.back());
     QuadraticObjective objective(RepeatedTarget(0.1f, 0.1f));
     EXPECT_EQ(entry.make(settings, 1)->Plan(objective).action.numel(), 2);
   }
@@ -104,7 +105,7 @@ TEST(PlannerFactoryTest, BadSettingsAreNamed) {
   EXPECT_EQ(ErrorMessage([&] { MakePlanner("cem", settings, 0); }),
             "horizon is 0: expected 1 to 1000 steps");
   EXPECT_EQ(ErrorMessage([&] { MakePlanner("mppi", PlannerSettings{}, 0); }),
-            "unknown planner 'mppi': expected one of rce, cem, random");
+            "unknown planner 'mppi': expected one of rce, cem, random, rce-icem");
   for (const std::string name : {"rce", "cem", "random"}) {
     settings = PlannerSettings{};
     settings.penalty = -1.0;
