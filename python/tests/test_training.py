@@ -289,3 +289,32 @@ def test_presets_ship_in_the_package_and_are_named_not_pathed(tmp_path):
         assert name in names
     with pytest.raises(cmbrl.Error, match="'pointgoal9-rce' is neither a file nor a preset"):
         cmbrl.train(config=["pointgoal9-rce", "quickstart"], out=str(tmp_path / "r"))
+
+
+def test_rce_icem_trains_resumes_and_acts_from_python(tmp_path):
+    # The sample-economy planner by name, its own keys in the planning section; 2 iterations of
+    # 24 then 19 new samples, one elite kept (floor(0.3 * 6)).
+    config = tiny_config(120)
+    config["planner"] = "rce-icem"
+    config["planning"].update({"population_decay": 1.25, "keep_elites": 0.3,
+                               "noise_exponent": 2.5})
+    cmbrl.train(config=config, out=tmp_path / "run", steps=80)
+    cmbrl.train(resume=tmp_path / "run", steps=120)
+    cmbrl.train(config=config, out=tmp_path / "whole")
+    assert rows(tmp_path / "run") == rows(tmp_path / "whole")
+    agent = cmbrl.load_run(tmp_path / "run", seed=1)
+    assert "planner: rce-icem" in agent.config() and "noise_exponent: 2.5" in agent.config()
+    env = agent.make_env()
+    obs, _ = env.reset(seed=2)
+    agent.begin_episode()
+    for _ in range(3):
+        action = agent.act(obs)
+        assert action.shape == (2,) and np.all(np.abs(action) <= 1)
+        obs, *_ = env.step(action)
+    plan = agent.last_plan()
+    assert plan["actions"].shape == (3, 2) and plan["iterations"] == 2
+    # The executed plan is the best sample, so it starts with the executed action.
+    assert np.allclose(plan["actions"][0], action)
+    with pytest.raises(cmbrl.Error, match="noise_exponent is -1"):
+        cmbrl.train(config={**config, "planning": {**config["planning"], "noise_exponent": -1}},
+                    out=tmp_path / "bad")
