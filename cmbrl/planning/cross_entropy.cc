@@ -72,11 +72,11 @@ PlanResult CrossEntropyPlanner::Plan(Objective& objective) {
     const ObjectiveValues values = objective.Evaluate(samples);
     CheckObjectiveValues(values, population, device_);
     nonfinite = nonfinite | AnyNonFinite(values);
-    const torch::Tensor weights = EliteWeights(values, selection_);  // (N)
-    const torch::Tensor total = weights.sum();
-    const torch::Tensor w = weights.view({population, 1, 1});
-    const torch::Tensor elite_mean = (w * samples).sum(0) / total;
-    const torch::Tensor elite_variance = (w * (samples - elite_mean).pow(2)).sum(0) / total;
+    const EliteMoments elites = ComputeEliteMoments(samples, values, selection_);
+    const torch::Tensor& weights = elites.weights;  // (N)
+    const torch::Tensor& total = elites.total;
+    const torch::Tensor& elite_mean = elites.mean;
+    const torch::Tensor& elite_variance = elites.variance;
     mean = torch::where(active, alpha * mean + (1 - alpha) * elite_mean, mean);
     variance = torch::where(active, alpha * variance + (1 - alpha) * elite_variance, variance);
 

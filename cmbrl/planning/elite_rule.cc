@@ -39,6 +39,17 @@ torch::Tensor EliteWeights(const ObjectiveValues& values, const EliteSelection& 
   return torch::where(feasible_count >= selection.min_feasible_elites, enough, too_few);
 }
 
+EliteMoments ComputeEliteMoments(const torch::Tensor& samples, const ObjectiveValues& values,
+                                 const EliteSelection& selection) {
+  EliteMoments moments;
+  moments.weights = EliteWeights(values, selection);
+  moments.total = moments.weights.sum();
+  const torch::Tensor w = moments.weights.view({samples.size(0), 1, 1});
+  moments.mean = (w * samples).sum(0) / moments.total;
+  moments.variance = (w * (samples - moments.mean).pow(2)).sum(0) / moments.total;
+  return moments;
+}
+
 torch::Tensor RankSamples(const ObjectiveValues& values, const EliteSelection& selection) {
   if (selection.rule == EliteRule::kPenalty) {
     return StableOrder(values.reward_cost + selection.penalty * values.constraint_cost);

@@ -29,6 +29,18 @@ struct EliteSelection {
 // among the elites. On the scores' device; no value is read back to the host.
 torch::Tensor EliteWeights(const ObjectiveValues& values, const EliteSelection& selection);
 
+// The elites' weighted statistics over a population: what a cross-entropy search refits to.
+struct EliteMoments {
+  torch::Tensor weights;   // (N) EliteWeights
+  torch::Tensor total;     // () their sum: the elites counted
+  torch::Tensor mean;      // (H, A) the elites' weighted mean
+  torch::Tensor variance;  // (H, A) their weighted variance about it
+};
+
+// The elites of `samples` (N, H, A), scored as `values`, and their moments. No host read.
+EliteMoments ComputeEliteMoments(const torch::Tensor& samples, const ObjectiveValues& values,
+                                 const EliteSelection& selection);
+
 // Indices (N) of the samples, best first, in the rule's own order: by the penalised score
 // (kPenalty); feasible samples by reward cost, then the infeasible by constraint cost and, among
 // equal constraint costs, by reward cost (kRobust). Ties keep index order, so every run ranks

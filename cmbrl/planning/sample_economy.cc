@@ -106,13 +106,12 @@ PlanResult SampleEconomyPlanner::Plan(Objective& objective) {
     CheckObjectiveValues(values, population, device_);
     nonfinite = nonfinite | AnyNonFinite(values);
 
-    const torch::Tensor weights = EliteWeights(values, selection_);  // (N)
-    const torch::Tensor total = weights.sum();
-    const torch::Tensor w = weights.view({population, 1, 1});
-    const torch::Tensor elite_mean = (w * samples).sum(0) / total;
-    const torch::Tensor elite_variance = (w * (samples - elite_mean).pow(2)).sum(0) / total;
-    mean = alpha * mean + (1 - alpha) * elite_mean;
-    std = alpha * std + (1 - alpha) * elite_variance.sqrt();
+    const EliteMoments elites = ComputeEliteMoments(samples, values, selection_);
+    const torch::Tensor& weights = elites.weights;  // (N)
+    const torch::Tensor& total = elites.total;
+    // iCEM smooths the spread as a standard deviation (RCE: as a variance).
+    mean = alpha * mean + (1 - alpha) * elites.mean;
+    std = alpha * std + (1 - alpha) * elites.variance.sqrt();
 
     const torch::Tensor ranked = RankSamples(values, selection_);  // (N) best first
     carried = samples.index_select(0, ranked.narrow(0, 0, kept_));
