@@ -19,12 +19,34 @@ sweep=(sweep --tasks PointGoal1 --planners rce random --seeds 0 1 --config-dir "
 
 "$cmbrl" "${sweep[@]}" --out "$work/cut" > "$work/cut-1.log" &
 pid=$!
-# Kill once the first run has written some rows (the runs are then mid-way).
-for _ in $(seq 600); do
-  rows=$(cat "$work"/cut/runs/*/progress.csv 2> /dev/null | wc -l || true)
-  [ "${rows:-0}" -ge 6 ] && break
-  sleep 0.05
+# Kill once a run is mid-way: two or more rows written, not all (a count over all runs could be
+# met by a fast run that already finished beside one that has not begun).
+full=$(wc -l < "$work/whole/runs/pointgoal1-rce-s0/progress.csv")
+midway() {
+  local progress lines
+  for progress in "$work"/cut/runs/*/progress.csv; do
+    lines=$(wc -l < "$progress" 2> /dev/null || echo 0)
+    [ "$lines" -ge 3 ] && [ "$lines" -lt "$full" ] && return 0
+  done
+  return 1
+}
+for _ in $(seq 1500); do
+  midway && break
+  sleep 0.02
 done
+# The sweep and its trainers are frozen for the check below, so that they are still mid-way at
+# the kill however long the check takes on a loaded machine.
+cut_trainers() {
+  local cmdline
+  for cmdline in /proc/[0-9]*/cmdline; do
+    if tr '\0' ' ' < "$cmdline" 2> /dev/null | grep -q -- "--out $work/cut/runs"; then
+      cmdline=${cmdline#/proc/}
+      echo "${cmdline%/cmdline}"
+    fi
+  done
+}
+frozen=$(cut_trainers)
+kill -STOP "$pid" $frozen 2> /dev/null || true
 # A second sweep of the same folder meanwhile is refused by name (it would take the first's
 # runs, locked by their trainers, for failed ones).
 if "$cmbrl" "${sweep[@]}" --out "$work/cut" > "$work/second.log" 2>&1; then
@@ -33,6 +55,7 @@ fi
 grep -q "cut' is in use by another cmbrl process (pid $pid" "$work/second.log" ||
   { cat "$work/second.log"; echo "FAILED: the second sweep's refusal does not name the first"; exit 1; }
 kill -9 "$pid"
+kill -CONT $frozen 2> /dev/null || true  # they now take their parent's death (SIGTERM)
 wait "$pid" 2> /dev/null || true
 # Whether a process's command line names this sweep's runs (read from /proc: no procps needed).
 trainers_alive() {
