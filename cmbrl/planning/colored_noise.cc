@@ -4,14 +4,13 @@
 #include <vector>
 
 #include "cmbrl/core/check.h"
+#include "cmbrl/planning/planning_options.h"
 
 namespace cmbrl {
 
 ColoredNoise::ColoredNoise(int horizon, double exponent, const torch::Device& device) {
   Require(horizon >= 1, "the colored noise's horizon is {}: expected 1 or more steps", horizon);
-  Require(exponent >= 0 && exponent <= 10,
-          "noise_exponent is {}: expected a number in [0, 10] (0: white noise; iCEM: 2 to 4)",
-          exponent);
+  ValidateNoiseExponent(exponent);
   const int h = horizon;
   // The amplitude of frequency k / H; the zero frequency takes the lowest one's, 1 / H.
   const auto amplitude = [&](int k) {

@@ -19,7 +19,7 @@ PlanWork SampleEconomyWork(const PlannerSettings& s) {
   // been made), and the mean among the last iteration's.
   PlanWork work;
   const int kept = KeptElites(s.cross_entropy, s.economy);
-  for (long long drawn : EconomyPopulations(s.cross_entropy, s.economy)) {
+  for (const std::int64_t drawn : EconomyPopulations(s.cross_entropy, s.economy)) {
     work.samples.push_back(drawn + kept);
   }
   work.samples.back() += 1;

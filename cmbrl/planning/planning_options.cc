@@ -49,19 +49,23 @@ void ValidateSampleEconomyOptions(const SampleEconomyOptions& o) {
   Require(o.keep_elites >= 0 && o.keep_elites <= 1,
           "keep_elites is {}: expected a share of the elites in [0, 1] (iCEM: 0.3)",
           o.keep_elites);
-  Require(o.noise_exponent >= 0 && o.noise_exponent <= 10,
-          "noise_exponent is {}: expected a number in [0, 10] (0: white noise; iCEM: 2 to 4)",
-          o.noise_exponent);
+  ValidateNoiseExponent(o.noise_exponent);
 }
 
-std::vector<long long> EconomyPopulations(const CrossEntropyOptions& search,
-                                          const SampleEconomyOptions& economy) {
+void ValidateNoiseExponent(double noise_exponent) {
+  Require(noise_exponent >= 0 && noise_exponent <= 10,
+          "noise_exponent is {}: expected a number in [0, 10] (0: white noise; iCEM: 2 to 4)",
+          noise_exponent);
+}
+
+std::vector<std::int64_t> EconomyPopulations(const CrossEntropyOptions& search,
+                                             const SampleEconomyOptions& economy) {
   // Never fewer than twice the elites (iCEM's floor), nor more than the first population.
-  const long long floor = std::min<long long>(2LL * search.elites, search.population);
-  std::vector<long long> populations;
+  const std::int64_t floor = std::min<std::int64_t>(2 * search.elites, search.population);
+  std::vector<std::int64_t> populations;
   for (int i = 0; i < search.max_iterations; ++i) {
     const double drawn = std::round(search.population / std::pow(economy.population_decay, i));
-    populations.push_back(std::max(floor, static_cast<long long>(drawn)));
+    populations.push_back(std::max(floor, static_cast<std::int64_t>(drawn)));
   }
   return populations;
 }

@@ -5,6 +5,7 @@
 // line in PlannerInfos().
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -53,8 +54,11 @@ struct SampleEconomyOptions {
 // Throws cmbrl::Error naming the first bad field.
 void ValidateSampleEconomyOptions(const SampleEconomyOptions& options);
 
+// Throws cmbrl::Error naming a noise_exponent outside [0, 10] (colored_noise.h).
+void ValidateNoiseExponent(double noise_exponent);
+
 // New samples drawn at each iteration (max_iterations values), by population_decay.
-std::vector<long long> EconomyPopulations(const CrossEntropyOptions& search,
+std::vector<std::int64_t> EconomyPopulations(const CrossEntropyOptions& search,
                                           const SampleEconomyOptions& economy);
 
 // How many elites are kept from one iteration to the next: floor(keep_elites * elites).

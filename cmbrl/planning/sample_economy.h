@@ -43,7 +43,7 @@ class SampleEconomyPlanner final : public Planner {
   CrossEntropyOptions search_;
   SampleEconomyOptions economy_;
   EliteSelection selection_;
-  std::vector<long long> populations_;  // new samples at each iteration
+  std::vector<std::int64_t> populations_;  // new samples at each iteration
   int kept_ = 0;                        // elites carried from one iteration to the next
   torch::Device device_;
   at::Generator generator_;

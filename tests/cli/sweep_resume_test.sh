@@ -34,17 +34,19 @@ for _ in $(seq 1500); do
   midway && break
   sleep 0.02
 done
-# The sweep and its trainers are frozen for the check below, so that they are still mid-way at
-# the kill however long the check takes on a loaded machine.
+# The process ids of the cut sweep's trainers: those whose command line names its runs
+# (read from /proc: no procps needed).
 cut_trainers() {
   local cmdline
   for cmdline in /proc/[0-9]*/cmdline; do
-    if tr '\0' ' ' < "$cmdline" 2> /dev/null | grep -q -- "--out $work/cut/runs"; then
+    if tr '\0' ' ' < "$cmdline" 2> /dev/null | grep -q -- "$work/cut/runs"; then
       cmdline=${cmdline#/proc/}
       echo "${cmdline%/cmdline}"
     fi
   done
 }
+# The sweep and its trainers are frozen for the check below, so that they are still mid-way at
+# the kill however long the check takes on a loaded machine.
 frozen=$(cut_trainers)
 kill -STOP "$pid" $frozen 2> /dev/null || true
 # A second sweep of the same folder meanwhile is refused by name (it would take the first's
@@ -57,14 +59,8 @@ grep -q "cut' is in use by another cmbrl process (pid $pid" "$work/second.log" |
 kill -9 "$pid"
 kill -CONT $frozen 2> /dev/null || true  # they now take their parent's death (SIGTERM)
 wait "$pid" 2> /dev/null || true
-# Whether a process's command line names this sweep's runs (read from /proc: no procps needed).
-trainers_alive() {
-  local cmdline
-  for cmdline in /proc/[0-9]*/cmdline; do
-    tr '\0' ' ' < "$cmdline" 2> /dev/null | grep -q -- "$work/cut/runs" && return 0
-  done
-  return 1
-}
+# Whether any of the cut sweep's trainers is still alive.
+trainers_alive() { [ -n "$(cut_trainers)" ]; }
 for _ in $(seq 100); do trainers_alive || break; sleep 0.1; done
 if trainers_alive; then
   echo "FAILED: training processes outlived the killed sweep"

@@ -56,14 +56,14 @@ PlannerSettings Economy(int population, int elites, int iterations) {
 TEST(SampleEconomyTest, PopulationsShrinkByTheDecayDownToTwiceTheElites) {
   PlannerSettings settings = Economy(500, 12, 4);
   EXPECT_EQ(EconomyPopulations(settings.cross_entropy, settings.economy),
-            (std::vector<long long>{500, 400, 320, 256}));
+            (std::vector<std::int64_t>{500, 400, 320, 256}));
   EXPECT_EQ(KeptElites(settings.cross_entropy, settings.economy), 3);  // floor(0.3 * 12)
   settings = Economy(30, 12, 4);
   EXPECT_EQ(EconomyPopulations(settings.cross_entropy, settings.economy),
-            (std::vector<long long>{30, 24, 24, 24}));
+            (std::vector<std::int64_t>{30, 24, 24, 24}));
   settings = Economy(10, 6, 2);  // twice the elites exceeds the population: the population
   EXPECT_EQ(EconomyPopulations(settings.cross_entropy, settings.economy),
-            (std::vector<long long>{10, 10}));
+            (std::vector<std::int64_t>{10, 10}));
   settings.economy.keep_elites = 1.0;
   EXPECT_EQ(KeptElites(settings.cross_entropy, settings.economy), 6);
 }
