@@ -41,9 +41,8 @@ void CheckFunctionsGiven(const TrainConfig& config, bool reward, bool terminatio
                          const std::string& run,
                          const std::optional<GivenEnv>& env = std::nullopt) {
   if (env) {  // a declared one is named by what makes it, whatever the task is called
-    const std::string made = config.python.env.empty()
-                                 ? config.task
-                                 : DeclaredEnvTask(config.python.env);
+    const std::string made =
+        config.python.env.empty() ? config.task : DeclaredEnvTask(config.python.env);
     Require(made == env->task(),
             "{} was trained on task '{}': the environment given is '{}' (give the one it was "
             "trained on)",
@@ -102,6 +101,7 @@ class PyAgent {
       Require(std::isfinite(v), "the observation holds {}: expected finite values", v);
     std::vector<double> action;
     plan_paths_.reset();  // a new plan
+    paths_lost_ = false;
     {
       py::gil_scoped_release release;
       action = run_.policy().Act(values);
@@ -118,6 +118,9 @@ class PyAgent {
   py::list Predictions(const py::dict& scene_of_plan, int samples) {
     const ObjectLock lock(mutex_);
     RequirePlan("predictions");
+    Require(plan_paths_.has_value() || !paths_lost_,
+            "predictions() after score(): scoring replaced the plan's predicted paths; call "
+            "predictions() before score(), or act() again");
     SceneState scene;
     const auto xy = [](const py::handle& a) {
       const Doubles v = Doubles::ensure(a);
@@ -177,6 +180,47 @@ class PyAgent {
                              Matrix(actions, n, dynamics.action_dim(), "actions"), n);
   }
 
+  // The objective's scores of action sequences (N, H, A) from one observation: a dict of
+  // reward_cost and constraint_cost (N) and feasible (N) bool.
+  py::dict Score(const py::handle& observation, const py::handle& sequences) {
+    const ObjectLock lock(mutex_);
+    MpcAgent& agent = run_.mpc_agent();
+    const std::vector<double> state = RealValues(
+        observation, {static_cast<py::ssize_t>(run_.dynamics().state_dim())}, "the observation");
+    const py::array array = py::array::ensure(sequences);
+    const py::ssize_t horizon = agent.horizon(), width = run_.dynamics().action_dim();
+    Require(static_cast<bool>(array) && array.ndim() == 3,
+            "sequences: expected a 3-D array (N, {}, {}): N action sequences of the planner's "
+            "horizon",
+            horizon, width);
+    const py::ssize_t n = array.shape(0);
+    const std::vector<double> values = RealValues(array, {n, horizon, width}, "the sequences");
+    // The objective's last trajectories become these sequences': the plan's paths, unless
+    // already taken, cannot be taken after this.
+    if (!plan_paths_) paths_lost_ = true;
+    std::vector<double> reward, constraint;
+    {
+      py::gil_scoped_release release;
+      const ObjectiveValues scores =
+          agent.Score(state, torch::tensor(values, torch::kDouble).view({n, horizon, width}));
+      const auto host = [](const torch::Tensor& t) {
+        const torch::Tensor c = t.to(torch::kCPU, torch::kDouble).contiguous();
+        return std::vector<double>(c.data_ptr<double>(), c.data_ptr<double>() + c.numel());
+      };
+      reward = host(scores.reward_cost);
+      constraint = host(scores.constraint_cost);
+    }
+    py::array_t<bool> feasible(n);
+    for (py::ssize_t i = 0; i < n; ++i) {
+      feasible.mutable_at(i) = constraint[static_cast<size_t>(i)] == 0.0;
+    }
+    py::dict d;
+    d["reward_cost"] = Own(std::move(reward));
+    d["constraint_cost"] = Own(std::move(constraint));
+    d["feasible"] = feasible;
+    return d;
+  }
+
   // The classifier's 0/1 violation prediction for states (N, S) -> (N) bool.
   py::array PredictViolation(const py::handle& states) {
     const ObjectLock lock(mutex_);
@@ -212,6 +256,7 @@ class PyAgent {
   LoadedRun run_;
   const PythonEnv* python_env_ = nullptr;  // the run's env where it was given from Python
   std::optional<PlanPaths> plan_paths_;    // the last plan's paths, once predictions() took them
+  bool paths_lost_ = false;                // score() ran after the plan, before they were taken
 };
 
 // Trains (or resumes) a run; `progress` sees each unit's summary, with the GIL held.
@@ -256,8 +301,7 @@ py::dict Train(const std::optional<std::vector<std::string>>& config_path,
       config.objective.reward = "python";
     }
     if (termination) {
-      Require(config.objective.termination == "none" ||
-                  config.objective.termination == "python",
+      Require(config.objective.termination == "none" || config.objective.termination == "python",
               "{} asks for objective.termination '{}': give no termination function, or ask for "
               "'python'",
               source, config.objective.termination);
@@ -425,6 +469,7 @@ void BindRuns(py::module_& m) {
       .def("predictions", &PyAgent::Predictions, py::arg("scene"), py::arg("samples"))
       .def("last_plan", &PyAgent::LastPlan)
       .def("predict_next", &PyAgent::PredictNext, py::arg("states"), py::arg("actions"))
+      .def("score", &PyAgent::Score, py::arg("observation"), py::arg("sequences"))
       .def("predict_violation", &PyAgent::PredictViolation, py::arg("states"))
       .def("config_yaml", &PyAgent::ConfigYaml)
       .def("environment", &PyAgent::Environment)

@@ -225,6 +225,15 @@ class Agent(_NotCopyable):
         """MPC only: every ensemble member's next state, (E, N, S) for (N, S) and (N, A)."""
         return self._agent.predict_next(states, actions)
 
+    def score(self, observation, sequences):
+        """MPC only: the planning objective's scores of action sequences (N, H, A), each within
+        the action bounds, from one observation, with this agent's models: a dict of
+        reward_cost (N, to minimise), constraint_cost (N, >= 0) and feasible (N bool: no member
+        predicts a violation). Plans of other agents or planners, scored alike, compare on the
+        same models and state (cmbrl.diagnostics.planner_compare). Call predictions() for a plan
+        before scoring: scoring replaces the paths it draws on, until the next act()."""
+        return self._agent.score(observation, sequences)
+
     def predict_violation(self, states):
         """MPC only: the constraint classifier's verdict per state, (N) bool."""
         return self._agent.predict_violation(states)

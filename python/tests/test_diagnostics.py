@@ -3,12 +3,13 @@ trained run or tiny models."""
 import json
 import os
 
+import numpy as np
 import pytest
 
 import cmbrl
 from conftest import tiny_config
-from cmbrl.diagnostics import (goal_approach, model_size, planner_study, reward_form,
-                               violation_anatomy)
+from cmbrl.diagnostics import (goal_approach, hidden_state, model_size, open_loop,
+                               planner_compare, planner_study, reward_form, violation_anatomy)
 
 TINY = tiny_config(120)
 
@@ -75,3 +76,101 @@ def test_the_reward_form_study_measures_both_forms_on_the_same_steps(source_dir)
     for key in ("extra_output_mse", "own_model_mse_true_next", "own_model_mse_predicted_next",
                 "state_nmse_widened", "state_nmse_plain", "own_model_ms_per_iteration"):
         assert row[key] >= 0.0 and row[key] == row[key], key  # measured, not NaN
+
+
+def test_the_pose_fit_recovers_a_known_pose_and_reports_a_non_rigid_one():
+    rng = np.random.default_rng(4)
+    world = rng.uniform(-2, 2, size=(7, 2))
+    position, yaw = np.array([0.3, -1.1]), 2.5
+    c, s = np.cos(yaw), np.sin(yaw)
+    ego = (world - position) @ np.array([[c, -s], [s, c]])  # R(yaw)^T (world - position)
+    fitted, fitted_yaw, residual = open_loop.pose_from_ego(ego, world)
+    assert np.allclose(fitted, position) and fitted_yaw == pytest.approx(yaw)
+    assert residual == pytest.approx(0.0, abs=1e-12)
+    batch = np.stack([ego, ego + rng.normal(0, 0.1, ego.shape)])  # leading axes are kept
+    _, _, residuals = open_loop.pose_from_ego(batch, world)
+    assert residuals.shape == (2,) and residuals[1] > 0.01
+    assert open_loop.wrap(3 * np.pi / 2) == pytest.approx(-np.pi / 2)
+
+
+@pytest.mark.parametrize("task", ["PointGoal1", "CarGoal2"])
+def test_the_pose_fit_of_a_real_observation_is_the_simulators_pose(task):
+    env = cmbrl.make(task, variant="paper")
+    slots = open_loop.hazard_slots(env.observation_names)
+    obs, _ = env.reset(seed=3)
+    for step in range(12):
+        obs, *_ = env.step(np.array([0.8, 0.6 if step < 6 else -0.6]))
+        truth = env.ground_truth()
+        position, yaw, residual = open_loop.pose_from_ego(obs[slots], truth["hazards"])
+        # The observation's float32 and the robot's site beside its body: a millimetre.
+        assert np.linalg.norm(position - truth["robot_position"]) < 2e-3, step
+        assert abs(open_loop.wrap(yaw - truth["robot_yaw"])) < 2e-3, step
+        assert residual < 1e-3
+    with pytest.raises(SystemExit, match="two or more hazards"):
+        open_loop.hazard_slots(["goal_x", "goal_y", "hazard0_x", "hazard0_y"])
+
+
+def test_the_open_loop_study_rolls_each_member_on_its_own_and_writes_its_tables(tmp_path):
+    run = tmp_path / "run"
+    cmbrl.train(config=dict(TINY, ensemble={"hidden_sizes": [16], "max_epochs": 5,
+                                            "ensemble_size": 3}), out=str(run))
+    agent = cmbrl.load_run(str(run))
+    rng = np.random.default_rng(0)
+    states = rng.normal(size=(4, agent.observation_space.shape[0]))
+    actions = rng.uniform(-1, 1, size=(4, 3, 2))
+    paths = open_loop.roll_out(agent, states, actions)  # (E, N, H, S)
+    assert paths.shape == (3, 4, 3, states.shape[1])
+    assert np.array_equal(paths[:, :, 0], agent.predict_next(states, actions[:, 0]))
+    for member in range(3):  # step 2 of member e: member e's prediction from its own step 1
+        own = agent.predict_next(paths[member, :, 0], actions[:, 1])[member]
+        assert np.allclose(paths[member, :, 1], own, atol=1e-6)
+    out = tmp_path / "out"
+    open_loop.main([str(run), "--episodes", "1", "--seed", "5", "--out", str(out)])
+    text = (out / "table.md").read_text()
+    for k in open_loop.HORIZONS:
+        assert f"| Point | {k} | all | " in text and f"| Point | {k} | not turning | " in text
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["Point"]["episodes"] == 1 and summary["Point"]["steps"] > 8
+    everything = summary["Point"]["by_k"]["1"][0]
+    assert everything[0] == "all" and everything[1]["samples"] == summary["Point"]["steps"] - 7
+
+
+def test_the_hidden_state_study_measures_motion_in_the_robots_frame(capsys):
+    data = hidden_state.collect("PointGoal1", "paper", episodes=3, seed=0)
+    steps = len(data["target"])
+    assert steps > 250 and data["motion"].shape == (steps, 3) and data["action"].shape == (steps, 2)
+    # The heading change over a step follows the gyro; the forward move, the velocimeter's x.
+    forward, heading = data["target"][:, 0], data["target"][:, 2]
+    assert np.corrcoef(heading, data["target"][:, 5])[0, 1] > 0.9
+    assert np.corrcoef(forward, data["target"][:, 3])[0, 1] > 0.9
+    # The control is the previous actions, shuffled: the same values in another order.
+    assert np.allclose(np.sort(data["unrelated_action"], axis=0),
+                       np.sort(data["previous_action"], axis=0))
+    hidden_state.main(["--task", "PointGoal1", "--episodes", "5"])
+    out = capsys.readouterr().out
+    assert "| PointGoal1 | " in out and "+ previous action" in out and "PointGoal1: against" in out
+
+
+def test_the_planner_comparison_scores_every_plan_by_one_objective(tmp_path):
+    run = tmp_path / "run"
+    cmbrl.train(config=TINY, out=str(run))
+    out = tmp_path / "out"
+    planner_compare.main([str(run), "--setting", "own=", "--setting", "same=",
+                          "--setting", "cem=planner=cem,planning.population=12",
+                          "--driver", "cem", "--episodes", "1", "--seed", "3", "--out", str(out)])
+    rows = [line for line in (out / "table.md").read_text().splitlines()
+            if line.startswith("| own |") or line.startswith("| same |")]
+    # The same planner, seed and models on the same states: the same plans, no worse everywhere.
+    assert len(rows) == 2 and rows[0].split("|")[2:7] == rows[1].split("|")[2:7]
+    assert "| 100.0% | +0.000 | +0.000 |" in rows[1]
+    records = {"ref": {"reward_cost": np.array([1.0, 1.0, 2.0]),
+                       "constraint_cost": np.array([0.0, 0.0, 0.5]),
+                       "feasible": np.array([True, True, False]), "ms": [1.0]},
+               "other": {"reward_cost": np.array([0.5, 3.0, 9.0]),
+                         "constraint_cost": np.array([0.0, 0.0, 0.0]),
+                         "feasible": np.array([True, True, True]), "ms": [2.0]}}
+    other = planner_compare.summarise(records, "ref")[1]
+    assert other["no_worse"] == pytest.approx(2 / 3)  # better, worse, feasible where ref is not
+    assert other["gap_mean"] == pytest.approx(0.75) and other["feasible"] == 1.0
+    with pytest.raises(SystemExit):
+        planner_compare.main([str(run), "--setting", "a=", "--driver", "b"])

@@ -79,6 +79,26 @@ def test_train_resume_and_act(tmp_path, source_dir):
     cem.begin_episode()
     assert cem.act(obs).shape == (2,)
 
+    # Scores: the same models and objective judge any planner's plans from one state.
+    plan = cem.last_plan()["actions"]
+    scores = agent.score(obs, np.stack([plan, np.zeros_like(plan)]))
+    assert scores["reward_cost"].shape == (2,) and scores["feasible"].dtype == bool
+    assert np.array_equal(scores["feasible"], scores["constraint_cost"] == 0)
+    again = agent.score(obs, plan[None])  # a sequence's score does not depend on its company
+    assert again["reward_cost"][0] == pytest.approx(scores["reward_cost"][0], rel=1e-5)
+    strict = cmbrl.load_run(tmp_path / "run", overrides={"classifier.threshold": 0.000001})
+    assert not strict.score(obs, plan[None])["feasible"][0]  # every state called unsafe
+    with pytest.raises(cmbrl.Error, match=r"expected \(N, 3, 2\)|shape"):
+        agent.score(obs, np.zeros((2, 5, 2)))
+    with pytest.raises(cmbrl.Error, match="action bounds"):
+        agent.score(obs, np.full((1, 3, 2), 1.5))
+    with pytest.raises(cmbrl.Error, match="observation"):
+        agent.score(np.zeros(3), plan[None])
+    agent.act(obs)
+    agent.score(obs, plan[None])
+    with pytest.raises(cmbrl.Error, match="after score"):
+        agent.predictions(env, samples=2)
+
 
 def test_bad_training_input_is_named(tmp_path):
     bad = dict(TINY, planner="sideways")

@@ -1,5 +1,8 @@
 #include "cmbrl/learners/mpc/mpc_agent.h"
 
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
 #include <chrono>
 #include <cmath>
 
@@ -14,6 +17,9 @@ MpcAgent::MpcAgent(const DynamicsModel& dynamics, const CostModel& cost, const s
                    std::unique_ptr<TerminationTerm> termination)
     : dynamics_(dynamics),
       device_(ParseDevice(settings.problem.device, "planner device")),
+      horizon_(settings.problem.horizon),
+      low_(settings.problem.action_low),
+      high_(settings.problem.action_high),
       planner_(MakePlanner(planner, settings, seed)),
       objective_(dynamics, cost, FindPlanner(planner).propagation, objective, std::move(reward),
                  std::move(termination)) {
@@ -22,14 +28,34 @@ MpcAgent::MpcAgent(const DynamicsModel& dynamics, const CostModel& cost, const s
           dynamics.action_dim());
 }
 
-std::vector<double> MpcAgent::Act(const std::vector<double>& observation) {
-  const auto start = std::chrono::steady_clock::now();
+void MpcAgent::SetObservation(const std::vector<double>& observation) {
   Require(static_cast<int>(observation.size()) == dynamics_.state_dim(),
           "observation has {} entries, the dynamics model expects {}", observation.size(),
           dynamics_.state_dim());
   RequireFinite(observation, "observation");
-  const torch::Tensor state = torch::tensor(observation, torch::kDouble).to(device_, torch::kFloat);
-  objective_.SetState(state);
+  objective_.SetState(torch::tensor(observation, torch::kDouble).to(device_, torch::kFloat));
+}
+
+ObjectiveValues MpcAgent::Score(const std::vector<double>& observation,
+                                const torch::Tensor& sequences) {
+  SetObservation(observation);
+  Require(sequences.dim() == 3 && sequences.size(0) >= 1 && sequences.size(1) == horizon_ &&
+              sequences.size(2) == dynamics_.action_dim(),
+          "sequences of shape {}: expected (N, {}, {}), N >= 1 (the planner's horizon and the "
+          "action size)",
+          fmt::format("({})", fmt::join(sequences.sizes(), ", ")), horizon_,
+          dynamics_.action_dim());
+  const torch::Tensor actions = sequences.to(device_, torch::kFloat);
+  Require(actions.isfinite().all().item<bool>() && (actions >= low_).all().item<bool>() &&
+              (actions <= high_).all().item<bool>(),
+          "sequences hold a value outside the action bounds [{}, {}] or a non-finite one", low_,
+          high_);
+  return objective_.Evaluate(actions);
+}
+
+std::vector<double> MpcAgent::Act(const std::vector<double>& observation) {
+  const auto start = std::chrono::steady_clock::now();
+  SetObservation(observation);
   last_result_ = planner_->Plan(objective_);
 
   // The one synchronisation: action and figures to the host together.

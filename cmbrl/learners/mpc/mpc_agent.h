@@ -42,14 +42,27 @@ class MpcAgent final : public Policy {
   // the models predicted NaN or infinity for any sample of the plan.
   std::vector<double> Act(const std::vector<double>& observation) override;
 
+  // The objective's scores of action sequences (N, H, A) within the action bounds, from
+  // `observation`, with the agent's own models: plans of several planners judged alike (a
+  // frozen-model comparison). The last plan's figures and result stay; the objective's last
+  // trajectories become these. Throws cmbrl::Error as Act does for the observation, and for
+  // sequences of another shape or outside the bounds.
+  ObjectiveValues Score(const std::vector<double>& observation, const torch::Tensor& sequences);
+
+  int horizon() const { return horizon_; }
   const PlanStats& last_plan() const { return last_plan_; }
   const PlanResult& last_result() const { return last_result_; }
   Planner& planner() { return *planner_; }
   TrajectoryObjective& objective() { return objective_; }
 
  private:
+  // Checks the observation and sets it as the objective's start state.
+  void SetObservation(const std::vector<double>& observation);
+
   const DynamicsModel& dynamics_;
   torch::Device device_;
+  int horizon_;
+  double low_, high_;  // the action bounds
   std::unique_ptr<Planner> planner_;
   TrajectoryObjective objective_;
   PlanStats last_plan_;
