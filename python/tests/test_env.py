@@ -1,4 +1,5 @@
 """The environments from Python: Safety-Gymnasium's API, equal to the C++ program bit for bit."""
+import copy
 import json
 import math
 import subprocess
@@ -402,3 +403,19 @@ def test_human_rendering_names_what_it_lacks(monkeypatch):
             cmbrl.make("PointGoal1", render_mode="human")
         # Listed only where it works: Gymnasium's check_env makes every listed mode.
         assert "human" not in cmbrl.make("PointGoal1").metadata["render_modes"]
+
+
+def test_the_paper_car_runs_the_originals_action_path():
+    """Issue 58's second candidate, as the original's wrapper and engine (facts B0): an agent step
+    is 2 env steps of 0.2 s, an episode 75 agent steps, the action box [-1, 1], and the engine
+    clips each entry to its actuator's range, so steering saturates at 0.6."""
+    env = cmbrl.make("CarGoal2", variant="paper")
+    assert env.agent_step_seconds == pytest.approx(0.4) and env.max_episode_steps == 75
+    assert np.array_equal(env.action_space.low, [-1, -1])
+    assert np.array_equal(env.action_space.high, [1, 1])
+    env.reset(seed=1)
+    for _ in range(3):
+        env.step(np.array([0.2, 0.8]))
+    after = {steer: copy.deepcopy(env).step(np.array([steer, 0.7]))[0] for steer in (0.5, 0.6, 1.0)}
+    assert np.array_equal(after[0.6], after[1.0])  # beyond the servo's range: the same command
+    assert np.abs(after[0.5] - after[0.6]).max() > 0.01

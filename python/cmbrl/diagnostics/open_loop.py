@@ -14,7 +14,8 @@ Each episode is the run's own agent acting (its planner, its models), reset with
 every step t with t + 8 steps still in the episode, each member rolls out its own trajectory from
 the real state under the executed actions (as RCE's members do), and the table compares, per
 horizon k:
-  - position error: members' mean distance from the real position at t + k (m);
+  - position error: members' mean distance from the real position at t + k (m), and the
+    distance of the members' mean position (how much of the error the members share);
   - heading error: members' mean absolute heading error (degrees);
   - real move / predicted move: distance from the real position at t to the real / predicted
     position at t + k (m), and their ratio: above 1, the models predict moves the robot does
@@ -143,6 +144,7 @@ def episode_samples(agent, episode, slots, speed_index, step_seconds):
         rows.append({
             "k": k,
             "position_error": np.linalg.norm(pos - truth_pos, axis=-1).mean(axis=0),
+            "mean_position_error": np.linalg.norm(pos.mean(axis=0) - truth_pos, axis=-1),
             "heading_error": np.degrees(np.abs(wrap(yaw - truth_yaw)).mean(axis=0)),
             "real_move": np.linalg.norm(truth_pos - start_pos, axis=-1),
             "predicted_move": np.linalg.norm(pos - start_pos, axis=-1).mean(axis=0),
@@ -180,6 +182,7 @@ def summarise(samples, mask):
     real, predicted = mean("real_move"), mean("predicted_move")
     return {"samples": n, "position_error": mean("position_error"),
             "position_error_median": float(np.median(samples["position_error"][mask])),
+            "mean_position_error": mean("mean_position_error"),
             "heading_error": mean("heading_error"), "real_move": real,
             "predicted_move": predicted, "move_ratio": predicted / real if real > 0 else None,
             "spread": mean("spread"), "residual": mean("residual")}
@@ -232,18 +235,19 @@ def table(result, episodes, seed):
                      f"episodes ({episodes} a run, reset with seed {seed} + k), {entry['steps']} "
                      f"steps; violations per episode {entry['violations']}.\n")
     lines.append("| robot | k | start states | samples | position error (m), mean | median | "
-                 "heading error (deg) | real move (m) | predicted move (m) | predicted / real | "
-                 "spread (m) | fit residual (m) |")
-    lines.append("|---|---|---|---|---|---|---|---|---|---|---|---|")
+                 "members' mean's error (m) | heading error (deg) | real move (m) | predicted move "
+                 "(m) | predicted / real | spread (m) | fit residual (m) |")
+    lines.append("|---|---|---|---|---|---|---|---|---|---|---|---|---|")
     for robot, entry in result.items():
         for k in HORIZONS:
             for name, s in entry["by_k"][k]:
                 if s["samples"] == 0:
-                    lines.append(f"| {robot} | {k} | {name} | 0 | - | - | - | - | - | - | - | - |")
+                    lines.append(f"| {robot} | {k} | {name} | 0 |" + " - |" * 9)
                     continue
                 lines.append(
                     f"| {robot} | {k} | {name} | {s['samples']} | {s['position_error']:.3f} | "
-                    f"{s['position_error_median']:.3f} | {s['heading_error']:.1f} | "
+                    f"{s['position_error_median']:.3f} | {s['mean_position_error']:.3f} | "
+                    f"{s['heading_error']:.1f} | "
                     f"{s['real_move']:.3f} | {s['predicted_move']:.3f} | "
                     f"{fmt(s['move_ratio'], '.2f')} | {s['spread']:.3f} | {s['residual']:.3f} |")
     return "\n".join(lines) + "\n"
