@@ -174,3 +174,23 @@ def test_the_planner_comparison_scores_every_plan_by_one_objective(tmp_path):
     assert other["gap_mean"] == pytest.approx(0.75) and other["feasible"] == 1.0
     with pytest.raises(SystemExit):
         planner_compare.main([str(run), "--setting", "a=", "--driver", "b"])
+
+
+def test_the_open_loop_breakdowns_split_the_samples_they_name():
+    samples = {"inside": np.array([True, False, False, False]),
+               "speed": np.array([0.05, 0.2, 0.3, 1.0]),
+               "turning": np.array([False, True, False, False]),
+               "position_error": np.array([1.0, 2.0, 3.0, 4.0]),
+               "mean_position_error": np.array([0.5, 1.0, 1.5, 2.0]),
+               "heading_error": np.zeros(4), "real_move": np.array([0.1, 0.1, 0.1, 0.1]),
+               "predicted_move": np.array([0.2, 0.2, 0.2, 0.2]), "spread": np.ones(4),
+               "residual": np.zeros(4)}
+    subsets = dict(open_loop.subsets(samples))
+    counts = {name: int(mask.sum()) for name, mask in subsets.items()}
+    assert counts == {"all": 4, "inside a hazard": 1, "outside hazards": 3,
+                      "speed 0-0.1 m/s": 1, "speed 0.1-0.3 m/s": 1, "speed >= 0.3 m/s": 2,
+                      "turning": 1, "not turning": 3}
+    outside = open_loop.summarise(samples, subsets["outside hazards"])
+    assert outside["samples"] == 3 and outside["position_error"] == pytest.approx(3.0)
+    assert outside["move_ratio"] == pytest.approx(2.0)
+    assert open_loop.summarise(samples, np.zeros(4, dtype=bool)) == {"samples": 0}
