@@ -8,8 +8,9 @@ import pytest
 
 import cmbrl
 from conftest import tiny_config
-from cmbrl.diagnostics import (goal_approach, hidden_state, model_size, open_loop,
-                               planner_compare, planner_study, reward_form, violation_anatomy)
+from cmbrl.diagnostics import (classifier_recall, goal_approach, hidden_state, model_size,
+                               open_loop, planner_compare, planner_study, reward_form,
+                               violation_anatomy)
 
 TINY = tiny_config(120)
 
@@ -194,3 +195,18 @@ def test_the_open_loop_breakdowns_split_the_samples_they_name():
     assert outside["samples"] == 3 and outside["position_error"] == pytest.approx(3.0)
     assert outside["move_ratio"] == pytest.approx(2.0)
     assert open_loop.summarise(samples, np.zeros(4, dtype=bool)) == {"samples": 0}
+
+
+def test_the_classifier_recall_sorts_states_by_their_distance_to_hazards(tmp_path, capsys):
+    env = cmbrl.make("PointGoal1", variant="paper")
+    inside, near, farther = classifier_recall.states_by_distance(env, episodes=3, seed=7)
+    assert len(inside) + len(near) + len(farther) == 300
+    slots = open_loop.hazard_slots(env.observation_names)
+    for group, low, high in ((inside, 0.0, 0.2), (near, 0.2, 0.5), (farther, 0.5, 99.0)):
+        # The nearest hazard's centre in the robot's frame, from the observation itself.
+        gaps = np.hypot(group[:, slots[:, 0]], group[:, slots[:, 1]]).min(axis=1)
+        assert np.all(gaps >= low - 2e-3) and np.all(gaps <= high + 2e-3)
+    run = tmp_path / "run"
+    cmbrl.train(config=TINY, out=str(run))
+    classifier_recall.main([str(run), "--episodes", "2"])
+    assert "| run | PointGoal1 | " in capsys.readouterr().out
