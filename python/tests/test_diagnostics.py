@@ -199,10 +199,14 @@ def test_the_open_loop_breakdowns_split_the_samples_they_name():
 
 def test_the_classifier_recall_sorts_states_by_their_distance_to_hazards(tmp_path, capsys):
     env = cmbrl.make("PointGoal1", variant="paper")
-    inside, near, farther = classifier_recall.states_by_distance(env, episodes=3, seed=7)
-    assert len(inside) + len(near) + len(farther) == 300
+    inside, near, by_vase, farther = classifier_recall.states_by_distance(env, episodes=3, seed=7)
+    assert len(inside) + len(near) + len(by_vase) + len(farther) == 300
     slots = open_loop.hazard_slots(env.observation_names)
-    for group, low, high in ((inside, 0.0, 0.2), (near, 0.2, 0.5), (farther, 0.5, 99.0)):
+    vase = [env.observation_names.index(n) for n in ("vase0_x", "vase0_y")]
+    assert np.all(np.hypot(*by_vase[:, vase].T) <= 0.5 + 2e-3)
+    assert np.all(np.hypot(*farther[:, vase].T) > 0.5 - 2e-3)
+    for group, low, high in ((inside, 0.0, 0.2), (near, 0.2, 0.5), (by_vase, 0.5, 99.0),
+                             (farther, 0.5, 99.0)):
         # The nearest hazard's centre in the robot's frame, from the observation itself.
         gaps = np.hypot(group[:, slots[:, 0]], group[:, slots[:, 1]]).min(axis=1)
         assert np.all(gaps >= low - 2e-3) and np.all(gaps <= high + 2e-3)

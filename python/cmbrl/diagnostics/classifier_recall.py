@@ -4,8 +4,9 @@ never saw: its recall inside hazards, and its false alarms near them and farther
 States come from episodes of uniform random actions (one per agent step, the pre-training's) on
 layouts reset with seed + k, none of them the run's own. Each state is sorted by the robot's
 distance to the nearest hazard's centre (the simulator's): inside (within the hazard's radius,
-where the cost is paid), near (up to NEAR m) or farther; the table gives the share of each that
-the classifier calls unsafe. RCE's worst case cannot see a hazard its classifier calls safe: a
+where the cost is paid), near (up to NEAR m) or farther, the last split by whether a vase is
+within NEAR m (a vase pushed too fast also costs, so its neighbourhood can be labelled unsafe);
+the table gives the share of each that the classifier calls unsafe. RCE's worst case cannot see a hazard its classifier calls safe: a
 robot inside one that the classifier misses has nothing that pushes it out.
 
 Usage:
@@ -24,9 +25,10 @@ NEAR = 0.5  # metres from a hazard's centre: "near" ends here
 
 
 def states_by_distance(env, episodes, seed):
-    """Observations of random-action episodes, split into (inside, near, farther) arrays."""
+    """Observations of random-action episodes, split into (inside, near, farther with a vase
+    near, farther without) arrays."""
     rng = np.random.default_rng(seed)
-    groups = ([], [], [])
+    groups = ([], [], [], [])
     for k in range(episodes):
         obs, _ = env.reset(seed=seed + k)
         done = False
@@ -36,7 +38,12 @@ def states_by_distance(env, episodes, seed):
             done = terminated or truncated
             truth = env.ground_truth()
             gap = np.hypot(*(truth["hazards"] - truth["robot_position"]).T).min()
-            groups[0 if gap <= truth["hazard_radius"] else 1 if gap <= NEAR else 2].append(obs)
+            robot = np.asarray(truth["robot_position"])
+            vases = np.asarray(truth["vases"]).reshape(-1, 3)[:, :2]
+            by_vase = len(vases) > 0 and np.hypot(*(vases - robot).T).min() <= NEAR
+            group = (0 if gap <= truth["hazard_radius"] else 1 if gap <= NEAR
+                     else 2 if by_vase else 3)
+            groups[group].append(obs)
     width = env.observation_space.shape[0]
     return tuple(np.array(g, dtype=float).reshape(-1, width) for g in groups)
 
@@ -58,8 +65,8 @@ def main(argv=None):
     print(f"Classifier verdicts on {args.episodes} random-action episodes a run (layouts of seeds "
           f"{args.seed} + k): the share of states called unsafe.\n")
     print(f"| run | task | inside a hazard (recall) | states | within {NEAR:g} m (false alarms) | "
-          "states | farther (false alarms) | states |")
-    print("|---|---|---|---|---|---|---|---|")
+          f"states | farther, a vase within {NEAR:g} m | states | farther, no vase | states |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
     for run in args.runs:
         agent = cmbrl.load_run(run)
         if not agent.is_mpc:
