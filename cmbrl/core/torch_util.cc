@@ -50,6 +50,11 @@ torch::Device ParseDevice(const std::string& name, const char* key) {
   return device;
 }
 
+std::vector<double> ToDoubles(const torch::Tensor& t) {
+  const torch::Tensor host = t.to(torch::kCPU, torch::kDouble).contiguous();
+  return std::vector<double>(host.data_ptr<double>(), host.data_ptr<double>() + host.numel());
+}
+
 void CheckFloatTensor(const torch::Tensor& t, const char* what, std::int64_t last_dim,
                       const torch::Device& device) {
   Require(t.defined(), "{} is an undefined tensor", what);

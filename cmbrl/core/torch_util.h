@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 namespace cmbrl {
 
@@ -19,6 +20,9 @@ at::Generator MakeGenerator(const torch::Device& device, std::uint64_t seed);
 // Parses "cpu", "cuda" or "cuda:i"; throws cmbrl::Error naming the key and value when the string
 // is not a device or the device is not available in this build or machine.
 torch::Device ParseDevice(const std::string& name, const char* key = "device");
+
+// The values of `t`, any dtype on any device, as doubles in row-major order (one host copy).
+std::vector<double> ToDoubles(const torch::Tensor& t);
 
 // Throws cmbrl::Error naming `what` unless `t` is (…, last_dim) float32 on `device`.
 void CheckFloatTensor(const torch::Tensor& t, const char* what, std::int64_t last_dim,

@@ -11,6 +11,7 @@
 
 #include "cmbrl/core/check.h"
 #include "cmbrl/core/memory.h"
+#include "cmbrl/core/torch_util.h"
 #include "cmbrl/models/ensemble.h"
 #include "cmbrl/models/step_model.h"
 #include "cmbrl/models/transition_buffer.h"
@@ -45,11 +46,8 @@ py::array_t<double> PredictNextStates(const EnsembleDynamics& dynamics,
           .expand({members, n, width})
           .contiguous();
     };
-    const torch::Tensor next =
-        dynamics.Predict(rows(states, dynamics.state_dim()), rows(actions, dynamics.action_dim()))
-            .to(torch::kCPU, torch::kDouble)
-            .contiguous();
-    out.assign(next.data_ptr<double>(), next.data_ptr<double>() + next.numel());
+    out = ToDoubles(
+        dynamics.Predict(rows(states, dynamics.state_dim()), rows(actions, dynamics.action_dim())));
   }
   return Own<double>(std::move(out), {members, n, dynamics.state_dim()});
 }
@@ -270,12 +268,12 @@ class PyRewardModel {
             "fitted one");
     const py::ssize_t n = RowsOf(inputs, "inputs");
     const torch::Tensor x = Rows(Matrix(inputs, n, model_.input_dim(), "inputs"), n);
-    torch::Tensor out;
+    std::vector<double> out;
     {
       py::gil_scoped_release release;
-      out = model_.Predict(x).to(torch::kDouble).contiguous();
+      out = ToDoubles(model_.Predict(x));
     }
-    return Own(std::vector<double>(out.data_ptr<double>(), out.data_ptr<double>() + n));
+    return Own(std::move(out));
   }
 
   void Save(const std::string& path) {

@@ -163,11 +163,8 @@ class PyAgent {
                         Field("iterations", &P::iterations),
                         Field("feasible_fraction", &P::feasible_fraction),
                         Field("infeasible_elite_fraction", &P::infeasible_elite_fraction));
-    const torch::Tensor sequence =
-        agent.last_result().sequence.to(torch::kCPU, torch::kDouble).contiguous();
-    d["actions"] = Own<double>(std::vector<double>(sequence.data_ptr<double>(),
-                                                   sequence.data_ptr<double>() + sequence.numel()),
-                               {sequence.size(0), sequence.size(1)});
+    const torch::Tensor& sequence = agent.last_result().sequence;
+    d["actions"] = Own<double>(ToDoubles(sequence), {sequence.size(0), sequence.size(1)});
     return d;
   }
 
@@ -203,12 +200,8 @@ class PyAgent {
       py::gil_scoped_release release;
       const ObjectiveValues scores =
           agent.Score(state, torch::tensor(values, torch::kDouble).view({n, horizon, width}));
-      const auto host = [](const torch::Tensor& t) {
-        const torch::Tensor c = t.to(torch::kCPU, torch::kDouble).contiguous();
-        return std::vector<double>(c.data_ptr<double>(), c.data_ptr<double>() + c.numel());
-      };
-      reward = host(scores.reward_cost);
-      constraint = host(scores.constraint_cost);
+      reward = ToDoubles(scores.reward_cost);
+      constraint = ToDoubles(scores.constraint_cost);
     }
     py::array_t<bool> feasible(n);
     for (py::ssize_t i = 0; i < n; ++i) {

@@ -123,8 +123,7 @@ GaussianMeanPolicy::~GaussianMeanPolicy() = default;
 std::vector<double> GaussianMeanPolicy::Act(const std::vector<double>& observation) {
   RequireFinite(observation, "observation");
   const torch::NoGradGuard no_grad;
-  const torch::Tensor mean = policy_.Mean(Row(observation)).to(torch::kDouble).contiguous();
-  std::vector<double> action(mean.data_ptr<double>(), mean.data_ptr<double>() + mean.numel());
+  std::vector<double> action = ToDoubles(policy_.Mean(Row(observation)));
   for (size_t i = 0; i < action.size(); ++i) {
     action[i] = std::clamp(action[i], action_spec_.low[i], action_spec_.high[i]);
   }
@@ -353,8 +352,7 @@ PolicyOptLearner::Epoch PolicyOptLearner::Gather() {
   b.log_probs = policy_->LogProb(b.observations, b.actions);
   const auto values_of = [](const TanhMlp& value, const torch::Tensor& rows) {
     if (rows.size(0) == 0) return std::vector<double>();
-    const torch::Tensor v = value.Forward(rows).squeeze(-1).to(torch::kDouble).contiguous();
-    return std::vector<double>(v.data_ptr<double>(), v.data_ptr<double>() + v.numel());
+    return ToDoubles(value.Forward(rows).squeeze(-1));
   };
   const torch::Tensor bootstrap_batch = Rows(bootstrap_observations, observation_dim);
   const std::vector<double> values = values_of(*value_, b.observations);
