@@ -8,9 +8,9 @@ import pytest
 
 import cmbrl
 from conftest import tiny_config
-from cmbrl.diagnostics import (classifier_recall, goal_approach, hidden_state, model_size,
-                               open_loop, planner_compare, planner_study, reward_form,
-                               violation_anatomy)
+from cmbrl.diagnostics import (classifier_learners, classifier_recall, goal_approach,
+                               hidden_state, model_size, open_loop, planner_compare,
+                               planner_study, reward_form, violation_anatomy)
 
 TINY = tiny_config(120)
 
@@ -214,3 +214,35 @@ def test_the_classifier_recall_sorts_states_by_their_distance_to_hazards(tmp_pat
     cmbrl.train(config=TINY, out=str(run))
     classifier_recall.main([str(run), "--episodes", "2"])
     assert "| run | PointGoal1 | " in capsys.readouterr().out
+
+
+def test_the_learner_comparison_fits_the_originals_set_on_the_pretrainings_labels(capsys):
+    states, unsafe = classifier_learners.labelled_states("PointGoal1", "paper", episodes=20,
+                                                         steps=50, seed=3)
+    assert states.shape == (1000, 24) and unsafe.dtype == bool and unsafe.shape == (1000,)
+    # A label is the step's cost: a state that ends inside a hazard (radius 0.2) paid it.
+    names = cmbrl.make("PointGoal1", variant="paper").observation_names
+    slots = open_loop.hazard_slots(names)
+    gaps = np.hypot(states[:, slots[:, 0]], states[:, slots[:, 1]]).min(axis=1)
+    assert (gaps < 0.2 - 2e-3).sum() > 0 and np.all(unsafe[gaps < 0.2 - 2e-3])
+    # The fit set: every unsafe state and the last 3 n + 1 safe ones, in storage order.
+    rows = np.arange(20, dtype=float).reshape(20, 1)
+    labels = np.zeros(20, dtype=bool)
+    labels[[2, 5]] = True
+    x, y = classifier_learners.fit_set(rows, labels)
+    assert list(x[:, 0]) == [13, 14, 15, 16, 17, 18, 19, 2, 5]
+    assert list(y) == [False] * 7 + [True] * 2
+    few = np.zeros(20, dtype=bool)
+    few[:18] = True
+    x, y = classifier_learners.fit_set(rows, few)
+    assert list(x[:2, 0]) == [18, 19] and y.sum() == 18
+    classifier_learners.main(["--task", "PointGoal1", "--seeds", "0", "--episodes", "20",
+                              "--steps", "20", "--eval-episodes", "1"])
+    out = capsys.readouterr().out
+    assert "| PointGoal1 | 0 | cmbrl (XGBoost, no leaf floor) | " in out
+    try:
+        import sklearn  # noqa: F401
+    except ImportError:
+        return
+    assert "| PointGoal1 | 0 | LightGBM-style, 20 a leaf | " in out
+    assert "| PointGoal1 | 0 | LightGBM-style, 1 a leaf | " in out
