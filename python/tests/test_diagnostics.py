@@ -217,8 +217,12 @@ def test_the_classifier_recall_sorts_states_by_their_distance_to_hazards(tmp_pat
 
 
 def test_the_learner_comparison_fits_the_originals_set_on_the_pretrainings_labels(capsys):
+    terms = []
     states, unsafe = classifier_learners.labelled_states("PointGoal1", "paper", episodes=20,
-                                                         steps=50, seed=3)
+                                                         steps=50, seed=3, terms=terms)
+    # Every unsafe label is named by the cost that paid it; the Point's are its hazards'.
+    assert len(terms) == unsafe.sum() and "cost_hazards" in terms
+    assert set(terms) <= set(classifier_learners.TERMS)
     assert states.shape == (1000, 24) and unsafe.dtype == bool and unsafe.shape == (1000,)
     # A label is the step's cost: a state that ends inside a hazard (radius 0.2) paid it.
     names = cmbrl.make("PointGoal1", variant="paper").observation_names
@@ -240,6 +244,12 @@ def test_the_learner_comparison_fits_the_originals_set_on_the_pretrainings_label
                               "--steps", "20", "--eval-episodes", "1"])
     out = capsys.readouterr().out
     assert "| PointGoal1 | 0 | cmbrl (XGBoost, no leaf floor) | " in out
+    classifier_learners.main(["--task", "PointGoal1", "--seeds", "3", "--episodes", "20",
+                              "--steps", "50", "--labels-only"])
+    row = [r for r in capsys.readouterr().out.splitlines() if r.startswith("| PointGoal1 |")][0]
+    cells = row.strip("| ").split(" | ")
+    assert cells[2:4] == ["1000", str(unsafe.sum())]
+    assert abs(sum(float(x) for x in cells[4:]) - 1.0) < 2e-3
     try:
         import sklearn  # noqa: F401
     except ImportError:

@@ -32,7 +32,8 @@ Usage:
   PYTHONPATH=build/python python3 -m cmbrl.diagnostics.classifier_learners --task CarGoal2 \\
       [--task PointGoal2 ...] [--seeds 0 1 2] [--episodes 1000] [--steps 50] \\
       [--eval-episodes 150] [--eval-seed 5000] [--variant paper]
-Prints a Markdown table, one row per task, seed and learner. Needs scikit-learn for the
+Prints a Markdown table, one row per task, seed and learner; with --labels-only, instead, what
+the unsafe labels are made of (the share each cost term paid), one row per task and seed. Needs scikit-learn for the
 LightGBM-style rows (Debian: python3-sklearn); without it only cmbrl's rows are made.
 """
 import argparse
@@ -49,9 +50,21 @@ LIGHTGBM = dict(learning_rate=0.3, max_iter=400, max_leaf_nodes=12, max_depth=8,
                 l2_regularization=0.0, early_stopping=False)  # the original's five, facts B4
 
 
-def labelled_states(task, variant, episodes, steps, seed):
+TERMS = ("cost_hazards", "cost_vases_contact", "cost_vases_velocity")
+
+
+def label_term(info):
+    """Which cost made a step unsafe, the first of TERMS that paid (hazards before a vase's
+    contact before a vase's speed), "other" for any other term."""
+    for term in TERMS:
+        if info.get(term, 0.0) > 0.0:
+            return term
+    return "other"
+
+
+def labelled_states(task, variant, episodes, steps, seed, terms=None):
     """The pre-training's labelled next states: (states (N, S), unsafe (N) bool), in storage
-    order."""
+    order. `terms`, a list, receives label_term of each unsafe state, in order."""
     env = cmbrl.make(task, variant=variant)
     rng = np.random.default_rng(seed)
     states, unsafe = [], []
@@ -65,6 +78,8 @@ def labelled_states(task, variant, episodes, steps, seed):
             if not (info.get("goal_met") or end):
                 states.append(obs)
                 unsafe.append(cost > 0.0)
+                if cost > 0.0 and terms is not None:
+                    terms.append(label_term(info))
                 stored += 1
             if end:
                 break
@@ -108,19 +123,44 @@ class _Cmbrl:
 
 
 class _Sklearn:
+    """One OpenMP thread: on a machine busy with other work, scikit-learn's threads wait on
+    each other (a fit that takes 7 s alone took 300 s beside two training runs), and the
+    comparison is of learners, not of their threading."""
+
     def __init__(self, model):
         self.model = model
 
     def fit(self, x, y):
-        self.model.fit(x, y.astype(int))
+        from threadpoolctl import threadpool_limits  # scikit-learn's own dependency
+        with threadpool_limits(limits=1):
+            self.model.fit(x, y.astype(int))
 
     def predict(self, x):
-        return self.model.predict(x).astype(bool)
+        from threadpoolctl import threadpool_limits
+        with threadpool_limits(limits=1):
+            return self.model.predict(x).astype(bool)
 
 
 def judge(model, groups):
     """Share of each distance group called unsafe (NaN for an empty group)."""
     return [float(model.predict(g).mean()) if len(g) else float("nan") for g in groups]
+
+
+def print_label_terms(args):
+    """The share of the unsafe labels each cost term made, per task and seed."""
+    print(f"What the pre-training's unsafe labels are made of ({args.episodes} random-action "
+          f"episodes of {args.steps} stored steps): the share of unsafe states whose step paid "
+          f"each cost (the first that paid, in the order of the columns).\n")
+    print("| task | seed | stored | unsafe | " + " | ".join(TERMS) + " | other |")
+    print("|---|---|---|---|" + "---|" * (len(TERMS) + 1))
+    for task in args.task:
+        for seed in args.seeds:
+            terms = []
+            _, unsafe = labelled_states(task, args.variant, args.episodes, args.steps, seed,
+                                        terms)
+            shares = [terms.count(t) / max(len(terms), 1) for t in TERMS + ("other",)]
+            print(f"| {task} | {seed} | {len(unsafe)} | {int(unsafe.sum())} | "
+                  + " | ".join(f"{x:.3f}" for x in shares) + " |", flush=True)
 
 
 def main(argv=None):
@@ -132,10 +172,15 @@ def main(argv=None):
     parser.add_argument("--eval-episodes", type=int, default=150)
     parser.add_argument("--eval-seed", type=int, default=5000)
     parser.add_argument("--variant", default="paper")
+    parser.add_argument("--labels-only", action="store_true",
+                        help="print only what the unsafe labels are made of, and fit nothing")
     args = parser.parse_args(argv)
     for key in ("episodes", "steps", "eval_episodes"):
         if getattr(args, key) < 1:
             parser.error(f"--{key.replace('_', '-')} {getattr(args, key)}: expected at least 1")
+    if args.labels_only:
+        print_label_terms(args)
+        return
     print(f"Classifiers fitted on the pre-training's labelled states ({args.episodes} random-action "
           f"episodes of {args.steps} stored steps, layouts of seed + k), judged on "
           f"{args.eval_episodes} random-action episodes of layouts {args.eval_seed} + k: the "
