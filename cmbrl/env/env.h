@@ -57,6 +57,17 @@ inline double CostSum(const StepInfo& info) {
          (info.physics_error ? 1.0 : 0.0);
 }
 
+// Adds one env step's cost terms to an agent step's (the sum over its action repeat).
+inline void AddCostTerms(StepInfo& total, const StepInfo& step) {
+  total.cost_hazards += step.cost_hazards;
+  total.cost_vases_contact += step.cost_vases_contact;
+  total.cost_vases_velocity += step.cost_vases_velocity;
+  total.cost_buttons += step.cost_buttons;
+  total.cost_gremlins += step.cost_gremlins;
+  total.cost_pillars += step.cost_pillars;
+  total.cost_out_of_boundary += step.cost_out_of_boundary;
+}
+
 // A picture of an environment's state as the environment draws it: rows of RGB bytes, top row
 // first (height x width x 3).
 struct RgbFrame {

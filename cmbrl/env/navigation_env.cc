@@ -278,19 +278,13 @@ StepResult NavigationEnv::Step(const std::vector<double>& action) {
     ++env_steps_;
     ++result.info.env_steps;
     result.reward += outcome.reward;
-    result.info.cost_hazards += outcome.cost_hazards;
-    result.info.cost_vases_contact += outcome.cost_vases_contact;
-    result.info.cost_vases_velocity += outcome.cost_vases_velocity;
-    result.info.cost_buttons += outcome.cost_buttons;
-    result.info.cost_gremlins += outcome.cost_gremlins;
-    result.info.cost_pillars += outcome.cost_pillars;
-    result.info.cost_out_of_boundary += outcome.cost_out_of_boundary;
-    result.info.goal_met = result.info.goal_met || outcome.goal_met;
-    result.info.physics_error = outcome.physics_error;
-    result.terminated = outcome.physics_error || outcome.goal_resample_failed;
+    AddCostTerms(result.info, outcome.info);
+    result.info.goal_met = result.info.goal_met || outcome.info.goal_met;
+    result.info.physics_error = outcome.info.physics_error;
+    result.terminated = outcome.info.physics_error || outcome.goal_resample_failed;
     result.truncated = !result.terminated && env_steps_ >= spec_.max_env_steps;
     // The paper's wrapper stops repeating once the goal is reached or the episode ends.
-    if (outcome.goal_met || result.terminated || result.truncated) break;
+    if (outcome.info.goal_met || result.terminated || result.truncated) break;
   }
   // Every term is non-negative: their sum over the env steps is positive exactly when one of
   // them was (or the physics failed).
@@ -311,7 +305,7 @@ NavigationEnv::EnvStepOutcome NavigationEnv::EnvStep() {
     mj_step(&m, &d);
     if (PhysicsWarningCount() != warnings_before) {
       // MuJoCo reset the state after a divergence (Safety Gym: MujocoException).
-      outcome.physics_error = true;
+      outcome.info.physics_error = true;
       outcome.reward = spec_.reward_physics_error;
       return outcome;
     }
@@ -329,13 +323,13 @@ NavigationEnv::EnvStepOutcome NavigationEnv::EnvStep() {
     mj_fwdVelocity(&m, &d);
     mj_sensorVel(&m, &d);
   }
-  ComputeCostTerms(outcome);
+  ComputeCostTerms(outcome.info);
   // builder.py, step: reward, then cost (above), then the buttons' timer, then a reached goal.
   const bool goal_met = GoalAchieved();
   outcome.reward = FamilyReward(goal_met);
   if (button_timer_ > 0) --button_timer_;
   if (goal_met) {
-    outcome.goal_met = true;
+    outcome.info.goal_met = true;
     outcome.goal_resample_failed = !UpdateWorld();
   }
   return outcome;
@@ -446,42 +440,42 @@ int NavigationEnv::RobotContacts(const std::vector<int>& geoms, int skip) const 
   return count;
 }
 
-void NavigationEnv::ComputeCostTerms(EnvStepOutcome& outcome) const {
+void NavigationEnv::ComputeCostTerms(StepInfo& terms) const {
   const Vec2 robot = RobotXY();
   for (const Vec2& hazard : layout_.hazards) {
     const double distance = Distance(robot, hazard);
     if (distance <= spec_.hazard_size) {
-      outcome.cost_hazards += spec_.hazard_cost * (spec_.hazard_size - distance);
+      terms.cost_hazards += spec_.hazard_cost * (spec_.hazard_size - distance);
     }
   }
   // The other families' terms (buttons.py, gremlins.py, pillars.py, sigwalls.py).
   if (spec_.buttons_constrained && button_timer_ == 0) {
-    outcome.cost_buttons =
+    terms.cost_buttons =
         spec_.button_cost *
         RobotContacts(button_geoms_, button_geoms_[static_cast<size_t>(goal_button_)]);
   }
   if (!gremlin_geoms_.empty()) {
-    outcome.cost_gremlins = spec_.gremlin_contact_cost * RobotContacts(gremlin_geoms_);
+    terms.cost_gremlins = spec_.gremlin_contact_cost * RobotContacts(gremlin_geoms_);
   }
   if (spec_.pillars_constrained) {
-    outcome.cost_pillars = spec_.pillar_cost * RobotContacts(pillar_geoms_);
+    terms.cost_pillars = spec_.pillar_cost * RobotContacts(pillar_geoms_);
   }
   if (spec_.num_sigwalls > 0) {
     const bool out_x = std::abs(robot.x) > spec_.sigwall_locate;
     const bool out_y = spec_.num_sigwalls == 4 && std::abs(robot.y) > spec_.sigwall_locate;
-    outcome.cost_out_of_boundary = (out_x || out_y) ? spec_.out_of_boundary_cost : 0.0;
+    terms.cost_out_of_boundary = (out_x || out_y) ? spec_.out_of_boundary_cost : 0.0;
   }
   if (!spec_.vases_constrained) return;
   const mjModel& m = *model_;
   const mjData& d = *data_;
-  outcome.cost_vases_contact = spec_.vase_contact_cost * RobotContacts(vase_geoms_);
+  terms.cost_vases_contact = spec_.vase_contact_cost * RobotContacts(vase_geoms_);
   for (const int body : vase_bodies_) {
     mjtNum velocity[6];  // rotational then linear, world frame
     mj_objectVelocity(&m, &d, mjOBJ_BODY, body, velocity, 0);
     const double speed = std::sqrt(velocity[3] * velocity[3] + velocity[4] * velocity[4] +
                                    velocity[5] * velocity[5]);
     if (speed >= spec_.vase_velocity_threshold) {
-      outcome.cost_vases_velocity += spec_.vase_velocity_cost * speed;
+      terms.cost_vases_velocity += spec_.vase_velocity_cost * speed;
     }
   }
 }

@@ -77,22 +77,14 @@ class NavigationEnv final : public Env, public SceneSource {
   // What one env step produced.
   struct EnvStepOutcome {
     double reward = 0.0;
-    double cost_hazards = 0.0;
-    double cost_vases_contact = 0.0;
-    double cost_vases_velocity = 0.0;
-    double cost_buttons = 0.0;
-    double cost_gremlins = 0.0;
-    double cost_pillars = 0.0;
-    double cost_out_of_boundary = 0.0;
-    bool goal_met = false;
-    bool physics_error = false;
+    StepInfo info;  // this env step's cost terms, goal_met and physics_error
     bool goal_resample_failed = false;
   };
 
   EnvStepOutcome EnvStep();
   void PlaceLayout(const NavigationLayout& layout);
   void MoveGremlins();
-  void ComputeCostTerms(EnvStepOutcome& outcome) const;
+  void ComputeCostTerms(StepInfo& terms) const;
   // Contacts of a robot geom with one of `geoms`, except `skip` (-1: none).
   int RobotContacts(const std::vector<int>& geoms, int skip = -1) const;
   double FamilyReward(bool goal_met);

@@ -178,7 +178,8 @@ CountUnits UnitsOf(const std::vector<TableCell>& cells) {
                        "the mean EpRet of each run's last 10 episodes in it"};
   const CountUnits model_free{"environment steps",
                               "the cumulative cost at the window's end, interpolated in its epoch",
-                              "the mean AverageEpRet of each run's last 10 epochs in it"};
+                              "the mean AverageEpRet of each run's last 10 epochs in it "
+                              "in which an episode ended"};
   if (!families.model_free) return mpc;
   if (!families.mpc) return model_free;
   return {"steps (agent steps for MPC runs, environment steps for model-free ones)",

@@ -63,7 +63,10 @@ std::optional<ViolationCauses> ViolationCausesWithin(const RunRecord& run, std::
 double FinalReturn(const RunRecord& run, std::int64_t window, int episodes) {
   std::vector<double> returns;
   for (const EpisodePoint& episode : run.episodes) {
-    if (episode.end_step <= window) returns.push_back(episode.episode_return);
+    // A model-free epoch in which no episode ended has no return (NaN): it is not counted.
+    if (episode.end_step <= window && !std::isnan(episode.episode_return)) {
+      returns.push_back(episode.episode_return);
+    }
   }
   // Nothing ended in the window (a model-free epoch is longer than Table I's window): no return.
   if (returns.empty()) return std::numeric_limits<double>::quiet_NaN();

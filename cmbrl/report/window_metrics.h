@@ -38,7 +38,8 @@ struct ViolationCauses {
 std::optional<ViolationCauses> ViolationCausesWithin(const RunRecord& run, std::int64_t window);
 
 // Mean EpRet of a run's last `episodes` episodes among those that ended within the window:
-// the reward side of the paper's claim ("comparable reward").
+// the reward side of the paper's claim ("comparable reward"). For a model-free run, its last
+// `episodes` epochs in which an episode ended (an epoch with none logs no return).
 double FinalReturn(const RunRecord& run, std::int64_t window, int episodes = 10);
 
 // A run's first epoch: its first `training.episodes_per_epoch` MPC episodes (the paper's 10),

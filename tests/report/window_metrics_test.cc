@@ -38,6 +38,27 @@ TEST(ReportEpisodesTest, HeavyEpisodesAndFeasibleFractionCountOnlyTheWindow) {
   EXPECT_TRUE(std::isnan(FeasibleFractionWithin(run, 50)));
 }
 
+// A model-free epoch in which no episode ended (NaN return, as the last, partial epoch of a
+// budget that is not a whole number of epochs) does not take a place among the last ones.
+TEST(ReportEpisodesTest, TheFinalReturnSkipsEpochsWithNoEpisode) {
+  RunRecord run;
+  const auto epoch = [](std::int64_t end, double ret) {
+    EpisodePoint point;
+    point.end_step = end;
+    point.steps = 100;
+    point.episode_return = ret;
+    return point;
+  };
+  const double none = std::nan("");
+  run.episodes = {epoch(100, 1.0), epoch(200, 2.0), epoch(300, none), epoch(400, 4.0),
+                  epoch(500, none)};
+  EXPECT_NEAR(FinalReturn(run, 500, 2), 3.0, 1e-12);  // 2 and 4, not the NaN after them
+  EXPECT_NEAR(FinalReturn(run, 500, 3), 7.0 / 3.0, 1e-12);
+  EXPECT_NEAR(FinalReturn(run, 350, 1), 2.0, 1e-12);
+  run.episodes = {epoch(100, none)};
+  EXPECT_TRUE(std::isnan(FinalReturn(run, 500)));
+}
+
 // The first epoch: the episodes before a run's first refit, ours against the original's.
 TEST(ReportTableTest, TheFirstEpochComparesOursWithTheOriginalsOnEqualData) {
   const auto run = [](std::uint64_t seed, const std::vector<double>& costs, int per_epoch) {
