@@ -22,9 +22,11 @@ for report in "$source"/experiments/*/report; do
   copy="$work/tree/experiments/$name"
   mkdir -p "$copy"
   cp "$source/experiments/$name/experiment.yaml" "$copy/"
-  # An experiment's own presets (its `configs:` folder, committed beside it) come too.
+  # An experiment's own presets (its `configs:` folder, committed beside it) come too; one
+  # outside it (../../configs/ppo) is already in the tree through the configs/ link.
   presets=$(sed -n 's/^configs:[[:space:]]*\([^#[:space:]]*\).*/\1/p' "$copy/experiment.yaml")
-  if [ -n "$presets" ] && [ -d "$source/experiments/$name/$presets" ]; then
+  if [ -n "$presets" ] && [ -d "$source/experiments/$name/$presets" ] &&
+     [[ "$presets" != ../* && "$presets" != /* ]]; then
     cp -r "$source/experiments/$name/$presets" "$copy/$presets"
   fi
   cp -r "$report" "$copy/report"   # its run-logs/ are the runs' only committed record

@@ -33,8 +33,9 @@ Usage:
       [--task PointGoal2 ...] [--seeds 0 1 2] [--episodes 1000] [--steps 50] \\
       [--eval-episodes 150] [--eval-seed 5000] [--variant paper]
 Prints a Markdown table, one row per task, seed and learner; with --labels-only, instead, what
-the unsafe labels are made of (the share each cost term paid), one row per task and seed. Needs scikit-learn for the
-LightGBM-style rows (Debian: python3-sklearn); without it only cmbrl's rows are made.
+the unsafe labels are made of (the share each cost term paid), one row per task and seed. Needs
+scikit-learn for the LightGBM-style rows (Debian: python3-sklearn); without it only cmbrl's rows
+are made.
 """
 import argparse
 import time
@@ -101,7 +102,7 @@ def learners(seed):
     """(name, make) pairs: each make() gives an object with fit(x, y) and predict(x) -> bool."""
     found = [("cmbrl (XGBoost, no leaf floor)", lambda width: _Cmbrl(width, seed))]
     try:
-        from sklearn.ensemble import HistGradientBoostingClassifier
+        from sklearn.ensemble import HistGradientBoostingClassifier  # type: ignore[import]
     except ImportError:
         return found
     for floor in (20, 1):
@@ -131,12 +132,12 @@ class _Sklearn:
         self.model = model
 
     def fit(self, x, y):
-        from threadpoolctl import threadpool_limits  # scikit-learn's own dependency
+        from threadpoolctl import threadpool_limits  # type: ignore[import]  # sklearn's
         with threadpool_limits(limits=1):
             self.model.fit(x, y.astype(int))
 
     def predict(self, x):
-        from threadpoolctl import threadpool_limits
+        from threadpoolctl import threadpool_limits  # type: ignore[import]
         with threadpool_limits(limits=1):
             return self.model.predict(x).astype(bool)
 
@@ -181,8 +182,8 @@ def main(argv=None):
     if args.labels_only:
         print_label_terms(args)
         return
-    print(f"Classifiers fitted on the pre-training's labelled states ({args.episodes} random-action "
-          f"episodes of {args.steps} stored steps, layouts of seed + k), judged on "
+    print(f"Classifiers fitted on the pre-training's labelled states ({args.episodes} "
+          f"random-action episodes of {args.steps} stored steps, layouts of seed + k), judged on "
           f"{args.eval_episodes} random-action episodes of layouts {args.eval_seed} + k: the "
           f"share of states called unsafe.\n")
     print(f"| task | seed | learner | unsafe / safe fitted | inside a hazard (recall) | "
