@@ -323,7 +323,8 @@ TEST_F(ReportTest, ModelFreeRunsAreEpochLogsGroupedByAlgorithm) {
   EXPECT_THAT(ProtocolCellsMarkdown(model_free, 1500),
               HasSubstr("first 1500 environment steps: violations (the cumulative cost at the "
                         "window's end, interpolated in its epoch) and return (the mean "
-                        "AverageEpRet of each run's last 10 epochs in it)"));
+                        "AverageEpRet of each run's last 10 epochs in it in which an episode "
+                        "ended)"));
   EXPECT_THAT(ProtocolVerdictMarkdown(model_free, 1500), HasSubstr("1500 environment steps"));
   // Beside MPC cells, both are named.
   EXPECT_THAT(ProtocolCellsMarkdown(cells, 1500),
