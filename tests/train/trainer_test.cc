@@ -29,6 +29,12 @@ namespace {
 namespace fs = std::filesystem;
 using testing::ErrorMessage;
 
+// A file's whole contents, byte for byte ("" when it is missing).
+std::string FileBytes(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
 // Seconds of work: tiny networks, a short horizon, a handful of pre-training episodes.
 TrainConfig TinyConfig(const std::string& planner) {
   return ParseTrainConfig(fmt::format(R"(
@@ -456,12 +462,8 @@ TEST(TrainerTest, ARunWhoseFirstCheckpointNeverCompletedStartsAgainAndSaysSo) {
   fs::remove_all(fs::path(cut) / "checkpoint");  // as if it had never been written
   std::ofstream(fs::path(cut) / "checkpoint.pending") << "pending\n";
   Trainer::Resume(cut)->Run();
-  const auto text = [](const fs::path& file) {
-    std::ifstream in(file);
-    return std::string(std::istreambuf_iterator<char>(in), {});
-  };
   const auto rows = [&](const std::string& dir) {  // without the clock columns
-    std::istringstream in(text(fs::path(dir) / "progress.csv"));
+    std::istringstream in(FileBytes(fs::path(dir) / "progress.csv"));
     std::vector<std::string> kept;
     for (std::string line; std::getline(in, line);) {
       std::vector<std::string> fields;
@@ -473,7 +475,7 @@ TEST(TrainerTest, ARunWhoseFirstCheckpointNeverCompletedStartsAgainAndSaysSo) {
     return kept;
   };
   EXPECT_EQ(rows(cut), rows(whole));
-  EXPECT_THAT(text(fs::path(cut) / "sessions.jsonl"),
+  EXPECT_THAT(FileBytes(fs::path(cut) / "sessions.jsonl"),
               ::testing::HasSubstr("its first checkpoint was never completed"));
   EXPECT_FALSE(fs::exists(fs::path(cut) / "checkpoint.pending"));
 }
@@ -680,8 +682,7 @@ TEST(TrainerTest, ModelFreeLearnersResumeToTheSameRows) {
     // The networks, their optimisers' moments and the generator, byte for byte: the moments
     // are keyed by place, not by the tensors' addresses, which differ between the two runs.
     const auto bytes = [](const std::string& run) {
-      std::ifstream in(fs::path(run) / "checkpoint" / "networks.pt", std::ios::binary);
-      return std::string(std::istreambuf_iterator<char>(in), {});
+      return FileBytes(fs::path(run) / "checkpoint" / "networks.pt");
     };
     EXPECT_FALSE(bytes(whole).empty());
     EXPECT_TRUE(bytes(crashed) == bytes(whole)) << "networks.pt differs";

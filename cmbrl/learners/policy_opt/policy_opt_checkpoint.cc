@@ -41,6 +41,11 @@ void ReadParameters(torch::serialize::InputArchive& archive, const std::string& 
   }
 }
 
+// The key of a parameter's state in an optimiser's state() map (LibTorch's own: the address).
+std::string OptimizerStateKey(const torch::Tensor& parameter) {
+  return c10::guts::to_string(parameter.unsafeGetTensorImpl());
+}
+
 // An Adam optimiser's moments, keyed by each parameter's place in the optimiser's one group.
 // LibTorch's own save keys them by the tensor's address, which differs from run to run, so two
 // runs with the same numbers wrote different bytes; this file is now the same bytes.
@@ -49,8 +54,7 @@ void WriteAdam(torch::serialize::OutputArchive& archive, const std::string& name
   torch::serialize::OutputArchive moments;
   const std::vector<torch::Tensor>& params = optimizer.param_groups().at(0).params();
   for (size_t i = 0; i < params.size(); ++i) {
-    const auto found =
-        optimizer.state().find(c10::guts::to_string(params[i].unsafeGetTensorImpl()));
+    const auto found = optimizer.state().find(OptimizerStateKey(params[i]));
     if (found == optimizer.state().end()) continue;  // not yet stepped
     const auto& state = static_cast<const torch::optim::AdamParamState&>(*found->second);
     const std::string key = std::to_string(i);
@@ -94,7 +98,7 @@ void ReadAdam(torch::serialize::InputArchive& archive, const std::string& name,
     if (moments.try_read(key + ".max_exp_avg_sq", max_exp_avg_sq)) {
       state->max_exp_avg_sq(max_exp_avg_sq);
     }
-    optimizer.state()[c10::guts::to_string(params[i].unsafeGetTensorImpl())] = std::move(state);
+    optimizer.state()[OptimizerStateKey(params[i])] = std::move(state);
   }
 }
 

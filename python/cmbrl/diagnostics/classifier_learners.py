@@ -43,7 +43,7 @@ import time
 import numpy as np
 
 import cmbrl
-from cmbrl.diagnostics.classifier_recall import NEAR, states_by_distance
+from cmbrl.diagnostics.classifier_recall import NEAR, called_unsafe, states_by_distance
 from cmbrl.models import CostClassifier
 
 SAFE_PER_UNSAFE = 3  # facts B4: at most 3 n_unsafe + 1 safe states a fit
@@ -142,11 +142,6 @@ class _Sklearn:
             return self.model.predict(x).astype(bool)
 
 
-def judge(model, groups):
-    """Share of each distance group called unsafe (NaN for an empty group)."""
-    return [float(model.predict(g).mean()) if len(g) else float("nan") for g in groups]
-
-
 def print_label_terms(args):
     """The share of the unsafe labels each cost term made, per task and seed."""
     print(f"What the pre-training's unsafe labels are made of ({args.episodes} random-action "
@@ -202,7 +197,7 @@ def main(argv=None):
                 start = time.perf_counter()
                 model.fit(x, y)
                 seconds = time.perf_counter() - start
-                shares = judge(model, groups)
+                shares = called_unsafe(model.predict, groups)
                 print(f"| {task} | {seed} | {name} | {int(y.sum())} / {int((~y).sum())} | "
                       + " | ".join(f"{s:.3f}" for s in shares) + f" | {seconds:.1f} |",
                       flush=True)

@@ -6,8 +6,9 @@ layouts reset with seed + k, none of them the run's own. Each state is sorted by
 distance to the nearest hazard's centre (the simulator's): inside (within the hazard's radius,
 where the cost is paid), near (up to NEAR m) or farther, the last split by whether a vase is
 within NEAR m (a vase pushed too fast also costs, so its neighbourhood can be labelled unsafe);
-the table gives the share of each that the classifier calls unsafe. RCE's worst case cannot see a hazard its classifier calls safe: a
-robot inside one that the classifier misses has nothing that pushes it out.
+the table gives the share of each that the classifier calls unsafe. RCE's worst case cannot see
+a hazard its classifier calls safe: a robot inside one that the classifier misses has nothing
+that pushes it out.
 
 Usage:
   PYTHONPATH=build/python python3 -m cmbrl.diagnostics.classifier_recall RUN_DIR [RUN_DIR ...] \\
@@ -48,10 +49,15 @@ def states_by_distance(env, episodes, seed):
     return tuple(np.array(g, dtype=float).reshape(-1, width) for g in groups)
 
 
+def called_unsafe(predict, groups):
+    """Share of each group that `predict` (states -> bools) calls unsafe (NaN for an empty
+    group)."""
+    return [float(np.mean(predict(g))) if len(g) else float("nan") for g in groups]
+
+
 def recall(agent, groups):
-    """Share of each group the classifier calls unsafe (NaN for an empty group), and sizes."""
-    return [(len(g), float(agent.predict_violation(g).mean()) if len(g) else float("nan"))
-            for g in groups]
+    """(size, share the run's classifier calls unsafe) of each group."""
+    return list(zip((len(g) for g in groups), called_unsafe(agent.predict_violation, groups)))
 
 
 def main(argv=None):
