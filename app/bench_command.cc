@@ -66,8 +66,8 @@ void AddBenchLearningCommands(CLI::App& bench_command) {
   train_args->runs = 3;
   CLI::App* train = bench_command.add_subcommand(
       "train",
-      "Time of one dynamics training epoch and of a classifier fit at a config's settings, "
-      "beside the matrix-product floor");
+      "Time of one dynamics training epoch, of its optimiser step and of a classifier fit at a "
+      "config's settings, beside the matrix-product floor and the memory's");
   AddCommonOptions(*train, *train_args);
   train->add_option("--transitions", train_args->transitions, "transitions of the epoch")
       ->check(IntegerIn(1, 100'000'000))

@@ -15,12 +15,14 @@
 #include "cmbrl/agent/policy.h"
 #include "cmbrl/config/config.h"
 #include "cmbrl/core/check.h"
+#include "cmbrl/core/parallel.h"
 #include "cmbrl/core/rng.h"
 #include "cmbrl/core/torch_util.h"
 #include "cmbrl/env/registry.h"
 #include "cmbrl/learners/mpc/mpc_agent.h"
 #include "cmbrl/learners/mpc/mpc_parts.h"
 #include "cmbrl/models/ensemble.h"
+#include "cmbrl/models/fused_adam.h"
 #include "cmbrl/models/onednn_forward.h"
 #include "cmbrl/models/xgboost_cost_model.h"
 
@@ -247,6 +249,80 @@ nlohmann::ordered_json PrecisionErrors(const TrainConfig& config, const std::str
           {"agreement_states", states}};
 }
 
+// The optimiser's step on parameters of the ensemble's shapes (every layer's stacked weights
+// and biases), as a training batch ends: one pass that reads each parameter, its gradient and
+// its two moments and writes three of them back. Timed beside a pass over the same memory with
+// the same reads and writes and next to no arithmetic (p += s g, m = b m + g, v = b v + g) on the
+// same cores: the memory's ceiling for this pass. A CPU figure (FusedAdam's loop); on a GPU the
+// step is tensor operations.
+nlohmann::ordered_json AdamStepFigure(const TrainConfig& config, const TaskShape& shape, int runs) {
+  const torch::NoGradGuard no_grad;
+  const std::int64_t members = config.ensemble.ensemble_size;
+  const std::vector<std::int64_t> sizes = LayerSizes(config, shape);
+  std::vector<torch::Tensor> parameters, gradients;
+  std::int64_t elements = 0;
+  for (std::size_t l = 0; l + 1 < sizes.size(); ++l) {
+    for (const std::vector<std::int64_t>& dims :
+         {std::vector<std::int64_t>{members, sizes[l], sizes[l + 1]},
+          std::vector<std::int64_t>{members, 1, sizes[l + 1]}}) {
+      parameters.push_back(torch::randn(dims) * 0.01);
+      gradients.push_back(torch::randn(dims) * 0.01);
+      elements += parameters.back().numel();
+    }
+  }
+  FusedAdam adam(parameters, FusedAdamOptions{});
+  constexpr int kSteps = 10;  // steps per timed run
+  const auto adam_steps = [&] {
+    for (int k = 0; k < kSteps; ++k) {
+      for (std::size_t i = 0; i < parameters.size(); ++i)
+        parameters[i].mutable_grad() = gradients[i];
+      adam.Step();
+    }
+  };
+  // The same passes with next to no arithmetic, split over the cores as FusedAdam splits them.
+  std::vector<torch::Tensor> m, v;
+  for (const torch::Tensor& p : parameters) {
+    m.push_back(torch::zeros_like(p));
+    v.push_back(torch::zeros_like(p));
+  }
+  const auto bare_passes = [&] {
+    for (int k = 0; k < kSteps; ++k) {
+      for (std::size_t i = 0; i < parameters.size(); ++i) {
+        float* p = parameters[i].data_ptr<float>();
+        const float* g = gradients[i].data_ptr<float>();
+        float* mi = m[i].data_ptr<float>();
+        float* vi = v[i].data_ptr<float>();
+        const std::int64_t n = parameters[i].numel();
+        ParallelRanges(n, n >= (1 << 18) ? CoreCount() : 1,
+                       [&](std::int64_t begin, std::int64_t end) {
+                         for (std::int64_t e = begin; e < end; ++e) {
+                           p[e] += 1e-7f * g[e];
+                           mi[e] = 0.5f * mi[e] + g[e];
+                           vi[e] = 0.5f * vi[e] + g[e];
+                         }
+                       });
+      }
+    }
+  };
+  const std::vector<TimedRuns> timed =
+      TimeAlternatingBesideCeiling(runs, [] { return 0.0; }, {adam_steps, bare_passes});
+  std::vector<double> step_seconds, bare_seconds, ratios;
+  for (std::size_t r = 0; r < timed[0].seconds.size(); ++r) {
+    step_seconds.push_back(timed[0].seconds[r] / kSteps);
+    bare_seconds.push_back(timed[1].seconds[r] / kSteps);
+    ratios.push_back(timed[1].seconds[r] / timed[0].seconds[r]);
+  }
+  const double bytes = 7.0 * sizeof(float) * static_cast<double>(elements);
+  nlohmann::ordered_json line = Figure("train", "adam_step", config, step_seconds);
+  line["parameters"] = elements;
+  line["threads"] = CoreCount();
+  line["gbytes"] = bytes / 1e9;
+  line["gbytes_per_s"] = bytes / Median(step_seconds) / 1e9;
+  line["ceiling_gbytes_per_s"] = bytes / Median(bare_seconds) / 1e9;
+  line["ratio_to_ceiling"] = Median(ratios);
+  return line;
+}
+
 }  // namespace
 
 void RunPlanBench(const LearningBenchOptions& args, const FigureSink& emit) {
@@ -440,6 +516,15 @@ void RunTrainBench(const LearningBenchOptions& args, const FigureSink& emit) {
       if (best > 0.0) epoch["ratio_to_batch_ceiling"] = epoch["gflops"].get<double>() / best;
     }
     emit(epoch);
+  }
+  if (device.is_cpu()) {
+    nlohmann::ordered_json adam = AdamStepFigure(config, shape, args.runs);
+    // One step per batch: the epoch's share of optimiser passes.
+    const std::int64_t batches =
+        (rows + config.ensemble.batch_size - 1) / config.ensemble.batch_size;
+    adam["steps_per_epoch"] = batches;
+    adam["epoch_ms"] = adam["median_ms"].get<double>() * static_cast<double>(batches);
+    emit(adam);
   }
 
   if (args.full_fit) {
