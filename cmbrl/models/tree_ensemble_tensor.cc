@@ -1,11 +1,23 @@
 #include "cmbrl/models/tree_ensemble_tensor.h"
 
+#include <algorithm>
 #include <vector>
+
+#include "cmbrl/core/check.h"
 
 namespace cmbrl {
 
-TreeEnsembleTensors::TreeEnsembleTensors(const FlatTreeEnsemble& trees, const torch::Device& device)
+TreeEnsembleTensors::TreeEnsembleTensors(const FlatTreeEnsemble& trees, const torch::Device& device,
+                                         std::int64_t chunk_nodes)
     : device_(device), max_depth_(trees.max_depth()), base_margin_(trees.base_margin()) {
+  Require(chunk_nodes >= 0,
+          "tree tensors: chunk_nodes is {}: expected 0 (the device's default) "
+          "or a positive count",
+          chunk_nodes);
+  if (chunk_nodes == 0)
+    chunk_nodes = device.is_cpu() ? std::int64_t{1} << 21 : std::int64_t{1} << 25;
+  const auto tree_count = static_cast<std::int64_t>(trees.roots().size());
+  chunk_rows_ = std::max<std::int64_t>(1, chunk_nodes / std::max<std::int64_t>(1, tree_count));
   const std::vector<TreeNode>& nodes = trees.nodes();
   const std::int64_t n = static_cast<std::int64_t>(nodes.size());
   std::vector<std::int64_t> feature(n), left(n), right(n);
@@ -39,8 +51,7 @@ torch::Tensor TreeEnsembleTensors::Margins(const torch::Tensor& states) const {
   const std::int64_t trees = roots_.size(0);
   torch::Tensor margins = torch::empty({rows}, states.options());
   if (trees == 0) return margins.fill_(base_margin_);
-  // About 16 MB of int64 node indices per chunk.
-  const std::int64_t chunk = std::max<std::int64_t>(1, (1 << 21) / trees);
+  const std::int64_t chunk = chunk_rows_;
   for (std::int64_t begin = 0; begin < rows; begin += chunk) {
     const torch::Tensor x = states.slice(0, begin, std::min(rows, begin + chunk));  // (C, F)
     torch::Tensor node = roots_.unsqueeze(0).expand({x.size(0), trees}).contiguous();

@@ -154,6 +154,26 @@ TEST_F(XgbCostModelTest, TensorTreesAgreeWithTheFlatTrees) {
   }
 }
 
+// A row's margin is the same whatever the chunk it is classified in: a GPU's large chunks (few
+// launches) give a CPU's small chunks' margins, bit for bit.
+TEST_F(XgbCostModelTest, TensorTreesGiveTheSameMarginsInAnyChunking) {
+  const int rows = 3000;
+  const torch::Tensor states =
+      torch::from_blob(test_->safe.data(), {rows, kHazardStateDim}).clone();
+  const std::int64_t trees = static_cast<std::int64_t>(model_->trees().roots().size());
+  const torch::Device cpu(torch::kCPU);
+  const TreeEnsembleTensors whole(model_->trees(), cpu, trees * rows);
+  ASSERT_EQ(whole.chunk_rows(), rows);
+  const torch::Tensor expected = whole.Margins(states);
+  for (const std::int64_t chunk_rows : {1, 7, 1024}) {
+    const TreeEnsembleTensors chunked(model_->trees(), cpu, trees * chunk_rows);
+    ASSERT_EQ(chunked.chunk_rows(), chunk_rows);
+    EXPECT_TRUE(torch::equal(chunked.Margins(states), expected)) << chunk_rows << " rows a chunk";
+  }
+  EXPECT_EQ(TreeEnsembleTensors(model_->trees(), cpu).chunk_rows(), (1 << 21) / trees);
+  EXPECT_THROW(TreeEnsembleTensors(model_->trees(), cpu, -1), Error);
+}
+
 TEST_F(XgbCostModelTest, TensorTreesOnCudaAgreeWhenAvailable) {
   if (!torch::cuda::is_available()) GTEST_SKIP() << "this LibTorch has no CUDA or sees no GPU";
   const int rows = 3000;
