@@ -353,15 +353,27 @@ double EnsembleDynamics::TrainEpoch(const torch::Tensor& x, const torch::Tensor&
     const torch::Tensor batch = member_rows.slice(1, begin, end);  // (E, B)
     // Sum over members of each member's mean: every member gets its own MSE gradient.
     if (s.onednn_training) {
-      onednn_epoch_loss += s.onednn_training->Gradients(s.weights, s.biases, x, y, batch) *
-                           static_cast<double>(end - begin);
+      // Each member's update on the thread that made its gradients, as soon as they are made: a
+      // memory-bound pass beside the other members' products, not one of its own after them.
+      s.optimizer->BeginStep();
+      double batch_loss = 0.0;
+      try {
+        batch_loss = s.onednn_training->Gradients(
+            s.weights, s.biases, x, y, batch,
+            [&](std::int64_t m) { s.optimizer->StepPart(m, members); });
+      } catch (...) {
+        s.optimizer->EndStep();
+        throw;
+      }
+      s.optimizer->EndStep();
+      onednn_epoch_loss += batch_loss * static_cast<double>(end - begin);
     } else {
       const torch::Tensor prediction = Forward(x.index({batch}), false);  // (E, B, S)
       const torch::Tensor loss = (prediction - y.index({batch})).pow(2).mean({1, 2}).sum();
       loss.backward();  // Step() drops the gradients: nothing to zero
       epoch_loss += loss.detach() * static_cast<double>(end - begin);
+      s.optimizer->Step();
     }
-    s.optimizer->Step();
   }
   return (s.onednn_training ? onednn_epoch_loss : epoch_loss.item<double>()) /
          static_cast<double>(subset * members);

@@ -15,6 +15,17 @@ struct AdamStep {
   float bias_correction2;  // sqrt(1 - beta2^t)
 };
 
+// The constants of step t (counted from 1).
+AdamStep StepConstants(const FusedAdamOptions& options, std::int64_t t) {
+  const auto steps = static_cast<double>(t);
+  const double correction1 = 1.0 - std::pow(options.beta1, steps);
+  const double correction2 = 1.0 - std::pow(options.beta2, steps);
+  return {static_cast<float>(options.beta1), static_cast<float>(options.beta2),
+          static_cast<float>(options.epsilon),
+          static_cast<float>(options.learning_rate / correction1),
+          static_cast<float>(std::sqrt(correction2))};
+}
+
 // One pass over [begin, end) of a parameter: the same arithmetic as PyTorch's Adam.
 void UpdateRange(const AdamStep& a, float* param, const float* grad, float* m, float* v,
                  std::int64_t begin, std::int64_t end) {
@@ -40,15 +51,10 @@ FusedAdam::FusedAdam(std::vector<torch::Tensor> parameters, FusedAdamOptions opt
 }
 
 void FusedAdam::Step() {
+  Require(!in_step_, "FusedAdam: Step() inside a step made in parts (EndStep() not called)");
   const torch::NoGradGuard no_grad;
   ++steps_;
-  const double t = static_cast<double>(steps_);
-  const double correction1 = 1.0 - std::pow(options_.beta1, t);
-  const double correction2 = 1.0 - std::pow(options_.beta2, t);
-  const AdamStep a{static_cast<float>(options_.beta1), static_cast<float>(options_.beta2),
-                   static_cast<float>(options_.epsilon),
-                   static_cast<float>(options_.learning_rate / correction1),
-                   static_cast<float>(std::sqrt(correction2))};
+  const AdamStep a = StepConstants(options_, steps_);
   for (size_t i = 0; i < parameters_.size(); ++i) {
     torch::Tensor& p = parameters_[i];
     torch::Tensor grad = p.mutable_grad();
@@ -75,6 +81,36 @@ void FusedAdam::Step() {
                      UpdateRange(a, param, g, m_data, v_data, begin, end);
                    });
   }
+}
+
+void FusedAdam::BeginStep() {
+  Require(!in_step_, "FusedAdam: BeginStep() twice without EndStep()");
+  in_step_ = true;
+  ++steps_;
+}
+
+void FusedAdam::StepPart(std::int64_t part, std::int64_t parts) {
+  Require(in_step_, "FusedAdam: StepPart() outside BeginStep() and EndStep()");
+  Require(parts >= 1 && part >= 0 && part < parts, "FusedAdam: part {} of {}", part, parts);
+  const AdamStep a = StepConstants(options_, steps_);
+  for (size_t i = 0; i < parameters_.size(); ++i) {
+    const torch::Tensor& p = parameters_[i];
+    const torch::Tensor grad = p.grad();  // a copy of the handle: safe from several threads
+    if (!grad.defined()) continue;
+    Require(p.is_cpu() && grad.is_contiguous() && p.dim() >= 1 && p.size(0) % parts == 0,
+            "FusedAdam: a step in {} parts needs contiguous CPU gradients and a first dimension "
+            "that {} divides; parameter {} has shape {} on {}",
+            parts, parts, i, c10::str(p.sizes()), p.device().str());
+    const std::int64_t n = p.numel();
+    UpdateRange(a, p.data_ptr<float>(), grad.data_ptr<float>(), exp_avg_[i].data_ptr<float>(),
+                exp_avg_sq_[i].data_ptr<float>(), n / parts * part, n / parts * (part + 1));
+  }
+}
+
+void FusedAdam::EndStep() {
+  Require(in_step_, "FusedAdam: EndStep() without BeginStep()");
+  in_step_ = false;
+  for (torch::Tensor& p : parameters_) p.mutable_grad() = torch::Tensor();
 }
 
 void FusedAdam::Save(torch::serialize::OutputArchive& archive) const {

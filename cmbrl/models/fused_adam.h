@@ -30,6 +30,18 @@ class FusedAdam {
   // One update of every parameter that has a gradient.
   void Step();
 
+  // The same update made in parts, so that each part can run on the thread that made its
+  // gradients while other threads still make theirs (the ensemble's members: one memory-bound
+  // update beside another member's matrix products, instead of a pass of its own after them all).
+  // BeginStep() once; StepPart(k, parts) for every k in [0, parts), from any threads at once; then
+  // EndStep(). Part k is the k-th of `parts` equal slices along every parameter's first dimension
+  // (the members of (E, ...) parameters), which `parts` must divide. Gives Step()'s bits. CPU
+  // parameters only; a part's gradients must be complete when StepPart() runs and stay set until
+  // EndStep(), which drops them.
+  void BeginStep();
+  void StepPart(std::int64_t part, std::int64_t parts);
+  void EndStep();
+
   std::int64_t steps() const { return steps_; }
 
   // Moments and step count into / from an archive (checked against the parameters' shapes).
@@ -42,6 +54,7 @@ class FusedAdam {
   std::vector<torch::Tensor> exp_avg_sq_;  // second moments, like parameters_
   FusedAdamOptions options_;
   std::int64_t steps_ = 0;
+  bool in_step_ = false;  // between BeginStep() and EndStep()
 };
 
 }  // namespace cmbrl

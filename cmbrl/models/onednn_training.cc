@@ -189,7 +189,8 @@ double OnednnEnsembleTraining::Gradients(std::vector<torch::Tensor>& weights,
                                          std::vector<torch::Tensor>& biases,
                                          const torch::Tensor& inputs_in,
                                          const torch::Tensor& targets_in,
-                                         const torch::Tensor& batch_in) {
+                                         const torch::Tensor& batch_in,
+                                         const std::function<void(std::int64_t)>& after_member) {
   Impl& impl = *impl_;
   const std::size_t layers = impl.layers();
   Require(weights.size() == layers && biases.size() == layers,
@@ -233,6 +234,15 @@ double OnednnEnsembleTraining::Gradients(std::vector<torch::Tensor>& weights,
   // The mean squared error's gradient: 2 (prediction - target) / (B x out).
   const auto scale = static_cast<float>(2.0 / static_cast<double>(rows * out_dim));
 
+  {
+    // The gradients' tensors are in place before they are computed, so that `after_member` can
+    // read a member's as soon as it is made.
+    const torch::NoGradGuard no_grad;
+    for (std::size_t l = 0; l < layers; ++l) {
+      weights[l].mutable_grad() = impl.weight_grads[l];
+      biases[l].mutable_grad() = impl.bias_grads[l];
+    }
+  }
   ParallelRanges(members, workers, [&](std::int64_t first, std::int64_t end) {
     const ScopedOmpThreads one_thread(1);
     dnnl::stream stream(impl.engine);
@@ -258,13 +268,9 @@ double OnednnEnsembleTraining::Gradients(std::vector<torch::Tensor>& weights,
           prediction, all_targets, picks, rows, out_dim, scale, grad_a.data());
       impl.Backward(plan, m, rows, weights, layer_inputs, grad_a.data(), grad_b.data(), scratch,
                     stream);
+      if (after_member) after_member(m);
     }
   });
-  const torch::NoGradGuard no_grad;
-  for (std::size_t l = 0; l < layers; ++l) {
-    weights[l].mutable_grad() = impl.weight_grads[l];
-    biases[l].mutable_grad() = impl.bias_grads[l];
-  }
   double loss = 0.0;
   for (const double value : member_loss) loss += value;
   return loss;
@@ -280,7 +286,8 @@ OnednnEnsembleTraining::OnednnEnsembleTraining(std::vector<std::int64_t>) {
 
 double OnednnEnsembleTraining::Gradients(std::vector<torch::Tensor>&, std::vector<torch::Tensor>&,
                                          const torch::Tensor&, const torch::Tensor&,
-                                         const torch::Tensor&) {
+                                         const torch::Tensor&,
+                                         const std::function<void(std::int64_t)>&) {
   Fail("the oneDNN training backend is not available");
 }
 

@@ -13,6 +13,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -34,11 +35,14 @@ class OnednnEnsembleTraining {
   // float32 rows; `batch` (E, B): member m's row indices. Sets each parameter's gradient
   // (mutable_grad) of loss = sum over members of the member's mean squared error over its
   // B x out values, the loss LibTorch's path differentiates, and returns that loss. The
-  // gradient tensors are this object's and are overwritten by the next call. Not safe to call
-  // concurrently (it keeps the primitives of each batch size it meets).
+  // gradient tensors are this object's, set before any is computed, and are overwritten by the
+  // next call. `after_member(m)`, when given, runs on the thread that made member m's gradients
+  // as soon as they are complete (the optimiser's part for that member), from several threads at
+  // once. Not safe to call concurrently (it keeps the primitives of each batch size it meets).
   double Gradients(std::vector<torch::Tensor>& weights, std::vector<torch::Tensor>& biases,
                    const torch::Tensor& inputs, const torch::Tensor& targets,
-                   const torch::Tensor& batch);
+                   const torch::Tensor& batch,
+                   const std::function<void(std::int64_t member)>& after_member = {});
 
  private:
   struct Impl;

@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 #include <torch/torch.h>
 
+#include <thread>
+
 #include "tests/error_message.h"
 
 namespace cmbrl {
@@ -55,6 +57,51 @@ TEST(FusedAdamTest, FollowsLibTorchsAdam) {
     EXPECT_GT((ours[i] - MakeParameters()[i]).abs().max().item<float>(), 0.02f);
     EXPECT_FALSE(ours[i].grad().defined()) << "Step() drops the gradient";
   }
+}
+
+// A step made member by member, in any order and on several threads, is Step()'s, bit for bit.
+TEST(FusedAdamTest, AStepInPartsGivesTheWholeStepsBits) {
+  // Every first dimension divisible by 4 (the parts are slices of it).
+  const auto make = [] {
+    const at::Generator generator = at::detail::createCPUGenerator(9);
+    return std::vector<torch::Tensor>{torch::randn({4, 1, 5}, generator).requires_grad_(true),
+                                      torch::randn({4, 300, 256}, generator).requires_grad_(true)};
+  };
+  std::vector<torch::Tensor> whole = make();
+  FusedAdam whole_adam(whole, FusedAdamOptions{});
+  for (const std::int64_t parts : {1, 2, 4}) {
+    std::vector<torch::Tensor> parted = make();
+    FusedAdam parted_adam(parted, FusedAdamOptions{});
+    std::vector<torch::Tensor> reference = make();
+    FusedAdam reference_adam(reference, FusedAdamOptions{});
+    for (int step = 0; step < 6; ++step) {
+      Backward(reference, step);
+      reference_adam.Step();
+      Backward(parted, step);
+      parted_adam.BeginStep();
+      std::vector<std::thread> threads;
+      for (std::int64_t part = parts - 1; part >= 0; --part) {
+        threads.emplace_back([&parted_adam, part, parts] { parted_adam.StepPart(part, parts); });
+      }
+      for (std::thread& thread : threads) thread.join();
+      parted_adam.EndStep();
+    }
+    EXPECT_EQ(parted_adam.steps(), 6);
+    for (size_t i = 0; i < parted.size(); ++i) {
+      EXPECT_TRUE(torch::equal(parted[i], reference[i])) << parts << " parts, parameter " << i;
+      EXPECT_FALSE(parted[i].grad().defined()) << "EndStep() drops the gradient";
+    }
+  }
+  // Misuse is refused, not silently wrong.
+  Backward(whole, 0);
+  EXPECT_THAT(testing::ErrorMessage([&] { whole_adam.StepPart(0, 2); }),
+              ::testing::HasSubstr("outside BeginStep() and EndStep()"));
+  whole_adam.BeginStep();
+  EXPECT_THAT(testing::ErrorMessage([&] { whole_adam.StepPart(0, 3); }),
+              ::testing::HasSubstr("a first dimension that 3 divides"));
+  EXPECT_THAT(testing::ErrorMessage([&] { whole_adam.Step(); }),
+              ::testing::HasSubstr("EndStep() not called"));
+  whole_adam.EndStep();
 }
 
 TEST(FusedAdamTest, SavedStateResumesToTheSameBits) {
