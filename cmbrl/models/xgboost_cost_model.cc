@@ -112,17 +112,23 @@ XgbCostModel::XgbCostModel(int state_dim, XgbCostModelOptions options, std::uint
 
 XgbCostModel::~XgbCostModel() = default;
 
-CostFitReport XgbCostModel::Fit(const LabeledStateBuffer& data,
-                                const std::function<bool()>& keep_going) {
+XgbCostModel::FitSet XgbCostModel::SelectFitSet(const LabeledStateBuffer& data) const {
   Require(data.state_dim() == state_dim_, "labeled states have {} dimensions, the model {}",
           data.state_dim(), state_dim_);
-  const int unsafe_count = data.unsafe_size();
-  const int safe_count = std::min(data.safe_size(), options_.safe_per_unsafe * unsafe_count + 1);
-  const std::vector<float> safe = options_.safe_selection == "newest"
-                                      ? data.NewestSafe(safe_count)
-                                      : data.LastSafeSlots(safe_count);
-  const std::vector<float> unsafe = data.AllUnsafe();
-  return FitArrays(safe.data(), safe_count, unsafe.data(), unsafe_count, keep_going);
+  FitSet set;
+  set.unsafe_count = data.unsafe_size();
+  set.safe_count = std::min(data.safe_size(), options_.safe_per_unsafe * set.unsafe_count + 1);
+  set.safe = options_.safe_selection == "newest" ? data.NewestSafe(set.safe_count)
+                                                 : data.LastSafeSlots(set.safe_count);
+  set.unsafe = data.AllUnsafe();
+  return set;
+}
+
+CostFitReport XgbCostModel::Fit(const LabeledStateBuffer& data,
+                                const std::function<bool()>& keep_going) {
+  const FitSet set = SelectFitSet(data);
+  return FitArrays(set.safe.data(), set.safe_count, set.unsafe.data(), set.unsafe_count,
+                   keep_going);
 }
 
 CostFitReport XgbCostModel::FitArrays(const float* safe, int safe_count, const float* unsafe,

@@ -41,8 +41,15 @@ class XgbCostModel final : public CostModel {
   const XgbCostModelOptions& options() const { return options_; }
   bool trained() const { return trained_; }
 
-  // Uses every unsafe state and safe_per_unsafe * n_unsafe + 1 safe states, chosen by
-  // safe_selection. `keep_going` as FitArrays's.
+  // The states a fit uses from a buffer (the fit set): every unsafe state, oldest first, and
+  // safe_per_unsafe * n_unsafe + 1 safe states chosen by safe_selection. Row-major floats.
+  struct FitSet {
+    std::vector<float> safe, unsafe;  // (safe_count, S), (unsafe_count, S)
+    int safe_count = 0, unsafe_count = 0;
+  };
+  FitSet SelectFitSet(const LabeledStateBuffer& data) const;
+
+  // A fit on SelectFitSet(data). `keep_going` as FitArrays's.
   CostFitReport Fit(const LabeledStateBuffer& data,
                     const std::function<bool()>& keep_going = nullptr);
 

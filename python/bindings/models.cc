@@ -5,14 +5,17 @@
 #include <pybind11/pybind11.h>
 #include <torch/torch.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "cmbrl/core/check.h"
 #include "cmbrl/core/memory.h"
 #include "cmbrl/core/torch_util.h"
 #include "cmbrl/models/ensemble.h"
+#include "cmbrl/models/labeled_state_buffer.h"
 #include "cmbrl/models/step_model.h"
 #include "cmbrl/models/transition_buffer.h"
 #include "cmbrl/models/xgboost_cost_model.h"
@@ -182,8 +185,7 @@ class PyCostClassifier {
     const std::vector<double> labels = RealValues(unsafe, {n}, "unsafe");
     std::vector<float> safe_rows, unsafe_rows;
     for (py::ssize_t i = 0; i < n; ++i) {
-      Require(labels[i] == 0 || labels[i] == 1, "unsafe[{}] is {}: expected 0 or 1", i, labels[i]);
-      std::vector<float>& to = labels[i] != 0 ? unsafe_rows : safe_rows;
+      std::vector<float>& to = IsUnsafe(labels, i) ? unsafe_rows : safe_rows;
       to.insert(to.end(), sv.begin() + i * s, sv.begin() + (i + 1) * s);
     }
     CostFitReport report;
@@ -202,6 +204,38 @@ class PyCostClassifier {
                   Field("unsafe_used", &R::unsafe_used), Field("safe_accuracy", &R::safe_accuracy),
                   Field("unsafe_accuracy", &R::unsafe_accuracy), Field("trees", &R::trees),
                   Field("seconds", &R::seconds));
+  }
+
+  // The fit set a run's fit would take from these labelled states, stored in their order in a
+  // buffer of the run's capacities (XgbCostModel::SelectFitSet): its rows' indices, the safe
+  // ones first, as the fit orders them.
+  py::array_t<std::int64_t> FitSetRows(const py::handle& states, const py::handle& unsafe) const {
+    const ObjectLock lock(mutex_);
+    const int s = classifier_.state_dim();
+    const py::ssize_t n = RowsOf(states, "states");
+    Require(n < (py::ssize_t{1} << 24), "fit_set_rows on {} states: at most 2^24 are numbered", n);
+    const std::vector<double> sv = Matrix(states, n, s, "states");
+    const std::vector<double> labels = RealValues(unsafe, {n}, "unsafe");
+    // Each state carries its row number in one more column (exact in float32 below 2^24), which
+    // the selection moves with it.
+    LabeledStateBuffer buffer(s + 1);
+    std::vector<double> row(static_cast<std::size_t>(s) + 1);
+    for (py::ssize_t i = 0; i < n; ++i) {
+      std::copy(sv.begin() + i * s, sv.begin() + (i + 1) * s, row.begin());
+      row[s] = static_cast<double>(i);
+      buffer.Add(row, IsUnsafe(labels, i));
+    }
+    const XgbCostModel selector(s + 1, classifier_.options(), 0);
+    const XgbCostModel::FitSet set = selector.SelectFitSet(buffer);
+    std::vector<std::int64_t> rows;
+    for (const auto& [values, count] :
+         {std::pair(&set.safe, set.safe_count), std::pair(&set.unsafe, set.unsafe_count)}) {
+      for (int k = 0; k < count; ++k) {
+        rows.push_back(
+            static_cast<std::int64_t>((*values)[static_cast<std::size_t>(k) * (s + 1) + s]));
+      }
+    }
+    return py::array_t<std::int64_t>(static_cast<py::ssize_t>(rows.size()), rows.data());
   }
 
   py::array Predict(const py::handle& states) const {
@@ -226,6 +260,10 @@ class PyCostClassifier {
  private:
   mutable std::mutex mutex_;  // ObjectLock: one call at a time
   bool fitted_ = false;  // fitted or loaded: predict refuses before
+  static bool IsUnsafe(const std::vector<double>& labels, py::ssize_t i) {
+    Require(labels[i] == 0 || labels[i] == 1, "unsafe[{}] is {}: expected 0 or 1", i, labels[i]);
+    return labels[i] != 0;
+  }
   static XgbCostModelOptions Options(int rounds, double threshold) {
     XgbCostModelOptions o;
     o.rounds = rounds;
@@ -324,6 +362,7 @@ void BindModels(py::module_& m) {
       .def(py::init<int, int, double, std::uint64_t>(), py::arg("state_dim"), py::arg("rounds"),
            py::arg("threshold"), py::arg("seed"))
       .def("fit", &PyCostClassifier::Fit, py::arg("states"), py::arg("unsafe"))
+      .def("fit_set_rows", &PyCostClassifier::FitSetRows, py::arg("states"), py::arg("unsafe"))
       .def("predict", &PyCostClassifier::Predict, py::arg("states"))
       .def("save", &PyCostClassifier::Save, py::arg("path"))
       .def("load", &PyCostClassifier::Load, py::arg("path"));

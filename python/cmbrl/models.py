@@ -151,6 +151,17 @@ class CostClassifier(_StandaloneModel):
             unsafe = unsafe.astype(np.float64)
         return self._model.fit(states, unsafe)
 
+    def fit_set(self, states, unsafe):
+        """The states a run's fit would take from these labelled ones (N, S) and (N), stored in
+        order in a buffer of the run's capacities (50,000 safe, 10,000 unsafe): every unsafe
+        state and the newest 3 n_unsafe + 1 safe ones (facts B4). Returns (states, unsafe) of
+        those rows, the safe first, as the fit orders them. The run's own rule, not a copy."""
+        states = np.asarray(states)
+        unsafe = np.asarray(unsafe)
+        flags = unsafe.astype(np.float64) if unsafe.dtype == bool else unsafe
+        rows = self._model.fit_set_rows(states, flags)
+        return states[rows], unsafe[rows]
+
     def predict(self, states):
         """states (N, S) -> (N) bool: True where the classifier says a constraint is violated."""
         return self._model.predict(states)

@@ -78,6 +78,23 @@ def test_the_classifier_learns_a_hazard():
         classifier.fit(states, np.full(4000, 2.0))
 
 
+def test_the_classifier_fit_set_is_the_runs_own_selection():
+    # Every unsafe state and the newest 3 n + 1 safe ones, the safe first, in storage order.
+    classifier = cmbrl.CostClassifier(1)
+    rows = np.arange(20, dtype=float).reshape(20, 1)
+    labels = np.zeros(20, dtype=bool)
+    labels[[2, 5]] = True
+    x, y = classifier.fit_set(rows, labels)
+    assert list(x[:, 0]) == [13, 14, 15, 16, 17, 18, 19, 2, 5]
+    assert list(y) == [False] * 7 + [True] * 2
+    # A run's buffer keeps the newest 10,000 unsafe states: so does the fit set.
+    n = 10_005
+    x, y = classifier.fit_set(np.arange(n, dtype=float).reshape(n, 1), np.ones(n, dtype=bool))
+    assert len(x) == 10_000 and y.all() and list(x[[0, -1], 0]) == [5, n - 1]
+    with pytest.raises(cmbrl.Error, match=r"unsafe\[1\] is 2: expected 0 or 1"):
+        classifier.fit_set(rows[:2], [0, 2])
+
+
 def test_sizes_too_large_for_the_machine_are_refused_by_name():
     # Before anything is allocated: these ended in LibTorch's allocator stack trace.
     with pytest.raises(cmbrl.Error, match=r"an ensemble of 4 members with hidden layers "

@@ -46,7 +46,6 @@ import cmbrl
 from cmbrl.diagnostics.classifier_recall import NEAR, called_unsafe, states_by_distance
 from cmbrl.models import CostClassifier
 
-SAFE_PER_UNSAFE = 3  # facts B4: at most 3 n_unsafe + 1 safe states a fit
 LIGHTGBM = dict(learning_rate=0.3, max_iter=400, max_leaf_nodes=12, max_depth=8,
                 l2_regularization=0.0, early_stopping=False)  # the original's five, facts B4
 
@@ -89,13 +88,9 @@ def labelled_states(task, variant, episodes, steps, seed, terms=None):
 
 
 def fit_set(states, unsafe):
-    """The original's fit set: every unsafe state and the last 3 n_unsafe + 1 safe ones."""
-    safe = states[~unsafe]
-    bad = states[unsafe]
-    safe = safe[-min(len(safe), SAFE_PER_UNSAFE * len(bad) + 1):]
-    x = np.concatenate([safe, bad])
-    y = np.concatenate([np.zeros(len(safe), dtype=bool), np.ones(len(bad), dtype=bool)])
-    return x, y
+    """The fit set a run takes (the original's): every unsafe state and the newest 3 n_unsafe + 1
+    safe ones, by cmbrl's own selection (CostClassifier.fit_set)."""
+    return CostClassifier(states.shape[1]).fit_set(states, unsafe)
 
 
 def learners(seed):
