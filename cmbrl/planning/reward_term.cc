@@ -134,8 +134,13 @@ torch::Tensor LidarRewardTerm::Cost(const torch::Tensor&, const torch::Tensor&,
 
 std::unique_ptr<RewardTerm> MakeAnalyticReward(const std::string& form,
                                                const TrajectoryObjectiveOptions& options,
-                                               const std::vector<std::string>& observation_names) {
+                                               const std::vector<std::string>& observation_names,
+                                               const LidarGeometry& geometry) {
   if (form == kGoalDistanceReward) return std::make_unique<GoalDistanceTerm>(options);
+  Require(geometry.max_dist > 0.0 && std::isfinite(geometry.max_dist),
+          "the analytic reward '{}' reads lidars whose range is {} m: expected the task's range, "
+          "a positive number of metres",
+          form, geometry.max_dist);
   const auto index_of = [&](const std::string& name) {
     const auto found = std::find(observation_names.begin(), observation_names.end(), name);
     Require(found != observation_names.end(),
@@ -144,7 +149,7 @@ std::unique_ptr<RewardTerm> MakeAnalyticReward(const std::string& form,
             form, name);
     return static_cast<int>(found - observation_names.begin());
   };
-  const auto block = [&](const std::string& key, double max_dist) {
+  const auto block = [&](const std::string& key) {
     LidarBlock lidar;
     lidar.offset = index_of(key + "_0");
     lidar.bins = 0;
@@ -152,21 +157,25 @@ std::unique_ptr<RewardTerm> MakeAnalyticReward(const std::string& form,
            observation_names[lidar.offset + lidar.bins] == fmt::format("{}_{}", key, lidar.bins)) {
       ++lidar.bins;
     }
-    lidar.max_dist = max_dist;
+    lidar.max_dist = geometry.max_dist;
     return lidar;
   };
-  // Safety-Gymnasium's lidar range: 3 m, Circle's 6 m (circle_level0.py).
   if (form == kGoalLidarDistanceReward) {
-    return std::make_unique<LidarRewardTerm>(form, std::vector{block("goal_lidar", 3.0)}, -1,
-                                             options);
+    return std::make_unique<LidarRewardTerm>(form, std::vector{block("goal_lidar")}, -1, options,
+                                             geometry.circle_radius);
   }
   if (form == kPushLidarDistancesReward) {
     return std::make_unique<LidarRewardTerm>(
-        form, std::vector{block("push_box_lidar", 3.0), block("goal_lidar", 3.0)}, -1, options);
+        form, std::vector{block("push_box_lidar"), block("goal_lidar")}, -1, options,
+        geometry.circle_radius);
   }
   if (form == kCircleLidarSpeedReward) {
-    return std::make_unique<LidarRewardTerm>(form, std::vector{block("circle_lidar", 6.0)},
-                                             index_of("velocimeter_x"), options);
+    Require(geometry.circle_radius > 0.0 && std::isfinite(geometry.circle_radius),
+            "the analytic reward '{}' needs the circle's radius: got {} m, expected the task's",
+            form, geometry.circle_radius);
+    return std::make_unique<LidarRewardTerm>(form, std::vector{block("circle_lidar")},
+                                             index_of("velocimeter_x"), options,
+                                             geometry.circle_radius);
   }
   Fail("unknown analytic reward '{}': expected one of {}", form,
        fmt::join(AnalyticRewardNames(), ", "));

@@ -68,7 +68,14 @@ class ObservationRewardTerm final : public RewardTerm {
 struct LidarBlock {
   int offset = 0;  // state[offset] is the block's bin 0
   int bins = 16;
-  double max_dist = 3.0;  // m
+  double max_dist = 0.0;  // m: the task's lidar range
+};
+
+// What the lidar forms must know of the task, which only its spec holds (env/tasks/task_spec.h;
+// the planner knows no task): how far its lidars see and Circle's radius.
+struct LidarGeometry {
+  double max_dist = 0.0;       // m
+  double circle_radius = 0.0;  // m
 };
 
 // The stock tasks' analytic terms on their lidar observation, which recovers a lone object's
@@ -87,7 +94,7 @@ class LidarRewardTerm final : public RewardTerm {
   // (push-lidar-distances); circle (circle-lidar-speed), whose `velocimeter` is the offset of
   // the velocimeter's x (then y).
   LidarRewardTerm(std::string form, std::vector<LidarBlock> blocks, int velocimeter,
-                  TrajectoryObjectiveOptions options, double circle_radius = 1.5);
+                  TrajectoryObjectiveOptions options, double circle_radius);
   torch::Tensor Cost(const torch::Tensor& states, const torch::Tensor& actions,
                      const torch::Tensor& next_states) const override;
   bool reads_states_and_actions() const override { return false; }
@@ -116,8 +123,11 @@ class TerminationTerm {
 // for states whose components are called `observation_names` (the lidar forms find their blocks
 // there: "goal_lidar_0", "push_box_lidar_0", "circle_lidar_0", "velocimeter_x"). Throws
 // cmbrl::Error naming an unknown form and the known ones, or a block the observation lacks.
+// `geometry`, the task's, is read by the lidar forms only (they refuse a range that is not
+// positive).
 std::unique_ptr<RewardTerm> MakeAnalyticReward(const std::string& form,
                                                const TrajectoryObjectiveOptions& options,
-                                               const std::vector<std::string>& observation_names);
+                                               const std::vector<std::string>& observation_names,
+                                               const LidarGeometry& geometry = {});
 
 }  // namespace cmbrl

@@ -35,13 +35,17 @@ NavigationEnv Stock(const std::string& task) {
   return NavigationEnv(NavigationTaskSpecByName(task, Variant::kStandard));
 }
 
+LidarGeometry GeometryOf(const NavigationEnv& env) {
+  return {env.spec().lidar_max_dist, env.spec().circle_radius};
+}
+
 // Random states of each task: the lidar forms against the scene's ground truth.
 TEST(LidarRewardTermTest, ReadTheGroundTruthFromTheLidars) {
   Rng rng(7);
   {
     NavigationEnv env = Stock("PointButton1");
     const auto term = MakeAnalyticReward(kGoalLidarDistanceReward, NoBonuses(),
-                                         env.observation_spec().names);
+                                         env.observation_spec().names, GeometryOf(env));
     int compared = 0;
     for (std::uint64_t seed = 0; seed < 30; ++seed) {
       const std::vector<double> observation = env.Reset(seed);
@@ -56,7 +60,7 @@ TEST(LidarRewardTermTest, ReadTheGroundTruthFromTheLidars) {
   {
     NavigationEnv env = Stock("PointPush2");
     const auto term = MakeAnalyticReward(kPushLidarDistancesReward, NoBonuses(),
-                                         env.observation_spec().names);
+                                         env.observation_spec().names, GeometryOf(env));
     int compared = 0;
     for (std::uint64_t seed = 0; seed < 30; ++seed) {
       const std::vector<double> observation = env.Reset(seed);
@@ -75,7 +79,7 @@ TEST(LidarRewardTermTest, ReadTheGroundTruthFromTheLidars) {
   {
     NavigationEnv env = Stock("PointCircle0");
     const auto term = MakeAnalyticReward(kCircleLidarSpeedReward, NoBonuses(),
-                                         env.observation_spec().names);
+                                         env.observation_spec().names, GeometryOf(env));
     env.Reset(3);
     int compared = 0;
     double planned = 0.0, earned = 0.0;
@@ -100,9 +104,23 @@ TEST(LidarRewardTermTest, ReadTheGroundTruthFromTheLidars) {
 TEST(LidarRewardTermTest, ALidarFormNamesTheBlockItLacks) {
   EXPECT_THAT(testing::ErrorMessage([] {
                 MakeAnalyticReward(kPushLidarDistancesReward, TrajectoryObjectiveOptions{},
-                                   {"goal_x", "goal_y"});
+                                   {"goal_x", "goal_y"}, LidarGeometry{3.0, 1.5});
               }),
               ::testing::HasSubstr("'push_box_lidar_0', which it lacks"));
+}
+
+// The lidar forms read the task's range and circle, never a guess of their own.
+TEST(LidarRewardTermTest, ALidarFormRefusesAGeometryItWasNotGiven) {
+  const std::vector<std::string> names = Stock("PointCircle0").observation_spec().names;
+  EXPECT_THAT(testing::ErrorMessage([&] {
+                MakeAnalyticReward(kGoalLidarDistanceReward, TrajectoryObjectiveOptions{}, names);
+              }),
+              ::testing::HasSubstr("reads lidars whose range is 0 m: expected the task's range"));
+  EXPECT_THAT(testing::ErrorMessage([&] {
+                MakeAnalyticReward(kCircleLidarSpeedReward, TrajectoryObjectiveOptions{}, names,
+                                   LidarGeometry{6.0, 0.0});
+              }),
+              ::testing::HasSubstr("needs the circle's radius: got 0 m"));
 }
 
 }  // namespace

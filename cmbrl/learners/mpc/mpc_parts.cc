@@ -4,6 +4,8 @@
 
 #include "cmbrl/core/check.h"
 #include "cmbrl/core/rng.h"
+#include "cmbrl/env/task_list.h"
+#include "cmbrl/env/tasks/task_spec.h"
 
 namespace cmbrl {
 
@@ -71,10 +73,16 @@ std::unique_ptr<RewardTerm> RewardTermFor(const TrainConfig& config, const Learn
     return std::make_unique<ObservationRewardTerm>(task.reward, offset, width, task.reward_target,
                                                    task.reward_axis);
   }
-  // "analytic": the task's own form (validated with the config).
-  return MakeAnalyticReward(AnalyticRewardForm(config), config.objective,
-                            observation != nullptr ? observation->names
-                                                   : std::vector<std::string>{});
+  // "analytic": the task's own form (validated with the config), with the task's lidar range and
+  // circle from its spec; an env from Python has no spec: Safety-Gymnasium's (the spec's own
+  // defaults).
+  const NavigationTaskSpec spec = IsPythonTask(config.task)
+                                      ? NavigationTaskSpec{}
+                                      : NavigationTaskSpecByName(config.task, config.variant);
+  return MakeAnalyticReward(
+      AnalyticRewardForm(config), config.objective,
+      observation != nullptr ? observation->names : std::vector<std::string>{},
+      LidarGeometry{spec.lidar_max_dist, spec.circle_radius});
 }
 
 std::unique_ptr<TerminationTerm> TerminationTermFor(const TrainConfig& config,
