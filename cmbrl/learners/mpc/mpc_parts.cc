@@ -74,13 +74,19 @@ std::unique_ptr<RewardTerm> RewardTermFor(const TrainConfig& config, const Learn
                                                    task.reward_axis);
   }
   // "analytic": the task's own form (validated with the config), with the task's lidar range and
-  // circle from its spec; an env from Python has no spec: Safety-Gymnasium's (the spec's own
-  // defaults).
-  const NavigationTaskSpec spec = IsPythonTask(config.task)
-                                      ? NavigationTaskSpec{}
-                                      : NavigationTaskSpecByName(config.task, config.variant);
+  // circle from its spec. An env from Python has no spec: a stock task's of the family whose
+  // lidars the form reads (Safety-Gymnasium's, 3 m; Circle's 6 m).
+  const std::string form = AnalyticRewardForm(config);
+  NavigationTaskSpec spec;
+  if (IsPythonTask(config.task)) {
+    TaskEntry stock;
+    stock.family = form == kCircleLidarSpeedReward ? TaskFamily::kCircle : TaskFamily::kGoal;
+    spec = MakeNavigationTaskSpec(stock, Variant::kStandard);
+  } else {
+    spec = NavigationTaskSpecByName(config.task, config.variant);
+  }
   return MakeAnalyticReward(
-      AnalyticRewardForm(config), config.objective,
+      form, config.objective,
       observation != nullptr ? observation->names : std::vector<std::string>{},
       LidarGeometry{spec.lidar_max_dist, spec.circle_radius});
 }
