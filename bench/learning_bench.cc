@@ -293,14 +293,13 @@ nlohmann::ordered_json AdamStepFigure(const TrainConfig& config, const TaskShape
         float* mi = m[i].data_ptr<float>();
         float* vi = v[i].data_ptr<float>();
         const std::int64_t n = parameters[i].numel();
-        ParallelRanges(n, n >= (1 << 18) ? CoreCount() : 1,
-                       [&](std::int64_t begin, std::int64_t end) {
-                         for (std::int64_t e = begin; e < end; ++e) {
-                           p[e] += 1e-7f * g[e];
-                           mi[e] = 0.5f * mi[e] + g[e];
-                           vi[e] = 0.5f * vi[e] + g[e];
-                         }
-                       });
+        ParallelRanges(n, FusedAdamWorkers(n), [&](std::int64_t begin, std::int64_t end) {
+          for (std::int64_t e = begin; e < end; ++e) {
+            p[e] += 1e-7f * g[e];
+            mi[e] = 0.5f * mi[e] + g[e];
+            vi[e] = 0.5f * vi[e] + g[e];
+          }
+        });
       }
     }
   };

@@ -39,6 +39,8 @@ void UpdateRange(const AdamStep& a, float* param, const float* grad, float* m, f
 
 }  // namespace
 
+int FusedAdamWorkers(std::int64_t elements) { return elements >= (1 << 18) ? CoreCount() : 1; }
+
 FusedAdam::FusedAdam(std::vector<torch::Tensor> parameters, FusedAdamOptions options)
     : parameters_(std::move(parameters)), options_(options) {
   for (const torch::Tensor& p : parameters_) {
@@ -75,11 +77,9 @@ void FusedAdam::Step() {
     float* m_data = m.data_ptr<float>();
     float* v_data = v.data_ptr<float>();
     const std::int64_t n = p.numel();
-    // A second thread pays off only for large parameters (its start costs tens of us).
-    ParallelRanges(n, n >= (1 << 18) ? CoreCount() : 1,
-                   [&](std::int64_t begin, std::int64_t end) {
-                     UpdateRange(a, param, g, m_data, v_data, begin, end);
-                   });
+    ParallelRanges(n, FusedAdamWorkers(n), [&](std::int64_t begin, std::int64_t end) {
+      UpdateRange(a, param, g, m_data, v_data, begin, end);
+    });
   }
 }
 

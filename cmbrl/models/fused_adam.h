@@ -19,6 +19,10 @@ struct FusedAdamOptions {
   double epsilon = 1e-8;
 };
 
+// How many threads Step() splits a parameter of `elements` values over on the CPU: every core
+// the process may use from 2^18 values on, else one (a thread's start costs tens of us).
+int FusedAdamWorkers(std::int64_t elements);
+
 // Owns the moments, borrows the parameters (float32, contiguous, one device). Step() reads each
 // parameter's gradient and then drops it, so that the next backward pass writes a fresh
 // gradient instead of adding to a zeroed one. Not thread-safe; the result does not depend on
