@@ -17,8 +17,6 @@ sweep=(sweep --tasks PointGoal1 --planners rce random --seeds 0 1 --config-dir "
 
 "$cmbrl" "${sweep[@]}" --out "$work/whole" > /dev/null
 
-"$cmbrl" "${sweep[@]}" --out "$work/cut" > "$work/cut-1.log" &
-pid=$!
 # Kill once a run is mid-way: two or more rows written, not all (a count over all runs could be
 # met by a fast run that already finished beside one that has not begun).
 full=$(wc -l < "$work/whole/runs/pointgoal1-rce-s0/progress.csv")
@@ -30,25 +28,43 @@ midway() {
   done
   return 1
 }
-for _ in $(seq 1500); do
-  midway && break
-  sleep 0.02
-done
-# The process ids of the cut sweep's trainers: those whose command line names its runs
-# (read from /proc: no procps needed).
+# The process ids of the cut sweep's trainers: those whose command line names its runs, read
+# from /proc in one pass, fast enough to follow the look that saw a run mid-way (no procps
+# needed). The grep that reads them names the runs too, and is left out, as are processes gone.
 cut_trainers() {
-  local cmdline
-  for cmdline in /proc/[0-9]*/cmdline; do
-    if tr '\0' ' ' < "$cmdline" 2> /dev/null | grep -q -- "$work/cut/runs"; then
-      cmdline=${cmdline#/proc/}
-      echo "${cmdline%/cmdline}"
-    fi
-  done
+  local cmdline pid comm
+  grep -l -a -F -- "$work/cut/runs" /proc/[0-9]*/cmdline 2> /dev/null |
+    while read -r cmdline; do
+      pid=${cmdline#/proc/} && pid=${pid%/cmdline}
+      if comm=$(cat "/proc/$pid/comm" 2> /dev/null) && [ "$comm" != grep ]; then echo "$pid"; fi
+    done
 }
-# The sweep and its trainers are frozen for the check below, so that they are still mid-way at
-# the kill however long the check takes on a loaded machine.
-frozen=$(cut_trainers)
-kill -STOP "$pid" $frozen 2> /dev/null || true
+# Whether any of the cut sweep's trainers is still alive.
+trainers_alive() { [ -n "$(cut_trainers)" ]; }
+# Once a run is seen mid-way, the sweep and its trainers are frozen, so that they are still
+# mid-way at the kill however long the checks below take on a loaded machine. A tiny run can pass
+# its middle between two looks, or between the look and the freeze: a sweep not frozen mid-way
+# is killed and started afresh, up to 5 times.
+seen=false
+for attempt in 1 2 3 4 5; do
+  rm -rf "$work/cut"
+  "$cmbrl" "${sweep[@]}" --out "$work/cut" > "$work/cut-1.log" &
+  pid=$!
+  for _ in $(seq 1500); do
+    midway && break
+    kill -0 "$pid" 2> /dev/null || break
+    sleep 0.02
+  done
+  frozen=$(cut_trainers)
+  kill -STOP "$pid" $frozen 2> /dev/null || true
+  midway && { seen=true; break; }
+  echo "attempt $attempt: the sweep was not frozen mid-way; starting it again"
+  kill -9 "$pid" 2> /dev/null || true
+  kill -CONT $frozen 2> /dev/null || true
+  wait "$pid" 2> /dev/null || true
+  for _ in $(seq 100); do trainers_alive || break; sleep 0.1; done
+done
+$seen || { echo "FAILED: in 5 attempts no run of the sweep was frozen mid-way"; exit 1; }
 # A second sweep of the same folder meanwhile is refused by name (it would take the first's
 # runs, locked by their trainers, for failed ones).
 if "$cmbrl" "${sweep[@]}" --out "$work/cut" > "$work/second.log" 2>&1; then
@@ -59,8 +75,6 @@ grep -q "cut' is in use by another cmbrl process (pid $pid" "$work/second.log" |
 kill -9 "$pid"
 kill -CONT $frozen 2> /dev/null || true  # they now take their parent's death (SIGTERM)
 wait "$pid" 2> /dev/null || true
-# Whether any of the cut sweep's trainers is still alive.
-trainers_alive() { [ -n "$(cut_trainers)" ]; }
 for _ in $(seq 100); do trainers_alive || break; sleep 0.1; done
 if trainers_alive; then
   echo "FAILED: training processes outlived the killed sweep"
