@@ -10,6 +10,7 @@
 #include "cmbrl/core/torch_util.h"
 #include "cmbrl/learners/policy_opt/open_epoch.h"
 #include "cmbrl/learners/policy_opt/policy_opt_learner.h"
+#include "cmbrl/policy_opt/adam_archive.h"
 #include "cmbrl/run/learner_state.h"
 
 namespace cmbrl {
@@ -38,67 +39,6 @@ void ReadParameters(torch::serialize::InputArchive& archive, const std::string& 
             "'{}' does not hold this run's networks ({}{} missing or of another shape)",
             file.string(), prefix, i);
     parameters[i].copy_(value);
-  }
-}
-
-// The key of a parameter's state in an optimiser's state() map (LibTorch's own: the address).
-std::string OptimizerStateKey(const torch::Tensor& parameter) {
-  return c10::guts::to_string(parameter.unsafeGetTensorImpl());
-}
-
-// An Adam optimiser's moments, keyed by each parameter's place in the optimiser's one group.
-// LibTorch's own save keys them by the tensor's address, which differs from run to run, so two
-// runs with the same numbers wrote different bytes; this file is now the same bytes.
-void WriteAdam(torch::serialize::OutputArchive& archive, const std::string& name,
-               const torch::optim::Adam& optimizer) {
-  torch::serialize::OutputArchive moments;
-  const std::vector<torch::Tensor>& params = optimizer.param_groups().at(0).params();
-  for (size_t i = 0; i < params.size(); ++i) {
-    const auto found = optimizer.state().find(OptimizerStateKey(params[i]));
-    if (found == optimizer.state().end()) continue;  // not yet stepped
-    const auto& state = static_cast<const torch::optim::AdamParamState&>(*found->second);
-    const std::string key = std::to_string(i);
-    moments.write(key + ".step", torch::tensor(state.step(), torch::kInt64));
-    moments.write(key + ".exp_avg", state.exp_avg());
-    moments.write(key + ".exp_avg_sq", state.exp_avg_sq());
-    if (state.max_exp_avg_sq().defined()) {
-      moments.write(key + ".max_exp_avg_sq", state.max_exp_avg_sq());
-    }
-  }
-  archive.write(name, moments);
-}
-
-// The moments WriteAdam wrote under `name`, or a checkpoint of earlier builds' form (LibTorch's
-// own save, under `old_name`).
-void ReadAdam(torch::serialize::InputArchive& archive, const std::string& name,
-              const std::string& old_name, torch::optim::Adam& optimizer, const fs::path& file) {
-  torch::serialize::InputArchive moments;
-  if (!archive.try_read(name, moments)) {
-    Require(archive.try_read(old_name, moments), "'{}' holds no optimiser state for {}",
-            file.string(), name);
-    optimizer.load(moments);
-    return;
-  }
-  const std::vector<torch::Tensor>& params = optimizer.param_groups().at(0).params();
-  optimizer.state().clear();
-  for (size_t i = 0; i < params.size(); ++i) {
-    const std::string key = std::to_string(i);
-    torch::Tensor step;
-    if (!moments.try_read(key + ".step", step)) continue;  // not yet stepped when saved
-    auto state = std::make_unique<torch::optim::AdamParamState>();
-    torch::Tensor exp_avg, exp_avg_sq, max_exp_avg_sq;
-    Require(moments.try_read(key + ".exp_avg", exp_avg) &&
-                moments.try_read(key + ".exp_avg_sq", exp_avg_sq) &&
-                exp_avg.sizes() == params[i].sizes() && exp_avg_sq.sizes() == params[i].sizes(),
-            "'{}' is damaged: {}'s moments of parameter {} are missing or of another shape",
-            file.string(), name, i);
-    state->step(step.item<std::int64_t>());
-    state->exp_avg(exp_avg);
-    state->exp_avg_sq(exp_avg_sq);
-    if (moments.try_read(key + ".max_exp_avg_sq", max_exp_avg_sq)) {
-      state->max_exp_avg_sq(max_exp_avg_sq);
-    }
-    optimizer.state()[OptimizerStateKey(params[i])] = std::move(state);
   }
 }
 
@@ -162,9 +102,9 @@ void PolicyOptLearner::Save(const fs::path& folder, const fs::path&, bool) const
   WriteParameters(networks, "policy", policy_->parameters());
   WriteParameters(networks, "value", value_->parameters());
   WriteParameters(networks, "cost_value", cost_value_->parameters());
-  WriteAdam(networks, "policy_adam", *policy_optimizer_);
-  WriteAdam(networks, "value_adam", *value_optimizer_);
-  WriteAdam(networks, "cost_value_adam", *cost_value_optimizer_);
+  WriteAdamMoments(networks, "policy_adam", *policy_optimizer_);
+  WriteAdamMoments(networks, "value_adam", *value_optimizer_);
+  WriteAdamMoments(networks, "cost_value_adam", *cost_value_optimizer_);
   networks.write("generator", generator_.get_state());
   SaveArchive(networks, (folder / kNetworksFile).string());
   const LagrangeMultiplier::State penalty = lagrange_.state();
@@ -209,9 +149,10 @@ void PolicyOptLearner::Load(const fs::path& folder) {
   ReadParameters(networks, "policy", policy_->parameters(), file);
   ReadParameters(networks, "value", value_->parameters(), file);
   ReadParameters(networks, "cost_value", cost_value_->parameters(), file);
-  ReadAdam(networks, "policy_adam", "policy_optimizer", *policy_optimizer_, file);
-  ReadAdam(networks, "value_adam", "value_optimizer", *value_optimizer_, file);
-  ReadAdam(networks, "cost_value_adam", "cost_value_optimizer", *cost_value_optimizer_, file);
+  ReadAdamMoments(networks, "policy_adam", "policy_optimizer", *policy_optimizer_, file.string());
+  ReadAdamMoments(networks, "value_adam", "value_optimizer", *value_optimizer_, file.string());
+  ReadAdamMoments(networks, "cost_value_adam", "cost_value_optimizer", *cost_value_optimizer_,
+                  file.string());
   torch::Tensor generator;
   Require(networks.try_read("generator", generator), "'{}' holds no generator state",
           file.string());
