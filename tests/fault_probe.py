@@ -29,15 +29,9 @@ from collections import Counter
 CRASH = re.compile(r"terminate called|frame #\d|Traceback \(most recent call last\)|"
                    r"Segmentation fault|core dumped|Aborted|c10::Error|std::bad_alloc")
 
-TINY = """task: PointGoal1
-planner: rce
-seed: 0
-training: {pretrain_episodes: 6, pretrain_steps: 20, episodes_per_epoch: 2, total_steps: 300}
-ensemble: {hidden_sizes: [16], max_epochs: 5}
-classifier: {rounds: 10}
-planning: {horizon: 3, population: 24, elites: 6, min_feasible_elites: 3, max_iterations: 2,
-           random_samples: 50}
-"""
+# The tests' run of seconds (RCE with tiny networks), the command-line tests' own file.
+TINY = open(os.path.join(os.path.dirname(os.path.abspath(__file__)), "cli", "tiny-rce.yaml"),
+            encoding="utf-8").read()
 
 
 class Probe:
