@@ -67,9 +67,23 @@ std::string Written(const Problem& problem) {
   return Bytes(archive);
 }
 
-void ExpectSameValues(const Problem& a, const Problem& b) {
-  for (size_t i = 0; i < a.params.size(); ++i) {
-    EXPECT_TRUE(torch::equal(a.params[i], b.params[i])) << "parameter " << i;
+// A problem of `whole`'s parameter values whose optimiser read the moments in `bytes`.
+Problem Resumed(const Problem& whole, const std::string& bytes, bool amsgrad = false) {
+  Problem resumed(amsgrad);
+  resumed.CopyValuesFrom(whole);
+  torch::serialize::InputArchive archive = Archive(bytes);
+  ReadAdamMoments(archive, "policy_adam", "policy_optimizer", *resumed.adam, "networks.pt");
+  return resumed;
+}
+
+// Steps 3 and 4 of both problems give the same parameters, bit for bit.
+void ExpectSameNextSteps(Problem& whole, Problem& resumed) {
+  for (int k = 3; k < 5; ++k) {
+    whole.Step(k);
+    resumed.Step(k);
+  }
+  for (size_t i = 0; i < whole.params.size(); ++i) {
+    EXPECT_TRUE(torch::equal(whole.params[i], resumed.params[i])) << "parameter " << i;
   }
 }
 
@@ -78,20 +92,12 @@ TEST(AdamArchiveTest, MomentsReadBackGiveTheUninterruptedOptimisersNextSteps) {
     SCOPED_TRACE(amsgrad ? "amsgrad" : "adam");
     Problem whole(amsgrad);
     for (int k = 0; k < 3; ++k) whole.Step(k);
-    const std::string bytes = Written(whole);
-
-    Problem resumed(amsgrad), fresh(amsgrad);
-    resumed.CopyValuesFrom(whole);
+    Problem resumed = Resumed(whole, Written(whole), amsgrad);
+    Problem fresh(amsgrad);
     fresh.CopyValuesFrom(whole);
-    torch::serialize::InputArchive archive = Archive(bytes);
-    ReadAdamMoments(archive, "policy_adam", "policy_optimizer", *resumed.adam, "networks.pt");
-    for (int k = 3; k < 5; ++k) {
-      whole.Step(k);
-      resumed.Step(k);
-      fresh.Step(k);
-    }
-    ExpectSameValues(whole, resumed);
+    ExpectSameNextSteps(whole, resumed);
     // Without the moments the steps differ: the comparison above can fail.
+    for (int k = 3; k < 5; ++k) fresh.Step(k);
     EXPECT_FALSE(torch::equal(whole.params[0], fresh.params[0]));
   }
 }
@@ -117,39 +123,19 @@ TEST(AdamArchiveTest, AnEarlierBuildsCheckpointInLibTorchsFormIsRead) {
   archive.write("policy_optimizer", old_moments);
   const std::string bytes = Bytes(archive);
 
-  Problem resumed;
-  resumed.CopyValuesFrom(whole);
-  torch::serialize::InputArchive read = Archive(bytes);
-  ReadAdamMoments(read, "policy_adam", "policy_optimizer", *resumed.adam, "networks.pt");
-  for (int k = 3; k < 5; ++k) {
-    whole.Step(k);
-    resumed.Step(k);
-  }
-  ExpectSameValues(whole, resumed);
+  Problem resumed = Resumed(whole, bytes);
   // Read so, it is written in this build's form, the uninterrupted optimiser's bytes.
-  Problem again;
-  again.CopyValuesFrom(whole);
-  torch::serialize::InputArchive reread = Archive(bytes);
-  ReadAdamMoments(reread, "policy_adam", "policy_optimizer", *again.adam, "networks.pt");
-  Problem reference;
-  for (int k = 0; k < 3; ++k) reference.Step(k);
-  EXPECT_EQ(Written(again), Written(reference));
+  EXPECT_EQ(Written(resumed), Written(whole));
+  ExpectSameNextSteps(whole, resumed);
 }
 
 TEST(AdamArchiveTest, AParameterNotYetSteppedHasNoMomentsBeforeOrAfter) {
   Problem whole;
   for (int k = 0; k < 3; ++k) whole.Step(k, /*bias=*/false);
   ASSERT_EQ(whole.adam->state().size(), 1u);
-  Problem resumed;
-  resumed.CopyValuesFrom(whole);
-  torch::serialize::InputArchive archive = Archive(Written(whole));
-  ReadAdamMoments(archive, "policy_adam", "policy_optimizer", *resumed.adam, "networks.pt");
+  Problem resumed = Resumed(whole, Written(whole));
   EXPECT_EQ(resumed.adam->state().size(), 1u);
-  for (int k = 3; k < 5; ++k) {
-    whole.Step(k);
-    resumed.Step(k);
-  }
-  ExpectSameValues(whole, resumed);
+  ExpectSameNextSteps(whole, resumed);
 }
 
 TEST(AdamArchiveTest, NoMomentsOrMomentsOfAnotherShapeAreNamed) {
