@@ -54,7 +54,7 @@ TEST(ParseDeviceTest, TheCpuAndBadNamesNamedByKeyAndValue) {
     ParseDevice("gpu", "training.device");
     FAIL() << "'gpu' was taken for a device";
   } catch (const Error& error) {
-    EXPECT_THAT(error.what(), testing::HasSubstr("training.device 'gpu' is not a device"));
+    EXPECT_THAT(error.what(), ::testing::HasSubstr("training.device 'gpu' is not a device"));
   }
 }
 
@@ -66,7 +66,7 @@ TEST(ParseDeviceTest, BareCudaIsItsFirstDeviceOrRefusedWithoutOne) {
       ParseDevice("cuda", "device");
       FAIL() << "'cuda' was taken without a GPU";
     } catch (const Error& error) {
-      EXPECT_THAT(error.what(), testing::HasSubstr("device 'cuda' asks for CUDA"));
+      EXPECT_THAT(error.what(), ::testing::HasSubstr("device 'cuda' asks for CUDA"));
     }
     return;
   }

@@ -8,7 +8,7 @@ namespace cmbrl {
 namespace {
 
 // Exact-arithmetic cases up to rounding of sin/cos: 1e-12 m.
-constexpr double kTol = 1e-12;
+constexpr double kObservationTol = 1e-12;
 
 RobotFrame PlanarFrame(double x, double y, double z, double yaw) {
   RobotFrame frame;
@@ -23,14 +23,14 @@ TEST(EgoXYTest, RotatesWorldOffsetsIntoTheRobotFrame) {
   // world -x of the robot is on its left.
   const RobotFrame frame = PlanarFrame(1, 2, 0.1, M_PI / 2);
   const Vec2 ahead = EgoXY(frame, {1, 3});
-  EXPECT_NEAR(ahead.x, 1.0, kTol);
-  EXPECT_NEAR(ahead.y, 0.0, kTol);
+  EXPECT_NEAR(ahead.x, 1.0, kObservationTol);
+  EXPECT_NEAR(ahead.y, 0.0, kObservationTol);
   const Vec2 left = EgoXY(frame, {0, 2});
-  EXPECT_NEAR(left.x, 0.0, kTol);
-  EXPECT_NEAR(left.y, 1.0, kTol);
+  EXPECT_NEAR(left.x, 0.0, kObservationTol);
+  EXPECT_NEAR(left.y, 1.0, kObservationTol);
   const Vec2 behind_right = EgoXY(frame, {2, 1});
-  EXPECT_NEAR(behind_right.x, -1.0, kTol);
-  EXPECT_NEAR(behind_right.y, -1.0, kTol);
+  EXPECT_NEAR(behind_right.x, -1.0, kObservationTol);
+  EXPECT_NEAR(behind_right.y, -1.0, kObservationTol);
 }
 
 TEST(EgoXYTest, UsesTheRobotHeightWhenTheRobotTilts) {
@@ -40,8 +40,8 @@ TEST(EgoXYTest, UsesTheRobotHeightWhenTheRobotTilts) {
   frame.position = {0, 0, 0.5};
   frame.rotation = {0, 0, 1, 0, 1, 0, -1, 0, 0};
   const Vec2 ego = EgoXY(frame, {0, 0});
-  EXPECT_NEAR(ego.x, 0.5, kTol);
-  EXPECT_NEAR(ego.y, 0.0, kTol);
+  EXPECT_NEAR(ego.x, 0.5, kObservationTol);
+  EXPECT_NEAR(ego.y, 0.0, kObservationTol);
 }
 
 TEST(PseudoLidarTest, ObjectOnABinEdgeFillsItsBinAndAliasesToThePreviousOne) {
@@ -50,9 +50,9 @@ TEST(PseudoLidarTest, ObjectOnABinEdgeFillsItsBinAndAliasesToThePreviousOne) {
   PseudoLidar(frame, {{1.0, 0.0}}, 16, 3.0, bins);
   // Angle 0 is bin 0 with alias 0: bin 0 reads (3 - 1) / 3, the previous bin (15) gets
   // (1 - 0) of it and the next (1) gets 0.
-  EXPECT_NEAR(bins[0], 2.0 / 3.0, kTol);
-  EXPECT_NEAR(bins[15], 2.0 / 3.0, kTol);
-  EXPECT_NEAR(bins[1], 0.0, kTol);
+  EXPECT_NEAR(bins[0], 2.0 / 3.0, kObservationTol);
+  EXPECT_NEAR(bins[15], 2.0 / 3.0, kObservationTol);
+  EXPECT_NEAR(bins[1], 0.0, kObservationTol);
   for (int i = 2; i < 15; ++i) EXPECT_EQ(bins[i], 0.0) << "bin " << i;
 }
 
@@ -63,9 +63,9 @@ TEST(PseudoLidarTest, ObjectInsideABinSplitsBetweenItsNeighbours) {
   const double angle = 1.25 * bin_size;
   double bins[16];
   PseudoLidar(frame, {{1.5 * std::cos(angle), 1.5 * std::sin(angle)}}, 16, 3.0, bins);
-  EXPECT_NEAR(bins[1], 0.5, kTol);
-  EXPECT_NEAR(bins[2], 0.25 * 0.5, kTol);
-  EXPECT_NEAR(bins[0], 0.75 * 0.5, kTol);
+  EXPECT_NEAR(bins[1], 0.5, kObservationTol);
+  EXPECT_NEAR(bins[2], 0.25 * 0.5, kObservationTol);
+  EXPECT_NEAR(bins[0], 0.75 * 0.5, kObservationTol);
 }
 
 TEST(PseudoLidarTest, BinsKeepTheNearestObjectAndIgnoreFarOnes) {
@@ -75,9 +75,9 @@ TEST(PseudoLidarTest, BinsKeepTheNearestObjectAndIgnoreFarOnes) {
   const Vec2 direction{std::cos(angle), std::sin(angle)};
   double bins[16];
   PseudoLidar(frame, {2.4 * direction, 0.6 * direction, 3.5 * direction}, 16, 3.0, bins);
-  EXPECT_NEAR(bins[8], (3.0 - 0.6) / 3.0, kTol);
-  EXPECT_NEAR(bins[7], 0.5 * (3.0 - 0.6) / 3.0, kTol);
-  EXPECT_NEAR(bins[9], 0.5 * (3.0 - 0.6) / 3.0, kTol);
+  EXPECT_NEAR(bins[8], (3.0 - 0.6) / 3.0, kObservationTol);
+  EXPECT_NEAR(bins[7], 0.5 * (3.0 - 0.6) / 3.0, kObservationTol);
+  EXPECT_NEAR(bins[9], 0.5 * (3.0 - 0.6) / 3.0, kObservationTol);
   PseudoLidar(frame, {3.5 * direction}, 16, 3.0, bins);
   for (double value : bins) EXPECT_EQ(value, 0.0);
 }

@@ -22,7 +22,7 @@ torch::Tensor Repeat(float x, float y, int horizon) {
   return torch::tensor({x, y}).view({1, 1, 2}).expand({1, horizon, 2}).contiguous();
 }
 
-constexpr float kTol = 1e-5f;  // float32 arithmetic on values of order 1
+constexpr float kObjectiveTol = 1e-5f;  // float32 arithmetic on values of order 1
 
 // A reward term that reads every argument and records them: the cost of a step is its action's
 // first component.
@@ -78,8 +78,8 @@ TEST(TrajectoryObjectiveTest, ATerminalStepCutsTheDiscountedSums) {
     ended.SetState(StateWithGoal(1.0f));
     const ObjectiveValues all = open.Evaluate(actions);
     const ObjectiveValues cut = ended.Evaluate(actions);
-    EXPECT_NEAR(all.reward_cost[0].item<float>(), 1 + 0.98 + 0.98 * 0.98, kTol);
-    EXPECT_NEAR(cut.reward_cost[0].item<float>(), 1 + 0.98, kTol);
+    EXPECT_NEAR(all.reward_cost[0].item<float>(), 1 + 0.98 + 0.98 * 0.98, kObjectiveTol);
+    EXPECT_NEAR(cut.reward_cost[0].item<float>(), 1 + 0.98, kObjectiveTol);
     // The constraint's sum is cut alike: no violation after the end counts.
     EXPECT_LE(cut.constraint_cost[0].item<float>(), all.constraint_cost[0].item<float>());
   }
@@ -118,7 +118,7 @@ TEST(TrajectoryObjectiveTest, ATermThatReadsStatesAndActionsGetsEachStepsStartAc
     const torch::Tensor expected =
         actions.select(2, 0).select(1, 0) + 0.98f * actions.select(2, 0).select(1, 1) +
         static_cast<float>(0.98 * 0.98) * actions.select(2, 0).select(1, 2);
-    EXPECT_TRUE(torch::allclose(values.reward_cost, expected, kTol, kTol));
+    EXPECT_TRUE(torch::allclose(values.reward_cost, expected, kObjectiveTol, kObjectiveTol));
   }
 }
 
@@ -130,8 +130,9 @@ TEST(TrajectoryObjectiveTest, PerMemberRolloutsAverageRewardAndTakeTheWorstConst
   // Two steps of (1, 0). Member 0 (gain 1): goal x 0.9, 0.6; robot x 0.3, 0.6 (unsafe at t 1).
   // Member 1 (gain 1.5): goal x 0.75, 0.3; robot x 0.45, 0.9 (unsafe at t 1).
   const ObjectiveValues v = objective.Evaluate(Repeat(1, 0, 2));
-  EXPECT_NEAR(v.reward_cost.item<float>(), ((0.9 + 0.98 * 0.6) + (0.75 + 0.98 * 0.3)) / 2, kTol);
-  EXPECT_NEAR(v.constraint_cost.item<float>(), 0.4, kTol);  // beta^1, the worse member
+  EXPECT_NEAR(v.reward_cost.item<float>(), ((0.9 + 0.98 * 0.6) + (0.75 + 0.98 * 0.3)) / 2,
+              kObjectiveTol);
+  EXPECT_NEAR(v.constraint_cost.item<float>(), 0.4, kObjectiveTol);  // beta^1, the worse member
   EXPECT_EQ(objective.last_trajectories().sizes(), torch::IntArrayRef({2, 1, 2, 8}));
 }
 
@@ -144,7 +145,8 @@ TEST(TrajectoryObjectiveTest, TheWorstMemberMakesASampleInfeasibleWhereTheMeanDo
   mean.SetState(StateWithGoal(1.2f));
   // Two steps of (0.6, 0): member 0 reaches x 0.36 (safe), member 1 x 0.54 (unsafe); their mean
   // 0.45 is safe.
-  EXPECT_NEAR(robust.Evaluate(Repeat(0.6f, 0, 2)).constraint_cost.item<float>(), 0.4, kTol);
+  EXPECT_NEAR(robust.Evaluate(Repeat(0.6f, 0, 2)).constraint_cost.item<float>(), 0.4,
+              kObjectiveTol);
   EXPECT_EQ(mean.Evaluate(Repeat(0.6f, 0, 2)).constraint_cost.item<float>(), 0.0f);
 }
 
@@ -155,8 +157,8 @@ TEST(TrajectoryObjectiveTest, MeanPropagationDiscountsTheConstraintWithGamma) {
   objective.SetState(StateWithGoal(1.2f));
   // Mean gain 1.25: robot x 0.375, 0.75 (unsafe at t 1); goal x 0.825, 0.45.
   const ObjectiveValues v = objective.Evaluate(Repeat(1, 0, 2));
-  EXPECT_NEAR(v.reward_cost.item<float>(), 0.825 + 0.98 * 0.45, kTol);
-  EXPECT_NEAR(v.constraint_cost.item<float>(), 0.98, kTol);
+  EXPECT_NEAR(v.reward_cost.item<float>(), 0.825 + 0.98 * 0.45, kObjectiveTol);
+  EXPECT_NEAR(v.constraint_cost.item<float>(), 0.98, kObjectiveTol);
   // Every member carries the mean trajectory.
   const torch::Tensor trajectories = objective.last_trajectories();
   EXPECT_TRUE(torch::equal(trajectories[0], trajectories[1]));
@@ -170,7 +172,7 @@ TEST(TrajectoryObjectiveTest, GoalBonusesApplyNearTheGoal) {
   // One step of (1, 0): member 0 lands on the goal (d 0), member 1 overshoots to d 0.15. As the
   // original's code ran, the at-goal test sees 0.15 - 5 < 0.1: both get -13.
   const ObjectiveValues v = objective.Evaluate(Repeat(1, 0, 1));
-  EXPECT_NEAR(v.reward_cost.item<float>(), ((0.0 - 13.0) + (0.15 - 13.0)) / 2, kTol);
+  EXPECT_NEAR(v.reward_cost.item<float>(), ((0.0 - 13.0) + (0.15 - 13.0)) / 2, kObjectiveTol);
   // The written rule: -13 only below 0.1, -5 between 0.1 and 0.2.
   TrajectoryObjectiveOptions written;
   written.at_goal_test_after_near_bonus = false;
@@ -178,7 +180,7 @@ TEST(TrajectoryObjectiveTest, GoalBonusesApplyNearTheGoal) {
                                  GoalTerm(written));
   as_written.SetState(StateWithGoal(0.3f));
   EXPECT_NEAR(as_written.Evaluate(Repeat(1, 0, 1)).reward_cost.item<float>(),
-              ((0.0 - 13.0) + (0.15 - 5.0)) / 2, kTol);
+              ((0.0 - 13.0) + (0.15 - 5.0)) / 2, kObjectiveTol);
 }
 
 TEST(TrajectoryObjectiveTest, ScoresManySamplesAtOnce) {
@@ -191,7 +193,7 @@ TEST(TrajectoryObjectiveTest, ScoresManySamplesAtOnce) {
   ASSERT_EQ(all.reward_cost.sizes(), torch::IntArrayRef({50}));
   for (int i : {0, 17, 49}) {
     const ObjectiveValues one = objective.Evaluate(actions.narrow(0, i, 1));
-    EXPECT_NEAR(all.reward_cost[i].item<float>(), one.reward_cost.item<float>(), kTol);
+    EXPECT_NEAR(all.reward_cost[i].item<float>(), one.reward_cost.item<float>(), kObjectiveTol);
     EXPECT_EQ(all.constraint_cost[i].item<float>(), one.constraint_cost.item<float>());
   }
 }

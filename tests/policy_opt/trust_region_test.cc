@@ -35,7 +35,7 @@ TEST(ConjugateGradientTest, SolvesAFixedSymmetricPositiveDefiniteSystem) {
 // The hand-solved instances below: q, r, s, c and target 0.01 chosen so that each case's
 // multipliers come out in closed form. Where the step is not a recovery, a KL of 0.5 x^T H x =
 // 0.01 and an active cost constraint c - b^T x = 0 are checked from q, r, s.
-constexpr double kTol = 1e-6;
+constexpr double kTrustRegionTol = 1e-6;
 
 double StepKl(const CpoDualSolution& d, const CpoDualInputs& in) {
   const double cv = d.v_coefficient, cw = d.w_coefficient;
@@ -50,19 +50,19 @@ TEST(CpoDualTest, Case4IsThePlainTrpoStep) {
   const CpoDualInputs in{2.0, 0.0, 0.0, -1.0, 0.01, /*cost_gradient_vanishes=*/true};
   const CpoDualSolution d = SolveCpoDual(in);
   EXPECT_EQ(d.optim_case, 4);
-  EXPECT_NEAR(d.lambda, 10.0, kTol);  // sqrt(q / (2 delta))
-  EXPECT_NEAR(d.v_coefficient, 0.1, kTol);
+  EXPECT_NEAR(d.lambda, 10.0, kTrustRegionTol);  // sqrt(q / (2 delta))
+  EXPECT_NEAR(d.v_coefficient, 0.1, kTrustRegionTol);
   EXPECT_EQ(d.w_coefficient, 0.0);
-  EXPECT_NEAR(d.v_coefficient, NaturalStepScale(in.q, in.target_kl), kTol);
+  EXPECT_NEAR(d.v_coefficient, NaturalStepScale(in.q, in.target_kl), kTrustRegionTol);
 }
 
 TEST(CpoDualTest, Case3TheWholeTrustRegionIsFeasible) {
   // B = 0.02 - 1 / 1 < 0 with c < 0.
   const CpoDualSolution d = SolveCpoDual({2.0, 1.0, 1.0, -1.0, 0.01, false});
   EXPECT_EQ(d.optim_case, 3);
-  EXPECT_NEAR(d.lambda, 10.0, kTol);
+  EXPECT_NEAR(d.lambda, 10.0, kTrustRegionTol);
   EXPECT_EQ(d.nu, 0.0);
-  EXPECT_NEAR(d.b, -0.98, kTol);
+  EXPECT_NEAR(d.b, -0.98, kTrustRegionTol);
 }
 
 TEST(CpoDualTest, Case2TheConstraintCutsTheRegionAndIsActive) {
@@ -71,12 +71,12 @@ TEST(CpoDualTest, Case2TheConstraintCutsTheRegionAndIsActive) {
   const CpoDualInputs in{2.0, -1.0, 1.0, -0.05, 0.01, false};
   const CpoDualSolution d = SolveCpoDual(in);
   EXPECT_EQ(d.optim_case, 2);
-  EXPECT_NEAR(d.a, 1.0, kTol);
-  EXPECT_NEAR(d.b, 0.0175, kTol);
-  EXPECT_NEAR(d.lambda, std::sqrt(1.0 / 0.0175), kTol);
-  EXPECT_NEAR(d.nu, 1.0 - 0.05 * std::sqrt(1.0 / 0.0175), kTol);
-  EXPECT_NEAR(StepKl(d, in), 0.01, kTol);
-  EXPECT_NEAR(CostAfterStep(d, in), 0.0, kTol);
+  EXPECT_NEAR(d.a, 1.0, kTrustRegionTol);
+  EXPECT_NEAR(d.b, 0.0175, kTrustRegionTol);
+  EXPECT_NEAR(d.lambda, std::sqrt(1.0 / 0.0175), kTrustRegionTol);
+  EXPECT_NEAR(d.nu, 1.0 - 0.05 * std::sqrt(1.0 / 0.0175), kTrustRegionTol);
+  EXPECT_NEAR(StepKl(d, in), 0.01, kTrustRegionTol);
+  EXPECT_NEAR(CostAfterStep(d, in), 0.0, kTrustRegionTol);
 }
 
 TEST(CpoDualTest, Case1RecoversFromAnInfeasiblePolicy) {
@@ -85,10 +85,10 @@ TEST(CpoDualTest, Case1RecoversFromAnInfeasiblePolicy) {
   const CpoDualInputs in{2.0, -1.0, 1.0, 0.05, 0.01, false};
   const CpoDualSolution d = SolveCpoDual(in);
   EXPECT_EQ(d.optim_case, 1);
-  EXPECT_NEAR(d.lambda, std::sqrt(1.0 / 0.0175), kTol);
-  EXPECT_NEAR(d.nu, 1.0 + 0.05 * std::sqrt(1.0 / 0.0175), kTol);
-  EXPECT_NEAR(StepKl(d, in), 0.01, kTol);
-  EXPECT_NEAR(CostAfterStep(d, in), 0.0, kTol);
+  EXPECT_NEAR(d.lambda, std::sqrt(1.0 / 0.0175), kTrustRegionTol);
+  EXPECT_NEAR(d.nu, 1.0 + 0.05 * std::sqrt(1.0 / 0.0175), kTrustRegionTol);
+  EXPECT_NEAR(StepKl(d, in), 0.01, kTrustRegionTol);
+  EXPECT_NEAR(CostAfterStep(d, in), 0.0, kTrustRegionTol);
 }
 
 TEST(CpoDualTest, Case0StepsOnlyToLowerTheCost) {
@@ -98,8 +98,8 @@ TEST(CpoDualTest, Case0StepsOnlyToLowerTheCost) {
   const CpoDualSolution d = SolveCpoDual(in);
   EXPECT_EQ(d.optim_case, 0);
   EXPECT_EQ(d.v_coefficient, 0.0);
-  EXPECT_NEAR(d.w_coefficient, std::sqrt(0.02), kTol);
-  EXPECT_NEAR(StepKl(d, in), 0.01, kTol);
+  EXPECT_NEAR(d.w_coefficient, std::sqrt(0.02), kTrustRegionTol);
+  EXPECT_NEAR(StepKl(d, in), 0.01, kTrustRegionTol);
   EXPECT_LT(CostAfterStep(d, in), in.c);  // lower, though not yet feasible
 }
 
