@@ -4,10 +4,14 @@
 #include <cstring>
 #include <mutex>
 
+#include "cmbrl/core/binary_io.h"
 #include "cmbrl/core/check.h"
 
 namespace cmbrl {
 namespace {
+
+// mjData's fixed part before its buffers: plain values.
+constexpr size_t kDataHeaderBytes = offsetof(mjData, buffer);
 
 void IgnoreWarning(const char* /*message*/) {}
 
@@ -42,6 +46,23 @@ MjDataPtr MakeMjData(const mjModel& model) {
   mjData* data = mj_makeData(&model);
   Require(data != nullptr, "MuJoCo could not allocate mjData");
   return MjDataPtr(data);
+}
+
+void WriteMjDataState(ByteWriter& out, const mjData& data) {
+  out.WriteBytes(&data, kDataHeaderBytes);
+  out.WriteBytes(data.buffer, static_cast<size_t>(data.nbuffer));
+}
+
+MjDataStateBytes ReadMjDataState(ByteReader& in, const mjData& data) {
+  MjDataStateBytes state;
+  state.header = in.ReadBytes(kDataHeaderBytes);
+  state.buffer = in.ReadBytes(static_cast<size_t>(data.nbuffer));
+  return state;
+}
+
+void ApplyMjDataState(const MjDataStateBytes& state, mjData& data) {
+  std::memcpy(static_cast<void*>(&data), state.header.data(), kDataHeaderBytes);
+  std::memcpy(data.buffer, state.buffer.data(), state.buffer.size());
 }
 
 int RequireMjId(const mjModel& model, mjtObj type, const std::string& name) {

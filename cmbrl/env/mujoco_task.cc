@@ -16,8 +16,7 @@
 namespace cmbrl {
 namespace {
 
-constexpr const char* kStateTag = "cmbrl-mujoco-task-state-v1";
-constexpr size_t kDataHeaderBytes = offsetof(mjData, buffer);
+constexpr const char* kTaskStateTag = "cmbrl-mujoco-task-state-v1";
 
 // The model's names of one kind, for messages.
 std::string NamesOf(const mjModel& m, mjtObj type, int count) {
@@ -280,13 +279,12 @@ void MujocoTaskEnv::SetGeneratorState(const std::string& state) { rng_ = RngFrom
 // MuJoCo's whole mjData (its fixed header and main buffer), the generator and the step count.
 std::string MujocoTaskEnv::State() const {
   ByteWriter out;
-  out.Write(std::string(kStateTag));
+  out.Write(std::string(kTaskStateTag));
   out.Write(task_);
   out.Write(model_->nq);
   out.Write(model_->nv);
   out.Write(static_cast<std::uint64_t>(data_->nbuffer));
-  out.WriteBytes(data_.get(), kDataHeaderBytes);
-  out.WriteBytes(data_->buffer, static_cast<size_t>(data_->nbuffer));
+  WriteMjDataState(out, *data_);
   out.Write(GeneratorState());
   out.Write(steps_);
   return out.Take();
@@ -295,21 +293,20 @@ std::string MujocoTaskEnv::State() const {
 void MujocoTaskEnv::SetState(const std::string& state) {
   const std::string what = fmt::format("the {} environment state", task_);
   ByteReader in(state, what);
-  Require(in.ReadString() == kStateTag, "{} is not one: expected the bytes State() wrote", what);
+  Require(in.ReadString() == kTaskStateTag, "{} is not one: expected the bytes State() wrote",
+          what);
   const std::string task = in.ReadString();
   const int nq = in.Read<int>(), nv = in.Read<int>();
   const auto nbuffer = in.Read<std::uint64_t>();
   Require(task == task_ && nq == model_->nq && nv == model_->nv &&
               nbuffer == static_cast<std::uint64_t>(data_->nbuffer),
           "{} is of another task or model ({})", what, task);
-  const std::string_view header = in.ReadBytes(kDataHeaderBytes);
-  const std::string_view buffer = in.ReadBytes(static_cast<size_t>(data_->nbuffer));
+  const MjDataStateBytes data = ReadMjDataState(in, *data_);
   const std::string generator = in.ReadString();
   const int steps = in.Read<int>();
   in.ExpectEnd();
   SetGeneratorState(generator);
-  std::memcpy(static_cast<void*>(data_.get()), header.data(), kDataHeaderBytes);
-  std::memcpy(data_->buffer, buffer.data(), buffer.size());
+  ApplyMjDataState(data, *data_);
   steps_ = steps;
 }
 

@@ -580,10 +580,7 @@ void NavigationEnv::SetGeneratorState(const std::string& state) { rng_ = RngFrom
 
 namespace {
 
-constexpr const char* kStateTag = "cmbrl-goal-env-state-v1";
-
-// mjData's fixed part before its buffers: sizes, counters, diagnostics, time (plain values).
-constexpr size_t kDataHeaderBytes = offsetof(mjData, buffer);
+constexpr const char* kNavigationStateTag = "cmbrl-goal-env-state-v1";
 
 void WritePose(ByteWriter& out, const Pose2& pose) {
   out.Write(pose.position.x);
@@ -607,14 +604,13 @@ Pose2 ReadPose(ByteReader& in) {
 // buffers of one layout; the task name and the sizes below refuse another's bytes.
 std::string NavigationEnv::State() const {
   ByteWriter out;
-  out.Write(std::string(kStateTag));
+  out.Write(std::string(kNavigationStateTag));
   out.Write(spec_.name);
   out.Write(static_cast<int>(spec_.variant));
   out.Write(model_->nq);
   out.Write(model_->nv);
   out.Write(model_->nbody);
-  out.WriteBytes(data_.get(), kDataHeaderBytes);
-  out.WriteBytes(data_->buffer, static_cast<size_t>(data_->nbuffer));
+  WriteMjDataState(out, *data_);
   out.Write(GeneratorState());
   WritePose(out, layout_.robot);
   out.Write(layout_.goal.x);
@@ -653,7 +649,7 @@ std::string NavigationEnv::State() const {
 void NavigationEnv::SetState(const std::string& state) {
   const std::string what = fmt::format("the {} environment state", spec_.name);
   ByteReader in(state, what);
-  Require(in.ReadString() == kStateTag, "{} is not one: expected the bytes State() wrote",
+  Require(in.ReadString() == kNavigationStateTag, "{} is not one: expected the bytes State() wrote",
           what);
   const std::string task = in.ReadString();
   const int variant = in.Read<int>();
@@ -665,8 +661,7 @@ void NavigationEnv::SetState(const std::string& state) {
           "{} is of another robot or scene: {} positions, {} velocities and {} bodies, where "
           "this one has {}, {} and {}", what, nq, nv, nbody, model_->nq, model_->nv,
           model_->nbody);
-  const std::string_view header = in.ReadBytes(kDataHeaderBytes);
-  const std::string_view buffer = in.ReadBytes(static_cast<size_t>(data_->nbuffer));
+  const MjDataStateBytes data = ReadMjDataState(in, *data_);
   const std::string generator = in.ReadString();
   NavigationLayout layout;
   layout.robot = ReadPose(in);
@@ -710,11 +705,9 @@ void NavigationEnv::SetState(const std::string& state) {
   }
   in.ExpectEnd();
 
-  // Everything is read and checked: now change the environment. The header ends before mjData's
-  // pointers, which stay this environment's own.
+  // Everything is read and checked: now change the environment.
   SetGeneratorState(generator);
-  std::memcpy(static_cast<void*>(data_.get()), header.data(), kDataHeaderBytes);
-  std::memcpy(data_->buffer, buffer.data(), buffer.size());
+  ApplyMjDataState(data, *data_);
   layout_ = std::move(layout);
   last_goal_distance_ = last_goal_distance;
   last_box_distance_ = last_box_distance;

@@ -5,11 +5,11 @@
 #include <memory>
 
 #include "cmbrl/core/check.h"
+#include "cmbrl/policy_opt/policy_opt_options.h"
 
 namespace cmbrl {
 namespace {
 
-constexpr double kEps = 1e-8;  // the original's EPS
 // Rows per block of the hand-written passes: a block's activations stay in the core's cache.
 constexpr std::int64_t kBlockRows = 1024;
 
@@ -129,7 +129,7 @@ torch::Tensor GaussianPolicy::Mean(const torch::Tensor& observations) const {
 torch::Tensor GaussianPolicy::LogProb(const torch::Tensor& observations,
                                       const torch::Tensor& actions) const {
   const torch::Tensor mean = Mean(observations);
-  const torch::Tensor z = (actions - mean) / (torch::exp(log_std_) + kEps);
+  const torch::Tensor z = (actions - mean) / (torch::exp(log_std_) + kPolicyOptEps);
   return (-0.5 * (z * z + 2 * log_std_ + std::log(2 * M_PI))).sum(-1);
 }
 
@@ -139,7 +139,8 @@ torch::Tensor GaussianPolicy::MeanKl(const torch::Tensor& observations,
   const torch::Tensor mean = Mean(observations);
   const torch::Tensor old_var = torch::exp(2 * old_log_std), var = torch::exp(2 * log_std_);
   const torch::Tensor per_dim =
-      0.5 * (((mean - old_mean).pow(2) + old_var) / (var + kEps) - 1) + log_std_ - old_log_std;
+      0.5 * (((mean - old_mean).pow(2) + old_var) / (var + kPolicyOptEps) - 1) + log_std_ -
+      old_log_std;
   return per_dim.sum(-1).mean();
 }
 
@@ -165,10 +166,10 @@ std::function<torch::Tensor(const torch::Tensor&)> GaussianPolicy::KlHessianProd
   // eps = 0).
   const torch::NoGradGuard no_grad;
   const torch::Tensor var = torch::exp(2 * log_std_.to(torch::kDouble));
-  const torch::Tensor mean_weights = (1 / (var + kEps)).to(torch::kFloat);
-  const torch::Tensor log_std_curvature =
-      (4 * var.pow(3) / (var + kEps).pow(3) - 2 * var.pow(2) / (var + kEps).pow(2))
-          .to(torch::kFloat);
+  const torch::Tensor mean_weights = (1 / (var + kPolicyOptEps)).to(torch::kFloat);
+  const torch::Tensor log_std_curvature = (4 * var.pow(3) / (var + kPolicyOptEps).pow(3) -
+                                           2 * var.pow(2) / (var + kPolicyOptEps).pow(2))
+                                              .to(torch::kFloat);
   const double rows = static_cast<double>(observations.size(0));
   auto jacobian = std::make_shared<TanhMlp::Jacobian>(mean_, observations);
   return [this, jacobian, mean_weights, log_std_curvature, rows](const torch::Tensor& flat) {

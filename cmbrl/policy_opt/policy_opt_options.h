@@ -8,6 +8,10 @@
 
 namespace cmbrl {
 
+// The original's EPS, added in every division of the model-free updates that could meet zero
+// (not a setting).
+constexpr double kPolicyOptEps = 1e-8;
+
 struct PolicyOptimisationOptions {
   std::int64_t steps_per_epoch = 30000;  // environment steps collected between updates
   // Environments stepped side by side, each steps_per_epoch / envs steps an epoch, their

@@ -5,12 +5,11 @@
 #include <functional>
 
 #include "cmbrl/core/check.h"
+#include "cmbrl/policy_opt/policy_opt_options.h"
 #include "cmbrl/policy_opt/trust_region.h"
 
 namespace cmbrl {
 namespace {
-
-constexpr double kEps = 1e-8;  // the original's EPS
 
 struct Surrogates {
   torch::Tensor loss;  // the policy loss, scalar
@@ -140,10 +139,10 @@ PolicyUpdateReport TrustRegionUpdate(GaussianPolicy& policy, const PolicyBatch& 
   double c = 0.0;
   if (handling == ConstraintHandling::kCpo) {
     const torch::Tensor b = FlatGradient(before.cost, parameters).to(torch::kDouble);
-    c = (batch.episode_cost - o.cost_limit + o.cpo_margin) / (batch.episode_length + kEps);
+    c = (batch.episode_cost - o.cost_limit + o.cpo_margin) / (batch.episode_length + kPolicyOptEps);
     step = CpoStep(fisher, v, b, c, o, report);
   } else {
-    step = v * std::sqrt(2 * o.target_kl / (v.dot(fisher(v)).item<double>() + kEps));
+    step = v * std::sqrt(2 * o.target_kl / (v.dot(fisher(v)).item<double>() + kPolicyOptEps));
   }
   return LineSearch(policy, batch, handling, penalty, o, step, c, old_mean, old_log_std, report);
 }

@@ -5,13 +5,9 @@
 #include <limits>
 
 #include "cmbrl/core/check.h"
+#include "cmbrl/policy_opt/policy_opt_options.h"
 
 namespace cmbrl {
-namespace {
-
-constexpr double kEps = 1e-8;  // the original's EPS, in every division that could meet zero
-
-}  // namespace
 
 torch::Tensor ConjugateGradient(const std::function<torch::Tensor(const torch::Tensor&)>& apply,
                                 const torch::Tensor& b, int iterations) {
@@ -25,7 +21,7 @@ torch::Tensor ConjugateGradient(const std::function<torch::Tensor(const torch::T
   for (int i = 0; i < iterations; ++i) {
     if (residual_dot <= 1e-30) break;  // solved exactly: another step would divide 0 by 0
     const torch::Tensor product = apply(direction);
-    const double alpha = residual_dot / (direction.dot(product).item<double>() + kEps);
+    const double alpha = residual_dot / (direction.dot(product).item<double>() + kPolicyOptEps);
     x += alpha * direction;
     residual -= alpha * product;
     const double new_dot = residual.dot(residual).item<double>();
@@ -37,7 +33,7 @@ torch::Tensor ConjugateGradient(const std::function<torch::Tensor(const torch::T
 
 double NaturalStepScale(double q, double target_kl) {
   Require(target_kl > 0, "target_kl is {}: expected a positive number", target_kl);
-  return std::sqrt(2 * target_kl / (q + kEps));
+  return std::sqrt(2 * target_kl / (q + kPolicyOptEps));
 }
 
 CpoDualSolution SolveCpoDual(const CpoDualInputs& in) {
@@ -76,20 +72,21 @@ CpoDualSolution SolveCpoDual(const CpoDualInputs& in) {
     const double lambda_a = project(std::sqrt(out.a / out.b), range_a);
     const double lambda_b = project(std::sqrt(in.q / (2 * delta)), range_b);
     const auto dual_a = [&](double lambda) {
-      return -0.5 * (out.a / (lambda + kEps) + out.b * lambda) - in.r * in.c / (in.s + kEps);
+      return -0.5 * (out.a / (lambda + kPolicyOptEps) + out.b * lambda) -
+             in.r * in.c / (in.s + kPolicyOptEps);
     };
     const auto dual_b = [&](double lambda) {
-      return -0.5 * (in.q / (lambda + kEps) + 2 * delta * lambda);
+      return -0.5 * (in.q / (lambda + kPolicyOptEps) + 2 * delta * lambda);
     };
     out.lambda = dual_a(lambda_a) >= dual_b(lambda_b) ? lambda_a : lambda_b;
-    out.nu = std::max(0.0, out.lambda * in.c - in.r) / (in.s + kEps);
+    out.nu = std::max(0.0, out.lambda * in.c - in.r) / (in.s + kPolicyOptEps);
   } else {
     out.lambda = 0.0;
-    out.nu = std::sqrt(2 * delta / (in.s + kEps));
+    out.nu = std::sqrt(2 * delta / (in.s + kPolicyOptEps));
   }
   if (out.optim_case > 0) {
-    out.v_coefficient = 1.0 / (out.lambda + kEps);
-    out.w_coefficient = out.nu / (out.lambda + kEps);
+    out.v_coefficient = 1.0 / (out.lambda + kPolicyOptEps);
+    out.w_coefficient = out.nu / (out.lambda + kPolicyOptEps);
   } else {
     out.v_coefficient = 0.0;
     out.w_coefficient = out.nu;

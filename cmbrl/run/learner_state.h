@@ -8,6 +8,10 @@
 
 namespace cmbrl {
 
+// The file of a checkpoint that holds its learner's counters (every learner's, and the v0.2
+// checkpoints' only file).
+inline constexpr const char* kLearnerStateFile = "state.json";
+
 // Throws cmbrl::Error naming the file when it cannot be written.
 void WriteLearnerState(const std::filesystem::path& path, const nlohmann::json& state);
 

@@ -11,6 +11,7 @@
 
 #include "cmbrl/core/check.h"
 #include "cmbrl/core/files.h"
+#include "cmbrl/run/learner_state.h"
 
 namespace cmbrl {
 namespace fs = std::filesystem;
@@ -368,10 +369,10 @@ std::optional<CheckpointManifest> VerifiedCheckpoint(const RunDirectory& run, bo
               path.string());
     }
   } else {
-    const fs::path state = folder / "state.json";
+    const fs::path state = folder / kLearnerStateFile;
     Require(fs::exists(state),
-            "'{}' holds neither {} nor state.json: the checkpoint is incomplete or was changed",
-            folder.string(), kManifest);
+            "'{}' holds neither {} nor {}: the checkpoint is incomplete or was changed",
+            folder.string(), kManifest, kLearnerStateFile);
     manifest = LegacyManifest(state);  // written by v0.2: nothing to check the files against
     return manifest;
   }

@@ -30,8 +30,8 @@ namespace {
 // empty: all), with as many BLAS threads. Everything the child needs is prepared before fork():
 // between fork and exec it makes only system calls, as a child of a process with threads
 // (OpenBLAS's) must.
-pid_t Spawn(const std::string& program, const std::vector<std::string>& args,
-            const std::string& log, const std::vector<int>& cpus, int blas_threads) {
+pid_t StartTrainer(const std::string& program, const std::vector<std::string>& args,
+                   const std::string& log, const std::vector<int>& cpus, int blas_threads) {
   cpu_set_t mask;
   CPU_ZERO(&mask);
   for (const int cpu : cpus) CPU_SET(cpu, &mask);
@@ -109,7 +109,7 @@ SweepOutcome RunSweep(const SweepGrid& grid, const std::string& sweep_dir, int j
         free_shares.pop_back();
       }
       const std::vector<int> cpus = share ? shares[*share] : std::vector<int>{};
-      running[Spawn(program, train, log, cpus, blas_threads)] = {
+      running[StartTrainer(program, train, log, cpus, blas_threads)] = {
           &run, std::chrono::steady_clock::now(), share};
       on_event({run.name, train[1] == "--resume" ? "resumed" : "started", log, cpus,
                 std::nullopt, std::nullopt, "", ""});

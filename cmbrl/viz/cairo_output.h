@@ -1,15 +1,26 @@
 // Cairo's pictures written through core/files.h: Cairo writing a file itself reports a full disk
 // only as "error while writing to output stream"; through memory the error names the cause.
+// Also the owning handles of Cairo's surfaces and contexts.
 #pragma once
 
 #include <cairo.h>
 
+#include <memory>
 #include <string>
 
 #include "cmbrl/core/check.h"
 #include "cmbrl/core/files.h"
 
 namespace cmbrl {
+
+struct CairoSurfaceDeleter {
+  void operator()(cairo_surface_t* surface) const { cairo_surface_destroy(surface); }
+};
+struct CairoContextDeleter {
+  void operator()(cairo_t* context) const { cairo_destroy(context); }
+};
+using CairoSurface = std::unique_ptr<cairo_surface_t, CairoSurfaceDeleter>;
+using CairoContext = std::unique_ptr<cairo_t, CairoContextDeleter>;
 
 // A cairo_write_func_t that appends to the std::string behind `closure`.
 inline cairo_status_t AppendToString(void* closure, const unsigned char* data,

@@ -17,17 +17,13 @@ constexpr int kMaxHeight = 320;  // pixels of each frame in the strip
 constexpr int kGap = 6;          // pixels between frames
 constexpr int kCaptionBand = 28;
 
-using Surface = std::unique_ptr<cairo_surface_t, decltype(&cairo_surface_destroy)>;
-using Context = std::unique_ptr<cairo_t, decltype(&cairo_destroy)>;
-
 // A frame as a Cairo image (32-bit xRGB rows).
-Surface SurfaceOf(const RgbFrame& frame) {
+CairoSurface SurfaceOf(const RgbFrame& frame) {
   Require(frame.width >= 1 && frame.height >= 1 &&
               frame.rgb.size() == static_cast<size_t>(frame.width) * frame.height * 3,
           "a frame of {} x {} pixels holds {} bytes: expected {}", frame.width, frame.height,
           frame.rgb.size(), static_cast<size_t>(frame.width) * frame.height * 3);
-  Surface surface(cairo_image_surface_create(CAIRO_FORMAT_RGB24, frame.width, frame.height),
-                  cairo_surface_destroy);
+  CairoSurface surface(cairo_image_surface_create(CAIRO_FORMAT_RGB24, frame.width, frame.height));
   cairo_surface_flush(surface.get());
   unsigned char* data = cairo_image_surface_get_data(surface.get());
   const int stride = cairo_image_surface_get_stride(surface.get());
@@ -58,9 +54,8 @@ void WriteFrameStripPng(const std::vector<RgbFrame>& frames, const std::string& 
     width += static_cast<int>(std::ceil(frame.width * scales.back())) + kGap;
   }
   width = std::max(width - kGap, 200);
-  Surface strip(cairo_image_surface_create(CAIRO_FORMAT_RGB24, width, height + kCaptionBand),
-                cairo_surface_destroy);
-  Context cr(cairo_create(strip.get()), cairo_destroy);
+  CairoSurface strip(cairo_image_surface_create(CAIRO_FORMAT_RGB24, width, height + kCaptionBand));
+  CairoContext cr(cairo_create(strip.get()));
   cairo_set_source_rgb(cr.get(), 0.85, 0.85, 0.85);  // the gaps between frames show
   cairo_paint(cr.get());
   cairo_set_source_rgb(cr.get(), 1, 1, 1);
@@ -73,7 +68,7 @@ void WriteFrameStripPng(const std::vector<RgbFrame>& frames, const std::string& 
   cairo_show_text(cr.get(), caption.c_str());
   double x = 0;
   for (size_t k = 0; k < frames.size(); ++k) {
-    const Surface frame = SurfaceOf(frames[k]);
+    const CairoSurface frame = SurfaceOf(frames[k]);
     cairo_save(cr.get());
     cairo_translate(cr.get(), x, kCaptionBand);
     cairo_scale(cr.get(), scales[k], scales[k]);

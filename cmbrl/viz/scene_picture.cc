@@ -14,13 +14,6 @@
 namespace cmbrl {
 namespace {
 
-struct SurfaceDeleter {
-  void operator()(cairo_surface_t* surface) const { cairo_surface_destroy(surface); }
-};
-struct ContextDeleter {
-  void operator()(cairo_t* context) const { cairo_destroy(context); }
-};
-
 // The world rectangle the picture shows: placement area, path and robot, plus a margin, made
 // square so that metres are equal in x and y.
 Extents ViewOf(const ScenePicture& picture, double margin) {
@@ -331,11 +324,9 @@ Vec2 PictureGeometry::PixelOf(Vec2 world) const {
 
 namespace {
 
-using Surface = std::unique_ptr<cairo_surface_t, SurfaceDeleter>;
-
 // Draws the picture on a new image surface; fills `g`.
-Surface DrawScenePicture(const ScenePicture& picture, const ScenePictureOptions& options,
-                         PictureGeometry& g) {
+CairoSurface DrawScenePicture(const ScenePicture& picture, const ScenePictureOptions& options,
+                              PictureGeometry& g) {
   Require(options.size_px >= 64 && options.size_px <= 8192,
           "picture size_px is {}: expected 64 to 8192 pixels", options.size_px);
   const SceneState& scene = picture.scene;
@@ -348,8 +339,8 @@ Surface DrawScenePicture(const ScenePicture& picture, const ScenePictureOptions&
   g.arena_size_px = size;
   g.view = ViewOf(picture, options.margin_m);
   g.pixels_per_metre = size / (g.view.x_max - g.view.x_min);
-  Surface surface(cairo_image_surface_create(CAIRO_FORMAT_ARGB32, g.width_px, g.height_px));
-  std::unique_ptr<cairo_t, ContextDeleter> context(cairo_create(surface.get()));
+  CairoSurface surface(cairo_image_surface_create(CAIRO_FORMAT_ARGB32, g.width_px, g.height_px));
+  CairoContext context(cairo_create(surface.get()));
   cairo_t* cr = context.get();
 
   cairo_set_source_rgb(cr, 1, 1, 1);
@@ -417,14 +408,14 @@ Surface DrawScenePicture(const ScenePicture& picture, const ScenePictureOptions&
 PictureGeometry WriteScenePng(const ScenePicture& picture, const std::string& path,
                               const ScenePictureOptions& options) {
   PictureGeometry g;
-  const Surface surface = DrawScenePicture(picture, options, g);
+  const CairoSurface surface = DrawScenePicture(picture, options, g);
   WriteSurfacePng(surface.get(), path);
   return g;
 }
 
 RgbImage DrawScenePictureRgb(const ScenePicture& picture, const ScenePictureOptions& options) {
   PictureGeometry g;
-  const Surface surface = DrawScenePicture(picture, options, g);
+  const CairoSurface surface = DrawScenePicture(picture, options, g);
   RgbImage image;
   image.geometry = g;
   image.pixels.resize(static_cast<size_t>(g.width_px) * g.height_px * 3);

@@ -32,7 +32,6 @@ constexpr const char* kRewardModelFile = "reward_model.pt";  // objective.reward
 // objective.termination: learned only
 constexpr const char* kTerminationModelFile = "termination_model.pt";
 constexpr const char* kPlannerGeneratorFile = "planner_generator.pt";
-constexpr const char* kStateFile = "state.json";
 // Only in a checkpoint taken in the middle of an episode.
 constexpr const char* kOpenEpisodeFile = "episode.json";
 constexpr const char* kOpenEpisodeEnvFile = "episode_env.bin";
@@ -336,7 +335,7 @@ void MpcLearner::Save(const fs::path& folder, const fs::path& previous,
       {"classifier_safe_accuracy", ProgressNumber(classifier_safe_accuracy_)},
       {"classifier_unsafe_accuracy", ProgressNumber(classifier_unsafe_accuracy_)},
   };
-  WriteLearnerState(folder / kStateFile, state);
+  WriteLearnerState(folder / kLearnerStateFile, state);
   if (open_) SaveOpenEpisode(folder);
 }
 
@@ -419,7 +418,7 @@ void MpcLearner::LoadOpenEpisode(const fs::path& folder) {
 }
 
 void MpcLearner::Load(const fs::path& folder) {
-  ReadLearnerState(folder / kStateFile, [&](const nlohmann::json& state) {
+  ReadLearnerState(folder / kLearnerStateFile, [&](const nlohmann::json& state) {
     pretrained_ = state.at("pretrained").get<bool>();
     // Absent before v0.9, whose first checkpoint came after the pre-training's fit.
     pretrain_collected_ = state.value("pretrain_collected", pretrained_);

@@ -18,7 +18,6 @@ namespace fs = std::filesystem;
 namespace {
 
 constexpr const char* kNetworksFile = "networks.pt";
-constexpr const char* kStateFile = "state.json";
 constexpr const char* kEpochFile = "epoch.json";       // an epoch under way: its counters
 constexpr const char* kEpochTensorsFile = "epoch.pt";  // and its data
 
@@ -119,12 +118,12 @@ void PolicyOptLearner::Save(const fs::path& folder, const fs::path&, bool) const
       {"penalty_steps", penalty.steps},
   };
   if (raw_cost_column_) state["cumulative_raw_cost"] = ProgressNumber(cumulative_raw_cost_);
-  WriteLearnerState(folder / kStateFile, state);
+  WriteLearnerState(folder / kLearnerStateFile, state);
   if (open_) SaveOpenEpoch(folder);
 }
 
 void PolicyOptLearner::Load(const fs::path& folder) {
-  ReadLearnerState(folder / kStateFile, [&](const nlohmann::json& state) {
+  ReadLearnerState(folder / kLearnerStateFile, [&](const nlohmann::json& state) {
     epochs_ = state.at("epochs").get<int>();
     total_steps_ = state.at("total_steps").get<std::int64_t>();
     cumulative_cost_ = StateNumber(state, "cumulative_cost");
