@@ -6,8 +6,9 @@
 set -euo pipefail
 source_dir=$1 work=$2 generator=$3
 rm -rf "$work"
+# Out of unity batches, so that app/main.cc has a compile command of its own.
 cmake -S "$source_dir" -B "$work" -G "$generator" -DCMAKE_BUILD_TYPE=Release \
-  -DCMBRL_BUILD_PYTHON=OFF > "$work.log" 2>&1 || { cat "$work.log"; echo "FAILED: configure"; exit 1; }
+  -DCMBRL_BUILD_PYTHON=OFF -DCMBRL_UNITY_BUILD=OFF > "$work.log" 2>&1 || { cat "$work.log"; echo "FAILED: configure"; exit 1; }
 python3 - "$work/compile_commands.json" "$source_dir/app/main.cc" <<'PY' > "$work/main.sh"
 import json, shlex, sys
 commands, main = sys.argv[1], sys.argv[2]
