@@ -3,10 +3,9 @@
 # (--system-site-packages), offline, reusing the CMake build folder; then the installed package
 # is imported from elsewhere, says the version `cmbrl --version` says, and runs the example. The
 # venv stays for readme_snippet_test.sh.
-# Usage: pip_install_test.sh SOURCE_DIR BUILD_DIR CMBRL PYTHON
+# Usage: pip_install_test.sh SOURCE_DIR BUILD_DIR CMBRL PYTHON VENV_DIR
 set -euo pipefail
-source_dir=$1 build_dir=$2 cmbrl=$3 python=$4
-venv=$build_dir/tests/pip_venv
+source_dir=$1 build_dir=$2 cmbrl=$3 python=$4 venv=$5
 rm -rf "$venv"
 "$python" -m venv --system-site-packages "$venv"
 CMBRL_BUILD_DIR=$build_dir "$venv/bin/pip" install --quiet --no-build-isolation --no-deps \
