@@ -6,19 +6,22 @@ deterministic_rows() { cut -d, -f1-6,8-11,13- "$1"; }
 
 # Trains CUT_DIR with the train arguments given, checkpointing after every step, kills it with
 # SIGKILL at its first checkpoint in the middle of an episode, resumes it, and fails (exit 1,
-# naming the difference) unless its rows are WHOLE_DIR's.
+# naming the difference) unless it was killed there and its rows are WHOLE_DIR's.
 # Usage: killed_mid_episode_resumes CMBRL WHOLE_DIR CUT_DIR TRAIN_ARGUMENTS...
 killed_mid_episode_resumes() {
   local cmbrl=$1 whole=$2 cut=$3
   shift 3
   "$cmbrl" train "$@" --out "$cut" --checkpoint-seconds 0 > /dev/null 2>&1 &
-  local pid=$!
-  for _ in $(seq 1 600); do
-    [ -f "$cut/checkpoint/episode.json" ] && break
+  local pid=$! seen=0 status=0
+  for _ in $(seq 1 3000); do
+    [ -f "$cut/checkpoint/episode.json" ] && { seen=1; break; }
     sleep 0.02
   done
   kill -9 $pid 2> /dev/null || true
-  wait $pid 2> /dev/null || true
+  wait $pid 2> /dev/null || status=$?
+  # A run that finished, failed or never checkpointed mid-episode resumes nothing: not a pass.
+  [ "$seen" = 1 ] || { echo "no checkpoint inside an episode within 60 s"; exit 1; }
+  [ "$status" = 137 ] || { echo "the run was not killed mid-way (exit status $status)"; exit 1; }
   "$cmbrl" train --resume "$cut" > /dev/null 2>&1
   if ! diff <(deterministic_rows "$whole/progress.csv") <(deterministic_rows "$cut/progress.csv"); then
     echo "resumed rows differ"; exit 1
