@@ -2,6 +2,7 @@
 trained run or tiny models."""
 import json
 import os
+import re
 
 import numpy as np
 import pytest
@@ -9,8 +10,8 @@ import pytest
 import cmbrl
 from conftest import tiny_config
 from cmbrl.diagnostics import (classifier_learners, classifier_recall, goal_approach,
-                               hidden_state, model_size, open_loop, planner_compare,
-                               planner_study, reward_form, violation_anatomy)
+                               hazard_escape, hidden_state, model_size, open_loop,
+                               planner_compare, planner_study, reward_form, violation_anatomy)
 
 TINY = tiny_config(120)
 
@@ -134,6 +135,57 @@ def test_the_open_loop_study_rolls_each_member_on_its_own_and_writes_its_tables(
     assert summary["Point"]["episodes"] == 1 and summary["Point"]["steps"] > 8
     everything = summary["Point"]["by_k"]["1"][0]
     assert everything[0] == "all" and everything[1]["samples"] == summary["Point"]["steps"] - 7
+
+
+class _SlidingAgent:
+    """Two members that move the robot (yaw 0) along world x by 0.1 x the action's first component
+    a step; the objective calls a sequence feasible when it never drives forward."""
+
+    def predict_next(self, states, actions):
+        moved = np.array(states, dtype=float)
+        moved[:, 0:4:2] -= 0.1 * np.asarray(actions)[:, :1]  # the two hazards' ego x
+        return np.stack([moved, moved])
+
+    def score(self, obs, sequences):
+        return {"feasible": (np.asarray(sequences)[:, :, 0] <= 0).all(axis=1)}
+
+
+def test_a_hazard_is_a_trap_when_only_staying_is_feasible():
+    world = np.array([[0.0, 0.0], [3.0, 1.0]])  # the robot at the first hazard's centre
+    obs = np.concatenate([(world - world[0]).ravel(), [0.0]])  # hazard0 x, y, hazard1 x, y
+    slots = np.array([[0, 1], [2, 3]])
+    forward = np.zeros((3, 4, 2)); forward[:, :, 0] = [[1.0], [0.5], [0.2]]   # 0.4, 0.2, 0.08 m
+    backward = np.zeros((2, 4, 2)); backward[:, :, 0] = -1.0                  # 0.4 m back
+    sequences = np.concatenate([forward, backward])
+    feasible, leaves = hazard_escape.escape_at(_SlidingAgent(), obs, world[0], 0.3, slots, world,
+                                               sequences)
+    assert feasible.tolist() == [False, False, False, True, True]
+    assert leaves.tolist() == [True, False, False, True, True]
+    judged = hazard_escape.judge_state(feasible, leaves)
+    assert judged == {"leave_feasible": pytest.approx(2 / 3), "stay_feasible": 0.0,
+                      "leaving": pytest.approx(0.6), "trapped": False}
+    # Only forward: the ways out are infeasible, staying is not: trapped.
+    trapped = hazard_escape.judge_state(np.array([False, True, True]),
+                                        np.array([True, False, False]))
+    assert trapped["trapped"] and trapped["leave_feasible"] == 0.0
+    assert np.isnan(hazard_escape.judge_state(np.array([True]), np.array([False]))["leave_feasible"])
+
+
+def test_the_hazard_escape_study_writes_a_row_per_run_and_episode_kind(tmp_path):
+    run = tmp_path / "run"
+    cmbrl.train(config=TINY, out=str(run))
+    out = tmp_path / "out"
+    hazard_escape.main([str(run), "--episodes", "2", "--samples", "6", "--out", str(out)])
+    text = (out / "table.md").read_text()
+    kinds = dict(re.findall(r"\| run \| (dwelling|other) \((\d+)\) \|", text))
+    assert set(kinds) == {"dwelling", "other"} and sum(map(int, kinds.values())) == 2
+    summary = json.loads((out / "summary.json").read_text())
+    assert len(summary["run"]["violations"]) == 2
+    for kind in ("dwelling", "other"):
+        part = summary["run"][kind]
+        assert part["states"] == 0 or 0.0 <= part["leaving"] <= 1.0
+    with pytest.raises(SystemExit):
+        hazard_escape.main([str(run), "--samples", "0"])
 
 
 def test_the_hidden_state_study_measures_motion_in_the_robots_frame(capsys):

@@ -9,6 +9,8 @@
 - open_loop: where a trained run's ensemble members put the robot 1, 4 and 8 steps ahead under
   the executed actions of its own episodes, against where it went (by robot, inside or outside
   hazards, speed, turning).
+- hazard_escape: whether a hazard is a trap for a trained RCE run: at each state inside a
+  hazard, the feasible share of the action sequences that leave it and of those that stay.
 - hidden_state: whether a robot's observation holds its motion state: how much of one step's
   motion an ensemble explains from the observed motion and the action, with the previous action
   or an unrelated one added.

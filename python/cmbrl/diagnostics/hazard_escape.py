@@ -1,0 +1,156 @@
+"""Whether a trained RCE run's models make a hazard a trap: at each state where the robot is inside
+a hazard, which action sequences do its models call feasible, those that leave the hazard or those
+that stay in it?
+
+RCE keeps only feasible sequences (no member's classifier calls any predicted state a violation).
+If the classifier misses the inside of the hazard the robot is in (a hole) but not the ring around
+it, every way out crosses predicted violations and only staying is feasible: the robot stays. This
+measures it. The run's own agent drives episodes (reset with seed + k); at every state inside a
+hazard, SAMPLES action sequences drawn uniformly from the action box over the planner's horizon
+are scored by the run's own objective (Agent.score: feasible or not) and rolled out by every
+member under those actions; a sequence "leaves" when the members' mean predicted position at the
+horizon's end lies outside the hazard the robot is in (its centre farther than the hazard's
+radius), else it "stays". Pose from the hazards' ego coordinates, as open_loop.
+
+Per state: the feasible share of the leaving sequences and of the staying ones; the state is
+"trapped" when no leaving sequence is feasible and some staying one is. Pooled over the states of
+episodes with 20 or more violations ("dwelling") and of the others.
+
+Usage:
+  PYTHONPATH=build/python python3 -m cmbrl.diagnostics.hazard_escape RUN_DIR [RUN_DIR ...] \\
+      [--episodes 20] [--seed 100] [--samples 500] [--out DIR]
+Prints (and with --out writes DIR/table.md and DIR/summary.json) a Markdown table, a row a run
+and episode kind.
+"""
+import argparse
+import json
+import os
+
+import numpy as np
+
+import cmbrl
+from cmbrl.diagnostics.open_loop import collect, hazard_slots, pose_from_ego, roll_out
+
+DWELLING = 20  # violations: an episode with this many or more is "dwelling"
+
+
+def escape_at(agent, obs, hazard, radius, slots, world, sequences):
+    """One state: (feasible (N) bool, leaves (N) bool) of the sequences (N, H, A)."""
+    feasible = np.asarray(agent.score(obs, sequences)["feasible"], dtype=bool)
+    n = sequences.shape[0]
+    predicted = roll_out(agent, np.tile(obs, (n, 1)), sequences)  # (E, N, H, S)
+    position, _, _ = pose_from_ego(predicted[:, :, -1][..., slots], world)  # (E, N, 2)
+    end = position.mean(axis=0)  # (N, 2)
+    leaves = np.hypot(*(end - hazard).T) > radius
+    return feasible, leaves
+
+
+def judge_state(feasible, leaves):
+    """One state's sequences, feasible (N) and leaves (N) bool: the feasible share of the leaving
+    and of the staying ones (NaN where none), the leaving share, and whether it is trapped (no
+    leaving sequence feasible, some staying one)."""
+    share = lambda mask: float(feasible[mask].mean()) if mask.any() else float("nan")
+    return {"leave_feasible": share(leaves), "stay_feasible": share(~leaves),
+            "leaving": float(leaves.mean()),
+            "trapped": bool(not feasible[leaves].any() and feasible[~leaves].any())}
+
+
+def study_run(run, episodes, seed, samples):
+    """Per state inside a hazard: a dict of arrays (leave_feasible, stay_feasible: shares, NaN
+    where no sequence fell in the group; leaving: share of sequences leaving; trapped; dwelling)
+    and the episodes' violations."""
+    agent = cmbrl.load_run(run, seed=seed)
+    if not agent.is_mpc:
+        raise SystemExit(f"{run} is not an MPC run: it has no planner's models to judge")
+    env = agent.make_env()
+    slots = hazard_slots(env.observation_names)
+    low, high = np.asarray(agent.action_space.low), np.asarray(agent.action_space.high)
+    rng = np.random.default_rng(seed)
+    rows = {"leave_feasible": [], "stay_feasible": [], "leaving": [], "trapped": [],
+            "dwelling": []}
+    violations = []
+    for k in range(episodes):
+        episode = collect(agent, env, seed + k)
+        violations.append(episode["violations"])
+        horizon = np.asarray(agent.last_plan()["actions"]).shape[0]
+        radius = env.ground_truth()["hazard_radius"]
+        world = episode["hazards"]
+        real, _, _ = pose_from_ego(episode["observations"][:, slots], world)
+        for t in np.flatnonzero(episode["inside"][:-1]):
+            hazard = world[np.argmin(np.hypot(*(world - real[t]).T))]
+            sequences = rng.uniform(low, high, size=(samples, horizon, len(low)))
+            feasible, leaves = escape_at(agent, episode["observations"][t], hazard, radius,
+                                         slots, world, sequences)
+            for key, value in judge_state(feasible, leaves).items():
+                rows[key].append(value)
+            rows["dwelling"].append(episode["violations"] >= DWELLING)
+    env.close()
+    return {key: np.array(value) for key, value in rows.items()}, violations
+
+
+def summarise(rows, mask):
+    n = int(mask.sum())
+    if n == 0:
+        return {"states": 0}
+    mean = lambda key: float(np.nanmean(rows[key][mask])) if np.isfinite(
+        rows[key][mask]).any() else None
+    return {"states": n, "leaving": mean("leaving"), "leave_feasible": mean("leave_feasible"),
+            "stay_feasible": mean("stay_feasible"),
+            "trapped": float(rows["trapped"][mask].mean())}
+
+
+def study(runs, episodes, seed, samples):
+    result = {}
+    for run in runs:
+        rows, violations = study_run(run, episodes, seed, samples)
+        dwelling = rows["dwelling"].astype(bool)
+        result[os.path.basename(os.path.normpath(run))] = {
+            "violations": violations,
+            "dwelling": summarise(rows, dwelling),
+            "other": summarise(rows, ~dwelling)}
+    return result
+
+
+def table(result, episodes, seed, samples):
+    fmt = lambda v, spec: "-" if v is None else format(v, spec)
+    lines = [f"Each run's agent, {episodes} episodes (reset with seed {seed} + k); at every state "
+             f"inside a hazard, {samples} uniform action sequences scored by the run's objective. "
+             f"Dwelling: episodes with {DWELLING} or more violations.", "",
+             "| run | episodes | states in a hazard | sequences leaving | feasible, leaving | "
+             "feasible, staying | trapped states |", "|---|---|---|---|---|---|---|"]
+    for run, entry in result.items():
+        heavy = sum(v >= DWELLING for v in entry["violations"])
+        for kind, count in (("dwelling", heavy), ("other", len(entry["violations"]) - heavy)):
+            s = entry[kind]
+            if s["states"] == 0:
+                lines.append(f"| {run} | {kind} ({count}) | 0 | | | | |")
+                continue
+            lines.append(f"| {run} | {kind} ({count}) | {s['states']} | "
+                         f"{fmt(s['leaving'], '.2f')} | {fmt(s['leave_feasible'], '.3f')} | "
+                         f"{fmt(s['stay_feasible'], '.3f')} | {s['trapped']:.2f} |")
+    return "\n".join(lines) + "\n"
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("runs", nargs="+")
+    parser.add_argument("--episodes", type=int, default=20)
+    parser.add_argument("--seed", type=int, default=100)
+    parser.add_argument("--samples", type=int, default=500)
+    parser.add_argument("--out")
+    args = parser.parse_args(argv)
+    if args.episodes < 1 or args.samples < 1:
+        raise SystemExit(f"--episodes {args.episodes}, --samples {args.samples}: expected 1 or more")
+    result = study(args.runs, args.episodes, args.seed, args.samples)
+    text = table(result, args.episodes, args.seed, args.samples)
+    print(text, end="")
+    if args.out:
+        os.makedirs(args.out, exist_ok=True)
+        with open(os.path.join(args.out, "table.md"), "w") as f:
+            f.write(text)
+        with open(os.path.join(args.out, "summary.json"), "w") as f:
+            json.dump(result, f, indent=1)
+
+
+if __name__ == "__main__":
+    main()
