@@ -183,7 +183,16 @@ def test_the_hazard_escape_study_writes_a_row_per_run_and_episode_kind(tmp_path)
     assert len(summary["run"]["violations"]) == 2
     for kind in ("dwelling", "other"):
         part = summary["run"][kind]
-        assert part["states"] == 0 or 0.0 <= part["leaving"] <= 1.0
+        assert part["states"] == 0 or (0.0 <= part["leaving"] <= 1.0
+                                       and 0.0 <= part["plan_feasible"] <= 1.0)
+    # The executed plans recorded beside the episode: each step's action is its plan's first.
+    agent = cmbrl.load_run(str(run), seed=3)
+    env = agent.make_env()
+    episode = open_loop.collect(agent, env, 7, plans=True)
+    steps = len(episode["actions"])
+    assert episode["plans"].shape == (steps, 3, 2)
+    assert np.allclose(episode["plans"][:, 0], episode["actions"], atol=1e-6)
+    assert "plans" not in open_loop.collect(agent, env, 7)
     with pytest.raises(SystemExit):
         hazard_escape.main([str(run), "--samples", "0"])
 

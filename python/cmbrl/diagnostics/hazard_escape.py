@@ -13,7 +13,8 @@ horizon's end lies outside the hazard the robot is in (its centre farther than t
 radius), else it "stays". Pose from the hazards' ego coordinates, as open_loop.
 
 Per state: the feasible share of the leaving sequences and of the staying ones; the state is
-"trapped" when no leaving sequence is feasible and some staying one is. Pooled over the states of
+"trapped" when no leaving sequence is feasible and some staying one is; and the plan the agent
+executed there (RCE's mean of its elites), judged alike: feasible or not, leaving or not. Pooled over the states of
 episodes with 20 or more violations ("dwelling") and of the others.
 
 Usage:
@@ -67,22 +68,26 @@ def study_run(run, episodes, seed, samples):
     low, high = np.asarray(agent.action_space.low), np.asarray(agent.action_space.high)
     rng = np.random.default_rng(seed)
     rows = {"leave_feasible": [], "stay_feasible": [], "leaving": [], "trapped": [],
-            "dwelling": []}
+            "plan_feasible": [], "plan_leaves": [], "dwelling": []}
     violations = []
     for k in range(episodes):
-        episode = collect(agent, env, seed + k)
+        episode = collect(agent, env, seed + k, plans=True)
         violations.append(episode["violations"])
-        horizon = np.asarray(agent.last_plan()["actions"]).shape[0]
+        horizon = episode["plans"].shape[1]
         radius = env.ground_truth()["hazard_radius"]
         world = episode["hazards"]
         real, _, _ = pose_from_ego(episode["observations"][:, slots], world)
         for t in np.flatnonzero(episode["inside"][:-1]):
             hazard = world[np.argmin(np.hypot(*(world - real[t]).T))]
             sequences = rng.uniform(low, high, size=(samples, horizon, len(low)))
+            # The executed plan first, judged alike, then the uniform ones.
+            sequences = np.concatenate([episode["plans"][t][None], sequences])
             feasible, leaves = escape_at(agent, episode["observations"][t], hazard, radius,
                                          slots, world, sequences)
-            for key, value in judge_state(feasible, leaves).items():
+            for key, value in judge_state(feasible[1:], leaves[1:]).items():
                 rows[key].append(value)
+            rows["plan_feasible"].append(bool(feasible[0]))
+            rows["plan_leaves"].append(bool(leaves[0]))
             rows["dwelling"].append(episode["violations"] >= DWELLING)
     env.close()
     return {key: np.array(value) for key, value in rows.items()}, violations
@@ -96,7 +101,9 @@ def summarise(rows, mask):
         rows[key][mask]).any() else None
     return {"states": n, "leaving": mean("leaving"), "leave_feasible": mean("leave_feasible"),
             "stay_feasible": mean("stay_feasible"),
-            "trapped": float(rows["trapped"][mask].mean())}
+            "trapped": float(rows["trapped"][mask].mean()),
+            "plan_feasible": float(rows["plan_feasible"][mask].mean()),
+            "plan_leaves": float(rows["plan_leaves"][mask].mean())}
 
 
 def study(runs, episodes, seed, samples):
@@ -117,17 +124,19 @@ def table(result, episodes, seed, samples):
              f"inside a hazard, {samples} uniform action sequences scored by the run's objective. "
              f"Dwelling: episodes with {DWELLING} or more violations.", "",
              "| run | episodes | states in a hazard | sequences leaving | feasible, leaving | "
-             "feasible, staying | trapped states |", "|---|---|---|---|---|---|---|"]
+             "feasible, staying | trapped states | executed plan feasible | executed plan leaves |",
+             "|---|---|---|---|---|---|---|---|---|"]
     for run, entry in result.items():
         heavy = sum(v >= DWELLING for v in entry["violations"])
         for kind, count in (("dwelling", heavy), ("other", len(entry["violations"]) - heavy)):
             s = entry[kind]
             if s["states"] == 0:
-                lines.append(f"| {run} | {kind} ({count}) | 0 | | | | |")
+                lines.append(f"| {run} | {kind} ({count}) | 0 | | | | | | |")
                 continue
             lines.append(f"| {run} | {kind} ({count}) | {s['states']} | "
                          f"{fmt(s['leaving'], '.2f')} | {fmt(s['leave_feasible'], '.3f')} | "
-                         f"{fmt(s['stay_feasible'], '.3f')} | {s['trapped']:.2f} |")
+                         f"{fmt(s['stay_feasible'], '.3f')} | {s['trapped']:.2f} | "
+                         f"{s['plan_feasible']:.2f} | {s['plan_leaves']:.2f} |")
     return "\n".join(lines) + "\n"
 
 

@@ -84,9 +84,10 @@ def hazard_slots(names):
     return np.array(slots)
 
 
-def collect(agent, env, seed):
+def collect(agent, env, seed, plans=False):
     """One episode of the agent, reset with `seed`: observations (T + 1, S), actions (T, A),
-    inside-a-hazard flags (T + 1), the hazards' world places (K, 2), violations."""
+    inside-a-hazard flags (T + 1), the hazards' world places (K, 2), violations; with `plans`,
+    also each step's executed plan (T, H, A) as "plans"."""
     obs, _ = env.reset(seed=seed)
     agent.begin_episode()
     truth = env.ground_truth()
@@ -96,18 +97,23 @@ def collect(agent, env, seed):
         position = np.array(env.ground_truth()["robot_position"])
         return bool(np.hypot(*(hazards - position).T).min() <= radius)
 
-    observations, actions, flags, violations = [obs], [], [inside()], 0
+    observations, actions, flags, violations, executed = [obs], [], [inside()], 0, []
     done = False
     while not done:
         action = agent.act(obs)
+        if plans:
+            executed.append(np.asarray(agent.last_plan()["actions"]))
         obs, _, cost, terminated, truncated, _ = env.step(action)
         observations.append(obs)
         actions.append(action)
         flags.append(inside())
         violations += cost > 0
         done = terminated or truncated
-    return {"observations": np.array(observations), "actions": np.array(actions),
-            "inside": np.array(flags), "hazards": hazards, "violations": int(violations)}
+    episode = {"observations": np.array(observations), "actions": np.array(actions),
+               "inside": np.array(flags), "hazards": hazards, "violations": int(violations)}
+    if plans:
+        episode["plans"] = np.array(executed)
+    return episode
 
 
 def roll_out(agent, states, actions):
