@@ -24,13 +24,13 @@ Prints (and with --out writes DIR/table.md and DIR/summary.json) a Markdown tabl
 and episode kind.
 """
 import argparse
-import json
 import os
 
 import numpy as np
 
 import cmbrl
 from cmbrl.diagnostics.open_loop import collect, hazard_slots, pose_from_ego, roll_out
+from cmbrl.diagnostics.tables import write_table
 
 DWELLING = 20  # violations: an episode with this many or more is "dwelling"
 
@@ -154,11 +154,7 @@ def main(argv=None):
     text = table(result, args.episodes, args.seed, args.samples)
     print(text, end="")
     if args.out:
-        os.makedirs(args.out, exist_ok=True)
-        with open(os.path.join(args.out, "table.md"), "w") as f:
-            f.write(text)
-        with open(os.path.join(args.out, "summary.json"), "w") as f:
-            json.dump(result, f, indent=1)
+        write_table(args.out, text, result)
 
 
 if __name__ == "__main__":

@@ -34,13 +34,13 @@ Runs of one robot are pooled; the robot is the task's (CarGoal2: Car). Writes DI
 DIR/summary.json when --out is given, and prints the table.
 """
 import argparse
-import json
 import os
 import re
 
 import numpy as np
 
 import cmbrl
+from cmbrl.diagnostics.tables import write_table
 
 HORIZONS = (1, 4, 8)
 SPEED_BINS = ((0.0, 0.1), (0.1, 0.3), (0.3, float("inf")))  # m/s, of the velocimeter's norm
@@ -271,11 +271,7 @@ def main(argv=None):
     result = study(args.runs, args.episodes, args.seed)
     text = table(result, args.episodes, args.seed)
     if args.out:
-        os.makedirs(args.out, exist_ok=True)
-        with open(os.path.join(args.out, "table.md"), "w") as f:
-            f.write(text)
-        with open(os.path.join(args.out, "summary.json"), "w") as f:
-            json.dump(result, f, indent=1)
+        write_table(args.out, text, result)
     print(text)
 
 

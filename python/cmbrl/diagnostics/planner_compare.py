@@ -28,6 +28,7 @@ import numpy as np
 
 import cmbrl
 from cmbrl.diagnostics.planner_study import parse_setting
+from cmbrl.diagnostics.tables import write_table
 
 TOLERANCE = 1e-6  # float32 scores: equal plans score equal, up to this
 
@@ -126,9 +127,7 @@ def main(argv=None):
     text = table(args.run, summarise(records, names[0]), names[0], driver, steps, violations,
                  args.episodes, args.seed)
     if args.out:
-        os.makedirs(args.out, exist_ok=True)
-        with open(os.path.join(args.out, "table.md"), "w") as f:
-            f.write(text)
+        write_table(args.out, text)
     print(text)
 
 
