@@ -168,7 +168,8 @@ def test_a_hazard_is_a_trap_when_only_staying_is_feasible():
     trapped = hazard_escape.judge_state(np.array([False, True, True]),
                                         np.array([True, False, False]))
     assert trapped["trapped"] and trapped["leave_feasible"] == 0.0
-    assert np.isnan(hazard_escape.judge_state(np.array([True]), np.array([False]))["leave_feasible"])
+    only_staying = hazard_escape.judge_state(np.array([True]), np.array([False]))
+    assert np.isnan(only_staying["leave_feasible"])
 
 
 def test_the_hazard_escape_study_writes_a_row_per_run_and_episode_kind(tmp_path):

@@ -13,7 +13,9 @@ for declaration in "$source_dir"/experiments/*/experiment.yaml; do
   fi
 done
 while read -r link; do
-  [ -f "$source_dir/docs/$link" ] || { echo "docs/EXPERIMENTS.md links to a missing $link"; status=1; }
+  if [ ! -f "$source_dir/docs/$link" ]; then
+    echo "docs/EXPERIMENTS.md links to a missing $link"; status=1
+  fi
 done < <(grep -oE '\(\.\./[^)]*README\.md\)' "$doc" | tr -d '()')
 [ "$status" = 0 ] && echo "every experiment is listed"
 exit "$status"

@@ -14,8 +14,8 @@ radius), else it "stays". Pose from the hazards' ego coordinates, as open_loop.
 
 Per state: the feasible share of the leaving sequences and of the staying ones; the state is
 "trapped" when no leaving sequence is feasible and some staying one is; and the plan the agent
-executed there (RCE's mean of its elites), judged alike: feasible or not, leaving or not. Pooled over the states of
-episodes with 20 or more violations ("dwelling") and of the others.
+executed there (RCE's mean of its elites), judged alike: feasible or not, leaving or not. Pooled
+over the states of episodes with 20 or more violations ("dwelling") and of the others.
 
 Usage:
   PYTHONPATH=build/python python3 -m cmbrl.diagnostics.hazard_escape RUN_DIR [RUN_DIR ...] \\
@@ -58,8 +58,9 @@ def judge_state(feasible, leaves):
 
 def study_run(run, episodes, seed, samples):
     """Per state inside a hazard: a dict of arrays (leave_feasible, stay_feasible: shares, NaN
-    where no sequence fell in the group; leaving: share of sequences leaving; trapped; dwelling)
-    and the episodes' violations."""
+    where no sequence fell in the group; leaving: share of sequences leaving; trapped;
+    plan_feasible, plan_leaves: the executed plan's verdicts; dwelling) and the episodes'
+    violations."""
     agent = cmbrl.load_run(run, seed=seed)
     if not agent.is_mpc:
         raise SystemExit(f"{run} is not an MPC run: it has no planner's models to judge")
@@ -74,8 +75,7 @@ def study_run(run, episodes, seed, samples):
         episode = collect(agent, env, seed + k, plans=True)
         violations.append(episode["violations"])
         horizon = episode["plans"].shape[1]
-        radius = env.ground_truth()["hazard_radius"]
-        world = episode["hazards"]
+        world, radius = episode["hazards"], episode["hazard_radius"]
         real, _, _ = pose_from_ego(episode["observations"][:, slots], world)
         for t in np.flatnonzero(episode["inside"][:-1]):
             hazard = world[np.argmin(np.hypot(*(world - real[t]).T))]
@@ -110,7 +110,7 @@ def study(runs, episodes, seed, samples):
     result = {}
     for run in runs:
         rows, violations = study_run(run, episodes, seed, samples)
-        dwelling = rows["dwelling"].astype(bool)
+        dwelling = rows["dwelling"]
         result[os.path.basename(os.path.normpath(run))] = {
             "violations": violations,
             "dwelling": summarise(rows, dwelling),
@@ -149,7 +149,7 @@ def main(argv=None):
     parser.add_argument("--out")
     args = parser.parse_args(argv)
     if args.episodes < 1 or args.samples < 1:
-        raise SystemExit(f"--episodes {args.episodes}, --samples {args.samples}: expected 1 or more")
+        parser.error(f"--episodes {args.episodes}, --samples {args.samples}: expected 1 or more")
     result = study(args.runs, args.episodes, args.seed, args.samples)
     text = table(result, args.episodes, args.seed, args.samples)
     print(text, end="")

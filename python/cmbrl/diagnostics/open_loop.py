@@ -86,8 +86,8 @@ def hazard_slots(names):
 
 def collect(agent, env, seed, plans=False):
     """One episode of the agent, reset with `seed`: observations (T + 1, S), actions (T, A),
-    inside-a-hazard flags (T + 1), the hazards' world places (K, 2), violations; with `plans`,
-    also each step's executed plan (T, H, A) as "plans"."""
+    inside-a-hazard flags (T + 1), the hazards' world places (K, 2) and radius (m), violations;
+    with `plans`, also each step's executed plan (T, H, A) as "plans"."""
     obs, _ = env.reset(seed=seed)
     agent.begin_episode()
     truth = env.ground_truth()
@@ -110,7 +110,8 @@ def collect(agent, env, seed, plans=False):
         violations += cost > 0
         done = terminated or truncated
     episode = {"observations": np.array(observations), "actions": np.array(actions),
-               "inside": np.array(flags), "hazards": hazards, "violations": int(violations)}
+               "inside": np.array(flags), "hazards": hazards, "hazard_radius": radius,
+               "violations": int(violations)}
     if plans:
         episode["plans"] = np.array(executed)
     return episode
