@@ -139,7 +139,8 @@ def test_the_open_loop_study_rolls_each_member_on_its_own_and_writes_its_tables(
 
 class _SlidingAgent:
     """Two members that move the robot (yaw 0) along world x by 0.1 x the action's first component
-    a step; the objective calls a sequence feasible when it never drives forward."""
+    a step; the objective calls a sequence feasible when it never drives forward, and its reward
+    cost is the sum of the action's second component."""
 
     def predict_next(self, states, actions):
         moved = np.array(states, dtype=float)
@@ -147,7 +148,9 @@ class _SlidingAgent:
         return np.stack([moved, moved])
 
     def score(self, obs, sequences):
-        return {"feasible": (np.asarray(sequences)[:, :, 0] <= 0).all(axis=1)}
+        sequences = np.asarray(sequences)
+        return {"feasible": (sequences[:, :, 0] <= 0).all(axis=1),
+                "reward_cost": sequences[:, :, 1].sum(axis=1)}
 
 
 def test_a_hazard_is_a_trap_when_only_staying_is_feasible():
@@ -156,20 +159,44 @@ def test_a_hazard_is_a_trap_when_only_staying_is_feasible():
     slots = np.array([[0, 1], [2, 3]])
     forward = np.zeros((3, 4, 2)); forward[:, :, 0] = [[1.0], [0.5], [0.2]]   # 0.4, 0.2, 0.08 m
     backward = np.zeros((2, 4, 2)); backward[:, :, 0] = -1.0                  # 0.4 m back
+    backward[1, :, 1] = 0.25                                                   # reward cost 1
     sequences = np.concatenate([forward, backward])
-    feasible, leaves = hazard_escape.escape_at(_SlidingAgent(), obs, world[0], 0.3, slots, world,
-                                               sequences)
+    feasible, leaves, reward_cost = hazard_escape.escape_at(
+        _SlidingAgent(), obs, world[0], 0.3, slots, world, sequences)
     assert feasible.tolist() == [False, False, False, True, True]
     assert leaves.tolist() == [True, False, False, True, True]
-    judged = hazard_escape.judge_state(feasible, leaves)
+    assert reward_cost.tolist() == [0.0, 0.0, 0.0, 0.0, 1.0]
+    judged = hazard_escape.judge_state(feasible, leaves, reward_cost)
+    assert np.isnan(judged.pop("leave_scores_better"))  # no feasible staying sequence
     assert judged == {"leave_feasible": pytest.approx(2 / 3), "stay_feasible": 0.0,
-                      "leaving": pytest.approx(0.6), "trapped": False}
+                      "leaving": pytest.approx(0.6), "trapped": False, "best_way_out": 0.0}
     # Only forward: the ways out are infeasible, staying is not: trapped.
     trapped = hazard_escape.judge_state(np.array([False, True, True]),
-                                        np.array([True, False, False]))
+                                        np.array([True, False, False]), np.zeros(3))
     assert trapped["trapped"] and trapped["leave_feasible"] == 0.0
-    only_staying = hazard_escape.judge_state(np.array([True]), np.array([False]))
+    assert trapped["best_way_out"] == np.inf and np.isnan(trapped["leave_scores_better"])
+    only_staying = hazard_escape.judge_state(np.array([True]), np.array([False]), np.zeros(1))
     assert np.isnan(only_staying["leave_feasible"])
+    # Two feasible ways out (costs 1, 3) against three feasible stays (2, 3, 9): 1 beats all
+    # three, 3 ties one and beats one: (3 + 1.5) / 6.
+    mixed = hazard_escape.judge_state(np.ones(5, bool), np.array([1, 1, 0, 0, 0], bool),
+                                      np.array([1.0, 3.0, 2.0, 3.0, 9.0]))
+    assert mixed["leave_scores_better"] == pytest.approx(4.5 / 6)
+    assert mixed["best_way_out"] == 1.0
+
+
+def test_the_executed_plan_is_outscored_only_where_it_was_feasible_and_stayed():
+    rows = {"leaving": np.full(4, 0.5), "leave_feasible": np.full(4, 0.5),
+            "stay_feasible": np.full(4, 0.5), "trapped": np.zeros(4, bool),
+            "leave_scores_better": np.array([0.2, np.nan, 0.6, 0.4]),
+            "plan_feasible": np.array([True, True, False, True]),
+            "plan_leaves": np.array([False, False, False, True]),
+            "plan_outscored": np.array([True, False, True, True])}
+    summary = hazard_escape.summarise(rows, np.ones(4, bool))
+    assert summary["staying_plans"] == 2 and summary["plan_outscored"] == 0.5
+    assert summary["leave_scores_better"] == pytest.approx(0.4)
+    none = hazard_escape.summarise(rows, np.array([False, False, True, True]))
+    assert none["staying_plans"] == 0 and none["plan_outscored"] is None
 
 
 def test_the_hazard_escape_study_writes_a_row_per_run_and_episode_kind(tmp_path):
@@ -185,7 +212,8 @@ def test_the_hazard_escape_study_writes_a_row_per_run_and_episode_kind(tmp_path)
     for kind in ("dwelling", "other"):
         part = summary["run"][kind]
         assert part["states"] == 0 or (0.0 <= part["leaving"] <= 1.0
-                                       and 0.0 <= part["plan_feasible"] <= 1.0)
+                                       and 0.0 <= part["plan_feasible"] <= 1.0
+                                       and 0 <= part["staying_plans"] <= part["states"])
     # The executed plans recorded beside the episode: each step's action is its plan's first.
     agent = cmbrl.load_run(str(run), seed=3)
     env = agent.make_env()

@@ -17,6 +17,13 @@ Per state: the feasible share of the leaving sequences and of the staying ones; 
 executed there (RCE's mean of its elites), judged alike: feasible or not, leaving or not. Pooled
 over the states of episodes with 20 or more violations ("dwelling") and of the others.
 
+And how the objective's reward part (its reward cost, lower is better: RCE picks the feasible
+sequence that scores lowest) ranks them: the chance that a feasible leaving sequence scores
+better than a feasible staying one (ties half; where both exist), and, at the states where the
+executed plan was feasible and stayed, whether some feasible uniform way out scored better than
+it ("outscored": the planner's search missed a better way out) or none did (the reward, as far as
+the samples reach, prefers the staying plan).
+
 Usage:
   PYTHONPATH=build/python python3 -m cmbrl.diagnostics.hazard_escape RUN_DIR [RUN_DIR ...] \\
       [--episodes 20] [--seed 100] [--samples 500] [--out DIR]
@@ -36,31 +43,49 @@ DWELLING = 20  # violations: an episode with this many or more is "dwelling"
 
 
 def escape_at(agent, obs, hazard, radius, slots, world, sequences):
-    """One state: (feasible (N) bool, leaves (N) bool) of the sequences (N, H, A)."""
-    feasible = np.asarray(agent.score(obs, sequences)["feasible"], dtype=bool)
+    """One state: (feasible (N) bool, leaves (N) bool, reward cost (N)) of the sequences
+    (N, H, A)."""
+    scores = agent.score(obs, sequences)
+    feasible = np.asarray(scores["feasible"], dtype=bool)
+    reward_cost = np.asarray(scores["reward_cost"], dtype=float)
     n = sequences.shape[0]
     predicted = roll_out(agent, np.tile(obs, (n, 1)), sequences)  # (E, N, H, S)
     position, _, _ = pose_from_ego(predicted[:, :, -1][..., slots], world)  # (E, N, 2)
     end = position.mean(axis=0)  # (N, 2)
     leaves = np.hypot(*(end - hazard).T) > radius
-    return feasible, leaves
+    return feasible, leaves, reward_cost
 
 
-def judge_state(feasible, leaves):
-    """One state's sequences, feasible (N) and leaves (N) bool: the feasible share of the leaving
-    and of the staying ones (NaN where none), the leaving share, and whether it is trapped (no
-    leaving sequence feasible, some staying one)."""
+def chance_lower(a, b):
+    """The chance that a draw from a scores lower than one from b, ties half (the Mann-Whitney
+    statistic over len(a) x len(b)); NaN when either is empty."""
+    if len(a) == 0 or len(b) == 0:
+        return float("nan")
+    a, b = np.asarray(a, dtype=float)[:, None], np.asarray(b, dtype=float)[None, :]
+    return float(((a < b) + 0.5 * (a == b)).mean())
+
+
+def judge_state(feasible, leaves, reward_cost):
+    """One state's sequences, feasible (N) and leaves (N) bool and their reward cost (N): the
+    feasible share of the leaving and of the staying ones (NaN where none), the leaving share,
+    whether it is trapped (no leaving sequence feasible, some staying one), the chance that a
+    feasible leaving sequence scores better than a feasible staying one (NaN unless both exist)
+    and the best reward cost of the feasible leaving ones (inf when none)."""
     share = lambda mask: float(feasible[mask].mean()) if mask.any() else float("nan")
+    out, stay = feasible & leaves, feasible & ~leaves
     return {"leave_feasible": share(leaves), "stay_feasible": share(~leaves),
             "leaving": float(leaves.mean()),
-            "trapped": bool(not feasible[leaves].any() and feasible[~leaves].any())}
+            "trapped": bool(not out.any() and stay.any()),
+            "leave_scores_better": chance_lower(reward_cost[out], reward_cost[stay]),
+            "best_way_out": float(reward_cost[out].min()) if out.any() else float("inf")}
 
 
 def study_run(run, episodes, seed, samples):
     """Per state inside a hazard: a dict of arrays (leave_feasible, stay_feasible: shares, NaN
     where no sequence fell in the group; leaving: share of sequences leaving; trapped;
-    plan_feasible, plan_leaves: the executed plan's verdicts; dwelling) and the episodes'
-    violations."""
+    leave_scores_better: judge_state's chance, NaN where undefined; plan_feasible, plan_leaves:
+    the executed plan's verdicts; plan_outscored: a feasible uniform way out scored better than
+    the executed plan; dwelling) and the episodes' violations."""
     agent = cmbrl.load_run(run, seed=seed)
     if not agent.is_mpc:
         raise SystemExit(f"{run} is not an MPC run: it has no planner's models to judge")
@@ -69,7 +94,8 @@ def study_run(run, episodes, seed, samples):
     low, high = np.asarray(agent.action_space.low), np.asarray(agent.action_space.high)
     rng = np.random.default_rng(seed)
     rows = {"leave_feasible": [], "stay_feasible": [], "leaving": [], "trapped": [],
-            "plan_feasible": [], "plan_leaves": [], "dwelling": []}
+            "leave_scores_better": [], "plan_feasible": [], "plan_leaves": [],
+            "plan_outscored": [], "dwelling": []}
     violations = []
     for k in range(episodes):
         episode = collect(agent, env, seed + k, plans=True)
@@ -82,9 +108,11 @@ def study_run(run, episodes, seed, samples):
             sequences = rng.uniform(low, high, size=(samples, horizon, len(low)))
             # The executed plan first, judged alike, then the uniform ones.
             sequences = np.concatenate([episode["plans"][t][None], sequences])
-            feasible, leaves = escape_at(agent, episode["observations"][t], hazard, radius,
-                                         slots, world, sequences)
-            for key, value in judge_state(feasible[1:], leaves[1:]).items():
+            feasible, leaves, reward_cost = escape_at(agent, episode["observations"][t], hazard,
+                                                      radius, slots, world, sequences)
+            judged = judge_state(feasible[1:], leaves[1:], reward_cost[1:])
+            rows["plan_outscored"].append(bool(judged.pop("best_way_out") < reward_cost[0]))
+            for key, value in judged.items():
                 rows[key].append(value)
             rows["plan_feasible"].append(bool(feasible[0]))
             rows["plan_leaves"].append(bool(leaves[0]))
@@ -94,16 +122,24 @@ def study_run(run, episodes, seed, samples):
 
 
 def summarise(rows, mask):
+    """The states of mask pooled: means of the shares (over the states where defined); the
+    executed plan's verdicts; and, over the states where it was feasible and stayed
+    (staying_plans of them), the share where a feasible uniform way out outscored it."""
     n = int(mask.sum())
     if n == 0:
         return {"states": 0}
     mean = lambda key: float(np.nanmean(rows[key][mask])) if np.isfinite(
         rows[key][mask]).any() else None
+    staying = mask & rows["plan_feasible"] & ~rows["plan_leaves"]
     return {"states": n, "leaving": mean("leaving"), "leave_feasible": mean("leave_feasible"),
             "stay_feasible": mean("stay_feasible"),
             "trapped": float(rows["trapped"][mask].mean()),
+            "leave_scores_better": mean("leave_scores_better"),
             "plan_feasible": float(rows["plan_feasible"][mask].mean()),
-            "plan_leaves": float(rows["plan_leaves"][mask].mean())}
+            "plan_leaves": float(rows["plan_leaves"][mask].mean()),
+            "staying_plans": int(staying.sum()),
+            "plan_outscored": float(rows["plan_outscored"][staying].mean())
+            if staying.any() else None}
 
 
 def study(runs, episodes, seed, samples):
@@ -123,20 +159,27 @@ def table(result, episodes, seed, samples):
     lines = [f"Each run's agent, {episodes} episodes (reset with seed {seed} + k); at every state "
              f"inside a hazard, {samples} uniform action sequences scored by the run's objective. "
              f"Dwelling: episodes with {DWELLING} or more violations.", "",
+             "Leaving scores better: the chance that a feasible leaving sequence's reward cost is "
+             "lower than a feasible staying one's. Outscored: of the states where the executed "
+             "plan was feasible and stayed (their count), the share where a feasible uniform "
+             "way out scored better than it.", "",
              "| run | episodes | states in a hazard | sequences leaving | feasible, leaving | "
-             "feasible, staying | trapped states | executed plan feasible | executed plan leaves |",
-             "|---|---|---|---|---|---|---|---|---|"]
+             "feasible, staying | trapped states | executed plan feasible | executed plan leaves "
+             "| leaving scores better | staying plan outscored |",
+             "|---|---|---|---|---|---|---|---|---|---|---|"]
     for run, entry in result.items():
         heavy = sum(v >= DWELLING for v in entry["violations"])
         for kind, count in (("dwelling", heavy), ("other", len(entry["violations"]) - heavy)):
             s = entry[kind]
             if s["states"] == 0:
-                lines.append(f"| {run} | {kind} ({count}) | 0 | | | | | | |")
+                lines.append(f"| {run} | {kind} ({count}) | 0 | | | | | | | | |")
                 continue
             lines.append(f"| {run} | {kind} ({count}) | {s['states']} | "
                          f"{fmt(s['leaving'], '.2f')} | {fmt(s['leave_feasible'], '.3f')} | "
                          f"{fmt(s['stay_feasible'], '.3f')} | {s['trapped']:.2f} | "
-                         f"{s['plan_feasible']:.2f} | {s['plan_leaves']:.2f} |")
+                         f"{s['plan_feasible']:.2f} | {s['plan_leaves']:.2f} | "
+                         f"{fmt(s['leave_scores_better'], '.2f')} | "
+                         f"{fmt(s['plan_outscored'], '.2f')} ({s['staying_plans']}) |")
     return "\n".join(lines) + "\n"
 
 
