@@ -191,12 +191,30 @@ def test_the_executed_plan_is_outscored_only_where_it_was_feasible_and_stayed():
             "leave_scores_better": np.array([0.2, np.nan, 0.6, 0.4]),
             "plan_feasible": np.array([True, True, False, True]),
             "plan_leaves": np.array([False, False, False, True]),
-            "plan_outscored": np.array([True, False, True, True])}
+            "plan_outscored": np.array([True, False, True, True]),
+            "plan_beaten": np.array([0.5, 0.1, 0.9, np.nan])}
     summary = hazard_escape.summarise(rows, np.ones(4, bool))
     assert summary["staying_plans"] == 2 and summary["plan_outscored"] == 0.5
+    assert summary["staying_plan_beaten"] == pytest.approx(0.3)  # the two staying plans
     assert summary["leave_scores_better"] == pytest.approx(0.4)
     none = hazard_escape.summarise(rows, np.array([False, False, True, True]))
     assert none["staying_plans"] == 0 and none["plan_outscored"] is None
+    # The rank among the feasible sequences: of the feasible 1, 2, 5 (the infeasible 0 left
+    # out), one beats a plan of 1.5.
+    assert hazard_escape.beaten(np.array([True, True, False, True]),
+                                np.array([1.0, 2.0, 0.0, 5.0]), 1.5) == pytest.approx(1 / 3)
+    assert np.isnan(hazard_escape.beaten(np.zeros(2, bool), np.zeros(2), 1.0))
+    outside = {"plan_feasible": np.array([True, False, True]),
+               "plan_beaten": np.array([0.2, 0.9, np.nan]),
+               "dwelling": np.array([True, True, False])}
+    control = hazard_escape.summarise_outside(outside, outside["dwelling"])
+    assert control == {"states": 2, "plan_feasible": 0.5, "feasible_plans": 1,
+                       "plan_beaten": pytest.approx(0.2)}
+    assert hazard_escape.summarise_outside(outside, ~outside["dwelling"])["plan_beaten"] is None
+    # A run that never entered a hazard: empty, typed arrays still mask.
+    empty = {key: np.array([], dtype=bool if key in hazard_escape.FLAGS else float)
+             for key in rows}
+    assert hazard_escape.summarise(empty, ~np.array([], dtype=bool)) == {"states": 0}
 
 
 def test_the_hazard_escape_study_writes_a_row_per_run_and_episode_kind(tmp_path):
@@ -214,6 +232,11 @@ def test_the_hazard_escape_study_writes_a_row_per_run_and_episode_kind(tmp_path)
         assert part["states"] == 0 or (0.0 <= part["leaving"] <= 1.0
                                        and 0.0 <= part["plan_feasible"] <= 1.0
                                        and 0 <= part["staying_plans"] <= part["states"])
+        control = summary["run"]["outside"][kind]
+        assert control["states"] == 0 or 0.0 <= control["plan_feasible"] <= 1.0
+    # The control scored the states outside hazards: most of two episodes' steps.
+    assert sum(summary["run"]["outside"][kind]["states"] for kind in kinds) > 10
+    assert "| run | dwelling | " in text and "| run | other | " in text
     # The executed plans recorded beside the episode: each step's action is its plan's first.
     agent = cmbrl.load_run(str(run), seed=3)
     env = agent.make_env()

@@ -24,6 +24,13 @@ executed plan was feasible and stayed, whether some feasible uniform way out sco
 it ("outscored": the planner's search missed a better way out) or none did (the reward, as far as
 the samples reach, prefers the staying plan).
 
+The search's quality outside hazards, the control: at every state outside all hazards, as many
+uniform sequences again (from a generator of their own, so the columns inside hazards do not
+move) score the executed plan alike. "Beaten": the share of the feasible uniform sequences that
+score better than a feasible executed plan (a rank, which does not grow with how many are
+feasible, as "some sequence outscores it" does); pooled over the staying plans inside hazards
+and over the feasible plans outside them.
+
 Usage:
   PYTHONPATH=build/python python3 -m cmbrl.diagnostics.hazard_escape RUN_DIR [RUN_DIR ...] \\
       [--episodes 20] [--seed 100] [--samples 500] [--out DIR]
@@ -40,6 +47,7 @@ from cmbrl.diagnostics.open_loop import collect, hazard_slots, pose_from_ego, ro
 from cmbrl.diagnostics.tables import write_table
 
 DWELLING = 20  # violations: an episode with this many or more is "dwelling"
+FLAGS = {"trapped", "plan_feasible", "plan_leaves", "plan_outscored", "dwelling"}  # per state
 
 
 def escape_at(agent, obs, hazard, radius, slots, world, sequences):
@@ -65,6 +73,13 @@ def chance_lower(a, b):
     return float(((a < b) + 0.5 * (a == b)).mean())
 
 
+def beaten(feasible, reward_cost, plan_cost):
+    """The share of the feasible sequences (N bool, their reward cost N) that score better than a
+    plan's reward cost; NaN when none is feasible."""
+    better = np.asarray(reward_cost)[feasible] < plan_cost
+    return float(better.mean()) if better.size else float("nan")
+
+
 def judge_state(feasible, leaves, reward_cost):
     """One state's sequences, feasible (N) and leaves (N) bool and their reward cost (N): the
     feasible share of the leaving and of the staying ones (NaN where none), the leaving share,
@@ -85,17 +100,20 @@ def study_run(run, episodes, seed, samples):
     where no sequence fell in the group; leaving: share of sequences leaving; trapped;
     leave_scores_better: judge_state's chance, NaN where undefined; plan_feasible, plan_leaves:
     the executed plan's verdicts; plan_outscored: a feasible uniform way out scored better than
-    the executed plan; dwelling) and the episodes' violations."""
+    the executed plan; plan_beaten: beaten()'s share for the executed plan; dwelling); per state
+    outside every hazard, the control's (plan_feasible, plan_beaten, dwelling); and the episodes'
+    violations."""
     agent = cmbrl.load_run(run, seed=seed)
     if not agent.is_mpc:
         raise SystemExit(f"{run} is not an MPC run: it has no planner's models to judge")
     env = agent.make_env()
     slots = hazard_slots(env.observation_names)
     low, high = np.asarray(agent.action_space.low), np.asarray(agent.action_space.high)
-    rng = np.random.default_rng(seed)
+    rng, control_rng = np.random.default_rng(seed), np.random.default_rng([seed, 1])
     rows = {"leave_feasible": [], "stay_feasible": [], "leaving": [], "trapped": [],
             "leave_scores_better": [], "plan_feasible": [], "plan_leaves": [],
-            "plan_outscored": [], "dwelling": []}
+            "plan_outscored": [], "plan_beaten": [], "dwelling": []}
+    outside = {"plan_feasible": [], "plan_beaten": [], "dwelling": []}
     violations = []
     for k in range(episodes):
         episode = collect(agent, env, seed + k, plans=True)
@@ -103,6 +121,16 @@ def study_run(run, episodes, seed, samples):
         horizon = episode["plans"].shape[1]
         world, radius = episode["hazards"], episode["hazard_radius"]
         real, _, _ = pose_from_ego(episode["observations"][:, slots], world)
+        dwelling = episode["violations"] >= DWELLING
+        for t in np.flatnonzero(~episode["inside"][:-1]):
+            sequences = control_rng.uniform(low, high, size=(samples, horizon, len(low)))
+            scores = agent.score(episode["observations"][t],
+                                 np.concatenate([episode["plans"][t][None], sequences]))
+            feasible = np.asarray(scores["feasible"], dtype=bool)
+            reward_cost = np.asarray(scores["reward_cost"], dtype=float)
+            outside["plan_feasible"].append(bool(feasible[0]))
+            outside["plan_beaten"].append(beaten(feasible[1:], reward_cost[1:], reward_cost[0]))
+            outside["dwelling"].append(dwelling)
         for t in np.flatnonzero(episode["inside"][:-1]):
             hazard = world[np.argmin(np.hypot(*(world - real[t]).T))]
             sequences = rng.uniform(low, high, size=(samples, horizon, len(low)))
@@ -114,11 +142,15 @@ def study_run(run, episodes, seed, samples):
             rows["plan_outscored"].append(bool(judged.pop("best_way_out") < reward_cost[0]))
             for key, value in judged.items():
                 rows[key].append(value)
+            rows["plan_beaten"].append(beaten(feasible[1:], reward_cost[1:], reward_cost[0]))
             rows["plan_feasible"].append(bool(feasible[0]))
             rows["plan_leaves"].append(bool(leaves[0]))
-            rows["dwelling"].append(episode["violations"] >= DWELLING)
+            rows["dwelling"].append(dwelling)
     env.close()
-    return {key: np.array(value) for key, value in rows.items()}, violations
+    # Typed, so that a run that never entered a hazard gives empty arrays that still mask.
+    arrays = lambda d: {key: np.array(value, dtype=bool if key in FLAGS else float)
+                        for key, value in d.items()}
+    return arrays(rows), arrays(outside), violations
 
 
 def summarise(rows, mask):
@@ -139,18 +171,39 @@ def summarise(rows, mask):
             "plan_leaves": float(rows["plan_leaves"][mask].mean()),
             "staying_plans": int(staying.sum()),
             "plan_outscored": float(rows["plan_outscored"][staying].mean())
-            if staying.any() else None}
+            if staying.any() else None,
+            "staying_plan_beaten": pooled(rows["plan_beaten"][staying])}
+
+
+def pooled(shares):
+    """The mean of the shares that are defined (not NaN); None when none is."""
+    shares = shares[np.isfinite(shares)]
+    return float(shares.mean()) if shares.size else None
+
+
+def summarise_outside(outside, mask):
+    """The control's states of mask: their count, the executed plan's feasible share, and over the
+    feasible plans (feasible_plans of them) the mean beaten share."""
+    n = int(mask.sum())
+    if n == 0:
+        return {"states": 0}
+    feasible = mask & outside["plan_feasible"]
+    return {"states": n, "plan_feasible": float(outside["plan_feasible"][mask].mean()),
+            "feasible_plans": int(feasible.sum()),
+            "plan_beaten": pooled(outside["plan_beaten"][feasible])}
 
 
 def study(runs, episodes, seed, samples):
     result = {}
     for run in runs:
-        rows, violations = study_run(run, episodes, seed, samples)
-        dwelling = rows["dwelling"]
+        rows, outside, violations = study_run(run, episodes, seed, samples)
+        dwelling, away = rows["dwelling"], outside["dwelling"]
         result[os.path.basename(os.path.normpath(run))] = {
             "violations": violations,
             "dwelling": summarise(rows, dwelling),
-            "other": summarise(rows, ~dwelling)}
+            "other": summarise(rows, ~dwelling),
+            "outside": {"dwelling": summarise_outside(outside, away),
+                        "other": summarise_outside(outside, ~away)}}
     return result
 
 
@@ -180,6 +233,23 @@ def table(result, episodes, seed, samples):
                          f"{s['plan_feasible']:.2f} | {s['plan_leaves']:.2f} | "
                          f"{fmt(s['leave_scores_better'], '.2f')} | "
                          f"{fmt(s['plan_outscored'], '.2f')} ({s['staying_plans']}) |")
+    lines += ["", "The search's quality, inside hazards against outside them (the control): the "
+              "mean share of the feasible uniform sequences that score better than the executed "
+              "plan, over the staying plans inside hazards and over the feasible plans outside "
+              "all hazards (their counts).", "",
+              "| run | episodes | inside: staying plans beaten by | outside: states | "
+              "outside: executed plan feasible | outside: feasible plans beaten by |",
+              "|---|---|---|---|---|---|"]
+    for run, entry in result.items():
+        for kind in ("dwelling", "other"):
+            s, o = entry[kind], entry["outside"][kind]
+            inside = (f"{fmt(s.get('staying_plan_beaten'), '.3f')} ({s.get('staying_plans', 0)})")
+            if o["states"] == 0:
+                lines.append(f"| {run} | {kind} | {inside} | 0 | | |")
+                continue
+            lines.append(f"| {run} | {kind} | {inside} | {o['states']} | "
+                         f"{o['plan_feasible']:.2f} | {fmt(o['plan_beaten'], '.3f')} "
+                         f"({o['feasible_plans']}) |")
     return "\n".join(lines) + "\n"
 
 
