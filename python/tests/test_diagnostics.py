@@ -185,6 +185,35 @@ def test_a_hazard_is_a_trap_when_only_staying_is_feasible():
     assert mixed["best_way_out"] == 1.0
 
 
+def test_a_cold_plan_forgets_the_warm_start_and_searches_are_summarised_per_state_kind(tmp_path):
+    run = tmp_path / "run"
+    cmbrl.train(config=TINY, out=str(run))
+    # Two agents alike, warm-starting (same seed, same states planned from), but the last plan
+    # of one is cold: it differs from the warm-started one's.
+    plans = []
+    for cold in (True, False):
+        agent = cmbrl.load_run(str(run), seed=4, overrides={"planning.warm_start": True})
+        env = agent.make_env()
+        first, _ = env.reset(seed=1)
+        agent.begin_episode()
+        obs = first
+        for _ in range(3):
+            obs = env.step(agent.act(obs))[0]
+        if cold:
+            plans.append(hazard_escape.cold_plan(agent, obs))
+        else:
+            agent.act(obs)
+            plans.append(np.asarray(agent.last_plan()["actions"]))
+        env.close()
+    assert plans[0].shape == (3, 2) and not np.allclose(plans[0], plans[1])
+    record = {"feasible": np.array([True, False, True]), "leaves": np.array([True, True, False]),
+              "reward_cost": np.array([1.0, 5.0, 3.0])}
+    assert hazard_escape.summarise_search(record, np.ones(3, bool)) == {
+        "states": 3, "feasible": pytest.approx(2 / 3), "leaves": pytest.approx(2 / 3),
+        "feasible_and_leaves": pytest.approx(1 / 3), "reward_cost": 3.0}
+    assert hazard_escape.summarise_search(record, np.zeros(3, bool)) == {"states": 0}
+
+
 def test_the_executed_plan_is_outscored_only_where_it_was_feasible_and_stayed():
     rows = {"leaving": np.full(4, 0.5), "leave_feasible": np.full(4, 0.5),
             "stay_feasible": np.full(4, 0.5), "trapped": np.zeros(4, bool),
@@ -221,7 +250,8 @@ def test_the_hazard_escape_study_writes_a_row_per_run_and_episode_kind(tmp_path)
     run = tmp_path / "run"
     cmbrl.train(config=TINY, out=str(run))
     out = tmp_path / "out"
-    hazard_escape.main([str(run), "--episodes", "2", "--samples", "6", "--out", str(out)])
+    hazard_escape.main([str(run), "--episodes", "2", "--samples", "6", "--out", str(out),
+                        "--search", "own=", "--search", "big=planning.population=12"])
     text = (out / "table.md").read_text()
     kinds = dict(re.findall(r"\| run \| (dwelling|other) \((\d+)\) \|", text))
     assert set(kinds) == {"dwelling", "other"} and sum(map(int, kinds.values())) == 2
@@ -234,6 +264,14 @@ def test_the_hazard_escape_study_writes_a_row_per_run_and_episode_kind(tmp_path)
                                        and 0 <= part["staying_plans"] <= part["states"])
         control = summary["run"]["outside"][kind]
         assert control["states"] == 0 or 0.0 <= control["plan_feasible"] <= 1.0
+    # Each search setting judged at the same states inside hazards as the uniform sequences.
+    for name in ("own", "big"):
+        assert f"| run | dwelling | {name} | " in text and f"| run | other | {name} | " in text
+        for kind in ("dwelling", "other"):
+            assert summary["run"]["searches"][name][kind]["states"] == \
+                summary["run"][kind]["states"]
+    with pytest.raises(SystemExit):
+        hazard_escape.main([str(run), "--search", "a=", "--search", "a=planning.population=12"])
     # The control scored the states outside hazards: most of two episodes' steps.
     assert sum(summary["run"]["outside"][kind]["states"] for kind in kinds) > 10
     assert "| run | dwelling | " in text and "| run | other | " in text

@@ -31,9 +31,15 @@ score better than a feasible executed plan (a rank, which does not grow with how
 feasible, as "some sequence outscores it" does); pooled over the staying plans inside hazards
 and over the feasible plans outside them.
 
+With --search NAME=OVERRIDE[,...] (repeatable; overrides as `cmbrl eval --set`, e.g.
+big=planning.population=500): at each state inside a hazard each setting's planner, on the same
+models, plans from that state alone (cold: begun afresh, as the paper's planner plans every step,
+with planning.warm_start off; a warm-starting run's executed plans were not) and its plan is
+judged alike: feasible, leaving, its reward cost.
+
 Usage:
   PYTHONPATH=build/python python3 -m cmbrl.diagnostics.hazard_escape RUN_DIR [RUN_DIR ...] \\
-      [--episodes 20] [--seed 100] [--samples 500] [--out DIR]
+      [--episodes 20] [--seed 100] [--samples 500] [--search NAME=OVERRIDES ...] [--out DIR]
 Prints (and with --out writes DIR/table.md and DIR/summary.json) a Markdown table, a row a run
 and episode kind.
 """
@@ -44,6 +50,7 @@ import numpy as np
 
 import cmbrl
 from cmbrl.diagnostics.open_loop import collect, hazard_slots, pose_from_ego, roll_out
+from cmbrl.diagnostics.planner_study import parse_setting
 from cmbrl.diagnostics.tables import write_table
 
 DWELLING = 20  # violations: an episode with this many or more is "dwelling"
@@ -95,17 +102,27 @@ def judge_state(feasible, leaves, reward_cost):
             "best_way_out": float(reward_cost[out].min()) if out.any() else float("inf")}
 
 
-def study_run(run, episodes, seed, samples):
+def cold_plan(agent, obs):
+    """The plan an agent makes from one observation alone (its warm start forgotten), (H, A)."""
+    agent.begin_episode()
+    agent.act(obs)
+    return np.asarray(agent.last_plan()["actions"])
+
+
+def study_run(run, episodes, seed, samples, searches=()):
     """Per state inside a hazard: a dict of arrays (leave_feasible, stay_feasible: shares, NaN
     where no sequence fell in the group; leaving: share of sequences leaving; trapped;
     leave_scores_better: judge_state's chance, NaN where undefined; plan_feasible, plan_leaves:
     the executed plan's verdicts; plan_outscored: a feasible uniform way out scored better than
     the executed plan; plan_beaten: beaten()'s share for the executed plan; dwelling); per state
-    outside every hazard, the control's (plan_feasible, plan_beaten, dwelling); and the episodes'
-    violations."""
+    outside every hazard, the control's (plan_feasible, plan_beaten, dwelling); per search
+    setting (NAME, overrides) and state inside a hazard, its cold plan's feasible, leaves and
+    reward_cost; and the episodes' violations."""
     agent = cmbrl.load_run(run, seed=seed)
     if not agent.is_mpc:
         raise SystemExit(f"{run} is not an MPC run: it has no planner's models to judge")
+    planners = {name: cmbrl.load_run(run, seed=seed, overrides=overrides)
+                for name, overrides in searches}
     env = agent.make_env()
     slots = hazard_slots(env.observation_names)
     low, high = np.asarray(agent.action_space.low), np.asarray(agent.action_space.high)
@@ -114,6 +131,7 @@ def study_run(run, episodes, seed, samples):
             "leave_scores_better": [], "plan_feasible": [], "plan_leaves": [],
             "plan_outscored": [], "plan_beaten": [], "dwelling": []}
     outside = {"plan_feasible": [], "plan_beaten": [], "dwelling": []}
+    searched = {name: {"feasible": [], "leaves": [], "reward_cost": []} for name in planners}
     violations = []
     for k in range(episodes):
         episode = collect(agent, env, seed + k, plans=True)
@@ -134,10 +152,20 @@ def study_run(run, episodes, seed, samples):
         for t in np.flatnonzero(episode["inside"][:-1]):
             hazard = world[np.argmin(np.hypot(*(world - real[t]).T))]
             sequences = rng.uniform(low, high, size=(samples, horizon, len(low)))
-            # The executed plan first, judged alike, then the uniform ones.
-            sequences = np.concatenate([episode["plans"][t][None], sequences])
-            feasible, leaves, reward_cost = escape_at(agent, episode["observations"][t], hazard,
-                                                      radius, slots, world, sequences)
+            # The executed plan first, judged alike, then the search settings' cold plans, then
+            # the uniform ones.
+            obs = episode["observations"][t]
+            plans = [episode["plans"][t]] + [cold_plan(p, obs) for p in planners.values()]
+            sequences = np.concatenate([np.stack(plans), sequences])
+            feasible, leaves, reward_cost = escape_at(agent, obs, hazard, radius, slots, world,
+                                                      sequences)
+            for i, name in enumerate(planners, start=1):
+                searched[name]["feasible"].append(bool(feasible[i]))
+                searched[name]["leaves"].append(bool(leaves[i]))
+                searched[name]["reward_cost"].append(float(reward_cost[i]))
+            n = len(plans)
+            feasible, leaves, reward_cost = (np.concatenate([a[:1], a[n:]])
+                                             for a in (feasible, leaves, reward_cost))
             judged = judge_state(feasible[1:], leaves[1:], reward_cost[1:])
             rows["plan_outscored"].append(bool(judged.pop("best_way_out") < reward_cost[0]))
             for key, value in judged.items():
@@ -150,7 +178,9 @@ def study_run(run, episodes, seed, samples):
     # Typed, so that a run that never entered a hazard gives empty arrays that still mask.
     arrays = lambda d: {key: np.array(value, dtype=bool if key in FLAGS else float)
                         for key, value in d.items()}
-    return arrays(rows), arrays(outside), violations
+    searched = {name: {key: np.array(value, dtype=float if key == "reward_cost" else bool)
+                       for key, value in record.items()} for name, record in searched.items()}
+    return arrays(rows), arrays(outside), searched, violations
 
 
 def summarise(rows, mask):
@@ -193,17 +223,32 @@ def summarise_outside(outside, mask):
             "plan_beaten": pooled(outside["plan_beaten"][feasible])}
 
 
-def study(runs, episodes, seed, samples):
+def summarise_search(record, mask):
+    """A search setting's cold plans at the states of mask: their count, the shares feasible,
+    leaving, and both, and the median reward cost."""
+    n = int(mask.sum())
+    if n == 0:
+        return {"states": 0}
+    feasible, leaves = record["feasible"][mask], record["leaves"][mask]
+    return {"states": n, "feasible": float(feasible.mean()), "leaves": float(leaves.mean()),
+            "feasible_and_leaves": float((feasible & leaves).mean()),
+            "reward_cost": float(np.median(record["reward_cost"][mask]))}
+
+
+def study(runs, episodes, seed, samples, searches=()):
     result = {}
     for run in runs:
-        rows, outside, violations = study_run(run, episodes, seed, samples)
+        rows, outside, searched, violations = study_run(run, episodes, seed, samples, searches)
         dwelling, away = rows["dwelling"], outside["dwelling"]
         result[os.path.basename(os.path.normpath(run))] = {
             "violations": violations,
             "dwelling": summarise(rows, dwelling),
             "other": summarise(rows, ~dwelling),
             "outside": {"dwelling": summarise_outside(outside, away),
-                        "other": summarise_outside(outside, ~away)}}
+                        "other": summarise_outside(outside, ~away)},
+            "searches": {name: {"dwelling": summarise_search(record, dwelling),
+                                "other": summarise_search(record, ~dwelling)}
+                         for name, record in searched.items()}}
     return result
 
 
@@ -250,6 +295,20 @@ def table(result, episodes, seed, samples):
             lines.append(f"| {run} | {kind} | {inside} | {o['states']} | "
                          f"{o['plan_feasible']:.2f} | {fmt(o['plan_beaten'], '.3f')} "
                          f"({o['feasible_plans']}) |")
+    if any(entry["searches"] for entry in result.values()):
+        lines += ["", "Each search setting's planner at each state inside a hazard, planning from "
+                  "it alone (cold), its plan judged by the run's objective.", "",
+                  "| run | episodes | setting | states | plan feasible | plan leaves | feasible "
+                  "and leaves | median reward cost |", "|---|---|---|---|---|---|---|---|"]
+        for run, entry in result.items():
+            for name, kinds in entry["searches"].items():
+                for kind, s in kinds.items():
+                    if s["states"] == 0:
+                        lines.append(f"| {run} | {kind} | {name} | 0 | | | | |")
+                        continue
+                    lines.append(f"| {run} | {kind} | {name} | {s['states']} | "
+                                 f"{s['feasible']:.2f} | {s['leaves']:.2f} | "
+                                 f"{s['feasible_and_leaves']:.2f} | {s['reward_cost']:.3f} |")
     return "\n".join(lines) + "\n"
 
 
@@ -259,11 +318,17 @@ def main(argv=None):
     parser.add_argument("--episodes", type=int, default=20)
     parser.add_argument("--seed", type=int, default=100)
     parser.add_argument("--samples", type=int, default=500)
+    parser.add_argument("--search", action="append", default=[], type=parse_setting,
+                        help="NAME=OVERRIDE[,OVERRIDE...]: a planner setting that plans cold at "
+                             "each state inside a hazard (repeatable)")
     parser.add_argument("--out")
     args = parser.parse_args(argv)
     if args.episodes < 1 or args.samples < 1:
         parser.error(f"--episodes {args.episodes}, --samples {args.samples}: expected 1 or more")
-    result = study(args.runs, args.episodes, args.seed, args.samples)
+    names = [name for name, _ in args.search]
+    if len(set(names)) != len(names):
+        parser.error(f"--search names repeat: {names}")
+    result = study(args.runs, args.episodes, args.seed, args.samples, args.search)
     text = table(result, args.episodes, args.seed, args.samples)
     print(text, end="")
     if args.out:
