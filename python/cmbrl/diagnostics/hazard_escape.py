@@ -252,6 +252,13 @@ def study(runs, episodes, seed, samples, searches=()):
     return result
 
 
+def row(lead, states, cells, width):
+    """A Markdown table row: the leading cells and the state count, then `cells()` or, when there
+    are no states, `width` blank cells."""
+    rest = cells() if states else [""] * width
+    return "| " + " | ".join([*lead, str(states), *rest]) + " |"
+
+
 def table(result, episodes, seed, samples):
     fmt = lambda v, spec: "-" if v is None else format(v, spec)
     lines = [f"Each run's agent, {episodes} episodes (reset with seed {seed} + k); at every state "
@@ -269,15 +276,12 @@ def table(result, episodes, seed, samples):
         heavy = sum(v >= DWELLING for v in entry["violations"])
         for kind, count in (("dwelling", heavy), ("other", len(entry["violations"]) - heavy)):
             s = entry[kind]
-            if s["states"] == 0:
-                lines.append(f"| {run} | {kind} ({count}) | 0 | | | | | | | | |")
-                continue
-            lines.append(f"| {run} | {kind} ({count}) | {s['states']} | "
-                         f"{fmt(s['leaving'], '.2f')} | {fmt(s['leave_feasible'], '.3f')} | "
-                         f"{fmt(s['stay_feasible'], '.3f')} | {s['trapped']:.2f} | "
-                         f"{s['plan_feasible']:.2f} | {s['plan_leaves']:.2f} | "
-                         f"{fmt(s['leave_scores_better'], '.2f')} | "
-                         f"{fmt(s['plan_outscored'], '.2f')} ({s['staying_plans']}) |")
+            lines.append(row([run, f"{kind} ({count})"], s["states"], lambda: [
+                fmt(s["leaving"], ".2f"), fmt(s["leave_feasible"], ".3f"),
+                fmt(s["stay_feasible"], ".3f"), f"{s['trapped']:.2f}",
+                f"{s['plan_feasible']:.2f}", f"{s['plan_leaves']:.2f}",
+                fmt(s["leave_scores_better"], ".2f"),
+                f"{fmt(s['plan_outscored'], '.2f')} ({s['staying_plans']})"], 8))
     lines += ["", "The search's quality, inside hazards against outside them (the control): the "
               "mean share of the feasible uniform sequences that score better than the executed "
               "plan, over the staying plans inside hazards and over the feasible plans outside "
@@ -288,13 +292,10 @@ def table(result, episodes, seed, samples):
     for run, entry in result.items():
         for kind in ("dwelling", "other"):
             s, o = entry[kind], entry["outside"][kind]
-            inside = (f"{fmt(s.get('staying_plan_beaten'), '.3f')} ({s.get('staying_plans', 0)})")
-            if o["states"] == 0:
-                lines.append(f"| {run} | {kind} | {inside} | 0 | | |")
-                continue
-            lines.append(f"| {run} | {kind} | {inside} | {o['states']} | "
-                         f"{o['plan_feasible']:.2f} | {fmt(o['plan_beaten'], '.3f')} "
-                         f"({o['feasible_plans']}) |")
+            inside = f"{fmt(s.get('staying_plan_beaten'), '.3f')} ({s.get('staying_plans', 0)})"
+            lines.append(row([run, kind, inside], o["states"], lambda: [
+                f"{o['plan_feasible']:.2f}",
+                f"{fmt(o['plan_beaten'], '.3f')} ({o['feasible_plans']})"], 2))
     if any(entry["searches"] for entry in result.values()):
         lines += ["", "Each search setting's planner at each state inside a hazard, planning from "
                   "it alone (cold), its plan judged by the run's objective.", "",
@@ -303,12 +304,9 @@ def table(result, episodes, seed, samples):
         for run, entry in result.items():
             for name, kinds in entry["searches"].items():
                 for kind, s in kinds.items():
-                    if s["states"] == 0:
-                        lines.append(f"| {run} | {kind} | {name} | 0 | | | | |")
-                        continue
-                    lines.append(f"| {run} | {kind} | {name} | {s['states']} | "
-                                 f"{s['feasible']:.2f} | {s['leaves']:.2f} | "
-                                 f"{s['feasible_and_leaves']:.2f} | {s['reward_cost']:.3f} |")
+                    lines.append(row([run, kind, name], s["states"], lambda: [
+                        f"{s['feasible']:.2f}", f"{s['leaves']:.2f}",
+                        f"{s['feasible_and_leaves']:.2f}", f"{s['reward_cost']:.3f}"], 4))
     return "\n".join(lines) + "\n"
 
 
