@@ -40,8 +40,8 @@ judged alike: feasible, leaving, its reward cost.
 Usage:
   PYTHONPATH=build/python python3 -m cmbrl.diagnostics.hazard_escape RUN_DIR [RUN_DIR ...] \\
       [--episodes 20] [--seed 100] [--samples 500] [--search NAME=OVERRIDES ...] [--out DIR]
-Prints (and with --out writes DIR/table.md and DIR/summary.json) a Markdown table, a row a run
-and episode kind.
+Prints (and with --out writes DIR/table.md and DIR/summary.json) Markdown tables with a row a run
+and episode kind: the ways out, the control and, with --search, the settings' plans.
 """
 import argparse
 import os
