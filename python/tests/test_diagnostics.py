@@ -11,9 +11,28 @@ import cmbrl
 from conftest import tiny_config
 from cmbrl.diagnostics import (classifier_learners, classifier_recall, goal_approach,
                                hazard_escape, hidden_state, model_size, open_loop,
-                               planner_compare, planner_study, reward_form, violation_anatomy)
+                               planner_compare, planner_study, reward_form, runs,
+                               violation_anatomy)
 
 TINY = tiny_config(120)
+
+
+def test_a_diagnostic_refuses_a_model_free_run_naming_what_it_lacks(monkeypatch):
+    loaded = []
+
+    class ModelFree:
+        is_mpc = False
+
+    def load_run(run, seed=0, overrides=None):
+        loaded.append((run, seed, overrides))
+        return ModelFree()
+
+    monkeypatch.setattr(cmbrl, "load_run", load_run)
+    with pytest.raises(SystemExit, match="^runs/trpo is not an MPC run: it has no classifier$"):
+        runs.load_mpc_run("runs/trpo", "classifier", seed=3, overrides=["a.b=1"])
+    assert loaded == [("runs/trpo", 3, ["a.b=1"])]
+    agents = runs.load_settings("r", [("b", ["x=1"]), ("a", [])], seed=2)
+    assert list(agents) == ["b", "a"] and loaded[1:] == [("r", 2, ["x=1"]), ("r", 2, [])]
 
 
 def test_a_setting_names_its_overrides():

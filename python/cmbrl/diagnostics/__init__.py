@@ -10,13 +10,17 @@
   the executed actions of its own episodes, against where it went (by robot, inside or outside
   hazards, speed, turning).
 - hazard_escape: whether a hazard is a trap for a trained RCE run: at each state inside a
-  hazard, the feasible share of the action sequences that leave it and of those that stay.
+  hazard, the feasible share of the action sequences that leave it and of those that stay, how
+  the reward ranks them against the executed plan (with a control outside hazards), and what
+  other planner settings would plan there.
 - hidden_state: whether a robot's observation holds its motion state: how much of one step's
   motion an ensemble explains from the observed motion and the action, with the previous action
   or an unrelated one added.
 - model_size: the offline one-step error of dynamics ensembles of several sizes and targets on
   the same random-action data (a criterion for a protocol's network size that looks at no
   return or violation count).
+
+runs: loading a trained run's MPC agent, and the same run under named settings, for them.
 
 Each is a module with a main(argv): `python3 -m cmbrl.diagnostics.<name> --help`.
 """

@@ -20,7 +20,7 @@ import os
 
 import numpy as np
 
-import cmbrl
+from cmbrl.diagnostics.runs import load_mpc_run
 
 NEAR = 0.5  # metres from a hazard's centre: "near" ends here
 
@@ -74,9 +74,7 @@ def main(argv=None):
           f"states | farther, a vase within {NEAR:g} m | states | farther, no vase | states |")
     print("|---|---|---|---|---|---|---|---|---|---|")
     for run in args.runs:
-        agent = cmbrl.load_run(run)
-        if not agent.is_mpc:
-            raise SystemExit(f"{run} is not an MPC run: it has no classifier")
+        agent = load_mpc_run(run, "classifier")
         env = agent.make_env()
         cells = recall(agent, states_by_distance(env, args.episodes, args.seed))
         env.close()

@@ -48,9 +48,9 @@ import os
 
 import numpy as np
 
-import cmbrl
 from cmbrl.diagnostics.open_loop import collect, hazard_slots, pose_from_ego, roll_out
 from cmbrl.diagnostics.planner_study import parse_setting
+from cmbrl.diagnostics.runs import load_mpc_run, load_settings
 from cmbrl.diagnostics.tables import write_table
 
 DWELLING = 20  # violations: an episode with this many or more is "dwelling"
@@ -118,11 +118,8 @@ def study_run(run, episodes, seed, samples, searches=()):
     outside every hazard, the control's (plan_feasible, plan_beaten, dwelling); per search
     setting (NAME, overrides) and state inside a hazard, its cold plan's feasible, leaves and
     reward_cost; and the episodes' violations."""
-    agent = cmbrl.load_run(run, seed=seed)
-    if not agent.is_mpc:
-        raise SystemExit(f"{run} is not an MPC run: it has no planner's models to judge")
-    planners = {name: cmbrl.load_run(run, seed=seed, overrides=overrides)
-                for name, overrides in searches}
+    agent = load_mpc_run(run, "planner's models to judge", seed=seed)
+    planners = load_settings(run, searches, seed=seed)
     env = agent.make_env()
     slots = hazard_slots(env.observation_names)
     low, high = np.asarray(agent.action_space.low), np.asarray(agent.action_space.high)

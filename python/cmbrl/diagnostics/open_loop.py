@@ -39,7 +39,7 @@ import re
 
 import numpy as np
 
-import cmbrl
+from cmbrl.diagnostics.runs import load_mpc_run
 from cmbrl.diagnostics.tables import write_table
 
 HORIZONS = (1, 4, 8)
@@ -204,9 +204,7 @@ def study(runs, episodes, seed):
     """{robot: {"runs", "episodes", "violations", "steps", "by_k": {k: [(subset, summary)]}}}."""
     per_robot = {}
     for run in runs:
-        agent = cmbrl.load_run(run, seed=seed)
-        if not agent.is_mpc:
-            raise SystemExit(f"{run} is not an MPC run: it has no dynamics models to judge")
+        agent = load_mpc_run(run, "dynamics models to judge", seed=seed)
         env = agent.make_env()
         names = env.observation_names
         slots = hazard_slots(names)

@@ -26,8 +26,8 @@ import statistics
 
 import numpy as np
 
-import cmbrl
 from cmbrl.diagnostics.planner_study import parse_setting
+from cmbrl.diagnostics.runs import load_mpc_run, load_settings
 from cmbrl.diagnostics.tables import write_table
 
 TOLERANCE = 1e-6  # float32 scores: equal plans score equal, up to this
@@ -36,11 +36,8 @@ TOLERANCE = 1e-6  # float32 scores: equal plans score equal, up to this
 def compare(run, settings, driver, episodes, seed):
     """Per setting, arrays over the states: reward_cost, constraint_cost, feasible and ms a plan;
     and the steps and violating steps of the driver's episodes."""
-    judge = cmbrl.load_run(run, seed=seed)
-    if not judge.is_mpc:
-        raise SystemExit(f"{run} is not an MPC run: it has no planner to compare")
-    agents = {name: cmbrl.load_run(run, seed=seed, overrides=overrides)
-              for name, overrides in settings}
+    judge = load_mpc_run(run, "planner to compare", seed=seed)
+    agents = load_settings(run, settings, seed=seed)
     env = judge.make_env()
     records = {name: {"reward_cost": [], "constraint_cost": [], "feasible": [], "ms": []}
                for name in agents}

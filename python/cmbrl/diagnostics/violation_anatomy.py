@@ -21,11 +21,10 @@ Episode k is episode k of `cmbrl eval --run RUN_DIR --seed 5` with the same --se
 import argparse
 import collections
 import statistics
-import sys
 
 import numpy as np
 
-import cmbrl
+from cmbrl.diagnostics.runs import load_mpc_run
 
 COST_TERMS = ("cost_hazards", "cost_vases_contact", "cost_vases_velocity")  # facts A3
 
@@ -40,9 +39,8 @@ def main(argv=None):
                         help="episode k reset with seed + k, as cmbrl eval --reseed")
     args = parser.parse_args(argv)
 
-    agent = cmbrl.load_run(args.run, seed=args.seed, overrides=args.set)
-    if not agent.is_mpc:
-        sys.exit(f"{args.run} is not an MPC run")
+    agent = load_mpc_run(args.run, "models to sort its violations by", seed=args.seed,
+                         overrides=args.set)
     env = agent.make_env()
 
     kinds = collections.Counter()
