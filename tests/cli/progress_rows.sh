@@ -22,7 +22,10 @@ killed_mid_episode_resumes() {
   # A run that finished, failed or never checkpointed mid-episode resumes nothing: not a pass.
   [ "$seen" = 1 ] || { echo "no checkpoint inside an episode within 60 s"; exit 1; }
   [ "$status" = 137 ] || { echo "the run was not killed mid-way (exit status $status)"; exit 1; }
-  "$cmbrl" train --resume "$cut" > /dev/null 2>&1
+  # A resume that fails says why (under set -e it would end the test without a word).
+  if ! "$cmbrl" train --resume "$cut" > "$cut.resume.log" 2>&1; then
+    echo "the resume failed:"; cat "$cut.resume.log"; ls -la "$cut/checkpoint"; exit 1
+  fi
   if ! diff <(deterministic_rows "$whole/progress.csv") <(deterministic_rows "$cut/progress.csv"); then
     echo "resumed rows differ"; exit 1
   fi
