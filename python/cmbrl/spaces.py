@@ -8,15 +8,19 @@ from . import _gymnasium
 class _Box:
     """A box of real vectors, low <= x <= high elementwise (gymnasium.spaces.Box's look-alike)."""
 
-    def __init__(self, low, high, dtype=np.float64):
+    def __init__(self, low, high, shape=None, dtype=np.float64, seed=None):
         self.dtype = np.dtype(dtype)
-        self.low = np.asarray(low, dtype=self.dtype)
-        self.high = np.asarray(high, dtype=self.dtype)
-        if self.low.shape != self.high.shape:
-            raise ValueError(f"low has shape {self.low.shape}, high {self.high.shape}: expected one")
-        self.shape = self.low.shape
+        if self.dtype.kind != "f":
+            raise ValueError(f"dtype is {self.dtype}: expected a floating dtype (cmbrl's Box "
+                             "holds real vectors)")
+        shape = _box_shape(low, high, shape)
+        self.low = _bound("low", low, shape, self.dtype)
+        self.high = _bound("high", high, shape, self.dtype)
+        self.shape = shape
         self.bounded_below, self.bounded_above = np.isfinite(self.low), np.isfinite(self.high)
         self._rng = np.random.default_rng()
+        if seed is not None:
+            self.seed(seed)
 
     def seed(self, seed=None):
         """Seeds the space's own generator (sample()) and returns the seed it used, drawn from
@@ -82,13 +86,56 @@ class _Box:
     __hash__ = None  # mutable arrays inside, as gymnasium's
 
     def __repr__(self):
-        return f"Box({self.low.min()}, {self.high.max()}, {self.shape}, {self.dtype})"
+        return f"Box({_short(self.low)}, {_short(self.high)}, {self.shape}, {self.dtype})"
 
 
-def Box(low, high, dtype=np.float64):  # noqa: N802 (a class-like factory)
+def _box_shape(low, high, shape):
+    """The box's shape by gymnasium's rule: `shape` when given, else that of the array bound(s);
+    two scalars make a box of shape (1,)."""
+    if shape is not None:
+        try:
+            dims = tuple(shape)
+        except TypeError:
+            raise TypeError(f"shape is {shape!r}: expected a sequence of integers") from None
+        if not all(isinstance(d, (int, np.integer)) and not isinstance(d, bool) and d >= 0
+                   for d in dims):
+            raise TypeError(f"shape is {shape!r}: expected a sequence of integers >= 0")
+        return tuple(int(d) for d in dims)
+    low_shape, high_shape = np.shape(low), np.shape(high)
+    if low_shape and high_shape and low_shape != high_shape:
+        raise ValueError(f"low has shape {low_shape}, high {high_shape}: expected one shape")
+    return low_shape or high_shape or (1,)
+
+
+def _bound(name, value, shape, dtype):
+    """A bound as an array of the box's shape: a scalar is repeated, an array must fit."""
+    array = np.asarray(value, dtype=dtype)
+    if np.isnan(array).any():
+        raise ValueError(f"{name} holds NaN: expected numbers or +-inf")
+    if array.ndim == 0:
+        return np.full(shape, array, dtype=dtype)
+    if array.shape != shape:
+        raise ValueError(f"{name} has shape {array.shape}: expected {shape}, the box's shape")
+    return array.copy()
+
+
+def _gymnasium_bound(value, dtype):
+    """A bound as gymnasium's Box takes it: a scalar stays one (it is repeated over the shape),
+    anything else becomes an array."""
+    return float(value) if np.ndim(value) == 0 else np.asarray(value, dtype=dtype)
+
+
+def _short(bound):
+    """One number when every entry is equal, else the array (gymnasium's Box repr)."""
+    return str(bound.flat[0]) if bound.size and np.all(bound == bound.flat[0]) else str(bound)
+
+
+def Box(low, high, shape=None, dtype=np.float64, seed=None):  # noqa: N802 (class-like)
     """A box space from low to high: gymnasium.spaces.Box where gymnasium is importable, the
-    look-alike otherwise."""
+    look-alike otherwise. gymnasium's arguments: a scalar bound is repeated over `shape`; the
+    shape is otherwise the bounds' (two scalars: (1,)); `seed` seeds sample(). The default dtype
+    is float64 (gymnasium's is float32)."""
     if _gymnasium.Box is not None:
-        return _gymnasium.Box(low=np.asarray(low, dtype=dtype),
-                              high=np.asarray(high, dtype=dtype), dtype=dtype)
-    return _Box(low, high, dtype)
+        return _gymnasium.Box(low=_gymnasium_bound(low, dtype), high=_gymnasium_bound(high, dtype),
+                              shape=shape, dtype=dtype, seed=seed)
+    return _Box(low, high, shape=shape, dtype=dtype, seed=seed)

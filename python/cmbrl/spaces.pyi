@@ -1,7 +1,7 @@
 # Type stubs for cmbrl.spaces (PEP 561). Box() returns gymnasium.spaces.Box where gymnasium is
 # importable, the look-alike _Box otherwise; for a type checker _Box is a gymnasium Box (where
 # gymnasium is installed), with the members the two share, in gymnasium's signatures.
-from typing import Any, Optional, Union
+from typing import Any, Optional, Sequence, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -14,7 +14,8 @@ class _Box(_gymnasium.Box):
     high: npt.NDArray[Any]
     shape: tuple[int, ...]
     def __init__(self, low: npt.ArrayLike, high: npt.ArrayLike,
-                 dtype: npt.DTypeLike = ...) -> None: ...
+                 shape: Optional[Sequence[int]] = ..., dtype: npt.DTypeLike = ...,
+                 seed: Optional[int] = ...) -> None: ...
     def seed(self, seed: Optional[int] = ...) -> Union[int, list[int], dict[str, int]]: ...
     @property
     def np_random(self) -> np.random.Generator: ...
@@ -29,4 +30,5 @@ class _Box(_gymnasium.Box):
     def __eq__(self, other: Any) -> bool: ...
     __hash__: None  # type: ignore[assignment]
 
-def Box(low: npt.ArrayLike, high: npt.ArrayLike, dtype: npt.DTypeLike = ...) -> _Box: ...
+def Box(low: npt.ArrayLike, high: npt.ArrayLike, shape: Optional[Sequence[int]] = ...,
+        dtype: npt.DTypeLike = ..., seed: Optional[int] = ...) -> _Box: ...

@@ -115,13 +115,15 @@ def test_spaces_are_gymnasiums_boxes_when_gymnasium_is_importable(monkeypatch):
     import cmbrl._gymnasium
 
     class FakeBox:
-        def __init__(self, low, high, dtype):
-            self.low, self.high, self.dtype = low, high, dtype
+        def __init__(self, low, high, shape, dtype, seed):
+            self.low, self.high, self.shape, self.dtype, self.seed = low, high, shape, dtype, seed
 
     with monkeypatch.context() as patch:  # gymnasium's Box, as cmbrl._gymnasium finds it
         patch.setattr(cmbrl._gymnasium, "Box", FakeBox)
         box = cmbrl.spaces.Box(low=[-1, -1], high=[1, 1])
         assert isinstance(box, FakeBox) and box.dtype == np.float64
+        box = cmbrl.spaces.Box(low=-1, high=1, shape=(3,), seed=4)  # passed on as given
+        assert (box.low, box.shape, box.seed) == (-1.0, (3,), 4)
     with monkeypatch.context() as patch:  # no gymnasium: the look-alike
         patch.setattr(cmbrl._gymnasium, "Box", None)
         assert isinstance(cmbrl.spaces.Box(low=[0], high=[1]), cmbrl.spaces._Box)
@@ -232,6 +234,64 @@ def test_the_look_alike_box_has_gymnasiums_attributes_and_rules():
         box.is_bounded("sideways")
     with pytest.raises(ValueError, match="mask"):
         box.sample(mask=np.ones(2, dtype=np.int8))
+
+
+BOX_ARGUMENTS = [  # gymnasium.spaces.Box's forms: (low, high, keyword arguments)
+    (-1.0, 2.0, {"shape": (3, 2)}),
+    (np.zeros(2), np.ones(2), {}),
+    (0, 1, {}),  # two scalars: shape (1,)
+    (-np.inf, np.inf, {"shape": [4]}),
+    (np.array([-1.0, -2.0]), 2.0, {}),  # the scalar repeated over the array's shape
+    (0, 1, {"shape": (2,), "dtype": np.float32}),
+]
+BAD_BOX_ARGUMENTS = [
+    (np.zeros(2), np.ones(3), {}, ValueError, r"low has shape \(2,\), high \(3,\)"),
+    (np.zeros(2), 1.0, {"shape": (3,)}, ValueError, r"low has shape \(2,\): expected \(3,\)"),
+    (float("nan"), 1.0, {"shape": (2,)}, ValueError, "low holds NaN"),
+    (0.0, 1.0, {"shape": "ab"}, TypeError, "shape is 'ab'"),
+    (0.0, 1.0, {"shape": 3}, TypeError, "shape is 3"),
+]
+
+
+@pytest.mark.parametrize("low,high,kwargs", BOX_ARGUMENTS)
+def test_the_look_alike_box_takes_gymnasiums_arguments(low, high, kwargs):
+    from cmbrl.spaces import _Box
+
+    box = _Box(low, high, **kwargs)
+    shape = tuple(kwargs.get("shape", np.shape(low) or np.shape(high) or (1,)))
+    assert box.shape == shape and box.low.shape == shape and box.high.shape == shape
+    assert box.low.dtype == box.dtype == np.dtype(kwargs.get("dtype", np.float64))
+    assert np.all(box.low == low) and np.all(box.high == high)
+    assert box.sample().shape == shape and box.contains(box.sample())
+    seeded = [_Box(low, high, seed=7, **kwargs).sample() for _ in range(2)]
+    assert np.array_equal(*seeded)  # seed= seeds sample(), as gymnasium's Box(seed=) does
+
+
+@pytest.mark.parametrize("low,high,kwargs,error,message", BAD_BOX_ARGUMENTS)
+def test_the_look_alike_box_refuses_what_gymnasium_refuses(low, high, kwargs, error, message):
+    from cmbrl.spaces import _Box
+
+    with pytest.raises(error, match=message):
+        _Box(low, high, **kwargs)
+    with pytest.raises(ValueError, match="dtype is int64: expected a floating dtype"):
+        _Box(0, 1, dtype=np.int64)
+
+
+@pytest.mark.parametrize("low,high,kwargs", BOX_ARGUMENTS)
+def test_the_look_alike_box_is_gymnasiums_box_where_gymnasium_is_installed(low, high, kwargs):
+    gymnasium = pytest.importorskip("gymnasium")
+    if getattr(gymnasium, "FAKE", False):
+        pytest.skip("a stand-in gymnasium")
+    from cmbrl.spaces import _Box
+
+    kwargs = {"dtype": np.float64, **kwargs}  # gymnasium's default dtype is float32, cmbrl's 64
+    ours, theirs = _Box(low, high, **kwargs), gymnasium.spaces.Box(low, high, **kwargs)
+    assert isinstance(cmbrl.Box(low, high, **kwargs), gymnasium.spaces.Box)
+    assert (ours.shape, ours.dtype, repr(ours)) == (theirs.shape, theirs.dtype, repr(theirs))
+    assert np.array_equal(ours.low, theirs.low) and np.array_equal(ours.high, theirs.high)
+    for bad_low, bad_high, bad, error, _ in BAD_BOX_ARGUMENTS:
+        with pytest.raises(error):
+            gymnasium.spaces.Box(bad_low, bad_high, **{"dtype": np.float64, **bad})
 
 
 @pytest.mark.parametrize("task,variant", [("PointGoal1", "paper"), ("CarGoal2", "standard"),
