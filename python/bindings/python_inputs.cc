@@ -52,7 +52,9 @@ class PythonStepFunction {
       result = function_(RowsArray(states, rows), RowsArray(actions, rows),
                          RowsArray(next_states, rows));
     } catch (py::error_already_set& error) {
-      Fail("the {} function {} raised {}", kind_, Name(), PythonErrorText(error));
+      Fail("the {} function {} raised {} (it is called as {}(states, actions, next_states), "
+           "arrays of {} rows, and returns {} values)",
+           kind_, Name(), PythonErrorText(error), kind_, rows, rows);
     }
     // Booleans (a termination's) read as 0 and 1.
     const py::array array = py::array::ensure(result);

@@ -271,6 +271,14 @@ def test_a_bad_python_reward_is_named(tmp_path):
                                           "reward here"):
         cmbrl.train(config=tiny_config(20), out=tmp_path / "raises", reward=raises)
 
+    def two_arguments(states, actions):  # the form it is called in is named
+        return np.zeros(len(states))
+
+    with pytest.raises(cmbrl.Error, match=r"raised TypeError: .* \(it is called as "
+                                          r"reward\(states, actions, next_states\), arrays of "
+                                          r"(\d+) rows, and returns \1 values\)"):
+        cmbrl.train(config=tiny_config(20), out=tmp_path / "two", reward=two_arguments)
+
     def not_finite(states, actions, next_states):
         return np.full(len(states), np.nan)
 
