@@ -3,6 +3,7 @@
 #include <fmt/ranges.h>
 
 #include "cmbrl/core/check.h"
+#include "cmbrl/core/closest_name.h"
 
 namespace cmbrl {
 
@@ -26,7 +27,8 @@ std::unique_ptr<Policy> MakePolicy(const std::string& name, const BoxSpec& actio
                                    std::uint64_t seed) {
   if (name == "random") return std::make_unique<RandomPolicy>(action_spec, seed);
   if (name == "zero") return std::make_unique<ZeroPolicy>(action_spec.size());
-  Fail("unknown policy '{}': expected one of {}", name, fmt::join(PolicyNames(), ", "));
+  Fail("unknown policy '{}'{}: expected one of {}", name, DidYouMean(name, PolicyNames()),
+       fmt::join(PolicyNames(), ", "));
 }
 
 }  // namespace cmbrl

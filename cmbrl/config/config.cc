@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "cmbrl/core/check.h"
+#include "cmbrl/core/closest_name.h"
 #include "cmbrl/core/memory.h"
 #include "cmbrl/core/device_name.h"
 #include "cmbrl/env/tasks/task_spec.h"
@@ -95,8 +96,8 @@ class Section {
     for (const auto& entry : node_) {
       const std::string key = entry.first.as<std::string>();
       if (std::find(known_.begin(), known_.end(), key) == known_.end()) {
-        Fail("config '{}': unknown key '{}': expected one of {}", source_, Name(key),
-             fmt::join(known_, ", "));
+        Fail("config '{}': unknown key '{}'{}: expected one of {}", source_, Name(key),
+             DidYouMean(key, known_, path_.empty() ? "" : path_ + "."), fmt::join(known_, ", "));
       }
     }
   }
@@ -746,13 +747,13 @@ void ValidateTrainConfig(const TrainConfig& c, const std::string& source) {
   const int observation_size = ValidatedObservationSize(c, source);
   const std::vector<std::string>& algorithms = AlgorithmNames();
   Require(std::find(algorithms.begin(), algorithms.end(), c.algorithm) != algorithms.end(),
-          "config '{}': key 'algorithm' is '{}': expected one of {}", source, c.algorithm,
-          fmt::join(algorithms, ", "));
+          "config '{}': key 'algorithm' is '{}'{}: expected one of {}", source, c.algorithm,
+          DidYouMean(c.algorithm, algorithms), fmt::join(algorithms, ", "));
   InSection(source, "policy_optimisation",
             [&] { ValidatePolicyOptimisationOptions(c.policy_optimisation); });
   Require(FindPlannerInfoOrNull(c.planner) != nullptr,
-          "config '{}': key 'planner' is '{}': expected one of {}", source, c.planner,
-          fmt::join(PlannerNames(), ", "));
+          "config '{}': key 'planner' is '{}'{}: expected one of {}", source, c.planner,
+          DidYouMean(c.planner, PlannerNames()), fmt::join(PlannerNames(), ", "));
   AtKey(source, "device", [&] { CheckDeviceName(c.device); });
   const TrainingLoopOptions& t = c.training;
   InSection(source, "training", [&] {
@@ -857,6 +858,24 @@ std::vector<ConfigDifference> ConfigDifferences(const TrainConfig& ours, const T
   return differences;
 }
 
+namespace {
+
+// Every key --set can name in a config's document: a top-level key, or section.key.
+std::vector<std::string> OverridableKeys(const YAML::Node& document) {
+  std::vector<std::string> keys;
+  for (const auto& entry : document) {
+    const std::string key = entry.first.as<std::string>();
+    if (!entry.second.IsMap()) {
+      keys.push_back(key);
+      continue;
+    }
+    for (const auto& inner : entry.second) keys.push_back(key + "." + inner.first.as<std::string>());
+  }
+  return keys;
+}
+
+}  // namespace
+
 TrainConfig ApplyConfigOverrides(const TrainConfig& config,
                                  const std::vector<std::string>& overrides,
                                  const std::string& source) {
@@ -872,7 +891,8 @@ TrainConfig ApplyConfigOverrides(const TrainConfig& config,
     const std::string section = dot == std::string::npos ? "" : key.substr(0, dot);
     const std::string name = dot == std::string::npos ? key : key.substr(dot + 1);
     const YAML::Node parent = section.empty() ? document : document[section];
-    Require(parent.IsMap() && parent[name], "{} '{}': unknown key '{}'", source, item, key);
+    Require(parent.IsMap() && parent[name], "{} '{}': unknown key '{}'{}", source, item, key,
+            DidYouMean(key, OverridableKeys(document)));
     YAML::Node value;
     const std::string text = item.substr(equals + 1);
     const std::string where = fmt::format("{} '{}'", source, item);

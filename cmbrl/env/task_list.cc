@@ -4,6 +4,7 @@
 #include <fmt/ranges.h>
 
 #include "cmbrl/core/check.h"
+#include "cmbrl/core/closest_name.h"
 
 namespace cmbrl {
 namespace {
@@ -82,8 +83,8 @@ const TaskEntry& FindTask(const std::string& name) {
           "task '{}' is an environment given from Python: train, resume and load it from Python "
           "with that environment (cmbrl.train(env=...), cmbrl.load_run(..., env=...))",
           name);
-  Fail("unknown task '{}': expected one of {} (or an environment given from Python)", name,
-       fmt::join(EnvNames(), ", "));
+  Fail("unknown task '{}'{}: expected one of {} (or an environment given from Python)", name,
+       DidYouMean(name, EnvNames()), fmt::join(EnvNames(), ", "));
 }
 
 }  // namespace cmbrl

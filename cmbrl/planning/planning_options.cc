@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "cmbrl/core/check.h"
+#include "cmbrl/core/closest_name.h"
 
 namespace cmbrl {
 
@@ -166,7 +167,8 @@ const PlannerInfo* FindPlannerInfoOrNull(const std::string& name) {
 
 const PlannerInfo& FindPlannerInfo(const std::string& name) {
   if (const PlannerInfo* info = FindPlannerInfoOrNull(name)) return *info;
-  Fail("unknown planner '{}': expected one of {}", name, fmt::join(PlannerNames(), ", "));
+  Fail("unknown planner '{}'{}: expected one of {}", name, DidYouMean(name, PlannerNames()),
+       fmt::join(PlannerNames(), ", "));
 }
 
 std::string PlannerLabel(const std::string& name) {

@@ -6,6 +6,7 @@
 #include <algorithm>
 
 #include "cmbrl/core/check.h"
+#include "cmbrl/core/closest_name.h"
 
 namespace cmbrl {
 
@@ -36,7 +37,8 @@ const AlgorithmEntry* FindAlgorithmOrNull(const std::string& name) {
 
 const AlgorithmEntry& FindAlgorithm(const std::string& name) {
   if (const AlgorithmEntry* entry = FindAlgorithmOrNull(name)) return *entry;
-  Fail("unknown algorithm '{}': expected one of {}", name, fmt::join(AlgorithmNames(), ", "));
+  Fail("unknown algorithm '{}'{}: expected one of {}", name, DidYouMean(name, AlgorithmNames()),
+       fmt::join(AlgorithmNames(), ", "));
 }
 
 const FamilySheet& FamilyOf(const std::string& algorithm) {

@@ -13,6 +13,7 @@
 #include <sstream>
 
 #include "cmbrl/core/check.h"
+#include "cmbrl/core/closest_name.h"
 #include "cmbrl/env/task_list.h"
 #include "cmbrl/report/reference.h"
 #include "cmbrl/run/run_directory.h"
@@ -143,8 +144,8 @@ YAML::Node LoadExperimentDocument(const std::string& source) {
                                        "window", "set",     "axes",  "decision"};
   for (const auto& entry : document) {
     const std::string key = entry.first.as<std::string>();
-    Require(known.count(key) == 1, "experiment '{}': unknown key '{}': expected one of {}",
-            source, key, fmt::join(known, ", "));
+    Require(known.count(key) == 1, "experiment '{}': unknown key '{}'{}: expected one of {}",
+            source, key, DidYouMean(key, known), fmt::join(known, ", "));
   }
   return document;
 }

@@ -11,6 +11,7 @@
 
 #include "cmbrl/config/config.h"
 #include "cmbrl/core/check.h"
+#include "cmbrl/core/closest_name.h"
 #include "cmbrl/core/files.h"
 #include "cmbrl/core/shell.h"
 #include "cmbrl/env/task_list.h"
@@ -61,16 +62,16 @@ void CheckGrid(const SweepGrid& grid) {
     const fs::path preset =
         fs::path(grid.config_dir) / (Lower(task) + "-" + grid.planners.front() + ".yaml");
     Require(named && fs::exists(preset),
-            "unknown task '{}': expected some of {}, or a task of its own (letters, digits and "
-            "_) with its presets <task>-<method>.yaml in '{}'",
-            task, fmt::join(known_tasks, ", "), grid.config_dir);
+            "unknown task '{}'{}: expected some of {}, or a task of its own (letters, digits "
+            "and _) with its presets <task>-<method>.yaml in '{}'",
+            task, DidYouMean(task, known_tasks), fmt::join(known_tasks, ", "), grid.config_dir);
   }
   // Methods: the MPC planners and the model-free algorithms (configs <task>-<method>.yaml).
   const std::vector<std::string> known_methods = MethodNames();
   for (const std::string& method : grid.planners) {
     Require(std::find(known_methods.begin(), known_methods.end(), method) != known_methods.end(),
-            "unknown planner or algorithm '{}': expected some of {}", method,
-            fmt::join(known_methods, ", "));
+            "unknown planner or algorithm '{}'{}: expected some of {}", method,
+            DidYouMean(method, known_methods), fmt::join(known_methods, ", "));
   }
   Require(std::set<std::string>(grid.tasks.begin(), grid.tasks.end()).size() == grid.tasks.size(),
           "tasks {} repeat a task: each run of the grid needs its own", fmt::join(grid.tasks, " "));

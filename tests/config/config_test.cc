@@ -308,10 +308,18 @@ TEST(ConfigTest, BadConfigurationsNameTheKeyAndTheValue) {
             "config 'c.yaml': planning.horizon is 0: expected 1 to 1000 steps");
   EXPECT_EQ(ErrorMessage([] { ParseTrainConfig("planner: mppi", "c.yaml"); }),
             "config 'c.yaml': key 'planner' is 'mppi': expected one of rce, cem, random, rce-icem");
+  EXPECT_EQ(ErrorMessage([] { ParseTrainConfig("planner: rce-icme", "c.yaml"); }),
+            "config 'c.yaml': key 'planner' is 'rce-icme' (did you mean 'rce-icem'?): expected one "
+            "of rce, cem, random, rce-icem");
+  EXPECT_THAT(ErrorMessage([] { ParseTrainConfig("task: CarGaol2", "c.yaml"); }),
+              ::testing::HasSubstr("unknown task 'CarGaol2' (did you mean 'CarGoal2'?)"));
+  EXPECT_THAT(ErrorMessage([] { ParseTrainConfig("algorithm: trpo-lagrangain", "c.yaml"); }),
+              ::testing::HasSubstr("'trpo-lagrangain' (did you mean 'trpo-lagrangian'?)"));
   EXPECT_THAT(ErrorMessage([] { ParseTrainConfig("task: AntGoal1", "c.yaml"); }),
               ::testing::HasSubstr("config 'c.yaml': key 'task': unknown task 'AntGoal1'"));
   EXPECT_EQ(ErrorMessage([] { ParseTrainConfig("ensemble: {hiden_sizes: [8]}", "c.yaml"); }),
-            "config 'c.yaml': unknown key 'ensemble.hiden_sizes': expected one of ensemble_size, "
+            "config 'c.yaml': unknown key 'ensemble.hiden_sizes' (did you mean "
+            "'ensemble.hidden_sizes'?): expected one of ensemble_size, "
             "hidden_sizes, predict_delta, learning_rate, batch_size, max_epochs, "
             "validation_fraction, member_subset_fraction, validate_every, patience, init_std, "
             "min_std, precision, backend");
@@ -358,7 +366,13 @@ TEST(ConfigTest, OverridesChangeTheirKeysAndAreValidatedAsAFileIs) {
   EXPECT_EQ(TrainConfigToYaml(ApplyConfigOverrides(base, {}, "--set")), TrainConfigToYaml(base));
 
   EXPECT_EQ(ErrorMessage([&] { ApplyConfigOverrides(base, {"planning.populaton=3"}, "--set"); }),
-            "--set 'planning.populaton=3': unknown key 'planning.populaton'");
+            "--set 'planning.populaton=3': unknown key 'planning.populaton' (did you mean "
+            "'planning.population'?)");
+  EXPECT_EQ(ErrorMessage([&] { ApplyConfigOverrides(base, {"planing.population=3"}, "--set"); }),
+            "--set 'planing.population=3': unknown key 'planing.population' (did you mean "
+            "'planning.population'?)");
+  EXPECT_EQ(ErrorMessage([&] { ApplyConfigOverrides(base, {"colour=blue"}, "--set"); }),
+            "--set 'colour=blue': unknown key 'colour'");
   EXPECT_EQ(ErrorMessage([&] { ApplyConfigOverrides(base, {"planning.population"}, "--set"); }),
             "--set 'planning.population': expected section.key=value, e.g. "
             "planning.population=500");

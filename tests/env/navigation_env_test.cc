@@ -298,18 +298,6 @@ TEST(GoalEnvObservationTest, PaperStateVectorValuesByHand) {
   EXPECT_LT(step.observation[spec.IndexOf("goal_x")], 1.0);
 }
 
-// Names and sizes of an observation's blocks, in order: "accelerometer" 3, "goal_lidar" 16, ...
-std::vector<std::pair<std::string, int>> Blocks(const BoxSpec& spec) {
-  std::vector<std::pair<std::string, int>> blocks;
-  for (const std::string& name : spec.names) {
-    const size_t cut = name.rfind('_');
-    const std::string key = name.substr(0, cut);
-    if (blocks.empty() || blocks.back().first != key) blocks.push_back({key, 0});
-    ++blocks.back().second;
-  }
-  return blocks;
-}
-
 // Every stock task observes Safety-Gymnasium's order, listed from its source: the agent's
 // SensorConf.sensors ('accelerometer', 'velocimeter', 'gyro', 'magnetometer'; base_agent.py),
 // then its joint sensors (car.xml: ballangvel_rear, then ballquat_rear as a 3 x 3 matrix), then
@@ -329,7 +317,7 @@ TEST(GoalEnvObservationTest, EveryStockTaskObservesInSafetyGymnasiumsOrder) {
     std::vector<std::pair<std::string, int>> expected = sensors;
     if (task.rfind("Car", 0) == 0) expected.insert(expected.end(), car_joints.begin(), car_joints.end());
     expected.insert(expected.end(), lidars.begin(), lidars.end());
-    EXPECT_EQ(Blocks(env.observation_spec()), expected);
+    EXPECT_EQ(testing::ObservationBlocks(env.observation_spec()), expected);
     EXPECT_EQ(env.observation_spec().names[0], "accelerometer_x");
     EXPECT_EQ(env.observation_spec().names[3], "velocimeter_x");
     EXPECT_EQ(env.observation_spec().size(), ObservationSize(env.spec()));
@@ -350,7 +338,7 @@ TEST(GoalEnvObservationTest, ThePapersLidarVariantKeepsTheOriginalsAlphabeticalO
     const std::vector<std::pair<std::string, int>> expected = {
         {"accelerometer", 3}, {"goal_lidar", 16}, {"gyro", 3}, {"hazards_lidar", 16},
         {"magnetometer", 3},  {"vases_lidar", 16}, {"velocimeter", 3}};
-    EXPECT_EQ(Blocks(env.observation_spec()), expected);
+    EXPECT_EQ(testing::ObservationBlocks(env.observation_spec()), expected);
   }
 }
 

@@ -22,17 +22,6 @@ namespace {
 
 using testing::FarLayout;
 
-// The observation's blocks: (key, size) of consecutive names "key_x" / "key_0", ...
-std::vector<std::pair<std::string, int>> Blocks(const BoxSpec& spec) {
-  std::vector<std::pair<std::string, int>> blocks;
-  for (const std::string& name : spec.names) {
-    const std::string key = name.substr(0, name.rfind('_'));
-    if (blocks.empty() || blocks.back().first != key) blocks.push_back({key, 0});
-    ++blocks.back().second;
-  }
-  return blocks;
-}
-
 NavigationEnv Stock(const std::string& task) {
   NavigationTaskSpec spec = NavigationTaskSpecByName(task, Variant::kStandard);
   spec.max_env_steps = 1 << 20;
@@ -85,7 +74,7 @@ TEST(NavigationFamiliesTest, EveryStockTaskObservesInSafetyGymnasiumsOrder) {
       std::vector<std::pair<std::string, int>> blocks = sensors;
       if (robot == std::string("Car")) blocks.insert(blocks.end(), car.begin(), car.end());
       for (const auto& block : lidars(keys)) blocks.push_back(block);
-      EXPECT_EQ(Blocks(env->observation_spec()), blocks);
+      EXPECT_EQ(testing::ObservationBlocks(env->observation_spec()), blocks);
       ++checked;
     }
   }

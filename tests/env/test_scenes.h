@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "cmbrl/env/env.h"
 #include "cmbrl/env/tasks/layout.h"
@@ -23,6 +25,18 @@ inline NavigationLayout FarLayout(const NavigationTaskSpec& spec) {
   for (int i = 0; i < spec.num_pillars; ++i) layout.pillars.push_back({60.0 + i, -60.0});
   layout.box = {{-60.0, 60.0}, 0.0};
   return layout;
+}
+
+// An observation's blocks, in order: (key, size) of consecutive names "key_x" / "key_0", ...,
+// e.g. ("accelerometer", 3), ("goal_lidar", 16).
+inline std::vector<std::pair<std::string, int>> ObservationBlocks(const BoxSpec& spec) {
+  std::vector<std::pair<std::string, int>> blocks;
+  for (const std::string& name : spec.names) {
+    const std::string key = name.substr(0, name.rfind('_'));
+    if (blocks.empty() || blocks.back().first != key) blocks.push_back({key, 0});
+    ++blocks.back().second;
+  }
+  return blocks;
 }
 
 }  // namespace cmbrl::testing
