@@ -3,9 +3,14 @@
 // Gymnasium-style surface on it. Every long call (stepping, planning, training) releases the
 // GIL; cmbrl::Error becomes cmbrl.Error (a ValueError) with the same message.
 #include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <string>
+#include <vector>
 
 #include "cmbrl/core/build_info.h"
 #include "cmbrl/core/check.h"
+#include "cmbrl/core/closest_name.h"
 #include "python/bindings/bindings.h"
 #include "python/bindings/python_inputs.h"
 
@@ -16,6 +21,14 @@ PYBIND11_MODULE(_cmbrl, m) {
   m.attr("__commit__") = cmbrl::CmbrlCommit();
   py::register_exception<cmbrl::Error>(m, "Error", PyExc_ValueError)
       .doc() = "An error of cmbrl's core: its message names the bad value and what was expected.";
+  m.def(
+      "did_you_mean",
+      [](const std::string& name, const std::vector<std::string>& candidates) {
+        return cmbrl::DidYouMean(name, candidates);
+      },
+      py::arg("name"), py::arg("candidates"),
+      "\" (did you mean 'x'?)\" for the one candidate near enough to be a slip, else \"\" (the "
+      "rule of the core's messages)");
   cmbrl::python::BindEnvs(m);
   cmbrl::python::BindModels(m);
   cmbrl::python::BindRuns(m);

@@ -82,8 +82,9 @@ def _preset_or_path(config):
         candidate = os.path.join(folder, path + ".yaml")
         if os.path.isfile(candidate):
             return candidate
-    raise Error(f"config '{path}' is neither a file nor a preset: expected a YAML file's path "
-                f"or one of cmbrl.presets() ({', '.join(presets()[:6])}, ...)")
+    raise Error(f"config '{path}' is neither a file nor a preset"
+                f"{_cmbrl.did_you_mean(path, presets())}: expected a YAML file's path or one of "
+                f"cmbrl.presets() ({', '.join(presets()[:6])}, ...)")
 
 
 def train(config=None, out=None, steps=None, seed=None, device=None, resume=None, progress=None,

@@ -446,6 +446,11 @@ def _task_and_variant(task, variant):
     if match and match.group(1) in tasks():  # the task list is the C++ core's, named once
         return match.group(1), "standard" if variant is None else _as_str(
             variant, "variant", "'paper', 'standard' or 'paper-lidar'")
+    if task.startswith("Safety") and task not in tasks():
+        ids = [f"Safety{name}-v0" for name in tasks()]
+        raise Error(f"unknown task '{task}'{_cmbrl.did_you_mean(task, ids)}: expected a "
+                    f"Safety-Gymnasium id of a task cmbrl has ({ids[0]}, ..., {ids[-1]}) or one "
+                    f"of {', '.join(tasks())}")
     if variant is None:
         variant = _cmbrl.default_variant(task) if task in tasks() else "paper"
     return task, _as_str(variant, "variant", "'paper', 'standard' or 'paper-lidar'")

@@ -205,6 +205,14 @@ def test_gymnasium_attributes_and_safety_gymnasium_ids():
     assert (vec.task, vec.variant) == ("CarGoal1", "standard")
     with pytest.raises(cmbrl.Error, match="SafetyPointGoal3-v0"):
         cmbrl.make("SafetyPointGoal3-v0")
+    with pytest.raises(cmbrl.Error, match=r"unknown task 'SafetyPointGaol1-v0' \(did you mean "
+                                          r"'SafetyPointGoal1-v0'\?\): expected a Safety-Gym"):
+        cmbrl.make("SafetyPointGaol1-v0")
+    with pytest.raises(cmbrl.Error, match=r"unknown task 'SafetyCarPush2-v1' \(did you mean "
+                                          r"'SafetyCarPush2-v0'\?\)"):
+        cmbrl.make("SafetyCarPush2-v1")
+    with pytest.raises(cmbrl.Error, match=r"unknown task 'PointGaol2' \(did you mean 'PointGoal2'"):
+        cmbrl.make("PointGaol2")
     with pytest.raises(cmbrl.Error, match="task is 3"):
         cmbrl.make(3)
 

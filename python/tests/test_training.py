@@ -317,6 +317,9 @@ def test_presets_ship_in_the_package_and_are_named_not_pathed(tmp_path):
         assert name in names
     with pytest.raises(cmbrl.Error, match="'pointgoal9-rce' is neither a file nor a preset"):
         cmbrl.train(config=["pointgoal9-rce", "quickstart"], out=str(tmp_path / "r"))
+    with pytest.raises(cmbrl.Error, match=r"'quickstrat' is neither a file nor a preset \(did "
+                                          r"you mean 'quickstart'\?\)"):
+        cmbrl.train(config=["pointgoal1-rce", "quickstrat"], out=str(tmp_path / "r"))
 
 
 def test_rce_icem_trains_resumes_and_acts_from_python(tmp_path):
