@@ -136,6 +136,7 @@ def Box(low, high, shape=None, dtype=np.float64, seed=None):  # noqa: N802 (clas
     shape is otherwise the bounds' (two scalars: (1,)); `seed` seeds sample(). The default dtype
     is float64 (gymnasium's is float32)."""
     if _gymnasium.Box is not None:
+        given = {k: v for k, v in (("shape", shape), ("seed", seed)) if v is not None}
         return _gymnasium.Box(low=_gymnasium_bound(low, dtype), high=_gymnasium_bound(high, dtype),
-                              shape=shape, dtype=dtype, seed=seed)
+                              dtype=dtype, **given)
     return _Box(low, high, shape=shape, dtype=dtype, seed=seed)

@@ -115,7 +115,7 @@ def test_spaces_are_gymnasiums_boxes_when_gymnasium_is_importable(monkeypatch):
     import cmbrl._gymnasium
 
     class FakeBox:
-        def __init__(self, low, high, shape, dtype, seed):
+        def __init__(self, low, high, dtype, shape=None, seed=None):
             self.low, self.high, self.shape, self.dtype, self.seed = low, high, shape, dtype, seed
 
     with monkeypatch.context() as patch:  # gymnasium's Box, as cmbrl._gymnasium finds it
