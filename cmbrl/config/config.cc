@@ -869,7 +869,9 @@ std::vector<std::string> OverridableKeys(const YAML::Node& document) {
       keys.push_back(key);
       continue;
     }
-    for (const auto& inner : entry.second) keys.push_back(key + "." + inner.first.as<std::string>());
+    for (const auto& inner : entry.second) {
+      keys.push_back(key + "." + inner.first.as<std::string>());
+    }
   }
   return keys;
 }

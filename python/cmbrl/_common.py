@@ -61,6 +61,7 @@ class _Closable:
 
     def __exit__(self, *exc):
         self.close()
+        return False  # an exception raised inside `with` goes on (gymnasium's Env: the same)
 
 
 def _json_number(value):

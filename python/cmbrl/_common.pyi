@@ -1,12 +1,11 @@
 # Type stubs of cmbrl._common: the error, the shared base classes and the array aliases that the
 # other stubs use.
 import os
-from typing import Any, NoReturn, TypeVar, Union
+from typing import Any, NoReturn, Self, Union
 
 import numpy as np
 import numpy.typing as npt
 
-_Self = TypeVar("_Self")
 _Path = Union[str, os.PathLike[str]]
 _Floats = npt.NDArray[np.float64]
 _Bools = npt.NDArray[np.bool_]
@@ -22,5 +21,5 @@ class _Closable:
     def close(self) -> None: ...
     @property
     def closed(self) -> bool: ...
-    def __enter__(self: _Self) -> _Self: ...
-    def __exit__(self, *exc: object) -> None: ...
+    def __enter__(self) -> Self: ...
+    def __exit__(self, *exc: object) -> bool: ...

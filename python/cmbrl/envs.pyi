@@ -1,5 +1,5 @@
 # Type stubs of cmbrl.envs.
-from typing import Any, Iterable, Mapping, Optional, Sequence, Union
+from typing import Any, Iterable, Mapping, Optional, Self, Sequence, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -37,6 +37,9 @@ class EnvSpec(_gymnasium.EnvSpec):
 
 # Where gymnasium is installed, a gymnasium.Env whose step gives Safety-Gymnasium's six values.
 class Env(_Closable, _gymnasium.Env[_Floats, _Floats]):
+    # _Closable's, restated: mypy reads the two bases' Self-typed `with` methods as in conflict.
+    def __enter__(self) -> Self: ...
+    def __exit__(self, *exc: object) -> bool: ...
     reward_range: tuple[float, float]
     task: str
     variant: str
