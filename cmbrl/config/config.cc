@@ -126,6 +126,7 @@ void VisitConfig(Config& c, Visitor& v) {
   v.Field("", "seed", c.seed);
   v.Field("", "device", c.device);
   v.Field("environment", "spawn", c.spawn);
+  v.Field("environment", "previous_action", c.previous_action);
   v.Field("environment", "observation_size", c.observation_size);
   v.Field("environment", "action_size", c.action_size);
   auto& d = c.mujoco_task;
@@ -744,7 +745,10 @@ int ValidatedObservationSize(const TrainConfig& c, const std::string& source) {
 }  // namespace
 
 void ValidateTrainConfig(const TrainConfig& c, const std::string& source) {
-  const int observation_size = ValidatedObservationSize(c, source);
+  // A built-in robot takes 2 actions; a Python environment's run records its own number.
+  const int action_size = IsPythonEnvTask(c) ? c.action_size : 2;
+  int observation_size = ValidatedObservationSize(c, source);
+  if (c.previous_action && observation_size > 0) observation_size += action_size;
   const std::vector<std::string>& algorithms = AlgorithmNames();
   Require(std::find(algorithms.begin(), algorithms.end(), c.algorithm) != algorithms.end(),
           "config '{}': key 'algorithm' is '{}'{}: expected one of {}", source, c.algorithm,
@@ -800,7 +804,7 @@ void ValidateTrainConfig(const TrainConfig& c, const std::string& source) {
   } else {  // unread, but a value no run could use is still no one's meaning
     InSection(source, "objective", [&] { ValidateTrajectoryObjectiveOptions(c.objective, 0); });
   }
-  check_memory(EstimateRunMemory(c, observation_size, IsPythonEnvTask(c) ? c.action_size : 2));
+  check_memory(EstimateRunMemory(c, observation_size, action_size));
 }
 
 std::string AnalyticRewardForm(const TrainConfig& c) {

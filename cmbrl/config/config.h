@@ -35,6 +35,9 @@ struct TrainConfig {
   int action_size = 0;
   Variant variant = Variant::kPaper;  // parsed once, where the file is read
   Spawn spawn = Spawn::kStanding;     // environment.spawn
+  // environment.previous_action: the action the environment last ran appended to every
+  // observation (env/previous_action_env.h), for robots whose motion depends on it.
+  bool previous_action = false;
   std::string algorithm = "mpc";      // AlgorithmNames() (run/algorithms.h)
   std::string planner = "rce";        // rce, cem or random (algorithm mpc)
   std::uint64_t seed = 0;

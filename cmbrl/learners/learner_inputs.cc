@@ -3,6 +3,7 @@
 #include "cmbrl/config/config.h"
 #include "cmbrl/core/check.h"
 #include "cmbrl/env/mujoco_task.h"
+#include "cmbrl/env/previous_action_env.h"
 #include "cmbrl/env/registry.h"
 
 namespace cmbrl {
@@ -63,7 +64,10 @@ void RecordPythonEnv(TrainConfig& config, const LearnerInputs& inputs) {
   config.action_size = inputs.action_size;
 }
 
-std::unique_ptr<Env> MakeRunEnv(const TrainConfig& config, const LearnerInputs& inputs) {
+namespace {
+
+// The run's environment as its task makes it, before environment.previous_action.
+std::unique_ptr<Env> MakeTaskEnv(const TrainConfig& config, const LearnerInputs& inputs) {
   if (IsDeclaredTask(config.mujoco_task)) {
     return std::make_unique<MujocoTaskEnv>(config.mujoco_task, config.task);
   }
@@ -80,6 +84,14 @@ std::unique_ptr<Env> MakeRunEnv(const TrainConfig& config, const LearnerInputs& 
           "run's environment.observation_size and action_size are {} and {}",
           config.task, observations, actions, config.observation_size, config.action_size);
   return env;
+}
+
+}  // namespace
+
+std::unique_ptr<Env> MakeRunEnv(const TrainConfig& config, const LearnerInputs& inputs) {
+  std::unique_ptr<Env> env = MakeTaskEnv(config, inputs);
+  if (!config.previous_action) return env;
+  return std::make_unique<PreviousActionEnv>(std::move(env));
 }
 
 }  // namespace cmbrl

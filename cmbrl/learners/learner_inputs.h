@@ -56,7 +56,8 @@ void RecordPythonEnv(TrainConfig& config, const LearnerInputs& inputs);
 // A new environment of the run's task: built in; declared in its config (mujoco_task, which
 // checks every name against its model); or made by inputs.python_env for a task given from
 // Python. Throws cmbrl::Error when a Python task's environment is not given, or when its sizes
-// differ from those the run recorded (environment.observation_size, action_size).
+// differ from those the run recorded (environment.observation_size, action_size). With
+// environment.previous_action, its observation ends with the previous action (PreviousActionEnv).
 std::unique_ptr<Env> MakeRunEnv(const TrainConfig& config, const LearnerInputs& inputs);
 
 }  // namespace cmbrl

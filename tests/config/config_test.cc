@@ -404,6 +404,10 @@ TEST(ConfigTest, SizesOutOfTheirBoundsAreNamedBeforeAnythingIsAllocated) {
   EXPECT_EQ(ErrorMessage([] { ParseTrainConfig("environment: {spawn: floating}", "c"); }),
             "config 'c': environment.spawn: spawn 'floating': expected standing or model-origin");
   EXPECT_EQ(ParseTrainConfig("environment: {spawn: model-origin}", "c").spawn, Spawn::kModelOrigin);
+  EXPECT_TRUE(ParseTrainConfig("environment: {previous_action: true}", "c").previous_action);
+  EXPECT_FALSE(ParseTrainConfig("task: CarGoal2", "c").previous_action);
+  EXPECT_THAT(ErrorMessage([] { ParseTrainConfig("environment: {previous_action: 2}", "c"); }),
+              ::testing::HasSubstr("environment.previous_action"));
   EXPECT_EQ(ErrorMessage([] { ParseTrainConfig("variant: foo", "c"); }),
             "config 'c': key 'variant': unknown variant 'foo': expected 'paper' (the paper's "
             "modified tasks), 'standard' (Safety-Gymnasium's stock tasks) or 'paper-lidar' (the "

@@ -272,6 +272,28 @@ TEST(TrainerTest, AnEpisodeStoppedBetweenTwoStepsResumesToTheSameRows) {
   }
 }
 
+// environment.previous_action: the run observes the Car's last action too, plans with it echoed
+// into its predictions, and an episode stopped between two steps resumes to the same rows (the
+// open episode's environment state holds the previous action).
+TEST(TrainerTest, ARunThatObservesThePreviousActionResumesToTheSameRows) {
+  TrainConfig config = TinyConfig("rce");
+  config.task = "CarGoal1";
+  config.training.total_steps = 250;
+  TrainConfig plain = config;
+  config.previous_action = true;
+  const std::string whole = TempRunDir("previous_whole"), stopped = TempRunDir("previous_stop");
+  const std::string without = TempRunDir("previous_without");
+  Trainer::Start(config, whole)->Run();
+  Trainer::Start(plain, without)->Run();
+  EXPECT_EQ(StopAt(Trainer::Start(config, stopped), 130), 130);
+  Trainer::Resume(stopped)->Run();
+  EXPECT_EQ(RowsWithoutTimes(stopped), RowsWithoutTimes(whole));
+  // The models see two more inputs, so the planned episodes differ.
+  EXPECT_NE(RowsWithoutTimes(whole), RowsWithoutTimes(without));
+  EXPECT_NE(FileBytes(fs::path(whole) / "config.yaml").find("previous_action: true"),
+            std::string::npos);
+}
+
 // A stop asked for during a dynamics fit pauses it after the epoch under way, with a checkpoint
 // that holds the open fit; the resume goes on with it, to the same rows. In the classifier's fit
 // (seconds, not paused) a stop gives the unit up without a checkpoint, and the resume redoes it.

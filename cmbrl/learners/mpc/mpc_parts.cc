@@ -4,8 +4,10 @@
 
 #include "cmbrl/core/check.h"
 #include "cmbrl/core/rng.h"
+#include "cmbrl/env/previous_action_env.h"
 #include "cmbrl/env/task_list.h"
 #include "cmbrl/env/tasks/task_spec.h"
+#include "cmbrl/models/action_echo_dynamics.h"
 
 namespace cmbrl {
 
@@ -122,6 +124,13 @@ MpcParts AssembleMpc(const TrainConfig& config, const MpcPartSeeds& seeds,
   const int action_dim = parts.env->action_spec().size();
   parts.ensemble =
       std::make_unique<EnsembleDynamics>(state_dim, action_dim, config.ensemble, seeds.ensemble);
+  const int previous_action = PreviousActionOffset(parts.env->observation_spec(), action_dim);
+  if (previous_action >= 0) {
+    parts.planning_dynamics =
+        std::make_unique<ActionEchoDynamics>(*parts.ensemble, previous_action);
+  }
+  const DynamicsModel& planning_dynamics =
+      parts.planning_dynamics ? *parts.planning_dynamics : *parts.ensemble;
   parts.classifier =
       std::make_unique<XgbCostModel>(state_dim, config.classifier, seeds.classifier);
   if (config.objective.reward == "learned") {
@@ -133,7 +142,7 @@ MpcParts AssembleMpc(const TrainConfig& config, const MpcPartSeeds& seeds,
         std::make_unique<StepModel>(StepSignal::kTermination, 2 * state_dim + action_dim,
                                     config.termination_model, seeds.termination_model);
   }
-  parts.agent = std::make_unique<MpcAgent>(*parts.ensemble, *parts.classifier, config.planner,
+  parts.agent = std::make_unique<MpcAgent>(planning_dynamics, *parts.classifier, config.planner,
                                            PlannerSettingsFor(config, action_dim),
                                            config.objective,
                                            RewardTermFor(config, inputs, parts.reward_model.get(),

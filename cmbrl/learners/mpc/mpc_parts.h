@@ -22,6 +22,9 @@ namespace cmbrl {
 struct MpcParts {
   std::unique_ptr<Env> env;
   std::unique_ptr<EnsembleDynamics> ensemble;
+  // What the agent plans with: the ensemble, or the ensemble with the previous action echoed
+  // into its predictions where the observation holds it (environment.previous_action).
+  std::unique_ptr<DynamicsModel> planning_dynamics;
   std::unique_ptr<XgbCostModel> classifier;
   std::unique_ptr<StepModel> reward_model;       // objective.reward: learned only
   std::unique_ptr<StepModel> termination_model;  // objective.termination: learned only
