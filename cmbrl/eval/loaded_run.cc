@@ -78,6 +78,12 @@ const EnsembleDynamics& LoadedRun::dynamics() const {
   return *agent_.mpc->ensemble;
 }
 
+const DynamicsModel& LoadedRun::planning_dynamics() const {
+  dynamics();  // refuses a model-free run
+  const MpcParts& parts = *agent_.mpc;
+  return parts.planning_dynamics ? *parts.planning_dynamics : *parts.ensemble;
+}
+
 const XgbCostModel& LoadedRun::classifier() const {
   Require(agent_.mpc != nullptr,
           "the run is '{}', not an MPC run: it has no constraint classifier",

@@ -12,6 +12,7 @@
 #include "cmbrl/env/env.h"
 #include "cmbrl/config/config.h"
 #include "cmbrl/learners/registry.h"
+#include "cmbrl/models/dynamics_model.h"
 
 namespace cmbrl {
 
@@ -47,6 +48,9 @@ class LoadedRun {
   // The MPC run's parts; each throws cmbrl::Error for a model-free run.
   MpcAgent& mpc_agent();
   const EnsembleDynamics& dynamics() const;
+  // What the planner predicts with: dynamics(), with the planned action written into the
+  // previous action's components where the run observes it (environment.previous_action).
+  const DynamicsModel& planning_dynamics() const;
   const XgbCostModel& classifier() const;
 
  private:

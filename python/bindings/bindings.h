@@ -9,6 +9,7 @@
 #include <vector>
 
 namespace cmbrl {
+class DynamicsModel;
 class EnsembleDynamics;
 class XgbCostModel;
 }  // namespace cmbrl
@@ -62,7 +63,7 @@ void BindRuns(py::module_& m);    // runs.cc: Agent, train
 void BindResults(py::module_& m);  // results.cc: read_runs, report
 
 // Every member's next state for n rows of states (N, S) and actions (N, A): (E, N, S).
-py::array_t<double> PredictNextStates(const EnsembleDynamics& dynamics,
+py::array_t<double> PredictNextStates(const DynamicsModel& dynamics,
                                       const std::vector<double>& states,
                                       const std::vector<double>& actions, py::ssize_t n);
 

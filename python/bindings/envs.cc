@@ -12,6 +12,7 @@
 #include "cmbrl/core/binary_io.h"
 #include "cmbrl/core/check.h"
 #include "cmbrl/core/parallel.h"
+#include "cmbrl/env/previous_action_env.h"
 #include "cmbrl/env/registry.h"
 #include "cmbrl/env/tasks/task_spec.h"
 #include "cmbrl/env/scene.h"
@@ -54,8 +55,13 @@ py::array_t<std::uint8_t> RgbArray(RgbImage&& image) {
 // Python threads take turns (ObjectLock), the GIL released around the environment's own work.
 class PyEnv {
  public:
-  PyEnv(const std::string& task, const std::string& variant, const std::string& spawn)
-      : env_(MakeEnv(task, ParseVariant(variant), ParseSpawn(spawn))), task_(task) {}
+  // previous_action: the observation ends with the action last run (PreviousActionEnv), as a
+  // run with environment.previous_action observes it.
+  PyEnv(const std::string& task, const std::string& variant, const std::string& spawn,
+        bool previous_action)
+      : env_(MakeEnv(task, ParseVariant(variant), ParseSpawn(spawn))), task_(task) {
+    if (previous_action) env_ = std::make_unique<PreviousActionEnv>(std::move(env_));
+  }
 
   py::tuple Reset(std::optional<std::uint64_t> seed) {
     const ObjectLock lock(mutex_);
@@ -392,8 +398,8 @@ void BindEnvs(py::module_& m) {
       },
       py::arg("task"), py::arg("variant"), "agent steps in an episode of a task and variant");
   py::class_<PyEnv>(m, "Env")
-      .def(py::init<const std::string&, const std::string&, const std::string&>(), py::arg("task"),
-           py::arg("variant"), py::arg("spawn"))
+      .def(py::init<const std::string&, const std::string&, const std::string&, bool>(),
+           py::arg("task"), py::arg("variant"), py::arg("spawn"), py::arg("previous_action"))
       .def("reset", &PyEnv::Reset, py::arg("seed") = py::none())
       .def("step", &PyEnv::Step, py::arg("action"))
       .def("ground_truth", &PyEnv::GroundTruth)

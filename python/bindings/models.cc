@@ -34,7 +34,7 @@ bool NoSignalRaised() {
 
 }  // namespace
 
-py::array_t<double> PredictNextStates(const EnsembleDynamics& dynamics,
+py::array_t<double> PredictNextStates(const DynamicsModel& dynamics,
                                       const std::vector<double>& states,
                                       const std::vector<double>& actions, py::ssize_t n) {
   const std::int64_t members = dynamics.ensemble_size();

@@ -171,7 +171,7 @@ class PyAgent {
   // Next states of every member: states (N, S), actions (N, A) -> (E, N, S).
   py::array_t<double> PredictNext(const py::handle& states, const py::handle& actions) {
     const ObjectLock lock(mutex_);
-    const EnsembleDynamics& dynamics = run_.dynamics();
+    const DynamicsModel& dynamics = run_.planning_dynamics();
     const py::ssize_t n = RowsOf(states, "states");
     return PredictNextStates(dynamics, Matrix(states, n, dynamics.state_dim(), "states"),
                              Matrix(actions, n, dynamics.action_dim(), "actions"), n);
@@ -221,12 +221,14 @@ class PyAgent {
   }
 
   std::string ConfigYaml() const { return TrainConfigToYaml(run_.config()); }
-  // The environment the run was trained in: task, variant and spawn, as cmbrl.Env takes them.
+  // The environment the run was trained in: task, variant, spawn and whether it observes the
+  // previous action, as cmbrl.Env takes them.
   py::dict Environment() const {
     py::dict d;
     d["task"] = run_.config().task;
     d["variant"] = VariantName(run_.config().variant);
     d["spawn"] = SpawnName(run_.config().spawn);
+    d["previous_action"] = run_.config().previous_action;
     return d;
   }
   bool is_mpc() const { return run_.is_mpc(); }

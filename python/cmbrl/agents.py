@@ -183,15 +183,23 @@ class Agent(_NotCopyable):
         self.task = environment["task"]
         self.variant = environment["variant"]
         self.spawn = environment["spawn"]
+        self.previous_action = environment["previous_action"]
 
     def make_env(self, render_mode=None, render_size=400):
-        """A new environment of the run's task, variant and spawn (what it was trained in); for
-        a run on an environment given from Python, one more from what was given (load_run's
-        env; render_mode and render_size are then the env's own business)."""
+        """A new environment of the run's task, variant and spawn, observing the previous action
+        where the run did (what it was trained in); for a run on an environment given from
+        Python, one more from what was given (load_run's env; render_mode and render_size are
+        then the env's own business)."""
         if self._env_factory is not None:
+            if self.previous_action:
+                raise Error(f"the run in {self.run_dir} observed the previous action "
+                            "(environment.previous_action) of an environment given from Python: "
+                            "make_env cannot append it to that environment's observations; make "
+                            "the environment yourself and append the last action to each "
+                            "observation before act()")
             return self._env_factory()
         return Env(self.task, self.variant, self.spawn, render_mode=render_mode,
-                   render_size=render_size)
+                   render_size=render_size, previous_action=self.previous_action)
 
     def config(self):
         """The run's resolved config, as YAML text."""

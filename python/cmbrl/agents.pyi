@@ -34,6 +34,7 @@ class Agent(_NotCopyable):
     task: str
     variant: str
     spawn: str
+    previous_action: bool
     def __init__(self, run_dir: _Path, seed: int = ..., overrides: Iterable[str] = ...,
                  reward: Optional[_StepFunction] = ...,
                  termination: Optional[_StepFunction] = ...,

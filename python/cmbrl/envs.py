@@ -8,7 +8,7 @@ import re
 import numpy as np
 
 from . import _cmbrl, _gymnasium
-from ._common import (Error, _as_int, _as_seed, _as_str, _box, _Closable, _copy_through_state,
+from ._common import (Error, _as_flag, _as_int, _as_seed, _as_str, _box, _Closable, _copy_through_state,
                       _entropy_seed, _NotCopyable)
 from .spaces import Box
 
@@ -38,20 +38,27 @@ class Env(_Closable, _gymnasium.Env):
     task, variant and spawn, MuJoCo's whole state, the layout, the episode so far and the
     generators, so that its next step (and reset) equals the original's.
 
+    previous_action=True appends the action the environment last ran (clipped to the action box;
+    zeros after a reset) to every observation, as previous_action_0, ...: what a run trained
+    with the config key environment.previous_action observes.
+
     Threads: calls on one object from several threads take turns (one lock per object, taken
     with the GIL released); distinct objects run in parallel.
     """
 
     reward_range = (-math.inf, math.inf)
 
-    def __init__(self, task, variant=None, spawn="standing", render_mode=None, render_size=400):
+    def __init__(self, task, variant=None, spawn="standing", render_mode=None, render_size=400,
+                 previous_action=False):
         if render_mode not in (None, "rgb_array", "human"):
             raise Error(f"render_mode '{render_mode}': expected None, 'rgb_array' or 'human'")
         self._window = _HumanWindow.check() if render_mode == "human" else None
         env_id = task
         task, variant = _task_and_variant(task, variant)
-        self._env = _cmbrl.Env(task, variant, _as_str(spawn, "spawn", _SPAWNS))
+        previous_action = _as_flag(previous_action, "previous_action")
+        self._env = _cmbrl.Env(task, variant, _as_str(spawn, "spawn", _SPAWNS), previous_action)
         self.task, self.variant, self.spawn = task, variant, spawn
+        self.previous_action = previous_action
         self.render_mode = render_mode
         self.render_size = _as_int(render_size, "render_size", 1, 16384)
         obs_spec, act_spec = self._env.observation_spec(), self._env.action_spec()
@@ -66,7 +73,8 @@ class Env(_Closable, _gymnasium.Env):
         self.metadata = {"render_modes": ["rgb_array"] + (["human"] if _HumanWindow.available()
                                                            else []),
                          "render_fps": round(1.0 / self.agent_step_seconds)}
-        self.spec = _env_spec(env_id, task, variant, spawn, render_mode, render_size)
+        self.spec = _env_spec(env_id, task, variant, spawn, render_mode, render_size,
+                              previous_action)
         self._np_random = None
         self._np_random_seed = None
 
@@ -174,7 +182,8 @@ class Env(_Closable, _gymnasium.Env):
             raise Error(f"a closed cmbrl.Env ({self.task}) cannot be pickled or copied: "
                         "it has no state left")
         return {"task": self.task, "spec": self.spec, "variant": self.variant,
-                "spawn": self.spawn, "render_mode": self.render_mode,
+                "spawn": self.spawn, "previous_action": self.previous_action,
+                "render_mode": self.render_mode,
                 "render_size": self.render_size, "observation_space": self.observation_space,
                 "action_space": self.action_space, "np_random": self._np_random,
                 "np_random_seed": self._np_random_seed,
@@ -182,7 +191,7 @@ class Env(_Closable, _gymnasium.Env):
 
     def __setstate__(self, state):
         self.__init__(state["task"], state["variant"], state["spawn"], state["render_mode"],
-                      state["render_size"])
+                      state["render_size"], state.get("previous_action", False))
         self._env.set_state(state["state"])
         self.spec = state["spec"]  # the id it was made under (a registered one, say)
         self.observation_space = state["observation_space"]
@@ -418,13 +427,16 @@ class _EnvSpec:
 EnvSpec = _gymnasium.EnvSpec or _EnvSpec
 
 
-def _env_spec(env_id, task, variant, spawn, render_mode=None, render_size=400):
+def _env_spec(env_id, task, variant, spawn, render_mode=None, render_size=400,
+              previous_action=False):
     """The spec of an Env made by make(): Gymnasium's EnvSpec where gymnasium is importable,
     whose make() (gymnasium.make) gives the same six-value environment again."""
+    kwargs = {"task": task, "variant": variant, "spawn": spawn, "render_mode": render_mode,
+              "render_size": render_size}
+    if previous_action:
+        kwargs["previous_action"] = True
     fields = dict(id=env_id, entry_point="cmbrl.registration:make_safety_gymnasium_env",
-                  max_episode_steps=None, disable_env_checker=True,
-                  kwargs={"task": task, "variant": variant, "spawn": spawn,
-                          "render_mode": render_mode, "render_size": render_size})
+                  max_episode_steps=None, disable_env_checker=True, kwargs=kwargs)
     return EnvSpec(**fields)
 
 
@@ -456,15 +468,16 @@ def _task_and_variant(task, variant):
     return task, _as_str(variant, "variant", "'paper', 'standard' or 'paper-lidar'")
 
 
-def make(task, variant=None, spawn="standing", render_mode=None, render_size=400):
+def make(task, variant=None, spawn="standing", render_mode=None, render_size=400,
+         previous_action=False):
     """An environment: task is one of tasks() or a Safety-Gymnasium id ('SafetyPointGoal1-v0',
     which gives that task's stock variant); variant 'paper' (the default for the paper's Goal
     tasks: the paper's modified suite), 'standard' (Safety-Gymnasium's stock tasks; the default
     and only variant of Button, Push and Circle) or 'paper-lidar' (the
     paper's world as its model-free baselines observed it); spawn 'standing' or
-    'model-origin'."""
+    'model-origin'; previous_action True appends the last action to the observation (Env)."""
     return Env(task, variant=variant, spawn=spawn, render_mode=render_mode,
-               render_size=render_size)
+               render_size=render_size, previous_action=previous_action)
 
 
 def _autoreset_mode(mode):

@@ -44,6 +44,7 @@ class Env(_Closable, _gymnasium.Env[_Floats, _Floats]):
     task: str
     variant: str
     spawn: str
+    previous_action: bool
     render_mode: Optional[str]
     render_size: int
     observation_names: list[str]
@@ -55,7 +56,8 @@ class Env(_Closable, _gymnasium.Env[_Floats, _Floats]):
     metadata: dict[str, Any]
     spec: EnvSpec
     def __init__(self, task: str, variant: Optional[str] = ..., spawn: str = ...,
-                 render_mode: Optional[str] = ..., render_size: int = ...) -> None: ...
+                 render_mode: Optional[str] = ..., render_size: int = ...,
+                 previous_action: bool = ...) -> None: ...
     def reset(self, seed: Optional[int] = ..., options: Optional[Mapping[str, Any]] = ...
               ) -> tuple[_Floats, dict[str, Any]]: ...
     @property
@@ -102,7 +104,8 @@ class VectorEnv(_Closable, _NotCopyable,  # type: ignore[misc]
              ) -> tuple[_Floats, _Floats, _Floats, _Bools, _Bools, dict[str, Any]]: ...
 
 def make(task: str, variant: Optional[str] = ..., spawn: str = ...,
-         render_mode: Optional[str] = ..., render_size: int = ...) -> Env: ...
+         render_mode: Optional[str] = ..., render_size: int = ...,
+         previous_action: bool = ...) -> Env: ...
 def make_vec(task: str, num_envs: int, variant: Optional[str] = ..., spawn: str = ...,
              threads: Optional[int] = ..., spin_us: int = ...,
              autoreset_mode: Any = ...) -> VectorEnv: ...

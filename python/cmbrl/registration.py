@@ -43,10 +43,10 @@ def make_gymnasium_vector_env(num_envs, task, variant="standard", spawn="standin
 
 
 def make_safety_gymnasium_env(task, variant="standard", spawn="standing", render_mode=None,
-                              render_size=400):
+                              render_size=400, previous_action=False):
     """The six-value environment of a registered id (Safety-Gymnasium's form)."""
     return Env(task, variant=variant, spawn=spawn, render_mode=render_mode,
-               render_size=render_size)
+               render_size=render_size, previous_action=previous_action)
 
 
 def registered_ids():

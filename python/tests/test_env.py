@@ -487,3 +487,28 @@ def test_the_paper_car_runs_the_originals_action_path():
     after = {steer: copy.deepcopy(env).step(np.array([steer, 0.7]))[0] for steer in (0.5, 0.6, 1.0)}
     assert np.array_equal(after[0.6], after[1.0])  # beyond the servo's range: the same command
     assert np.abs(after[0.5] - after[0.6]).max() > 0.01
+
+
+def test_previous_action_is_appended_clipped_and_survives_copies():
+    import copy
+    import pickle
+
+    env = cmbrl.make("CarGoal1", previous_action=True)
+    plain = cmbrl.make("CarGoal1")
+    assert env.previous_action and not plain.previous_action
+    size = plain.observation_space.shape[0]
+    assert env.observation_space.shape == (size + 2,)
+    assert env.observation_names[size:] == ["previous_action_0", "previous_action_1"]
+    assert env.spec.kwargs["previous_action"] is True and "previous_action" not in plain.spec.kwargs
+    obs, _ = env.reset(seed=4)
+    assert np.array_equal(obs[:size], plain.reset(seed=4)[0]) and not obs[size:].any()
+    for action in ([0.25, -0.5], [3.0, -2.0]):
+        obs = env.step(np.array(action))[0]
+        assert np.array_equal(obs[:size], plain.step(np.array(action))[0])
+    assert np.array_equal(obs[size:], [1.0, -1.0])  # clipped to the action box
+    for other in (pickle.loads(pickle.dumps(env)), copy.deepcopy(env)):
+        assert other.previous_action
+        assert np.array_equal(other.step(np.array([0.1, 0.2]))[0],
+                              copy.deepcopy(env).step(np.array([0.1, 0.2]))[0])
+    with pytest.raises(cmbrl.Error, match="previous_action is 1: expected True or False"):
+        cmbrl.make("CarGoal1", previous_action=1)

@@ -349,3 +349,27 @@ def test_rce_icem_trains_resumes_and_acts_from_python(tmp_path):
     with pytest.raises(cmbrl.Error, match="noise_exponent is -1"):
         cmbrl.train(config={**config, "planning": {**config["planning"], "noise_exponent": -1}},
                     out=tmp_path / "bad")
+
+
+def test_a_run_that_observes_the_previous_action_makes_its_env_so(tmp_path):
+    config = tiny_config(150)
+    config["task"] = "CarGoal1"
+    config["environment"] = {"previous_action": True}
+    cmbrl.train(config=config, out=tmp_path / "run")
+    agent = cmbrl.load_run(tmp_path / "run")
+    assert agent.previous_action
+    env = agent.make_env()
+    assert env.previous_action
+    assert env.observation_space.shape == agent.observation_space.shape
+    assert cmbrl.make("CarGoal1").observation_space.shape[0] + 2 == env.observation_space.shape[0]
+    obs, _ = env.reset(seed=0)
+    agent.begin_episode()
+    for _ in range(3):
+        obs = env.step(agent.act(obs))[0]
+    # The planner's predictions carry the action taken in the previous action's components.
+    states = np.repeat(obs[None, :], 4, axis=0)
+    actions = np.random.default_rng(0).uniform(-1, 1, (4, 2))
+    predicted = agent.predict_next(states, actions)  # (E, N, S)
+    assert predicted.shape[-1] == obs.shape[0]
+    np.testing.assert_allclose(predicted[..., -2:], np.broadcast_to(actions, predicted[..., -2:]
+                                                                    .shape), rtol=1e-6)
