@@ -683,9 +683,9 @@ void ValidatePlanningObjective(const TrainConfig& c, int observation_size,
     const std::vector<std::string> forms = AnalyticRewardNames();
     const std::string form = AnalyticRewardForm(c);
     Require(std::find(forms.begin(), forms.end(), form) != forms.end(),
-            "config '{}': the analytic reward of task '{}' is '{}' (objective.analytic_form, or "
-            "the task's own): expected one of {}",
-            source, c.task, form, fmt::join(forms, ", "));
+            "config '{}': the analytic reward of task '{}' is '{}'{} (objective.analytic_form, "
+            "or the task's own): expected one of {}",
+            source, c.task, form, DidYouMean(form, forms), fmt::join(forms, ", "));
   }
   InSection(source, "objective",
             [&] { ValidateTrajectoryObjectiveOptions(c.objective, observation_size); });

@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "cmbrl/core/check.h"
+#include "cmbrl/core/closest_name.h"
 
 namespace cmbrl {
 
@@ -42,11 +43,12 @@ void ValidateMujocoTaskOptions(const MujocoTaskOptions& o) {
           "lidar_max_dist is {}: expected a positive number of metres", o.lidar_max_dist);
   const std::vector<std::string> forms = ObservationRewardForms();
   Require(std::find(forms.begin(), forms.end(), o.reward) != forms.end(),
-          "reward is '{}': expected one of {}", o.reward, fmt::join(forms, ", "));
+          "reward is '{}'{}: expected one of {}", o.reward, DidYouMean(o.reward, forms),
+          fmt::join(forms, ", "));
   Require(!o.reward_sensor.empty(), "reward_sensor is empty: expected the sensor the reward reads");
   Require(std::find(o.sensors.begin(), o.sensors.end(), o.reward_sensor) != o.sensors.end(),
-          "reward_sensor is '{}': expected one of the observed sensors ({})", o.reward_sensor,
-          fmt::join(o.sensors, ", "));
+          "reward_sensor is '{}'{}: expected one of the observed sensors ({})", o.reward_sensor,
+          DidYouMean(o.reward_sensor, o.sensors), fmt::join(o.sensors, ", "));
   Require(o.reward != "site-distance" || !o.reward_target.empty(),
           "reward_target is empty: the site-distance reward needs the point to reach");
   Require(o.reward != "height" || o.reward_target.size() == 1,

@@ -104,17 +104,17 @@ void RequireGoalIndexFits(const TrajectoryObjectiveOptions& o, int state_dim) {
 void ValidateTrajectoryObjectiveOptions(const TrajectoryObjectiveOptions& o, int state_dim) {
   const std::vector<std::string> sources = RewardSourceNames();
   Require(std::find(sources.begin(), sources.end(), o.reward) != sources.end(),
-          "reward is '{}': expected one of {} (analytic: the task's own form of the predicted "
-          "states; learned: a model fitted on the run's rewards; python: a function given from "
-          "Python)",
-          o.reward, fmt::join(sources, ", "));
+          "reward is '{}'{}: expected one of {} (analytic: the task's own form of the "
+          "predicted states; learned: a model fitted on the run's rewards; python: a function "
+          "given from Python)",
+          o.reward, DidYouMean(o.reward, sources), fmt::join(sources, ", "));
   const std::vector<std::string> terminations = TerminationSourceNames();
   Require(std::find(terminations.begin(), terminations.end(), o.termination) !=
               terminations.end(),
-          "termination is '{}': expected one of {} (learned: a model fitted on the steps that "
-          "ended the run's episodes; none: the task has no terminal state; python: a function "
-          "given from Python)",
-          o.termination, fmt::join(terminations, ", "));
+          "termination is '{}'{}: expected one of {} (learned: a model fitted on the steps "
+          "that ended the run's episodes; none: the task has no terminal state; python: a "
+          "function given from Python)",
+          o.termination, DidYouMean(o.termination, terminations), fmt::join(terminations, ", "));
   // Only the analytic goal distance reads the goal's place in the state (state_dim 0: a state
   // whose size is not known yet, a declared task's, which plans with its own form).
   Require(o.goal_index >= 0 && o.goal_index < 1'000'000,

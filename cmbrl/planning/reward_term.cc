@@ -8,6 +8,7 @@
 #include <torch/torch.h>
 
 #include "cmbrl/core/check.h"
+#include "cmbrl/core/closest_name.h"
 
 namespace cmbrl {
 
@@ -177,8 +178,8 @@ std::unique_ptr<RewardTerm> MakeAnalyticReward(const std::string& form,
                                              index_of("velocimeter_x"), options,
                                              geometry.circle_radius);
   }
-  Fail("unknown analytic reward '{}': expected one of {}", form,
-       fmt::join(AnalyticRewardNames(), ", "));
+  Fail("unknown analytic reward '{}'{}: expected one of {}", form,
+       DidYouMean(form, AnalyticRewardNames()), fmt::join(AnalyticRewardNames(), ", "));
 }
 
 }  // namespace cmbrl

@@ -44,4 +44,6 @@ refused geom "mujoco_task.cost_contact_with: the model has no geom named 'wall'"
 refused model "mujoco_task.model: MuJoCo cannot load" 's/model: arm.xml/model: task.yaml/'
 refused joint "mujoco_task.reset_joints: the model has no joint named 'wrist'" 's/\[shoulder, elbow\]/[shoulder, wrist]/'
 refused form "mujoco_task.reward is 'closeness': expected one of site-distance" 's/reward: site-distance/reward: closeness/'
-echo "task file: trained, resumed after kill -9 to identical $rows rows, evaluated, 5 bad inputs named"
+refused misspelt-form "mujoco_task.reward is 'site-distanse' (did you mean 'site-distance'?)" \
+  's/reward: site-distance/reward: site-distanse/'
+echo "task file: trained, resumed after kill -9 to identical $rows rows, evaluated, 6 bad inputs named"

@@ -14,6 +14,7 @@
 #include "cmbrl/core/memory.h"
 #include "cmbrl/env/registry.h"
 #include "cmbrl/env/tasks/task_spec.h"
+#include "cmbrl/planning/reward_term.h"
 #include "tests/error_message.h"
 #include "tests/temp_path.h"
 
@@ -110,6 +111,22 @@ TEST(ConfigTest, TheRewardTermIsTheTasksAnalyticForm) {
               ::testing::HasSubstr("config 'c': objective.reward is 'guessed': expected one of "
                                    "analytic, learned, python"));
   EXPECT_EQ(ParseTrainConfig("objective: {reward: learned}", "c").objective.reward, "learned");
+  // A misspelt source or form is answered with the one it most likely meant.
+  EXPECT_THAT(ErrorMessage([] { ParseTrainConfig("objective: {reward: lerned}", "c"); }),
+              ::testing::HasSubstr("objective.reward is 'lerned' (did you mean 'learned'?): "
+                                   "expected one of"));
+  EXPECT_THAT(ErrorMessage([] { ParseTrainConfig("objective: {termination: nnoe}", "c"); }),
+              ::testing::HasSubstr("objective.termination is 'nnoe' (did you mean 'none'?)"));
+  EXPECT_THAT(
+      ErrorMessage([] {
+        ParseTrainConfig("{variant: standard, objective: {analytic_form: goal-distanse}}", "c");
+      }),
+      ::testing::HasSubstr("is 'goal-distanse' (did you mean 'goal-distance'?)"));
+  EXPECT_THAT(ErrorMessage([] {
+                MakeAnalyticReward("goal-lidar-distanse", {}, {}, LidarGeometry{3.0, 1.0});
+              }),
+              ::testing::HasSubstr("unknown analytic reward 'goal-lidar-distanse' (did you mean "
+                                   "'goal-lidar-distance'?)"));
   EXPECT_THAT(ErrorMessage([] { ParseTrainConfig("reward_model: {hidden_sizes: []}", "c"); }),
               ::testing::HasSubstr("reward_model.hidden_sizes has 0 layers: expected 1 to 16"));
 }
