@@ -252,7 +252,7 @@ class PyVectorEnv {
  public:
   PyVectorEnv(const std::string& task, int num_envs, const std::string& variant,
               const std::string& spawn, int threads, std::int64_t spin_us,
-              const std::string& autoreset_mode)
+              const std::string& autoreset_mode, bool previous_action)
       : task_(task) {
     Require(autoreset_mode == "next-step" || autoreset_mode == "same-step" ||
                 autoreset_mode == "disabled",
@@ -263,6 +263,11 @@ class PyVectorEnv {
                                                                 : Autoreset::kNextStep;
     std::vector<std::unique_ptr<Env>> envs =
         MakeEnvs(task, ParseVariant(variant), ParseSpawn(spawn), num_envs);
+    if (previous_action) {
+      for (std::unique_ptr<Env>& env : envs) {
+        env = std::make_unique<PreviousActionEnv>(std::move(env));
+      }
+    }
     // 0: one thread per core this process may use (VectorEnv keeps at most one per env).
     vector_ = std::make_unique<VectorEnv>(
         std::move(envs), threads == 0 ? CoreCount() : threads, std::chrono::microseconds(spin_us),
@@ -417,9 +422,10 @@ void BindEnvs(py::module_& m) {
 
   py::class_<PyVectorEnv>(m, "VectorEnv")
       .def(py::init<const std::string&, int, const std::string&, const std::string&, int,
-                    std::int64_t, const std::string&>(),
+                    std::int64_t, const std::string&, bool>(),
            py::arg("task"), py::arg("num_envs"), py::arg("variant"), py::arg("spawn"),
-           py::arg("threads"), py::arg("spin_us"), py::arg("autoreset_mode"))
+           py::arg("threads"), py::arg("spin_us"), py::arg("autoreset_mode"),
+           py::arg("previous_action"))
       .def("reset", &PyVectorEnv::Reset, py::arg("seed") = py::none())
       .def("reset_where", &PyVectorEnv::ResetWhere, py::arg("mask"), py::arg("seeds"))
       .def("step", &PyVectorEnv::Step, py::arg("actions"))

@@ -228,14 +228,15 @@ class VectorEnv(_Closable, _NotCopyable, _gymnasium.VectorEnv):
     _instead = "make another with cmbrl.make_vec(...)"
 
     def __init__(self, task, num_envs, variant=None, spawn="standing", threads=None,
-                 spin_us=0, autoreset_mode="next-step"):
+                 spin_us=0, autoreset_mode="next-step", previous_action=False):
         mode = _autoreset_mode(autoreset_mode)
         task, variant = _task_and_variant(task, variant)
         # 0: one thread per core this process may use (its affinity mask), at most one per env.
         num_envs = _as_int(num_envs, "num_envs")
         threads = 0 if threads is None else _as_int(threads, "threads", 1, 4096)
         self._env = _cmbrl.VectorEnv(task, num_envs, variant, _as_str(spawn, "spawn", _SPAWNS),
-                                     threads, _as_int(spin_us, "spin_us", 0, 10**9), mode)
+                                     threads, _as_int(spin_us, "spin_us", 0, 10**9), mode,
+                                     _as_flag(previous_action, "previous_action"))
         self._mode = mode
         self.metadata = {"autoreset_mode": _gymnasium_autoreset_mode(mode)}
         self._observations = None
@@ -503,14 +504,15 @@ def _gymnasium_autoreset_mode(mode):
 
 
 def make_vec(task, num_envs, variant=None, spawn="standing", threads=None, spin_us=0,
-             autoreset_mode="next-step"):
+             autoreset_mode="next-step", previous_action=False):
     """A VectorEnv of num_envs environments on `threads` threads (default: one per core this
     process may use, at most one per environment). Between steps the threads spin for up to
     spin_us microseconds before they sleep: the default, 0, spares the cores for the rest of the
     program (on a busy machine spinning threads compete with it: docs/PERFORMANCE.md); a loop
-    that does nothing but step may gain from a few thousand."""
+    that does nothing but step may gain from a few thousand. previous_action: as make()'s."""
     return VectorEnv(task, num_envs, variant=variant, spawn=spawn, threads=threads,
-                     spin_us=spin_us, autoreset_mode=autoreset_mode)
+                     spin_us=spin_us, autoreset_mode=autoreset_mode,
+                     previous_action=previous_action)
 
 
 class _Forwarding:

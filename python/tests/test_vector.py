@@ -107,3 +107,18 @@ def test_a_vector_too_large_for_the_memory_is_refused_by_name():
     # The first environment is made and measured; 100 million of them are not attempted.
     with pytest.raises(cmbrl.Error, match=r"num_envs 100000000: .* MiB each\) would need"):
         cmbrl.make_vec("PointGoal1", num_envs=100_000_000)
+
+
+def test_a_vector_of_envs_observing_the_previous_action_matches_single_ones():
+    vec = cmbrl.make_vec("CarGoal2", 3, previous_action=True, threads=2)
+    singles = [cmbrl.make("CarGoal2", previous_action=True) for _ in range(3)]
+    assert vec.single_observation_space.shape == singles[0].observation_space.shape
+    obs, _ = vec.reset(seed=5)
+    assert np.array_equal(obs, [env.reset(seed=5 + k)[0] for k, env in enumerate(singles)])
+    rng = np.random.default_rng(0)
+    for _ in range(5):
+        actions = rng.uniform(-1.5, 1.5, (3, 2))
+        obs = vec.step(actions)[0]
+        assert np.array_equal(obs, [env.step(a)[0] for env, a in zip(singles, actions)])
+    assert np.array_equal(obs[:, -2:], np.clip(actions, -1, 1))
+    vec.close()
