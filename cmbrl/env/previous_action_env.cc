@@ -3,17 +3,19 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cstdint>
 #include <cstring>
+#include <string_view>
 
+#include "cmbrl/core/binary_io.h"
 #include "cmbrl/core/check.h"
 
 namespace cmbrl {
 
 namespace {
 
-// A state's first bytes: this tag, then A as text and a newline, then A doubles, then the
-// wrapped environment's state.
-constexpr char kStateTag[] = "cmbrl-previous-action-v1 ";
+// A state's bytes (ByteWriter): this tag, A, A doubles, then the wrapped environment's state.
+constexpr char kStateTag[] = "cmbrl-previous-action-v1";
 
 }  // namespace
 
@@ -71,11 +73,12 @@ StepResult PreviousActionEnv::Step(const std::vector<double>& action) {
 }
 
 std::string PreviousActionEnv::StateWith(const std::string& wrapped_state) const {
-  std::string state = fmt::format("{}{}\n", kStateTag, previous_.size());
-  const std::size_t head = state.size();
-  state.resize(head + previous_.size() * sizeof(double));
-  std::memcpy(state.data() + head, previous_.data(), previous_.size() * sizeof(double));
-  return state + wrapped_state;
+  ByteWriter writer;
+  writer.Write(std::string(kStateTag));
+  writer.Write<std::uint64_t>(previous_.size());
+  writer.WriteBytes(previous_.data(), previous_.size() * sizeof(double));
+  writer.Write(wrapped_state);
+  return writer.Take();
 }
 
 std::string PreviousActionEnv::State() const { return StateWith(env_->State()); }
@@ -87,25 +90,26 @@ std::optional<std::string> PreviousActionEnv::TryState() const {
 }
 
 void PreviousActionEnv::SetState(const std::string& state) {
-  const std::string tag = kStateTag;
-  const std::size_t newline = state.find('\n');
-  Require(state.compare(0, tag.size(), tag) == 0 && newline != std::string::npos,
+  ByteWriter tag;
+  tag.Write(std::string(kStateTag));
+  const std::string prefix = tag.Take();
+  Require(state.compare(0, prefix.size(), prefix) == 0,
           "this state is not an environment's with its previous action (it does not start with "
           "'{}')",
-          tag.substr(0, tag.size() - 1));
-  const std::string count = state.substr(tag.size(), newline - tag.size());
-  Require(count == std::to_string(previous_.size()),
-          "this state holds a previous action of '{}' components, and this environment takes {} "
+          kStateTag);
+  ByteReader reader(std::string_view(state).substr(prefix.size()),
+                    "this state of an environment with its previous action");
+  const auto count = reader.Read<std::uint64_t>();
+  Require(count == previous_.size(),
+          "this state holds a previous action of {} components, and this environment takes {} "
           "actions",
           count, previous_.size());
-  const std::size_t head = newline + 1;
-  const std::size_t bytes = previous_.size() * sizeof(double);
-  Require(state.size() >= head + bytes,
-          "this state ends inside its previous action ({} bytes, expected at least {})",
-          state.size(), head + bytes);
   std::vector<double> previous(previous_.size());
-  std::memcpy(previous.data(), state.data() + head, bytes);
-  env_->SetState(state.substr(head + bytes));  // throws, changing nothing, for a bad state
+  const std::string_view bytes = reader.ReadBytes(previous.size() * sizeof(double));
+  std::memcpy(previous.data(), bytes.data(), bytes.size());
+  const std::string wrapped = reader.ReadString();
+  reader.ExpectEnd();
+  env_->SetState(wrapped);  // throws, changing nothing, for a bad state
   previous_ = std::move(previous);
 }
 

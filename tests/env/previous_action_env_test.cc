@@ -5,6 +5,7 @@
 
 #include <vector>
 
+#include "cmbrl/core/binary_io.h"
 #include "cmbrl/env/registry.h"
 #include "tests/error_message.h"
 
@@ -95,12 +96,18 @@ TEST(PreviousActionEnvTest, ItsStateRestoresThePreviousActionToo) {
   const std::vector<double> start = untouched.Reset(5);
   EXPECT_THAT(ErrorMessage([&] { untouched.SetState(MakeEnv("PointGoal1")->State()); }),
               HasSubstr("not an environment's with its previous action"));
-  std::string three = state;
-  three.replace(three.find(" 2\n"), 3, " 3\n");
-  EXPECT_THAT(ErrorMessage([&] { untouched.SetState(three); }),
-              HasSubstr("previous action of '3' components, and this environment takes 2"));
-  EXPECT_THAT(ErrorMessage([&] { untouched.SetState(state.substr(0, 30)); }),
-              HasSubstr("ends inside its previous action"));
+  ByteWriter three;  // the same layout with a previous action of 3 components
+  three.Write(std::string("cmbrl-previous-action-v1"));
+  three.Write<std::uint64_t>(3);
+  const double values[3] = {0.1, 0.2, 0.3};
+  three.WriteBytes(values, sizeof(values));
+  three.Write(MakeEnv("PointGoal1")->State());
+  EXPECT_THAT(ErrorMessage([&] { untouched.SetState(three.Take()); }),
+              HasSubstr("previous action of 3 components, and this environment takes 2"));
+  EXPECT_THAT(ErrorMessage([&] { untouched.SetState(state.substr(0, 50)); }),
+              HasSubstr("is damaged: it ends early"));
+  EXPECT_THAT(ErrorMessage([&] { untouched.SetState(state + "x"); }),
+              HasSubstr("1 bytes more than expected"));
   EXPECT_THAT(untouched.previous_action(), ElementsAre(0.0, 0.0));
   PreviousActionEnv fresh(MakeEnv("PointGoal1"));
   fresh.Reset(5);
