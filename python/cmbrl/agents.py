@@ -196,7 +196,8 @@ class Agent(_NotCopyable):
                             "(environment.previous_action) of an environment given from Python: "
                             "make_env cannot append it to that environment's observations; make "
                             "the environment yourself and append the last action to each "
-                            "observation before act()")
+                            "observation before act(), in the planner's units (the action box "
+                            "mapped onto [-1, 1], as the run's observation_space shows)")
             return self._env_factory()
         return Env(self.task, self.variant, self.spawn, render_mode=render_mode,
                    render_size=render_size, previous_action=self.previous_action)

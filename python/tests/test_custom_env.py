@@ -439,3 +439,21 @@ def test_the_custom_tasks_report_is_made_again_from_its_committed_logs(tmp_path,
     assert summary == (committed / "summary.md").read_text()
     for name in ("table-1.md", "table-1.csv"):
         assert (tmp_path / "report" / name).read_text() == (committed / name).read_text(), name
+
+
+def test_an_env_given_from_python_can_observe_its_previous_action(tmp_path):
+    made = []
+
+    def make():
+        made.append(Line())
+        return made[-1]
+
+    config = tiny(60, environment={"previous_action": True})
+    cmbrl.train(env=make, reward=line_reward, config=config, out=tmp_path / "run")
+    agent = cmbrl.load_run(tmp_path / "run", env=make, reward=line_reward)
+    assert agent.previous_action and agent.observation_space.shape == (2,)
+    # The previous action is observed in the planner's units, [-1, 1] mapped onto the env's box.
+    assert np.array_equal(agent.observation_space.low, [-5.0, -1.0])
+    assert 0.0 <= agent.act(np.array([0.0, 0.5]))[0] <= 2.0
+    with pytest.raises(cmbrl.Error, match="observed the previous action"):
+        agent.make_env()
