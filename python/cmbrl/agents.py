@@ -8,7 +8,7 @@ import os
 from . import _cmbrl
 from ._common import (Error, _as_flag, _as_int, _as_number, _as_overrides, _as_path, _as_seed,
                       _as_str, _box, _json_number, _NotCopyable)
-from .envs import Env
+from .envs import Env, _PlannerUnitsPreviousAction
 
 
 def _step_function(function, name, returns):
@@ -189,15 +189,11 @@ class Agent(_NotCopyable):
         """A new environment of the run's task, variant and spawn, observing the previous action
         where the run did (what it was trained in); for a run on an environment given from
         Python, one more from what was given (load_run's env; render_mode and render_size are
-        then the env's own business)."""
+        then the env's own business), with the previous action appended in the planner's units
+        (the action box mapped onto [-1, 1]) where the run observed it."""
         if self._env_factory is not None:
-            if self.previous_action:
-                raise Error(f"the run in {self.run_dir} observed the previous action "
-                            "(environment.previous_action) of an environment given from Python: "
-                            "make_env cannot append it to that environment's observations; make "
-                            "the environment yourself and append the last action to each "
-                            "observation before act(), in the planner's units (the action box "
-                            "mapped onto [-1, 1], as the run's observation_space shows)")
+            if self.previous_action:  # as the run observed it, in the planner's units
+                return _PlannerUnitsPreviousAction(self._env_factory(), self.observation_space)
             return self._env_factory()
         return Env(self.task, self.variant, self.spawn, render_mode=render_mode,
                    render_size=render_size, previous_action=self.previous_action)

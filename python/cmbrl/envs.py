@@ -556,6 +556,41 @@ class CostInInfo(_gymnasium.Wrapper or _Forwarding):
         return observation, reward, terminated, truncated, _with_cost(info, cost)
 
 
+class _PlannerUnitsPreviousAction(_Forwarding):
+    """An environment given from Python, as a run with environment.previous_action observed it:
+    its observation followed by the action it last ran in the planner's units (its action box,
+    finite, mapped onto [-1, 1]; zeros after a reset). A loaded run's make_env() gives it. Not
+    a gymnasium.Wrapper, which would refuse environments that are not gymnasium.Envs."""
+
+    def __init__(self, env, observation_space):
+        super().__init__(env)
+        self.observation_space = observation_space  # the run's: the env's, then [-1, 1] each
+        self._low = np.asarray(env.action_space.low, dtype=np.float64).reshape(-1)
+        self._high = np.asarray(env.action_space.high, dtype=np.float64).reshape(-1)
+        self._previous = np.zeros(self._low.shape[0])
+
+    def _observed(self, observation):
+        return np.concatenate([np.asarray(observation, dtype=np.float64).reshape(-1),
+                               self._previous])
+
+    def reset(self, *, seed=None, options=None):
+        observation, info = (self.env.reset(seed=seed) if options is None else
+                             self.env.reset(seed=seed, options=options))
+        self._previous = np.zeros(self._low.shape[0])
+        return self._observed(observation), info
+
+    def step(self, action):
+        result = self.env.step(action)
+        action = np.asarray(action, dtype=np.float64).reshape(-1)
+        if np.array_equal(self._low, -1.0 * np.ones_like(self._low)) and np.array_equal(
+                self._high, np.ones_like(self._high)):
+            planner = action  # the planner's units already (no mapping)
+        else:
+            planner = 2.0 * (action - self._low) / (self._high - self._low) - 1.0
+        self._previous = np.clip(planner, -1.0, 1.0)
+        return (self._observed(result[0]),) + tuple(result[1:])
+
+
 class VectorCostInInfo(_gymnasium.VectorWrapper or _Forwarding):
     """A VectorEnv with Gymnasium's five-value step, the (num_envs) costs in info["cost"]. Where
     gymnasium is importable it is a gymnasium.vector.VectorWrapper. Threads: as the VectorEnv it

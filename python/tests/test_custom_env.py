@@ -455,5 +455,16 @@ def test_an_env_given_from_python_can_observe_its_previous_action(tmp_path):
     # The previous action is observed in the planner's units, [-1, 1] mapped onto the env's box.
     assert np.array_equal(agent.observation_space.low, [-5.0, -1.0])
     assert 0.0 <= agent.act(np.array([0.0, 0.5]))[0] <= 2.0
-    with pytest.raises(cmbrl.Error, match="observed the previous action"):
-        agent.make_env()
+    # make_env appends it as the run observed it: the env's action 1.5 is 0.5 in [-1, 1].
+    env = agent.make_env()
+    assert env.observation_space.shape == (2,)
+    obs, _ = env.reset(seed=0)
+    assert np.array_equal(obs, [0.0, 0.0])
+    obs = env.step(np.array([1.5]))[0]
+    assert obs[0] == pytest.approx(0.05) and obs[1] == pytest.approx(0.5)
+    obs = env.step(np.array([7.0]))[0]
+    assert obs[1] == 1.0  # clipped, as the planner's actions are
+    agent.begin_episode()
+    for _ in range(3):
+        obs, _, terminated, truncated, _ = env.step(agent.act(obs))
+    assert env.env.actions[-1] == pytest.approx(2.0 * (obs[1] + 1.0) / 2.0)
