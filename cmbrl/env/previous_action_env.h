@@ -53,7 +53,6 @@ class PreviousActionEnv final : public Env {
   bool binary_cost() const override { return env_->binary_cost(); }
   std::optional<RgbFrame> Frame() override { return env_->Frame(); }
 
-  const Env& wrapped() const { return *env_; }
   const std::vector<double>& previous_action() const { return previous_; }  // (A)
 
  private:

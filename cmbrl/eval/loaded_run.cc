@@ -80,8 +80,7 @@ const EnsembleDynamics& LoadedRun::dynamics() const {
 
 const DynamicsModel& LoadedRun::planning_dynamics() const {
   dynamics();  // refuses a model-free run
-  const MpcParts& parts = *agent_.mpc;
-  return parts.planning_dynamics ? *parts.planning_dynamics : *parts.ensemble;
+  return agent_.mpc->planner_dynamics();
 }
 
 const XgbCostModel& LoadedRun::classifier() const {

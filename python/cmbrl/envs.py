@@ -8,8 +8,8 @@ import re
 import numpy as np
 
 from . import _cmbrl, _gymnasium
-from ._common import (Error, _as_flag, _as_int, _as_seed, _as_str, _box, _Closable, _copy_through_state,
-                      _entropy_seed, _NotCopyable)
+from ._common import (Error, _as_flag, _as_int, _as_seed, _as_str, _box, _Closable,
+                      _copy_through_state, _entropy_seed, _NotCopyable)
 from .spaces import Box
 
 def tasks():
@@ -567,6 +567,8 @@ class _PlannerUnitsPreviousAction(_Forwarding):
         self.observation_space = observation_space  # the run's: the env's, then [-1, 1] each
         self._low = np.asarray(env.action_space.low, dtype=np.float64).reshape(-1)
         self._high = np.asarray(env.action_space.high, dtype=np.float64).reshape(-1)
+        # A box of [-1, 1] is not mapped (the adapter passes such actions on as they are).
+        self._identity = bool(np.all(self._low == -1.0) and np.all(self._high == 1.0))
         self._previous = np.zeros(self._low.shape[0])
 
     def _observed(self, observation):
@@ -582,9 +584,8 @@ class _PlannerUnitsPreviousAction(_Forwarding):
     def step(self, action):
         result = self.env.step(action)
         action = np.asarray(action, dtype=np.float64).reshape(-1)
-        if np.array_equal(self._low, -1.0 * np.ones_like(self._low)) and np.array_equal(
-                self._high, np.ones_like(self._high)):
-            planner = action  # the planner's units already (no mapping)
+        if self._identity:
+            planner = action
         else:
             planner = 2.0 * (action - self._low) / (self._high - self._low) - 1.0
         self._previous = np.clip(planner, -1.0, 1.0)

@@ -129,8 +129,6 @@ MpcParts AssembleMpc(const TrainConfig& config, const MpcPartSeeds& seeds,
     parts.planning_dynamics =
         std::make_unique<ActionEchoDynamics>(*parts.ensemble, previous_action);
   }
-  const DynamicsModel& planning_dynamics =
-      parts.planning_dynamics ? *parts.planning_dynamics : *parts.ensemble;
   parts.classifier =
       std::make_unique<XgbCostModel>(state_dim, config.classifier, seeds.classifier);
   if (config.objective.reward == "learned") {
@@ -142,7 +140,7 @@ MpcParts AssembleMpc(const TrainConfig& config, const MpcPartSeeds& seeds,
         std::make_unique<StepModel>(StepSignal::kTermination, 2 * state_dim + action_dim,
                                     config.termination_model, seeds.termination_model);
   }
-  parts.agent = std::make_unique<MpcAgent>(planning_dynamics, *parts.classifier, config.planner,
+  parts.agent = std::make_unique<MpcAgent>(parts.planner_dynamics(), *parts.classifier, config.planner,
                                            PlannerSettingsFor(config, action_dim),
                                            config.objective,
                                            RewardTermFor(config, inputs, parts.reward_model.get(),

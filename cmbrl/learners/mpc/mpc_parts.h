@@ -25,6 +25,11 @@ struct MpcParts {
   // What the agent plans with: the ensemble, or the ensemble with the previous action echoed
   // into its predictions where the observation holds it (environment.previous_action).
   std::unique_ptr<DynamicsModel> planning_dynamics;
+
+  // The model the agent plans with: planning_dynamics where there is one, else the ensemble.
+  const DynamicsModel& planner_dynamics() const {
+    return planning_dynamics ? *planning_dynamics : *ensemble;
+  }
   std::unique_ptr<XgbCostModel> classifier;
   std::unique_ptr<StepModel> reward_model;       // objective.reward: learned only
   std::unique_ptr<StepModel> termination_model;  // objective.termination: learned only
