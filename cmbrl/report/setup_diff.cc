@@ -52,7 +52,11 @@ std::vector<std::string> SetupDifferences(const std::vector<RunRecord>& runs, st
     if (!run.episodes.empty())
       seeds[c.task + " " + MethodOf(c) + " " + SettingOf(run)].insert(c.seed);
     const TrainConfig paper = PaperPreset(c, configs_dir);
-    const std::string cell = fmt::format("{} {}", c.task, MethodLabel(MethodOf(c)));
+    // A cell as Table I labels it, with its setting, so that a key set in one setting of a
+    // task and method (an axis, or one of several experiments reported together) names that
+    // setting's cell only.
+    const std::string cell =
+        fmt::format("{} {}", WithSetting(c.task, SettingOf(run)), MethodLabel(MethodOf(c)));
     for (const ConfigDifference& d : ConfigDifferences(c, paper)) {
       const auto key = std::make_tuple(d.key, d.ours, d.theirs);
       auto& cells = differing[key];

@@ -56,6 +56,33 @@ TEST(ReportTableTest, TheSetupNotesNameEveryKeyThatDiffersWithItsCells) {
   EXPECT_THAT(notes, Not(about("`seed`")));
 }
 
+// A key set in one setting of a task and method names that setting's cell, not every cell of
+// the task and method: reports of several experiments (or of an axis) put such cells side by
+// side, and one label for both would say the key is set in both.
+TEST(ReportTableTest, TheSetupNotesNameACellWithItsSetting) {
+  const auto run = [](const std::string& name, bool previous_action) {
+    RunRecord record;
+    record.name = name;
+    record.config.task = "CarGoal2";
+    record.config.planner = "rce";
+    record.config.ensemble.ensemble_size = 5;
+    record.config.training.total_steps = 10000;
+    record.config.previous_action = previous_action;
+    record.episodes.push_back(EpisodePoint{});
+    return record;
+  };
+  const std::vector<RunRecord> runs = {run("cargoal2-rce-s0", true),
+                                       run("cargoal2-rce-predict_delta=false-s0", false)};
+  EXPECT_THAT(SetupDifferences(runs, 3000, kConfigs),
+              ::testing::Contains("`environment.previous_action` is true, the paper's false "
+                                  "(CarGoal2 MPC-RCE)."));
+  const std::vector<RunRecord> other_way = {run("cargoal2-rce-s0", false),
+                                            run("cargoal2-rce-predict_delta=false-s0", true)};
+  EXPECT_THAT(SetupDifferences(other_way, 3000, kConfigs),
+              ::testing::Contains("`environment.previous_action` is true, the paper's false "
+                                  "(CarGoal2 (predict_delta=false) MPC-RCE)."));
+}
+
 // The counting window is said in each family's unit: agent steps against the paper's Table I for
 // MPC runs, environment steps for model-free ones, which the paper's Table I leaves out.
 TEST(ReportTableTest, TheSetupNotesSayTheWindowInEachFamilysUnit) {
