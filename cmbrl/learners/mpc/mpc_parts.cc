@@ -140,14 +140,11 @@ MpcParts AssembleMpc(const TrainConfig& config, const MpcPartSeeds& seeds,
         std::make_unique<StepModel>(StepSignal::kTermination, 2 * state_dim + action_dim,
                                     config.termination_model, seeds.termination_model);
   }
-  parts.agent = std::make_unique<MpcAgent>(parts.planner_dynamics(), *parts.classifier, config.planner,
-                                           PlannerSettingsFor(config, action_dim),
-                                           config.objective,
-                                           RewardTermFor(config, inputs, parts.reward_model.get(),
-                                                         &parts.env->observation_spec()),
-                                           seeds.planner,
-                                           TerminationTermFor(config, inputs,
-                                                              parts.termination_model.get()));
+  parts.agent = std::make_unique<MpcAgent>(
+      parts.planner_dynamics(), *parts.classifier, config.planner,
+      PlannerSettingsFor(config, action_dim), config.objective,
+      RewardTermFor(config, inputs, parts.reward_model.get(), &parts.env->observation_spec()),
+      seeds.planner, TerminationTermFor(config, inputs, parts.termination_model.get()));
   return parts;
 }
 
