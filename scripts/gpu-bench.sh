@@ -130,6 +130,12 @@ train_smoke() {
     return
   fi
   echo "train smoke on $device: FAILED" >&2
+  # Where it died: the rows it logged and the steps its last checkpoint holds (a run whose
+  # checkpoint holds its whole budget died on the way out, not in an episode or a fit).
+  local rows held
+  rows=$(tail -n +2 "$out/progress.csv" 2>/dev/null | wc -l)
+  held=$(grep -o '"steps_done": *[0-9]*' "$out/checkpoint/manifest.json" 2>/dev/null || echo none)
+  echo "episodes logged: $rows; its last checkpoint's $held (the budget: 300)" >&2
   if command -v cuda-gdb >/dev/null; then
     cuda-gdb -q -batch -ex run -ex bt -ex 'x/a $sp' -ex 'info symbol *(void**)$sp' \
       --args "${run[@]}" --out "$out-gdb" 2>&1 | grep -v -E '^\[(New|Thread|Detaching)' |
