@@ -13,6 +13,9 @@
 #                                       on cuda for each config (default: the PointGoal1 paper
 #                                       presets and the quickstart), prints a table, then trains
 #                                       the quickstart for 300 steps there (train_smoke).
+#   bash scripts/gpu-bench.sh paper [SECONDS]
+#                                       there: builds as `run` does, then trains PointGoal2 RCE
+#                                       at the paper's size for at most SECONDS (resumable).
 #
 # Without a usable CUDA PyTorch, `run` builds against the system's LibTorch and measures the
 # CPU, so the script can be checked on any machine.
@@ -44,7 +47,10 @@ fetch() {
   echo "fetched $(ls "$debs_dir"/*.deb | wc -l) packages ($(du -sh "$debs_dir" | cut -f1)) into $debs_dir/"
 }
 
-run() {
+# Unpacks the carried packages, builds into build-gpu/ (again only what changed) and sets
+# `device`: cuda where PyTorch sees a GPU, else cpu against the system's LibTorch.
+device=cpu
+build() {
   [ -d "$debs_dir" ] || { echo "no $debs_dir/: run 'bash scripts/gpu-bench.sh fetch' on a Debian 12 machine and carry it" >&2; exit 2; }
   mkdir -p "$deps_dir"
   for deb in "$debs_dir"/*.deb; do dpkg-deb -x "$deb" "$deps_dir"; done
@@ -65,7 +71,7 @@ run() {
     case "$target" in /*) ln -sf "$deps_dir/..${target#/usr}" "$link" 2>/dev/null || true ;; esac
   done
 
-  local torch_prefix="" device=cpu
+  local torch_prefix=""
   if torch_prefix=$(python3 -c 'import torch; print(torch.utils.cmake_prefix_path)' 2>/dev/null) &&
      python3 -c 'import torch, sys; sys.exit(0 if torch.cuda.is_available() else 1)' 2>/dev/null; then
     device=cuda
@@ -79,7 +85,10 @@ run() {
     $(command -v ninja >/dev/null && echo -G Ninja)
   # Every error at once (-k 0): a newer LibTorch may break several files.
   cmake --build build-gpu --parallel "$(nproc)" -- $(command -v ninja >/dev/null && echo -k 0)
+}
 
+run() {
+  build
   local configs=("$@")
   [ ${#configs[@]} -gt 0 ] || configs=(configs/pointgoal1-rce.yaml)
   local results=build-gpu/bench.jsonl
@@ -144,8 +153,35 @@ train_smoke() {
   return 1
 }
 
+# One run of experiments/paper-size's protocol on the device (issue 56 item 4): PointGoal2 RCE
+# at the paper's preset, seed 0, the first 3000 agent steps, within SECONDS (default 420) of
+# training; stopped there by SIGTERM it checkpoints, and the same command resumes it while the
+# machine is kept. Its logs go to $OUT when the device tool gives one (else build-gpu/).
+paper() {
+  build
+  if [ "$device" != cuda ]; then
+    echo "paper: no GPU here (the CPU's runs are experiments/paper-size's)" >&2
+    exit 2
+  fi
+  local seconds=${1:-420} out=build-gpu/paper-pointgoal2-rce-s0 logs=${OUT:-build-gpu}/paper-run
+  local status=0
+  if [ -f "$out/checkpoint/manifest.json" ]; then
+    timeout -s TERM "$seconds" build-gpu/bin/cmbrl train --resume "$out" || status=$?
+  else
+    rm -rf "$out"
+    timeout -s TERM "$seconds" build-gpu/bin/cmbrl train --config configs/pointgoal2-rce.yaml \
+      --set training.total_steps=3000 --seed 0 --device cuda --out "$out" || status=$?
+  fi
+  mkdir -p "$logs"
+  cp "$out"/config.yaml "$out"/progress.csv "$out"/sessions.jsonl "$logs"/ 2>/dev/null || true
+  echo "paper run: exit $status (124: stopped at ${seconds} s), $(tail -n +2 "$out/progress.csv" \
+    2>/dev/null | wc -l) episodes logged; logs in $logs"
+  return "$status"
+}
+
 case "${1:-}" in
   fetch) fetch ;;
   run) shift; run "$@" ;;
-  *) echo "usage: bash scripts/gpu-bench.sh fetch | run [CONFIG...]" >&2; exit 2 ;;
+  paper) shift; paper "$@" ;;
+  *) echo "usage: bash scripts/gpu-bench.sh fetch | run [CONFIG...] | paper [SECONDS]" >&2; exit 2 ;;
 esac
