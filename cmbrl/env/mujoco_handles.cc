@@ -1,8 +1,10 @@
 #include "cmbrl/env/mujoco_handles.h"
 
 #include <array>
+#include <cstddef>
 #include <cstring>
 #include <mutex>
+#include <string>
 
 #include "cmbrl/core/binary_io.h"
 #include "cmbrl/core/check.h"
@@ -12,6 +14,12 @@ namespace {
 
 // mjData's fixed part before its buffers: plain values.
 constexpr size_t kDataHeaderBytes = offsetof(mjData, buffer);
+
+// A contact's fields end here; what follows, to sizeof(mjContact), is padding. Its fields are
+// numbers then ints, with no padding between them.
+constexpr size_t kContactFieldBytes = offsetof(mjContact, efc_address) + sizeof(int);
+static_assert(offsetof(mjContact, dim) == offsetof(mjContact, H) + sizeof(mjContact::H),
+              "mjContact has padding between its numbers and its ints");
 
 void IgnoreWarning(const char* /*message*/) {}
 
@@ -48,9 +56,23 @@ MjDataPtr MakeMjData(const mjModel& model) {
   return MjDataPtr(data);
 }
 
-void WriteMjDataState(ByteWriter& out, const mjData& data) {
+void WriteMjDataState(ByteWriter& out, const mjModel& model, const mjData& data) {
   out.WriteBytes(&data, kDataHeaderBytes);
-  out.WriteBytes(data.buffer, static_cast<size_t>(data.nbuffer));
+  // The collision code builds each contact on its stack and copies it whole into the buffer,
+  // its tail padding with it: bytes of whatever ran before. Written as zeros, so that a state's
+  // bytes follow from the model and the steps alone (no step reads them).
+  std::string buffer(static_cast<const char*>(data.buffer), static_cast<size_t>(data.nbuffer));
+  const std::ptrdiff_t contacts =
+      reinterpret_cast<const char*>(data.contact) - static_cast<const char*>(data.buffer);
+  const auto capacity = static_cast<std::ptrdiff_t>(model.nconmax);
+  Require(contacts >= 0 && contacts + capacity * static_cast<std::ptrdiff_t>(sizeof(mjContact)) <=
+                               static_cast<std::ptrdiff_t>(buffer.size()),
+          "mjData's contacts lie outside its buffer: expected MuJoCo 2.2's layout");
+  for (std::ptrdiff_t i = 0; i < capacity; ++i) {
+    char* contact = buffer.data() + contacts + i * static_cast<std::ptrdiff_t>(sizeof(mjContact));
+    std::memset(contact + kContactFieldBytes, 0, sizeof(mjContact) - kContactFieldBytes);
+  }
+  out.WriteBytes(buffer.data(), buffer.size());
 }
 
 MjDataStateBytes ReadMjDataState(ByteReader& in, const mjData& data) {

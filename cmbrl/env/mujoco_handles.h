@@ -36,8 +36,9 @@ int RequireMjId(const mjModel& model, mjtObj type, const std::string& name);
 // mjData's state, for an environment's State(): its fixed part before the buffers (sizes,
 // counters, diagnostics, time: plain values) and its main buffer (positions, velocities, warm
 // start, contacts, sensors), so that the next mj_step continues bit for bit. The scratch stack
-// is not state. Data of one model have buffers of one layout.
-void WriteMjDataState(ByteWriter& out, const mjData& data);
+// is not state. Data of one model have buffers of one layout. The contacts' padding is written
+// as zeros: the bytes depend on nothing but the model and the steps.
+void WriteMjDataState(ByteWriter& out, const mjModel& model, const mjData& data);
 
 // The bytes WriteMjDataState wrote, read from `in` and checked against the sizes of `data` (of the
 // same model), not yet applied: an environment reads and checks all its state before it changes

@@ -284,7 +284,7 @@ std::string MujocoTaskEnv::State() const {
   out.Write(model_->nq);
   out.Write(model_->nv);
   out.Write(static_cast<std::uint64_t>(data_->nbuffer));
-  WriteMjDataState(out, *data_);
+  WriteMjDataState(out, *model_, *data_);
   out.Write(GeneratorState());
   out.Write(steps_);
   return out.Take();

@@ -610,7 +610,7 @@ std::string NavigationEnv::State() const {
   out.Write(model_->nq);
   out.Write(model_->nv);
   out.Write(model_->nbody);
-  WriteMjDataState(out, *data_);
+  WriteMjDataState(out, *model_, *data_);
   out.Write(GeneratorState());
   WritePose(out, layout_.robot);
   out.Write(layout_.goal.x);
