@@ -124,6 +124,9 @@ PY
   train_smoke "$device"
 }
 
+# The episodes a run folder's progress.csv holds (0 when it has none).
+episodes_logged() { tail -n +2 "$1/progress.csv" 2>/dev/null | wc -l; }
+
 # A short training run on the device (the quickstart, 300 agent steps: pre-training, a fit and
 # three episodes with their checkpoints). On CUDA the first such run (2026-11-27) died of a call
 # through a null function pointer after its first episode; if it fails again, the same run
@@ -135,16 +138,16 @@ train_smoke() {
              --device "$device" --steps 300)
   rm -rf "$out" "$out-gdb"
   if "${run[@]}" --out "$out"; then
-    echo "train smoke on $device: passed ($(($(wc -l < "$out/progress.csv") - 1)) episodes)"
+    echo "train smoke on $device: passed ($(episodes_logged "$out") episodes)"
     return
   fi
   echo "train smoke on $device: FAILED" >&2
   # Where it died: the rows it logged and the steps its last checkpoint holds (a run whose
   # checkpoint holds its whole budget died on the way out, not in an episode or a fit).
-  local rows held
-  rows=$(tail -n +2 "$out/progress.csv" 2>/dev/null | wc -l)
+  local held
   held=$(grep -o '"steps_done": *[0-9]*' "$out/checkpoint/manifest.json" 2>/dev/null || echo none)
-  echo "episodes logged: $rows; its last checkpoint's $held (the budget: 300)" >&2
+  echo "episodes logged: $(episodes_logged "$out"); its last checkpoint's $held" \
+    "(the budget: 300)" >&2
   if command -v cuda-gdb >/dev/null; then
     cuda-gdb -q -batch -ex run -ex bt -ex 'x/a $sp' -ex 'info symbol *(void**)$sp' \
       --args "${run[@]}" --out "$out-gdb" 2>&1 | grep -v -E '^\[(New|Thread|Detaching)' |
@@ -174,8 +177,8 @@ paper() {
   fi
   mkdir -p "$logs"
   cp "$out"/config.yaml "$out"/progress.csv "$out"/sessions.jsonl "$logs"/ 2>/dev/null || true
-  echo "paper run: exit $status (124: stopped at ${seconds} s), $(tail -n +2 "$out/progress.csv" \
-    2>/dev/null | wc -l) episodes logged; logs in $logs"
+  echo "paper run: exit $status (124: stopped at ${seconds} s), $(episodes_logged "$out")" \
+    "episodes logged; logs in $logs"
   return "$status"
 }
 
