@@ -10,6 +10,7 @@
 #include <map>
 #include <set>
 #include <thread>
+#include <tuple>
 
 #include "cmbrl/core/check.h"
 #include "cmbrl/env/task_list.h"
@@ -156,7 +157,10 @@ bool NaturalLess(const std::string& a, const std::string& b) {
 }
 
 std::string SettingOf(const RunRecord& run) {
-  return SettingOfRunName(run.name, run.config.task, MethodOf(run.config), run.config.seed);
+  const std::string named =
+      SettingOfRunName(run.name, run.config.task, MethodOf(run.config), run.config.seed);
+  if (run.config_setting.empty()) return named;
+  return named.empty() ? run.config_setting : named + "-" + run.config_setting;
 }
 
 std::vector<std::string> SettingsInOrder(const std::vector<RunRecord>& runs,
@@ -271,6 +275,81 @@ void RequireOneEnvironmentPerTask(
   }
 }
 
+// The runs of each cell its runs' names make (task, method, setting; SettingOf) in name order.
+std::map<std::tuple<std::string, std::string, std::string>, std::vector<RunRecord*>> CellsOf(
+    std::vector<RunRecord>& runs) {
+  std::map<std::tuple<std::string, std::string, std::string>, std::vector<RunRecord*>> cells;
+  for (RunRecord& run : runs) {
+    cells[{run.config.task, MethodOf(run.config), SettingOf(run)}].push_back(&run);
+  }
+  return cells;
+}
+
+// How two runs' configs differ as a report's cells see it: every key of ConfigDifferences but the
+// budget (training.total_steps), since a report counts a window of the runs' steps.
+std::vector<ConfigDifference> CellDifferences(const TrainConfig& a, const TrainConfig& b) {
+  std::vector<ConfigDifference> differences = ConfigDifferences(a, b);
+  differences.erase(
+      std::remove_if(differences.begin(), differences.end(),
+                     [](const ConfigDifference& d) { return d.key == "training.total_steps"; }),
+      differences.end());
+  return differences;
+}
+
+// Sets config_setting where the runs that one cell would hold differ in their configs: each of
+// them gets its values of every key some of them differ in (ConfigDifferences: not the seed,
+// the device, the thread counts or the budget), in the order they are first met; a key its name's
+// setting already gives (an axis) is not repeated.
+void TellConfigsApart(std::vector<RunRecord>& runs) {
+  for (auto& [cell, members] : CellsOf(runs)) {
+    const TrainConfig& first = members.front()->config;
+    std::vector<std::string> keys;
+    std::map<std::string, std::string> firsts;  // key -> the first run's value
+    std::vector<std::map<std::string, std::string>> own(members.size());  // key -> a run's value
+    for (size_t i = 1; i < members.size(); ++i) {
+      for (const ConfigDifference& d : CellDifferences(members[i]->config, first)) {
+        if (firsts.emplace(d.key, d.theirs).second) keys.push_back(d.key);
+        own[i][d.key] = d.ours;
+      }
+    }
+    if (keys.empty()) continue;
+    const std::string& named = std::get<2>(cell);
+    for (size_t i = 0; i < members.size(); ++i) {
+      std::vector<std::string> words;
+      for (const std::string& key : keys) {
+        const auto it = own[i].find(key);
+        const std::string word = SettingWord(key, it != own[i].end() ? it->second : firsts[key]);
+        const std::string axis = word.substr(0, word.find('=') + 1);
+        if (("-" + named).find("-" + axis) == std::string::npos) words.push_back(word);
+      }
+      members[i]->config_setting = fmt::format("{}", fmt::join(words, "-"));
+    }
+  }
+}
+
+// A cell pools the seeds of one config: throws cmbrl::Error naming two runs of a cell made with
+// different configs (runs whose names give one setting, told apart by keys that still match
+// another's). Two runs of one seed are the table's to refuse (ViolationTable): a run that a
+// report leaves out, short of its window, may share a seed with one it counts.
+void RequireOneConfigPerCell(std::vector<RunRecord>& runs) {
+  for (auto& [cell, members] : CellsOf(runs)) {
+    const RunRecord& first = *members.front();
+    for (size_t i = 1; i < members.size(); ++i) {
+      const RunRecord& run = *members[i];
+      const std::vector<ConfigDifference> differences = CellDifferences(run.config, first.config);
+      Require(differences.empty(),
+              "'{}' and '{}' fall in one cell ({} {}{}) but were made with different configs "
+              "('{}' is {} in the first, {} in the second): a cell pools the seeds of one "
+              "config; report them apart",
+              first.source.string(), run.source.string(), std::get<0>(cell), std::get<1>(cell),
+              std::get<2>(cell).empty() ? "" : " " + std::get<2>(cell),
+              differences.empty() ? "" : differences.front().key,
+              differences.empty() ? "" : differences.front().theirs,
+              differences.empty() ? "" : differences.front().ours);
+    }
+  }
+}
+
 }  // namespace
 
 std::vector<RunRecord> ReadSweeps(const std::vector<std::string>& sweep_dirs) {
@@ -338,6 +417,8 @@ std::vector<RunRecord> ReadSweeps(const std::vector<std::string>& sweep_dirs) {
     }
     runs.push_back(std::move(entry.first));
   }
+  TellConfigsApart(runs);
+  RequireOneConfigPerCell(runs);
   return runs;
 }
 

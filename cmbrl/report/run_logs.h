@@ -44,6 +44,10 @@ struct RunRecord {
   std::filesystem::path source;
   // Where each of its sessions ran (empty: a run begun before runs kept sessions.jsonl).
   std::vector<RunSession> sessions;
+  // What sets its config apart from the other runs its name puts in one cell (ReadSweeps): the
+  // keys they differ in, as words of a setting ("population=500", several joined by '-'); ""
+  // where they agree, as a sweep's runs of one setting do.
+  std::string config_setting;
 };
 
 // Which learner families some runs or table cells hold (anything with an `epoch_log` flag):
@@ -99,8 +103,12 @@ std::vector<EpisodePoint> ReadEpisodeColumns(const std::string& path, bool has_s
 // sessions.jsonl: a copied run folder).
 std::vector<RunRecord> ReadSweep(const std::string& sweep_dir);
 
-// ReadSweep over several folders, in name order. Throws cmbrl::Error naming a run found in two
-// of them (except a log and the run it is a prefix of, as in ReadSweep).
+// ReadSweep over several folders, in name order. Runs that their names put in one cell (one
+// task, method and setting) but that were made with different configs, such as runs named by
+// hand, are told apart by the keys they differ in (config_setting), so that a cell pools the
+// seeds of one config. Throws cmbrl::Error naming a run found in two of the folders (except a
+// log and the run it is a prefix of, as in ReadSweep), and two runs that a cell would still
+// hold with different configs.
 std::vector<RunRecord> ReadSweeps(const std::vector<std::string>& sweep_dirs);
 
 // Writes each run's config.yaml, progress.csv and sessions.jsonl (where it has one), as they are
@@ -127,8 +135,8 @@ double SecondsTaken(const RunRecord& run);
 // them as "name (N steps)", in order.
 std::vector<std::string> LeaveOutRunsShortOf(std::vector<RunRecord>& runs, std::int64_t window);
 
-// A run's setting: its values of an experiment's axes, read from its name (SweepRunName); ""
-// for a run of no axes.
+// A run's setting: its values of an experiment's axes, read from its name (SweepRunName), then
+// its config_setting; "" for a run of no axes whose config its cell's runs share.
 std::string SettingOf(const RunRecord& run);
 
 // Whether `a` sorts before `b` with the numbers in them compared by value ("gamma=0.9" before

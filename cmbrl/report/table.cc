@@ -15,6 +15,7 @@
 #include "cmbrl/planning/planning_options.h"
 #include "cmbrl/report/reference.h"
 #include "cmbrl/report/statistics.h"
+#include "cmbrl/run/algorithms.h"
 #include "cmbrl/run/progress_table.h"
 
 namespace cmbrl {
@@ -117,6 +118,15 @@ std::vector<TableCell> ViolationTable(const std::vector<RunRecord>& runs, std::i
         std::sort(members.begin(), members.end(), [](const RunRecord* a, const RunRecord* b) {
           return a->config.seed < b->config.seed;
         });
+        for (size_t i = 1; i < members.size(); ++i) {
+          const RunRecord& a = *members[i - 1];
+          const RunRecord& b = *members[i];
+          Require(a.config.seed != b.config.seed,
+                  "'{}' and '{}' are both seed {} of one cell ({}, {}): a cell holds one run a "
+                  "seed; report them apart, or leave one out",
+                  a.source.string(), b.source.string(), b.config.seed, WithSetting(task, setting),
+                  MethodLabel(planner));
+        }
         TableCell cell;
         cell.task = task;
         cell.planner = planner;

@@ -70,7 +70,8 @@ std::string WithinWidenedRange(const TableCell& cell);
 // One cell per task, planner and setting present, tasks and planners in the registries' order,
 // then settings in `setting_order`'s order and the rest in natural order (numbers by value;
 // SettingsInOrder). Runs without a finished episode are left out. `reference`
-// (ReadReferenceRuns) fills the original's columns.
+// (ReadReferenceRuns) fills the original's columns. Throws cmbrl::Error naming two runs of one
+// seed in a cell.
 std::vector<TableCell> ViolationTable(const std::vector<RunRecord>& runs, std::int64_t window,
                                       const std::vector<RunRecord>& reference = {},
                                       const std::vector<std::string>& setting_order = {});

@@ -423,6 +423,20 @@ std::string SweepRunName(const std::string& task, const std::string& method,
                      seed);
 }
 
+std::string SettingWord(const std::string& key, const std::string& value) {
+  std::string word;
+  for (const char c : value) {
+    if (std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '-' || c == '_') {
+      word += c;
+    } else if (c == ',') {
+      word += 'x';
+    } else if (c != ' ' && c != '[' && c != ']') {
+      word += '_';
+    }
+  }
+  return fmt::format("{}={}", key.substr(key.rfind('.') + 1), word.empty() ? "_" : word);
+}
+
 std::string SettingOfRunName(const std::string& name, const std::string& task,
                              const std::string& method, std::uint64_t seed) {
   const std::string prefix = RunNameStem(task, method);

@@ -144,6 +144,11 @@ std::uint32_t FileCrc(const std::filesystem::path& path);
 std::string SweepRunName(const std::string& task, const std::string& method,
                          const std::string& setting, std::uint64_t seed);
 
+// One key's word in a setting: the key's last part, '=', its value as a word of a folder name
+// ("planning.population", "500" -> "population=500"; "[256, 256]" -> "256x256", other characters
+// that a shell or a path would trip on '_').
+std::string SettingWord(const std::string& key, const std::string& value);
+
 // The setting of a run named by SweepRunName, read back from its name with its own task, method
 // and seed; "" for a run of no axes, or a name not of that form (a run made by hand).
 std::string SettingOfRunName(const std::string& name, const std::string& task,

@@ -28,23 +28,6 @@ std::string Lower(std::string text) {
   return text;
 }
 
-// A shell word in single quotes.
-// A value as a word of a folder name: "[256, 256]" becomes "256x256", other characters that a
-// shell or a path would trip on become '_'.
-std::string PathWord(const std::string& value) {
-  std::string word;
-  for (const char c : value) {
-    if (std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '-' || c == '_') {
-      word += c;
-    } else if (c == ',') {
-      word += 'x';
-    } else if (c != ' ' && c != '[' && c != ']') {
-      word += '_';
-    }
-  }
-  return word.empty() ? "_" : word;
-}
-
 // Throws cmbrl::Error naming an unknown or repeated task, method or seed, a bad --steps or a
 // missing overlay: a repeated one would name one run twice, and two processes would train it.
 void CheckGrid(const SweepGrid& grid) {
@@ -100,18 +83,16 @@ std::vector<AxisPoint> AxisPoints(const std::vector<SweepAxis>& axes) {
   for (const SweepAxis& axis : axes) {
     Require(!axis.values.empty(), "axis '{}' has no values: expected a list of at least one",
             axis.key);
-    Require(std::set<std::string>(axis.values.begin(), axis.values.end()).size() ==
-                axis.values.size(),
-            "axis '{}' repeats a value in {}: each value makes its own runs", axis.key,
-            fmt::join(axis.values, ", "));
-    const std::string short_key = axis.key.substr(axis.key.rfind('.') + 1);
+    Require(
+        std::set<std::string>(axis.values.begin(), axis.values.end()).size() == axis.values.size(),
+        "axis '{}' repeats a value in {}: each value makes its own runs", axis.key,
+        fmt::join(axis.values, ", "));
     std::vector<AxisPoint> longer;
     for (const auto& [name, overrides] : points) {
       for (const std::string& value : axis.values) {
         std::vector<std::string> with = overrides;
         with.push_back(axis.key + "=" + value);
-        longer.emplace_back((name.empty() ? "" : name + "-") + short_key + "=" + PathWord(value),
-                            with);
+        longer.emplace_back((name.empty() ? "" : name + "-") + SettingWord(axis.key, value), with);
       }
     }
     points = longer;

@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -22,16 +23,19 @@ namespace cmbrl::testing {
 inline constexpr const char* kConfigs = CMBRL_SOURCE_DIR "/configs";
 
 // A run of a fixture sweep: episodes of `steps` agent steps with the given costs; returns rise
-// by one per episode from `first_return`. A run of a setting is named as a sweep names it.
+// by one per episode from `first_return`. A run of a setting is named as a sweep names it;
+// `adjust` changes its config before anything is written.
 inline void WriteRun(const std::filesystem::path& sweep, const std::string& task,
                      const std::string& planner, std::uint64_t seed, int steps,
                      const std::vector<double>& costs, double first_return,
-                     const std::string& setting = "") {
+                     const std::string& setting = "",
+                     const std::function<void(TrainConfig&)>& adjust = {}) {
   TrainConfig config;
   config.task = task;
   config.planner = planner;
   config.seed = seed;
   config.training.total_steps = 1000;
+  if (adjust) adjust(config);
   const std::filesystem::path dir = sweep / "runs" /
                                     (setting.empty() ? fmt::format("{}-{}-s{}", task, planner, seed)
                                                      : SweepRunName(task, planner, setting, seed));

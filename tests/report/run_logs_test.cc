@@ -8,6 +8,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <set>
 #include <string>
 #include <vector>
@@ -125,6 +126,88 @@ TEST_F(ReportTest, ACopiedRunIsRefusedNamingBothFolders) {
   }
   EXPECT_EQ(ids.size(), 2u);
   EXPECT_EQ(ids.begin()->size(), 32u);
+}
+
+// Runs named by hand fall in one cell by their names (task and method, no setting): made with
+// different configs, they are told apart by the keys they differ in and never pooled; where
+// that still leaves two configs, or two runs of one seed, in a cell, the report refuses.
+TEST_F(ReportTest, ACellPoolsTheSeedsOfOneConfig) {
+  const fs::path mine = sweep_ / "mine";
+  // A run of PointGoal2 RCE in mine/runs/<name> (named by hand, or as a sweep names a setting).
+  const auto write = [&](const std::string& name, std::uint64_t seed,
+                         const std::function<void(TrainConfig&)>& adjust) {
+    testing::WriteRun(mine, "PointGoal2", "rce", seed, 100, {1, 2, 3}, 0, "", adjust);
+    fs::rename(mine / "runs" / fmt::format("PointGoal2-rce-s{}", seed), mine / "runs" / name);
+  };
+  const auto at = [](int population, double gamma) {
+    return [population, gamma](TrainConfig& config) {
+      config.planning.cross_entropy.population = population;
+      config.objective.gamma = gamma;
+    };
+  };
+  const auto settings = [](const std::vector<RunRecord>& runs) {
+    std::vector<std::string> found;
+    for (const RunRecord& run : runs) found.push_back(run.name + ": " + SettingOf(run));
+    return found;
+  };
+  write("mine-a", 0, at(100, 0.99));
+  write("mine-b", 1, at(500, 0.99));
+  write("mine-c", 2, at(100, 0.99));
+  // Before, one cell "PointGoal2" of three seeds with two configs mixed.
+  EXPECT_THAT(settings(ReadSweep(mine.string())),
+              ::testing::ElementsAre("mine-a: population=100", "mine-b: population=500",
+                                     "mine-c: population=100"));
+  const std::vector<TableCell> cells = ViolationTable(ReadSweep(mine.string()), 300);
+  ASSERT_EQ(cells.size(), 2u);
+  EXPECT_EQ(WithSetting(cells[0].task, cells[0].setting), "PointGoal2 (population=100)");
+  EXPECT_EQ(cells[0].seeds, (std::vector<std::uint64_t>{0, 2}));
+  EXPECT_EQ(WithSetting(cells[1].task, cells[1].setting), "PointGoal2 (population=500)");
+
+  // A sweep's runs of one setting agree: nothing is added to their names' settings, and a key
+  // their names give (an axis) is not repeated where they meet runs named by hand.
+  for (const RunRecord& run : ReadSweep(sweep_.string())) EXPECT_EQ(run.config_setting, "");
+  testing::WriteRun(sweep_, "PointGoal2", "rce", 3, 100, {1, 1, 1}, 0, "population=500",
+                    at(500, 0.98));
+  testing::WriteRun(sweep_, "PointGoal2", "rce", 4, 100, {1, 1, 1}, 0, "population=500",
+                    at(500, 0.99));
+  EXPECT_THAT(
+      settings(ReadSweeps({sweep_.string(), mine.string()})),
+      ::testing::IsSupersetOf({"pointgoal2-rce-population=500-s3: population=500-gamma=0.98",
+                               "pointgoal2-rce-population=500-s4: population=500-gamma=0.99",
+                               "mine-b: population=500"}));
+
+  // Keys several runs differ in, each run's values of all of them; the budget is none of them.
+  write("mine-d", 4, at(100, 0.9));
+  write("mine-f", 5, [&](TrainConfig& config) {
+    at(100, 0.99)(config);
+    config.training.total_steps = 5000;
+  });
+  EXPECT_THAT(settings(ReadSweep(mine.string())),
+              ::testing::ElementsAre(
+                  "mine-a: population=100-gamma=0.99", "mine-b: population=500-gamma=0.99",
+                  "mine-c: population=100-gamma=0.99", "mine-d: population=100-gamma=0.9",
+                  "mine-f: population=100-gamma=0.99"));
+
+  // Two runs of one seed in one cell: refused, naming both.
+  write("mine-e", 2, at(100, 0.99));
+  const std::string seed_twice =
+      testing::ErrorMessage([&] { ViolationTable(ReadSweep(mine.string()), 300); });
+  EXPECT_THAT(seed_twice, HasSubstr("mine-c' and '"));
+  EXPECT_THAT(seed_twice, HasSubstr("mine-e' are both seed 2 of one cell (PointGoal2 "
+                                    "(population=100-gamma=0.99), MPC-RCE)"));
+  fs::remove_all(mine / "runs" / "mine-e");
+
+  // A run whose name gives a setting that runs of another config reach too: refused, naming the
+  // key.
+  testing::WriteRun(mine, "PointGoal2", "rce", 6, 100, {1, 1, 1}, 0, "population=100-gamma=0.99",
+                    [&](TrainConfig& config) {
+                      at(100, 0.99)(config);
+                      config.planning.cross_entropy.max_iterations = 3;
+                    });
+  const std::string two_configs = testing::ErrorMessage([&] { ReadSweep(mine.string()); });
+  EXPECT_THAT(two_configs, HasSubstr("fall in one cell (PointGoal2 rce population=100-gamma=0.99)"
+                                     " but were made with different configs ('planning."
+                                     "max_iterations' is 8 in the first, 3 in the second)"));
 }
 
 // Values outside their domain are refused naming the file, the line and the column, whatever
