@@ -83,10 +83,10 @@ std::vector<AxisPoint> AxisPoints(const std::vector<SweepAxis>& axes) {
   for (const SweepAxis& axis : axes) {
     Require(!axis.values.empty(), "axis '{}' has no values: expected a list of at least one",
             axis.key);
-    Require(
-        std::set<std::string>(axis.values.begin(), axis.values.end()).size() == axis.values.size(),
-        "axis '{}' repeats a value in {}: each value makes its own runs", axis.key,
-        fmt::join(axis.values, ", "));
+    Require(std::set<std::string>(axis.values.begin(), axis.values.end()).size() ==
+                axis.values.size(),
+            "axis '{}' repeats a value in {}: each value makes its own runs", axis.key,
+            fmt::join(axis.values, ", "));
     std::vector<AxisPoint> longer;
     for (const auto& [name, overrides] : points) {
       for (const std::string& value : axis.values) {
