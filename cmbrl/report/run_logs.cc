@@ -296,6 +296,13 @@ std::vector<ConfigDifference> CellDifferences(const TrainConfig& a, const TrainC
   return differences;
 }
 
+// Whether a cell's label already gives the key of `word` ("population=500" in
+// "population=500-gamma=0.99").
+bool LabelNames(const std::string& label, const std::string& word) {
+  const std::string axis = word.substr(0, word.find('=') + 1);
+  return ("-" + label).find("-" + axis) != std::string::npos;
+}
+
 // Sets config_setting where the runs that one cell would hold differ in their configs: each of
 // them gets its values of every key some of them differ in (ConfigDifferences: not the seed,
 // the device, the thread counts or the budget), in the order they are first met; a key its name's
@@ -319,10 +326,80 @@ void TellConfigsApart(std::vector<RunRecord>& runs) {
       for (const std::string& key : keys) {
         const auto it = own[i].find(key);
         const std::string word = SettingWord(key, it != own[i].end() ? it->second : firsts[key]);
-        const std::string axis = word.substr(0, word.find('=') + 1);
-        if (("-" + named).find("-" + axis) == std::string::npos) words.push_back(word);
+        if (!LabelNames(named, word)) words.push_back(word);
       }
       members[i]->config_setting = fmt::format("{}", fmt::join(words, "-"));
+    }
+  }
+}
+
+// Whether a cell's label holds a word given by hand ("policy" in "policy-gamma=0.9"): a word
+// that is no key's value, which the runs' names gave to tell their cell apart.
+bool LabelHasOwnWord(const std::string& label) {
+  for (size_t begin = 0; begin < label.size();) {
+    const size_t end = std::min(label.find('-', begin), label.size());
+    const std::string part = label.substr(begin, end - begin);
+    // A part after a '-' inside a value ("gamma=-0.5") is a number.
+    if (!part.empty() && std::isalpha(static_cast<unsigned char>(part.front())) &&
+        part.find('=') == std::string::npos) {
+      return true;
+    }
+    begin = end + 1;
+  }
+  return false;
+}
+
+// Adds to the labels of the cells of one task and method what their configs differ in and
+// neither label says: a report of two experiments, one's cells named by an axis and the other's
+// by nothing, would otherwise show a cell of another config under the plain task's name, read as
+// the preset's. A key one of two cells names (an axis beside the preset) is left as it is: the
+// plain cell is the other value; so is a difference beside a word given by hand, which names it.
+void TellCellsApart(std::vector<RunRecord>& runs) {
+  std::map<std::pair<std::string, std::string>, std::vector<std::vector<RunRecord*>>> rows;
+  for (auto& [cell, members] : CellsOf(runs)) {
+    rows[{std::get<0>(cell), std::get<1>(cell)}].push_back(members);
+  }
+  for (auto& [row, cells] : rows) {
+    const TrainConfig& first = cells.front().front()->config;
+    std::vector<std::string> keys;
+    std::map<std::string, std::string> firsts;  // key -> the first cell's value
+    std::vector<std::map<std::string, std::string>> own(cells.size());  // key -> a cell's value
+    std::vector<std::string> labels;
+    for (size_t i = 0; i < cells.size(); ++i) {
+      labels.push_back(SettingOf(*cells[i].front()));
+      if (i == 0) continue;
+      for (const ConfigDifference& d : CellDifferences(cells[i].front()->config, first)) {
+        if (firsts.emplace(d.key, d.theirs).second) keys.push_back(d.key);
+        own[i][d.key] = d.ours;
+      }
+    }
+    std::vector<std::vector<std::string>> added(cells.size());
+    for (const std::string& key : keys) {
+      std::vector<std::string> words;
+      for (size_t i = 0; i < cells.size(); ++i) {
+        const auto it = own[i].find(key);
+        words.push_back(SettingWord(key, it != own[i].end() ? it->second : firsts[key]));
+      }
+      std::vector<bool> unsaid(cells.size(), false);
+      for (size_t i = 0; i < cells.size(); ++i) {
+        for (size_t j = i + 1; j < cells.size(); ++j) {
+          if (words[i] != words[j] && !LabelNames(labels[i], words[i]) &&
+              !LabelNames(labels[j], words[j]) && !LabelHasOwnWord(labels[i]) &&
+              !LabelHasOwnWord(labels[j])) {
+            unsaid[i] = unsaid[j] = true;
+          }
+        }
+      }
+      for (size_t i = 0; i < cells.size(); ++i) {
+        if (unsaid[i]) added[i].push_back(words[i]);
+      }
+    }
+    for (size_t i = 0; i < cells.size(); ++i) {
+      if (added[i].empty()) continue;
+      const std::string more = fmt::format("{}", fmt::join(added[i], "-"));
+      for (RunRecord* run : cells[i]) {
+        run->config_setting = run->config_setting.empty() ? more : run->config_setting + "-" + more;
+      }
     }
   }
 }
@@ -418,6 +495,7 @@ std::vector<RunRecord> ReadSweeps(const std::vector<std::string>& sweep_dirs) {
     runs.push_back(std::move(entry.first));
   }
   TellConfigsApart(runs);
+  TellCellsApart(runs);
   RequireOneConfigPerCell(runs);
   return runs;
 }

@@ -44,7 +44,8 @@ struct RunRecord {
   std::filesystem::path source;
   // Where each of its sessions ran (empty: a run begun before runs kept sessions.jsonl).
   std::vector<RunSession> sessions;
-  // What sets its config apart from the other runs its name puts in one cell (ReadSweeps): the
+  // What sets its config apart from the other runs its name puts in one cell, and from the
+  // cells of its task and method whose labels would not say how they differ (ReadSweeps): the
   // keys they differ in, as words of a setting ("population=500", several joined by '-'); ""
   // where they agree, as a sweep's runs of one setting do.
   std::string config_setting;
@@ -106,9 +107,10 @@ std::vector<RunRecord> ReadSweep(const std::string& sweep_dir);
 // ReadSweep over several folders, in name order. Runs that their names put in one cell (one
 // task, method and setting) but that were made with different configs, such as runs named by
 // hand, are told apart by the keys they differ in (config_setting), so that a cell pools the
-// seeds of one config. Throws cmbrl::Error naming a run found in two of the folders (except a
-// log and the run it is a prefix of, as in ReadSweep), and two runs that a cell would still
-// hold with different configs.
+// seeds of one config; so are two cells of one task and method whose configs differ in a key
+// neither's label names (one experiment's preset cell beside another's axis cells). Throws
+// cmbrl::Error naming a run found in two of the folders (except a log and the run it is a prefix
+// of, as in ReadSweep), and two runs that a cell would still hold with different configs.
 std::vector<RunRecord> ReadSweeps(const std::vector<std::string>& sweep_dirs);
 
 // Writes each run's config.yaml, progress.csv and sessions.jsonl (where it has one), as they are

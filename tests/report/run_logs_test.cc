@@ -5,6 +5,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -208,6 +209,65 @@ TEST_F(ReportTest, ACellPoolsTheSeedsOfOneConfig) {
   EXPECT_THAT(two_configs, HasSubstr("fall in one cell (PointGoal2 rce population=100-gamma=0.99)"
                                      " but were made with different configs ('planning."
                                      "max_iterations' is 8 in the first, 3 in the second)"));
+}
+
+// Two experiments reported together: one's cells named by an axis, the other's by nothing. A
+// plain cell of another config than the preset's says how it differs (as the axis cells do),
+// instead of reading as the preset's; a plain cell that differs only in what the axis names
+// stays plain, and so does a cell a word given by hand tells apart.
+TEST_F(ReportTest, CellsOfOneTaskAndMethodSayWhatSetsThemApart) {
+  const fs::path axis = sweep_ / "axis";
+  const fs::path other = sweep_ / "other";
+  const auto at = [](int population, double gamma) {
+    return [population, gamma](TrainConfig& config) {
+      config.planning.cross_entropy.population = population;
+      config.objective.gamma = gamma;
+    };
+  };
+  const auto cells = [](const std::vector<std::string>& folders) {
+    std::vector<std::string> found;
+    for (const TableCell& cell : ViolationTable(ReadSweeps(folders), 300)) {
+      found.push_back(WithSetting(cell.task, cell.setting));
+    }
+    return found;
+  };
+  for (std::uint64_t seed : {0, 1}) {
+    testing::WriteRun(axis, "PointGoal2", "rce", seed, 100, {1, 2, 3}, 0, "population=100",
+                      at(100, 0.99));
+    testing::WriteRun(axis, "PointGoal2", "rce", seed, 100, {1, 2, 3}, 0, "population=500",
+                      at(500, 0.99));
+  }
+  // The preset beside the axis: the plain cell is the other value of the axis.
+  testing::WriteRun(other, "PointGoal2", "rce", 0, 100, {1, 2, 3}, 0, "", at(300, 0.99));
+  EXPECT_THAT(cells({axis.string(), other.string()}),
+              ::testing::ElementsAre("PointGoal2", "PointGoal2 (population=100)",
+                                     "PointGoal2 (population=500)"));
+  // Another config: every cell gives its value of the key no label names.
+  fs::remove_all(other);
+  for (std::uint64_t seed : {0, 1}) {
+    testing::WriteRun(other, "PointGoal2", "rce", seed, 100, {1, 2, 3}, 0, "", at(100, 0.9));
+  }
+  EXPECT_THAT(
+      cells({axis.string(), other.string()}),
+      ::testing::ElementsAre("PointGoal2 (gamma=0.9)", "PointGoal2 (population=100-gamma=0.99)",
+                             "PointGoal2 (population=500-gamma=0.99)"));
+  // A cell named by hand ("policy") is told apart by its name's word: nothing is added.
+  testing::WriteRun(axis, "PointGoal2", "rce", 0, 100, {1, 2, 3}, 0, "policy", at(100, 0.5));
+  EXPECT_THAT(cells({axis.string(), other.string()}),
+              ::testing::ElementsAre("PointGoal2 (gamma=0.9)", "PointGoal2 (policy)",
+                                     "PointGoal2 (population=100-gamma=0.99)",
+                                     "PointGoal2 (population=500-gamma=0.99)"));
+  fs::remove_all(axis / "runs" / SweepRunName("PointGoal2", "rce", "policy", 0));
+  // Each experiment alone says no more than its names.
+  EXPECT_THAT(cells({other.string()}), ::testing::ElementsAre("PointGoal2"));
+  EXPECT_THAT(cells({axis.string()}),
+              ::testing::ElementsAre("PointGoal2 (population=100)", "PointGoal2 (population=500)"));
+  // Another task's and another method's cells are compared with nothing here.
+  testing::WriteRun(other, "PointGoal2", "cem", 0, 100, {1, 2, 3}, 0, "", at(100, 0.5));
+  testing::WriteRun(other, "PointGoal1", "rce", 0, 100, {1, 2, 3}, 0, "", at(100, 0.5));
+  const std::vector<std::string> all = cells({axis.string(), other.string()});
+  EXPECT_EQ(std::count(all.begin(), all.end(), "PointGoal1"), 1);
+  EXPECT_EQ(std::count(all.begin(), all.end(), "PointGoal2"), 1);  // the CEM cell
 }
 
 // Values outside their domain are refused naming the file, the line and the column, whatever
