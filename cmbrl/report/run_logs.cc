@@ -552,6 +552,32 @@ double SecondsTaken(const RunRecord& run) {
                               : run.episodes.back().elapsed_seconds;
 }
 
+int SessionCores(const NumericsSetup& setup) {
+  return std::max({1, setup.blas_threads, setup.torch_threads});
+}
+
+double CoreSecondsTaken(const RunRecord& run) {
+  const double seconds = SecondsTaken(run);
+  if (!std::isfinite(seconds) || run.sessions.empty()) return seconds;
+  // The time the run's points had reached at a step (0 before its first point).
+  const auto reached_at = [&](std::int64_t step) {
+    double reached = 0.0;
+    for (const EpisodePoint& point : run.episodes) {
+      if (point.end_step > step) break;
+      if (std::isfinite(point.elapsed_seconds)) reached = point.elapsed_seconds;
+    }
+    return reached;
+  };
+  double core_seconds = 0.0;
+  for (size_t k = 0; k < run.sessions.size(); ++k) {
+    const double from = reached_at(run.sessions[k].steps_done);
+    const double to =
+        k + 1 < run.sessions.size() ? reached_at(run.sessions[k + 1].steps_done) : seconds;
+    core_seconds += std::max(0.0, to - from) * SessionCores(run.sessions[k].setup);
+  }
+  return core_seconds;
+}
+
 std::vector<std::string> LeaveOutRunsShortOf(std::vector<RunRecord>& runs, std::int64_t window) {
   std::vector<std::string> left_out;
   std::vector<RunRecord> kept;

@@ -133,6 +133,17 @@ std::int64_t StepsReached(const RunRecord& run);
 // first point, or where its log has no Time).
 double SecondsTaken(const RunRecord& run);
 
+// The cores a session ran on, as its setup records them: the more of OpenBLAS's and LibTorch's
+// threads (a sweep sets them to the cores it gives a run), at least 1 (a session of a version
+// that recorded neither).
+int SessionCores(const NumericsSetup& setup);
+
+// The core-seconds a run has taken so far: each session's share of SecondsTaken (what its
+// points' elapsed_seconds gained from the session's first step to the next session's) at that
+// session's SessionCores; SecondsTaken itself for a run without sessions. NaN where SecondsTaken
+// is.
+double CoreSecondsTaken(const RunRecord& run);
+
 // Removes the runs that have not reached `window` steps (StepsReached) from `runs`, and returns
 // them as "name (N steps)", in order.
 std::vector<std::string> LeaveOutRunsShortOf(std::vector<RunRecord>& runs, std::int64_t window);

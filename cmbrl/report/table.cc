@@ -143,13 +143,19 @@ std::vector<TableCell> ViolationTable(const std::vector<RunRecord>& runs, std::i
           cell.fewest_steps = std::min(cell.fewest_steps, StepsReached(*run));
           if (const auto first = FirstEpochOf(*run)) cell.first_epochs.push_back(*first);
           const double seconds = SecondsTaken(*run);
-          if (std::isfinite(seconds)) cell.run_minutes.push_back(seconds / 60.0);
+          if (std::isfinite(seconds)) {
+            cell.run_minutes.push_back(seconds / 60.0);
+            cell.run_core_minutes.push_back(CoreSecondsTaken(*run) / 60.0);
+          }
           if (const auto causes = ViolationCausesWithin(*run, window)) {
             cell.hazard_steps.push_back(causes->hazard_steps);
             cell.vase_steps.push_back(causes->vase_steps);
           }
         }
-        if (cell.run_minutes.size() != members.size()) cell.run_minutes.clear();
+        if (cell.run_minutes.size() != members.size()) {
+          cell.run_minutes.clear();
+          cell.run_core_minutes.clear();
+        }
         if (cell.hazard_steps.size() != members.size()) {
           cell.hazard_steps.clear();
           cell.vase_steps.clear();

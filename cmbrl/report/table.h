@@ -53,6 +53,8 @@ struct TableCell {
   // Each run's wall minutes as made so far (SecondsTaken / 60), per seed; empty unless every
   // run logged its time (and for a cell read from an earlier table).
   std::vector<double> run_minutes;
+  // Each run's core-minutes (CoreSecondsTaken / 60), per seed, beside run_minutes.
+  std::vector<double> run_core_minutes;
   // "" for a cell made from runs; else the table-1.csv it was read from (ReadEarlierTable).
   std::string source;
 };

@@ -555,13 +555,18 @@ std::string RunCount(std::size_t runs) {
 
 std::string ComputeMarkdown(const std::vector<TableCell>& cells) {
   std::string rows;
-  double minutes = 0.0, longest = -1.0;
+  double core_minutes = 0.0, longest = -1.0;
+  bool one_core_a_run = true;
   std::string longest_run;
   int runs = 0;
   for (const TableCell& cell : cells) {
     if (cell.run_minutes.empty()) continue;
     for (size_t i = 0; i < cell.run_minutes.size(); ++i) {
-      minutes += cell.run_minutes[i];
+      // A cell made by hand, or read before core-minutes were kept: one core a run.
+      const double cores_minutes =
+          i < cell.run_core_minutes.size() ? cell.run_core_minutes[i] : cell.run_minutes[i];
+      core_minutes += cores_minutes;
+      one_core_a_run = one_core_a_run && cores_minutes <= cell.run_minutes[i] * (1.0 + 1e-9);
       ++runs;
       if (cell.run_minutes[i] > longest) {
         longest = cell.run_minutes[i];
@@ -576,13 +581,19 @@ std::string ComputeMarkdown(const std::vector<TableCell>& cells) {
                     Figure(*std::max_element(cell.run_minutes.begin(), cell.run_minutes.end()), 0));
   }
   if (runs == 0) return "";
+  const std::string cores =
+      one_core_a_run ? "one core a run"
+                     : "each session's time at the cores it ran on (sessions.jsonl's OpenBLAS "
+                       "or LibTorch threads, whichever are more: a sweep sets them to the cores "
+                       "it gives a run)";
   return fmt::format(
       "Each run's wall time as made so far, in minutes: progress.csv's Time at its last row, "
-      "over all its sessions (the work an interruption threw away is not counted), one core a "
-      "run. {} took {:.1f} core-hours; the longest, {}, {:.0f} minutes.\n\n"
+      "over all its sessions (the work an interruption threw away is not counted), {}. {} took "
+      "{:.1f} core-hours; the longest, {}, {:.0f} minutes.\n\n"
       "| task | method | seeds | minutes per seed | median | longest |\n"
       "|---|---|---|---|---|---|\n{}",
-      RunCount(static_cast<std::size_t>(runs)), minutes / 60.0, longest_run, longest, rows);
+      cores, RunCount(static_cast<std::size_t>(runs)), core_minutes / 60.0, longest_run, longest,
+      rows);
 }
 
 std::vector<std::string> OutcomeDifferences(const std::vector<TableCell>& cells,

@@ -129,6 +129,36 @@ TEST_F(ReportTest, ACopiedRunIsRefusedNamingBothFolders) {
   EXPECT_EQ(ids.begin()->size(), 32u);
 }
 
+// A run's core-seconds: each session's share of its time at the cores that session records; a
+// run without sessions counts one core.
+TEST(ReportComputeTest, EachSessionsTimeCountsAtItsCores) {
+  RunRecord run;
+  for (int i = 1; i <= 4; ++i) {
+    EpisodePoint point;
+    point.end_step = 100 * i;
+    point.elapsed_seconds = 60.0 * i;
+    run.episodes.push_back(point);
+  }
+  EXPECT_DOUBLE_EQ(CoreSecondsTaken(run), 240.0);
+  const auto session = [](std::int64_t steps_done, int blas_threads, int torch_threads) {
+    RunSession s;
+    s.steps_done = steps_done;
+    s.setup.blas_threads = blas_threads;
+    s.setup.torch_threads = torch_threads;
+    return s;
+  };
+  // Steps 0-200 on one core (120 s), 200-400 on two (120 s).
+  run.sessions = {session(0, 1, 1), session(200, 2, 1)};
+  EXPECT_DOUBLE_EQ(CoreSecondsTaken(run), 120.0 + 2 * 120.0);
+  // A session cut before its first point leaves nothing to the one it began at the same step;
+  // a session of a version that recorded no threads counts one core; LibTorch's threads count.
+  run.sessions = {session(0, 0, 0), session(0, 2, 1), session(300, 1, 4)};
+  EXPECT_DOUBLE_EQ(CoreSecondsTaken(run), 2 * 180.0 + 4 * 60.0);
+  EXPECT_EQ(SessionCores(RunSession().setup), 1);
+  run.episodes.clear();
+  EXPECT_TRUE(std::isnan(CoreSecondsTaken(run)));
+}
+
 // Runs named by hand fall in one cell by their names (task and method, no setting): made with
 // different configs, they are told apart by the keys they differ in and never pooled; where
 // that still leaves two configs, or two runs of one seed, in a cell, the report refuses.

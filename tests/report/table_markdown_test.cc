@@ -106,6 +106,15 @@ TEST(TableMarkdownTest, ComputeGivesEachRunsMinutesAndTheCoreHours) {
   one.run_minutes = {491.0};
   EXPECT_THAT(ComputeMarkdown({one}), HasSubstr("1 run took 8.2 core-hours; the longest, "
                                                 "CarGoal1 CPO, seed 0, 491 minutes."));
+  EXPECT_THAT(ComputeMarkdown({one}), HasSubstr("not counted), one core a run. 1 run"));
+  // A run on two cores counts twice its minutes; the table gives its wall minutes.
+  one.run_core_minutes = {982.0};
+  const std::string two_cores = ComputeMarkdown({one});
+  EXPECT_THAT(two_cores, HasSubstr("not counted), each session's time at the cores it ran on "
+                                   "(sessions.jsonl's OpenBLAS or LibTorch threads"));
+  EXPECT_THAT(two_cores, HasSubstr("1 run took 16.4 core-hours; the longest, CarGoal1 CPO, seed "
+                                   "0, 491 minutes."));
+  EXPECT_THAT(two_cores, HasSubstr("| CarGoal1 | CPO | 0 | 491 | 491 | 491 |"));
 }
 
 // A declared rule turns "Settings compared" into a decision per pair of settings, over all the
