@@ -303,29 +303,47 @@ bool LabelNames(const std::string& label, const std::string& word) {
   return ("-" + label).find("-" + axis) != std::string::npos;
 }
 
+// The keys some of `configs` differ in (CellDifferences against the first, in the order first
+// met), and each config's setting word for each of them: words[config][key].
+struct DifferingKeys {
+  std::vector<std::string> keys;
+  std::vector<std::vector<std::string>> words;
+};
+
+DifferingKeys DifferingKeysOf(const std::vector<const TrainConfig*>& configs) {
+  DifferingKeys found;
+  std::map<std::string, std::string> firsts;  // key -> the first config's value
+  std::vector<std::map<std::string, std::string>> own(configs.size());  // key -> a config's value
+  for (size_t i = 1; i < configs.size(); ++i) {
+    for (const ConfigDifference& d : CellDifferences(*configs[i], *configs.front())) {
+      if (firsts.emplace(d.key, d.theirs).second) found.keys.push_back(d.key);
+      own[i][d.key] = d.ours;
+    }
+  }
+  for (size_t i = 0; i < configs.size(); ++i) {
+    std::vector<std::string>& words = found.words.emplace_back();
+    for (const std::string& key : found.keys) {
+      const auto it = own[i].find(key);
+      words.push_back(SettingWord(key, it != own[i].end() ? it->second : firsts[key]));
+    }
+  }
+  return found;
+}
+
 // Sets config_setting where the runs that one cell would hold differ in their configs: each of
 // them gets its values of every key some of them differ in (ConfigDifferences: not the seed,
 // the device, the thread counts or the budget), in the order they are first met; a key its name's
 // setting already gives (an axis) is not repeated.
 void TellConfigsApart(std::vector<RunRecord>& runs) {
   for (auto& [cell, members] : CellsOf(runs)) {
-    const TrainConfig& first = members.front()->config;
-    std::vector<std::string> keys;
-    std::map<std::string, std::string> firsts;  // key -> the first run's value
-    std::vector<std::map<std::string, std::string>> own(members.size());  // key -> a run's value
-    for (size_t i = 1; i < members.size(); ++i) {
-      for (const ConfigDifference& d : CellDifferences(members[i]->config, first)) {
-        if (firsts.emplace(d.key, d.theirs).second) keys.push_back(d.key);
-        own[i][d.key] = d.ours;
-      }
-    }
-    if (keys.empty()) continue;
+    std::vector<const TrainConfig*> configs;
+    for (const RunRecord* run : members) configs.push_back(&run->config);
+    const DifferingKeys differing = DifferingKeysOf(configs);
+    if (differing.keys.empty()) continue;
     const std::string& named = std::get<2>(cell);
     for (size_t i = 0; i < members.size(); ++i) {
       std::vector<std::string> words;
-      for (const std::string& key : keys) {
-        const auto it = own[i].find(key);
-        const std::string word = SettingWord(key, it != own[i].end() ? it->second : firsts[key]);
+      for (const std::string& word : differing.words[i]) {
         if (!LabelNames(named, word)) words.push_back(word);
       }
       members[i]->config_setting = fmt::format("{}", fmt::join(words, "-"));
@@ -360,38 +378,31 @@ void TellCellsApart(std::vector<RunRecord>& runs) {
     rows[{std::get<0>(cell), std::get<1>(cell)}].push_back(members);
   }
   for (auto& [row, cells] : rows) {
-    const TrainConfig& first = cells.front().front()->config;
-    std::vector<std::string> keys;
-    std::map<std::string, std::string> firsts;  // key -> the first cell's value
-    std::vector<std::map<std::string, std::string>> own(cells.size());  // key -> a cell's value
+    std::vector<const TrainConfig*> configs;  // each cell's, as its first run has it
     std::vector<std::string> labels;
-    for (size_t i = 0; i < cells.size(); ++i) {
-      labels.push_back(SettingOf(*cells[i].front()));
-      if (i == 0) continue;
-      for (const ConfigDifference& d : CellDifferences(cells[i].front()->config, first)) {
-        if (firsts.emplace(d.key, d.theirs).second) keys.push_back(d.key);
-        own[i][d.key] = d.ours;
-      }
+    std::vector<bool> silent;  // no word given by hand in the cell's label
+    for (const std::vector<RunRecord*>& members : cells) {
+      configs.push_back(&members.front()->config);
+      labels.push_back(SettingOf(*members.front()));
+      silent.push_back(!LabelHasOwnWord(labels.back()));
     }
+    const DifferingKeys differing = DifferingKeysOf(configs);
     std::vector<std::vector<std::string>> added(cells.size());
-    for (const std::string& key : keys) {
-      std::vector<std::string> words;
-      for (size_t i = 0; i < cells.size(); ++i) {
-        const auto it = own[i].find(key);
-        words.push_back(SettingWord(key, it != own[i].end() ? it->second : firsts[key]));
-      }
+    for (size_t k = 0; k < differing.keys.size(); ++k) {
+      // Whether cell i leaves its value of the key unsaid.
+      const auto unsaid_by = [&](size_t i) {
+        return silent[i] && !LabelNames(labels[i], differing.words[i][k]);
+      };
       std::vector<bool> unsaid(cells.size(), false);
       for (size_t i = 0; i < cells.size(); ++i) {
         for (size_t j = i + 1; j < cells.size(); ++j) {
-          if (words[i] != words[j] && !LabelNames(labels[i], words[i]) &&
-              !LabelNames(labels[j], words[j]) && !LabelHasOwnWord(labels[i]) &&
-              !LabelHasOwnWord(labels[j])) {
+          if (differing.words[i][k] != differing.words[j][k] && unsaid_by(i) && unsaid_by(j)) {
             unsaid[i] = unsaid[j] = true;
           }
         }
       }
       for (size_t i = 0; i < cells.size(); ++i) {
-        if (unsaid[i]) added[i].push_back(words[i]);
+        if (unsaid[i]) added[i].push_back(differing.words[i][k]);
       }
     }
     for (size_t i = 0; i < cells.size(); ++i) {
