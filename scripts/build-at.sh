@@ -56,7 +56,7 @@ else
 fi
 
 # With ccache, absolute paths below the checkout are rewritten relative to the build folder,
-# so a second build of the same commit elsewhere reuses the first's objects.
+# so a build of the same commit in another checkout of this repository reuses these objects.
 export CCACHE_BASEDIR=${CCACHE_BASEDIR:-$(pwd)}
 generator=()
 if command -v ninja >/dev/null 2>&1; then generator=(-G Ninja); fi
