@@ -37,8 +37,10 @@ mkdir -p "$dir"
 dir=$(cd "$dir" && pwd)
 source_dir=$dir/source build_dir=$dir/build program=$dir/build/bin/cmbrl
 
-# A program already built at this commit (its --version names the commit, and no "-dirty").
-if [ -x "$program" ] && "$program" --version 2>/dev/null | grep -q "($short)"; then
+# Whether the program is built at this commit: its --version names it, without "-dirty".
+built_at_commit() { [ -x "$program" ] && "$program" --version 2>/dev/null | grep -q "($short)"; }
+
+if built_at_commit; then
   echo "$program"
   exit 0
 fi
@@ -64,6 +66,5 @@ if [ ! -f "$build_dir/CMakeCache.txt" ]; then
   cmake -S "$source_dir" -B "$build_dir" "${generator[@]}" -DCMAKE_BUILD_TYPE=Release >&2
 fi
 cmake --build "$build_dir" --target cmbrl_app --parallel "$(nproc)" >&2
-"$program" --version | grep -q "($short)" ||
-  fail "$program does not say it is $short's build: $("$program" --version)"
+built_at_commit || fail "$program does not say it is $short's build: $("$program" --version)"
 echo "$program"

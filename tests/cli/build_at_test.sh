@@ -17,7 +17,8 @@ if ! git -C "$source" rev-parse --git-dir >/dev/null 2>&1; then
 fi
 # Nothing here may build: a cmake that fails at once stands first on the PATH.
 mkdir -p "$work/no-build"
-printf '#!/bin/sh\necho "build-at.sh tried to build (cmake $*)" >&2\nexit 3\n' >"$work/no-build/cmake"
+printf '#!/bin/sh\necho "build-at.sh tried to build (cmake $*)" >&2\nexit 3\n' \
+  >"$work/no-build/cmake"
 chmod +x "$work/no-build/cmake"
 export PATH="$work/no-build:$PATH"
 clone=$work/clone
@@ -34,8 +35,17 @@ script=$clone/scripts/build-at.sh
 refused() {
   local pattern=$1 out
   shift
-  if out=$(bash "$@" 2>&1); then fail "accepted: $* (said: $out)"; fi
+  local status=0
+  out=$(bash "$@" 2>&1) || status=$?
+  [ "$status" -eq 2 ] || fail "'$*' exited with $status, expected 2 (said: $out)"
   grep -q -- "$pattern" <<<"$out" || fail "'$*' said '$out', expected it to name '$pattern'"
+}
+
+# fake_program DIR HASH: a program in DIR/build/bin whose --version names HASH's first 12 digits.
+fake_program() {
+  mkdir -p "$1/build/bin"
+  printf '#!/bin/sh\necho "cmbrl 0.0.0 (%s)"\n' "${2:0:12}" >"$1/build/bin/cmbrl"
+  chmod +x "$1/build/bin/cmbrl"
 }
 
 refused "expected a commit" "$script"
@@ -47,18 +57,14 @@ refused "is not the top of a git checkout" "$work/bare/scripts/build-at.sh" HEAD
 # A folder whose source holds another commit is refused, even with a program built there (at
 # that other commit), and so is a source with changes to its tracked files.
 git -C "$clone" worktree add --quiet --detach "$work/other/source" "$before"
-mkdir -p "$work/other/build/bin"
-printf '#!/bin/sh\necho "cmbrl 0.0.0 (%s)"\n' "${before:0:12}" >"$work/other/build/bin/cmbrl"
-chmod +x "$work/other/build/bin/cmbrl"
+fake_program "$work/other" "$before"
 refused "holds something other than ${head:0:12}" "$script" "$head" "$work/other"
 rm "$work/other/build/bin/cmbrl"  # (one built at the asked commit would be reused as it is)
 echo changed >>"$work/other/source/README.md"
 refused "has changes to tracked files" "$script" "$before" "$work/other"
 
 # A program built at the asked commit is reused: its path printed, nothing checked out.
-mkdir -p "$work/built/build/bin"
-printf '#!/bin/sh\necho "cmbrl 0.0.0 (%s)"\n' "${head:0:12}" >"$work/built/build/bin/cmbrl"
-chmod +x "$work/built/build/bin/cmbrl"
+fake_program "$work/built" "$head"
 out=$(bash "$script" "$head" "$work/built")
 [ "$out" = "$work/built/build/bin/cmbrl" ] || fail "reuse printed '$out'"
 [ ! -e "$work/built/source" ] || fail "reuse checked the commit out"
