@@ -14,11 +14,10 @@ namespace cmbrl {
 
 CrossEntropyPlanner::CrossEntropyPlanner(PlanningProblem problem, CrossEntropyOptions options,
                                          EliteRule rule, double penalty, std::uint64_t seed)
-    : problem_(std::move(problem)),
+    : SeededPlanner(problem.device, seed),
+      problem_(std::move(problem)),
       options_(options),
-      selection_{rule, options_.elites, options_.min_feasible_elites, penalty},
-      device_(ParseDevice(problem_.device)),
-      generator_(MakeGenerator(device_, seed)) {
+      selection_{rule, options_.elites, options_.min_feasible_elites, penalty} {
   ValidatePlanningProblem(problem_);
   ValidateCrossEntropyOptions(options_);
   ValidatePenalty(selection_.penalty);
@@ -43,12 +42,12 @@ void CrossEntropyPlanner::SetCarriedState(const torch::Tensor& state) {
           c10::toString(state.scalar_type()), fmt::join(state.sizes(), ", "), problem_.horizon,
           problem_.action_dim);
   CheckFinite(state, "the warm-start mean");
-  previous_mean_ = state.to(device_).clone();
+  previous_mean_ = state.to(device()).clone();
 }
 
 PlanResult CrossEntropyPlanner::Plan(Objective& objective) {
   const torch::NoGradGuard no_grad;
-  const auto floats = torch::TensorOptions(device_).dtype(torch::kFloat);
+  const auto floats = torch::TensorOptions(device()).dtype(torch::kFloat);
   const std::int64_t horizon = problem_.horizon, action_dim = problem_.action_dim;
   const std::int64_t population = options_.population;
   torch::Tensor mean = torch::zeros({horizon, action_dim}, floats);
@@ -68,9 +67,9 @@ PlanResult CrossEntropyPlanner::Plan(Objective& objective) {
   for (int iteration = 0; iteration < options_.max_iterations; ++iteration) {
     const torch::Tensor samples =
         SampleTruncatedNormal(mean, variance, population, problem_.action_low, problem_.action_high,
-                              generator_);  // (N, H, A)
+                              generator());  // (N, H, A)
     const ObjectiveValues values = objective.Evaluate(samples);
-    CheckObjectiveValues(values, population, device_);
+    CheckObjectiveValues(values, population, device());
     nonfinite = nonfinite | AnyNonFinite(values);
     const EliteMoments elites = ComputeEliteMoments(samples, values, selection_);
     const torch::Tensor& weights = elites.weights;  // (N)

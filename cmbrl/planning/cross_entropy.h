@@ -14,7 +14,7 @@ namespace cmbrl {
 // epsilon. Elites are weights over the population, so no step reads a value back to the host:
 // converged iterations are masked instead of skipped. Acts with the first action of the final
 // mean. Not thread-safe.
-class CrossEntropyPlanner final : public Planner {
+class CrossEntropyPlanner final : public SeededPlanner {
  public:
   // `penalty` weighs the constraint cost in kPenalty's score (PlannerSettings::penalty); kRobust
   // reads none. Throws cmbrl::Error for bad options, penalty or problem.
@@ -23,8 +23,6 @@ class CrossEntropyPlanner final : public Planner {
 
   PlanResult Plan(Objective& objective) override;
   void Reset() override;
-  torch::Tensor GeneratorState() const override { return generator_.get_state(); }
-  void SetGeneratorState(const torch::Tensor& state) override { generator_.set_state(state); }
   // The warm-start mean (H, A) as float32 on the host, or undefined.
   torch::Tensor CarriedState() const override;
   void SetCarriedState(const torch::Tensor& state) override;
@@ -33,8 +31,6 @@ class CrossEntropyPlanner final : public Planner {
   PlanningProblem problem_;
   CrossEntropyOptions options_;
   EliteSelection selection_;
-  torch::Device device_;
-  at::Generator generator_;
   torch::Tensor previous_mean_;  // (H, A), warm start only
 };
 

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "cmbrl/core/check.h"
+#include "cmbrl/core/torch_util.h"
 #include "cmbrl/planning/planning_options.h"
 
 namespace cmbrl {
@@ -70,6 +71,27 @@ class Planner {
             "this planner carries nothing from one plan to the next, but a "
             "carried state was given (a checkpoint of another planner?)");
   }
+};
+
+// A planner that samples on one device from one generator of its own, seeded at construction:
+// its checkpoints carry that generator's state. Each of cmbrl's planners is one.
+class SeededPlanner : public Planner {
+ public:
+  torch::Tensor GeneratorState() const final { return generator_.get_state(); }
+  void SetGeneratorState(const torch::Tensor& state) final { generator_.set_state(state); }
+
+ protected:
+  // `device` as PlanningProblem::device; throws cmbrl::Error naming it when it is not a device
+  // of this build and machine.
+  SeededPlanner(const std::string& device, std::uint64_t seed)
+      : device_(ParseDevice(device)), generator_(MakeGenerator(device_, seed)) {}
+
+  const torch::Device& device() const { return device_; }
+  at::Generator& generator() { return generator_; }
+
+ private:
+  torch::Device device_;
+  at::Generator generator_;
 };
 
 }  // namespace cmbrl

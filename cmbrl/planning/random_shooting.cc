@@ -10,11 +10,10 @@ namespace cmbrl {
 
 RandomShootingPlanner::RandomShootingPlanner(PlanningProblem problem, RandomShootingOptions options,
                                              double penalty, std::uint64_t seed)
-    : problem_(std::move(problem)),
+    : SeededPlanner(problem.device, seed),
+      problem_(std::move(problem)),
       options_(options),
-      penalty_(penalty),
-      device_(ParseDevice(problem_.device)),
-      generator_(MakeGenerator(device_, seed)) {
+      penalty_(penalty) {
   ValidatePlanningProblem(problem_);
   ValidateRandomShootingOptions(options_);
   ValidatePenalty(penalty_);
@@ -24,18 +23,18 @@ PlanResult RandomShootingPlanner::Plan(Objective& objective) {
   const torch::NoGradGuard no_grad;
   const double low = problem_.action_low, high = problem_.action_high;
   const torch::Tensor samples =
-      torch::rand({options_.samples, problem_.horizon, problem_.action_dim}, generator_,
-                  torch::TensorOptions(device_).dtype(torch::kFloat)) *
+      torch::rand({options_.samples, problem_.horizon, problem_.action_dim}, generator(),
+                  torch::TensorOptions(device()).dtype(torch::kFloat)) *
           (high - low) +
       low;
   const ObjectiveValues values = objective.Evaluate(samples);
-  CheckObjectiveValues(values, options_.samples, device_);
+  CheckObjectiveValues(values, options_.samples, device());
   const torch::Tensor best = torch::argmin(values.reward_cost + penalty_ * values.constraint_cost);
   PlanResult result;
   result.sequence = samples.index_select(0, best.view({1}))[0];
   result.action = result.sequence[0];
   const torch::Tensor best_constraint = values.constraint_cost.index_select(0, best.view({1}))[0];
-  result.diagnostics = {torch::ones({}, torch::TensorOptions(device_).dtype(torch::kLong)),
+  result.diagnostics = {torch::ones({}, torch::TensorOptions(device()).dtype(torch::kLong)),
                         (values.constraint_cost == 0).to(torch::kFloat).mean(),
                         (best_constraint > 0).to(torch::kFloat),
                         values.reward_cost.index_select(0, best.view({1}))[0],

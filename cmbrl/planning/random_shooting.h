@@ -9,7 +9,7 @@ namespace cmbrl {
 
 // Draws uniform sequences in the action box and acts with the first action of the best one.
 // Not thread-safe.
-class RandomShootingPlanner final : public Planner {
+class RandomShootingPlanner final : public SeededPlanner {
  public:
   // `penalty` weighs the constraint cost in a sample's score (PlannerSettings::penalty). Throws
   // cmbrl::Error for bad options, penalty or problem.
@@ -17,15 +17,11 @@ class RandomShootingPlanner final : public Planner {
                         std::uint64_t seed);
 
   PlanResult Plan(Objective& objective) override;
-  torch::Tensor GeneratorState() const override { return generator_.get_state(); }
-  void SetGeneratorState(const torch::Tensor& state) override { generator_.set_state(state); }
 
  private:
   PlanningProblem problem_;
   RandomShootingOptions options_;
   double penalty_;
-  torch::Device device_;
-  at::Generator generator_;
 };
 
 }  // namespace cmbrl

@@ -33,13 +33,12 @@ PlanningProblem Validated(PlanningProblem problem, const CrossEntropyOptions& se
 SampleEconomyPlanner::SampleEconomyPlanner(PlanningProblem problem, CrossEntropyOptions search,
                                            SampleEconomyOptions economy, EliteRule rule,
                                            double penalty, std::uint64_t seed)
-    : problem_(Validated(std::move(problem), search, economy, penalty)),
+    : SeededPlanner(problem.device, seed),
+      problem_(Validated(std::move(problem), search, economy, penalty)),
       search_(search),
       economy_(economy),
       selection_{rule, search.elites, search.min_feasible_elites, penalty},
-      device_(ParseDevice(problem_.device)),
-      generator_(MakeGenerator(device_, seed)),
-      noise_(problem_.horizon, economy_.noise_exponent, device_) {
+      noise_(problem_.horizon, economy_.noise_exponent, device()) {
   populations_ = EconomyPopulations(search_, economy_);
   kept_ = KeptElites(search_, economy_);
 }
@@ -66,14 +65,14 @@ void SampleEconomyPlanner::SetCarriedState(const torch::Tensor& state) {
           c10::toString(state.scalar_type()), fmt::join(state.sizes(), ", "), 1 + kept_,
           problem_.horizon, problem_.action_dim, kept_);
   CheckFinite(state, "the carried plan");
-  const torch::Tensor on_device = state.to(device_).clone();
+  const torch::Tensor on_device = state.to(device()).clone();
   previous_mean_ = on_device[0];
   previous_elites_ = on_device.narrow(0, 1, kept_);
 }
 
 PlanResult SampleEconomyPlanner::Plan(Objective& objective) {
   const torch::NoGradGuard no_grad;
-  const auto floats = torch::TensorOptions(device_).dtype(torch::kFloat);
+  const auto floats = torch::TensorOptions(device()).dtype(torch::kFloat);
   const std::int64_t horizon = problem_.horizon, action_dim = problem_.action_dim;
   const double low = problem_.action_low, high = problem_.action_high;
   torch::Tensor mean = torch::zeros({horizon, action_dim}, floats);
@@ -94,7 +93,7 @@ PlanResult SampleEconomyPlanner::Plan(Objective& objective) {
   ObjectiveValues values;
   for (int iteration = 0; iteration < iterations; ++iteration) {
     const torch::Tensor noise =
-        noise_.Sample(populations_[static_cast<size_t>(iteration)], action_dim, generator_);
+        noise_.Sample(populations_[static_cast<size_t>(iteration)], action_dim, generator());
     std::vector<torch::Tensor> parts;
     parts.reserve(3);
     parts.push_back((mean + std * noise).clamp(low, high));  // (n, H, A)
@@ -103,7 +102,7 @@ PlanResult SampleEconomyPlanner::Plan(Objective& objective) {
     samples = torch::cat(parts, 0);  // (N, H, A)
     const std::int64_t population = samples.size(0);
     values = objective.Evaluate(samples);
-    CheckObjectiveValues(values, population, device_);
+    CheckObjectiveValues(values, population, device());
     nonfinite = nonfinite | AnyNonFinite(values);
 
     const EliteMoments elites = ComputeEliteMoments(samples, values, selection_);

@@ -22,7 +22,7 @@
 namespace cmbrl {
 
 // Not thread-safe: it owns its generator and the state carried from plan to plan.
-class SampleEconomyPlanner final : public Planner {
+class SampleEconomyPlanner final : public SeededPlanner {
  public:
   // Throws cmbrl::Error for bad options, penalty or problem.
   SampleEconomyPlanner(PlanningProblem problem, CrossEntropyOptions search,
@@ -31,8 +31,6 @@ class SampleEconomyPlanner final : public Planner {
 
   PlanResult Plan(Objective& objective) override;
   void Reset() override;
-  torch::Tensor GeneratorState() const override { return generator_.get_state(); }
-  void SetGeneratorState(const torch::Tensor& state) override { generator_.set_state(state); }
   // The last plan's mean and kept elites, stacked (1 + kept, H, A) as float32 on the host, or
   // undefined before the first plan of an episode.
   torch::Tensor CarriedState() const override;
@@ -44,9 +42,7 @@ class SampleEconomyPlanner final : public Planner {
   SampleEconomyOptions economy_;
   EliteSelection selection_;
   std::vector<std::int64_t> populations_;  // new samples at each iteration
-  int kept_ = 0;                        // elites carried from one iteration to the next
-  torch::Device device_;
-  at::Generator generator_;
+  int kept_ = 0;                           // elites carried from one iteration to the next
   ColoredNoise noise_;
   torch::Tensor previous_mean_;    // (H, A) the last plan's final mean
   torch::Tensor previous_elites_;  // (kept, H, A) the last plan's best samples
