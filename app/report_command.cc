@@ -41,7 +41,7 @@ void AddReportCommand(CLI::App& parent) {
       "Table I (violations over the first K agent steps, mean and std over seeds, with the "
       "paper's numbers) and learning curves of a sweep, as Markdown, CSV, PNG and SVG");
   command
-      ->add_option("sweep_dirs", args->sweep_dirs,
+      ->add_option("folders", args->sweep_dirs,
                    "sweep directories, or report directories (their run-logs/), one or more; or "
                    "one experiment folder (experiments/<name>): its runs and its report's logs, "
                    "reported into experiments/<name>/report over its window")
