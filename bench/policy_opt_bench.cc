@@ -29,6 +29,7 @@ void RunPolicyOptBench(const PolicyOptBenchOptions& options, const FigureSink& e
   PolicyOptLearner learner(config);
   UnitContext whole_epochs;
   whole_epochs.elapsed_seconds = [] { return 0.0; };
+  whole_epochs.cpu_seconds = [] { return 0.0; };
   learner.Advance(whole_epochs);  // warm-up
   std::vector<double> epochs, rollouts, updates, values, ceilings, physics;
   for (int run = 0; run < options.runs; ++run) {

@@ -56,6 +56,12 @@ double Seconds(const ProgressTable& table, const std::string& file, size_t row, 
                   "the run's wall seconds so far (0 or more)");
 }
 
+double CpuSeconds(const ProgressTable& table, const std::string& file, size_t row,
+                  size_t column) {
+  return InDomain(table, file, row, column, 0.0, std::numeric_limits<double>::infinity(),
+                  "the run's CPU seconds so far (0 or more)");
+}
+
 // The same for a count of steps in an episode of `steps` steps: a whole number in [0, steps].
 double StepCount(const ProgressTable& table, const std::string& file, size_t row, size_t column,
                  double steps) {
@@ -214,6 +220,8 @@ std::vector<EpisodePoint> ReadEpisodeColumns(const std::string& file, bool has_s
   const size_t vases = has_causes ? table.Column(kVaseStepsColumn, expected) : 0;
   const bool has_time = table.HasColumn(kTimeColumn);
   const size_t time = has_time ? table.Column(kTimeColumn, expected) : 0;
+  const bool has_cpu_time = table.HasColumn(kCpuTimeColumn);
+  const size_t cpu_time = has_cpu_time ? table.Column(kCpuTimeColumn, expected) : 0;
   std::vector<EpisodePoint> episodes;
   for (size_t row = 0; row < table.rows(); ++row) {
     EpisodePoint point;
@@ -239,6 +247,7 @@ std::vector<EpisodePoint> ReadEpisodeColumns(const std::string& file, bool has_s
       point.vase_steps = StepCount(table, file, row, vases, point.steps);
     }
     if (has_time) point.elapsed_seconds = Seconds(table, file, row, time);
+    if (has_cpu_time) point.cpu_seconds = CpuSeconds(table, file, row, cpu_time);
     point.cumulative_violations =
         (episodes.empty() ? 0.0 : episodes.back().cumulative_violations) + point.episode_cost;
     episodes.push_back(point);
@@ -563,6 +572,11 @@ double SecondsTaken(const RunRecord& run) {
                               : run.episodes.back().elapsed_seconds;
 }
 
+double CpuSecondsTaken(const RunRecord& run) {
+  return run.episodes.empty() ? std::numeric_limits<double>::quiet_NaN()
+                              : run.episodes.back().cpu_seconds;
+}
+
 int SessionCores(const NumericsSetup& setup) {
   return std::max({1, setup.blas_threads, setup.torch_threads});
 }
@@ -624,6 +638,8 @@ std::vector<EpisodePoint> ReadEpochLog(const std::string& file, std::optional<st
   const size_t total = table.Column(kTotalEnvInteractsColumn, expected);
   const bool has_time = table.HasColumn(kTimeColumn);
   const size_t time = has_time ? table.Column(kTimeColumn, expected) : 0;
+  const bool has_cpu_time = table.HasColumn(kCpuTimeColumn);
+  const size_t cpu_time = has_cpu_time ? table.Column(kCpuTimeColumn, expected) : 0;
   std::vector<EpisodePoint> epochs;
   for (size_t row = 0; row < table.rows(); ++row) {
     EpisodePoint point;
@@ -644,6 +660,7 @@ std::vector<EpisodePoint> ReadEpochLog(const std::string& file, std::optional<st
         InDomain(table, file, row, cumulative, before, before + point.steps,
                  "a running count that rises by at most the epoch's steps");
     if (has_time) point.elapsed_seconds = Seconds(table, file, row, time);
+    if (has_cpu_time) point.cpu_seconds = CpuSeconds(table, file, row, cpu_time);
     epochs.push_back(point);
   }
   return epochs;

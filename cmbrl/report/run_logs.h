@@ -30,6 +30,9 @@ struct EpisodePoint {
   // The run's wall seconds at this point, over all its sessions (Time; the work an interruption
   // threw away not counted); NaN: not logged.
   double elapsed_seconds = std::numeric_limits<double>::quiet_NaN();
+  // The CPU seconds its process had used at this point, over all its sessions (CpuTime); NaN:
+  // not logged (a run begun before CpuTime was kept).
+  double cpu_seconds = std::numeric_limits<double>::quiet_NaN();
 };
 
 struct RunRecord {
@@ -132,6 +135,10 @@ std::int64_t StepsReached(const RunRecord& run);
 // The wall seconds a run has taken so far: its last point's elapsed_seconds (NaN before its
 // first point, or where its log has no Time).
 double SecondsTaken(const RunRecord& run);
+
+// The CPU seconds a run has used so far: its last point's cpu_seconds (NaN before its first
+// point, or where its log has no CpuTime).
+double CpuSecondsTaken(const RunRecord& run);
 
 // The cores a session ran on, as its setup records them: the more of OpenBLAS's and LibTorch's
 // threads (a sweep sets them to the cores it gives a run), at least 1 (a session of a version

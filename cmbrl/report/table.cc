@@ -147,6 +147,8 @@ std::vector<TableCell> ViolationTable(const std::vector<RunRecord>& runs, std::i
             cell.run_minutes.push_back(seconds / 60.0);
             cell.run_core_minutes.push_back(CoreSecondsTaken(*run) / 60.0);
           }
+          const double cpu_seconds = CpuSecondsTaken(*run);
+          if (std::isfinite(cpu_seconds)) cell.run_cpu_minutes.push_back(cpu_seconds / 60.0);
           if (const auto causes = ViolationCausesWithin(*run, window)) {
             cell.hazard_steps.push_back(causes->hazard_steps);
             cell.vase_steps.push_back(causes->vase_steps);
@@ -156,6 +158,7 @@ std::vector<TableCell> ViolationTable(const std::vector<RunRecord>& runs, std::i
           cell.run_minutes.clear();
           cell.run_core_minutes.clear();
         }
+        if (cell.run_cpu_minutes.size() != members.size()) cell.run_cpu_minutes.clear();
         if (cell.hazard_steps.size() != members.size()) {
           cell.hazard_steps.clear();
           cell.vase_steps.clear();

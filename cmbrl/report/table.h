@@ -55,6 +55,8 @@ struct TableCell {
   std::vector<double> run_minutes;
   // Each run's core-minutes (CoreSecondsTaken / 60), per seed, beside run_minutes.
   std::vector<double> run_core_minutes;
+  // Each run's CPU minutes (CpuSecondsTaken / 60), per seed; empty unless every run logged them.
+  std::vector<double> run_cpu_minutes;
   // "" for a cell made from runs; else the table-1.csv it was read from (ReadEarlierTable).
   std::string source;
 };

@@ -554,13 +554,19 @@ std::string RunCount(std::size_t runs) {
 }
 
 std::string ComputeMarkdown(const std::vector<TableCell>& cells) {
+  // A column of CPU minutes where any cell's runs logged them (CpuTime).
+  const bool cpu_column = std::any_of(cells.begin(), cells.end(), [](const TableCell& cell) {
+    return !cell.run_minutes.empty() && !cell.run_cpu_minutes.empty();
+  });
   std::string rows;
   double core_minutes = 0.0, longest = -1.0;
+  double cpu_minutes = 0.0, cpu_runs_core_minutes = 0.0;
   bool one_core_a_run = true;
   std::string longest_run;
-  int runs = 0;
+  int runs = 0, cpu_runs = 0;
   for (const TableCell& cell : cells) {
     if (cell.run_minutes.empty()) continue;
+    const bool has_cpu = !cell.run_cpu_minutes.empty();
     for (size_t i = 0; i < cell.run_minutes.size(); ++i) {
       // A cell made by hand, or read before core-minutes were kept: one core a run.
       const double cores_minutes =
@@ -568,6 +574,11 @@ std::string ComputeMarkdown(const std::vector<TableCell>& cells) {
       core_minutes += cores_minutes;
       one_core_a_run = one_core_a_run && cores_minutes <= cell.run_minutes[i] * (1.0 + 1e-9);
       ++runs;
+      if (has_cpu) {
+        cpu_minutes += cell.run_cpu_minutes.at(i);
+        cpu_runs_core_minutes += cores_minutes;
+        ++cpu_runs;
+      }
       if (cell.run_minutes[i] > longest) {
         longest = cell.run_minutes[i];
         longest_run = fmt::format("{} {}, seed {}", RowLabel(cell), MethodLabel(cell.planner),
@@ -575,10 +586,12 @@ std::string ComputeMarkdown(const std::vector<TableCell>& cells) {
       }
     }
     rows +=
-        fmt::format("| {} | {} | {} | {} | {} | {} |\n", RowLabel(cell), MethodLabel(cell.planner),
+        fmt::format("| {} | {} | {} | {} | {} | {} |", RowLabel(cell), MethodLabel(cell.planner),
                     fmt::join(cell.seeds, ", "), PerSeed(cell.run_minutes, 0),
                     Figure(Median(cell.run_minutes), 0),
                     Figure(*std::max_element(cell.run_minutes.begin(), cell.run_minutes.end()), 0));
+    if (cpu_column) rows += fmt::format(" {} |", has_cpu ? PerSeed(cell.run_cpu_minutes, 0) : "-");
+    rows += "\n";
   }
   if (runs == 0) return "";
   const std::string cores =
@@ -586,14 +599,26 @@ std::string ComputeMarkdown(const std::vector<TableCell>& cells) {
                      : "each session's time at the cores it ran on (sessions.jsonl's OpenBLAS "
                        "or LibTorch threads, whichever are more: a sweep sets them to the cores "
                        "it gives a run)";
+  std::string cpu;
+  if (cpu_column) {
+    cpu = fmt::format(
+        " The CPU minutes are the processes' own (CpuTime at the last row: every thread's user "
+        "and system time, over all sessions): {} used {:.1f} CPU-hours, {:.0f}% of {} "
+        "core-hours; the rest is time {} cores stood idle or stopped, or (where the kernel "
+        "accounts for it) the host gave to others.",
+        cpu_runs == runs ? std::string("the runs") : RunCount(static_cast<std::size_t>(cpu_runs)),
+        cpu_minutes / 60.0,
+        cpu_runs_core_minutes > 0 ? 100.0 * cpu_minutes / cpu_runs_core_minutes : 0.0,
+        cpu_runs == 1 ? "its" : "their", cpu_runs == 1 ? "its" : "their");
+  }
   return fmt::format(
       "Each run's wall time as made so far, in minutes: progress.csv's Time at its last row, "
       "over all its sessions (the work an interruption threw away is not counted), {}. {} took "
-      "{:.1f} core-hours; the longest, {}, {:.0f} minutes.\n\n"
-      "| task | method | seeds | minutes per seed | median | longest |\n"
-      "|---|---|---|---|---|---|\n{}",
+      "{:.1f} core-hours; the longest, {}, {:.0f} minutes.{}\n\n"
+      "| task | method | seeds | minutes per seed | median | longest |{}\n"
+      "|---|---|---|---|---|---|{}\n{}",
       cores, RunCount(static_cast<std::size_t>(runs)), core_minutes / 60.0, longest_run, longest,
-      rows);
+      cpu, cpu_column ? " CPU minutes per seed |" : "", cpu_column ? "---|" : "", rows);
 }
 
 std::vector<std::string> OutcomeDifferences(const std::vector<TableCell>& cells,

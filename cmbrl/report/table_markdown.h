@@ -42,7 +42,8 @@ std::string RunCount(std::size_t runs);
 
 // What the cells' runs cost: each run's wall minutes as made so far (TableCell::run_minutes),
 // per cell with their median and the longest, and over all runs their core-hours (one core a
-// run) and the longest run. "" where no cell has them.
+// run) and the longest run; where runs logged CpuTime, their CPU minutes beside, and the share
+// of their core-hours those were. "" where no cell has them.
 std::string ComputeMarkdown(const std::vector<TableCell>& cells);
 
 // Where the outcome differs: per task whether RCE violated least, and each cell against the

@@ -38,6 +38,9 @@ struct LearnerStep {
 struct UnitContext {
   // The run's training time so far (across sessions), for the rows' Time column.
   std::function<double()> elapsed_seconds;
+  // The CPU time its sessions have used so far (core/timed.h's ProcessCpuSeconds, across
+  // sessions), for the rows' CpuTime column.
+  std::function<double()> cpu_seconds;
   // True when the run wants a checkpoint now. A learner whose units are long (MPC episodes) may
   // then stop between two steps and return a step without a row; Save must hold the unit as far
   // as it got, and the next Advance (after Load too) carries it on to the same row.

@@ -49,7 +49,9 @@ const FamilySheet& MpcFamily() {
        "PretrainInteracts", kTimeColumn, "DynamicsValMSE", "ClassifierSafeAcc",
        "ClassifierUnsafeAcc", kFeasibleFractionColumn, "MsPerPlan", kStepsColumn, "GoalsMet",
        // Added after the columns above: a run begun without them keeps its columns on resume.
-       kHazardStepsColumn, kVaseStepsColumn},  // then EpRawCost, for a Python environment's run
+       kHazardStepsColumn, kVaseStepsColumn,
+       // EpRawCost before it, for a Python environment's run.
+       kCpuTimeColumn},
       MethodAxis::kPlanner,
       {"ensemble", "classifier", "planning", "objective", "reward_model", "termination_model"},
       MpcMemory,

@@ -42,7 +42,10 @@ const FamilySheet& PolicyOptFamily() {
       ProgressLog::kEpochs,
       {"Epoch", kAverageEpRetColumn, kAverageEpCostColumn, "EpLen", "Episodes",
        kCumulativeCostColumn, "CostRate", "Penalty", "KL", "BacktrackIters", "OptimCase", "LossPi",
-       "SurrCost", "LossV", "LossVC", "Entropy", kTotalEnvInteractsColumn, kTimeColumn},
+       "SurrCost", "LossV", "LossVC", "Entropy", kTotalEnvInteractsColumn, kTimeColumn,
+       // Added after the columns above (CumulativeRawCost before it, for a Python
+       // environment's run): a run begun without it keeps its columns on resume.
+       kCpuTimeColumn},
       MethodAxis::kAlgorithm,
       {"policy_optimisation"},
       PolicyOptMemory,

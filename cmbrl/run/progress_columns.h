@@ -17,6 +17,11 @@ inline constexpr const char* kVaseStepsColumn = "VaseSteps";
 inline constexpr const char* kEpRawCostColumn = "EpRawCost";
 // The run's wall seconds at the row, over all its sessions (the model-free log's column too).
 inline constexpr const char* kTimeColumn = "Time";
+// The CPU seconds its process used up to the row, over all its sessions (every thread's user and
+// system time: not the minutes it stood stopped, and where the kernel accounts for it not the
+// host's steal). Every family's last column, added after the others: runs begun without it keep
+// their columns on resume.
+inline constexpr const char* kCpuTimeColumn = "CpuTime";
 // A model-free epoch's means over the episodes that ended in it, and the run's violations.
 inline constexpr const char* kAverageEpRetColumn = "AverageEpRet";
 inline constexpr const char* kAverageEpCostColumn = "AverageEpCost";

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <fstream>
 #include <limits>
 #include <nlohmann/json.hpp>
@@ -93,6 +94,7 @@ void WriteManifest(const fs::path& folder, const CheckpointManifest& m) {
                                  {"sessions_crc32", m.sessions_crc},
                                  {"files", files}};
   if (m.steps_done) json["steps_done"] = *m.steps_done;
+  if (m.cpu_seconds) json["cpu_seconds"] = *m.cpu_seconds;
   json["manifest_crc32"] = ManifestCrc(json);
   WriteFile(folder / kManifest, json.dump(2) + "\n");
 }
@@ -124,6 +126,11 @@ CheckpointManifest ReadManifest(const fs::path& path) {
     if (json.contains("steps_done")) {
       m.steps_done = json.at("steps_done").get<std::int64_t>();
       Require(*m.steps_done >= 0, "steps_done is {}: expected 0 or more", *m.steps_done);
+    }
+    if (json.contains("cpu_seconds")) {
+      m.cpu_seconds = json.at("cpu_seconds").get<double>();
+      Require(std::isfinite(*m.cpu_seconds) && *m.cpu_seconds >= 0.0,
+              "cpu_seconds is {}: expected a number of seconds, 0 or more", *m.cpu_seconds);
     }
   } catch (const nlohmann::json::exception& error) {
     Fail("'{}' is damaged: {}", path.string(), error.what());
@@ -252,7 +259,7 @@ void SwapInCheckpoint(const RunDirectory& run, const fs::path& tmp,
 
 void WriteCheckpoint(const RunDirectory& run, std::int64_t rows, double elapsed_seconds,
                      const std::function<void(const fs::path&, const fs::path&)>& write,
-                     std::optional<std::int64_t> steps_done) {
+                     std::optional<std::int64_t> steps_done, std::optional<double> cpu_seconds) {
   const fs::path tmp = TmpCheckpoint(run);
   const fs::path final_dir = run.checkpoint_dir();
   fs::remove_all(tmp);
@@ -263,6 +270,7 @@ void WriteCheckpoint(const RunDirectory& run, std::int64_t rows, double elapsed_
     manifest.rows = rows;
     manifest.elapsed_seconds = elapsed_seconds;
     manifest.steps_done = steps_done;
+    manifest.cpu_seconds = cpu_seconds;
     manifest.progress_crc = TextCrc(ReadProgressPrefix(run, rows).text);
     CoverRunFiles(run, manifest);
     std::vector<fs::path> files;

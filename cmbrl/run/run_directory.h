@@ -86,6 +86,9 @@ struct CheckpointManifest {
   // The learner's steps of its budget when it was written: ahead of the rows' steps when it was
   // taken in the middle of a unit of work. Absent from manifests before v0.9.
   std::optional<std::int64_t> steps_done;
+  // The CPU seconds the run's sessions had used (ProcessCpuSeconds, for the rows' CpuTime).
+  // Absent from manifests written before CpuTime was kept.
+  std::optional<double> cpu_seconds;
 };
 
 // Writes a checkpoint: `write` fills an empty folder with the learner's files; a manifest for
@@ -93,11 +96,13 @@ struct CheckpointManifest {
 // checkpoint, so that a stop at any moment leaves either the old or the new one whole. `write`
 // may hard-link unchanged files from the previous checkpoint (its second argument; empty path
 // when there is none): files of a checkpoint are never rewritten in place. `steps_done`, when
-// given, is recorded in the manifest (for readers of progress such as `sweep --status`).
+// given, is recorded in the manifest (for readers of progress such as `sweep --status`), and so
+// is `cpu_seconds`, the CPU time of the run so far.
 void WriteCheckpoint(const RunDirectory& run, std::int64_t rows, double elapsed_seconds,
                      const std::function<void(const std::filesystem::path& folder,
                                               const std::filesystem::path& previous)>& write,
-                     std::optional<std::int64_t> steps_done = std::nullopt);
+                     std::optional<std::int64_t> steps_done = std::nullopt,
+                     std::optional<double> cpu_seconds = std::nullopt);
 
 // Replaces config.yaml of a run that has a checkpoint (a resume given a new budget) together
 // with the manifest that records it: both, or (after a stop, once RecoverInterruptedCheckpoint

@@ -10,6 +10,7 @@
 #include "cmbrl/core/check.h"
 #include "cmbrl/core/files.h"
 #include "cmbrl/core/run_lock.h"
+#include "cmbrl/core/timed.h"
 #include "cmbrl/learners/registry.h"
 #include "cmbrl/run/progress_table.h"
 #include "cmbrl/run/run_directory.h"
@@ -29,6 +30,8 @@ struct Trainer::State {
   // begun by a version that wrote fewer (ProgressColumnsKept).
   std::optional<size_t> columns_kept;
   double elapsed_before = 0.0;  // seconds of earlier sessions of this run
+  double cpu_before = 0.0;      // CPU seconds of earlier sessions of this run
+  double session_cpu_start = ProcessCpuSeconds();
   std::vector<std::string> setup_changes;  // against the previous session (run_sessions.h)
   std::chrono::steady_clock::time_point session_start = std::chrono::steady_clock::now();
   double checkpoint_seconds = 0.0;  // this session's checkpoint writes
@@ -41,6 +44,8 @@ struct Trainer::State {
     return elapsed_before +
            std::chrono::duration<double>(std::chrono::steady_clock::now() - session_start).count();
   }
+
+  double CpuSeconds() const { return cpu_before + (ProcessCpuSeconds() - session_cpu_start); }
 
   void AppendRow(const std::string& line) {
     AppendToFile(run.progress_file(),
@@ -110,6 +115,8 @@ std::unique_ptr<Trainer> Trainer::Resume(const std::string& run_dir,
     state->learner->Load(run.checkpoint_dir());
     state->rows = checkpoint->rows;
     state->elapsed_before = checkpoint->elapsed_seconds;
+    // A checkpoint written before CpuTime was kept belongs to a run whose rows have no CpuTime.
+    state->cpu_before = checkpoint->cpu_seconds.value_or(0.0);
     state->checkpointed_steps = state->learner->steps_done();
   }
   if (new_budget && *new_budget != old_budget) {
@@ -168,6 +175,7 @@ void Trainer::Run(const RunOptions& options) {
   bool stop = false;
   UnitContext context;
   context.elapsed_seconds = [&s] { return s.Elapsed(); };
+  context.cpu_seconds = [&s] { return s.CpuSeconds(); };
   context.stop_requested = [&] {
     stop = stop || (options.stop_requested && options.stop_requested());
     return stop;
@@ -192,7 +200,7 @@ void Trainer::Run(const RunOptions& options) {
         [&](const fs::path& folder, const fs::path& previous) {
           s.learner->Save(folder, previous, step.models_changed);
         },
-        s.learner->steps_done());
+        s.learner->steps_done(), s.CpuSeconds());
     s.checkpointed_steps = s.learner->steps_done();
     last_checkpoint = Clock::now();
     s.checkpoint_seconds += std::chrono::duration<double>(last_checkpoint - start).count();

@@ -81,10 +81,6 @@ rm -rf "$disk/sweep" "$disk/filler"
 # 5. A first checkpoint that does not fit, for a model-free run (a row is written before it) and
 # an MPC run: each resumes, once moved to a disk with room, from its beginning to the rows of a
 # run made in one go, and its session says why.
-without_clock() {  # a progress.csv without its Time and MsPerPlan columns, whatever the family
-  awk -F, 'NR == 1 { for (i = 1; i <= NF; ++i) drop[i] = ($i == "Time" || $i == "MsPerPlan") }
-           { out = ""; for (i = 1; i <= NF; ++i) if (!drop[i]) out = out $i ","; print out }' "$1"
-}
 first_checkpoint() {  # name, config
   "$cmbrl" train --config "$2" --out "$work/whole-$1" > /dev/null 2>&1
   local avail; avail=$(df --output=avail -B1 "$disk" | tail -1)
@@ -101,8 +97,8 @@ first_checkpoint() {  # name, config
   cp -r "$disk/$1" "$work/moved-$1" && rm -f "$work/moved-$1/lock" && rm -rf "$disk/$1" "$disk/filler"
   "$cmbrl" train --resume "$work/moved-$1" > /dev/null 2>&1 ||
     { echo "FAILED: $1 did not resume after its first checkpoint failed"; exit 1; }
-  if ! diff <(without_clock "$work/whole-$1/progress.csv") \
-            <(without_clock "$work/moved-$1/progress.csv"); then
+  if ! diff <(deterministic_rows "$work/whole-$1/progress.csv") \
+            <(deterministic_rows "$work/moved-$1/progress.csv"); then
     echo "FAILED: $1's resumed rows differ from the uninterrupted run's"; exit 1
   fi
   grep -q "first checkpoint was never completed" "$work/moved-$1/sessions.jsonl" ||

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # kill -9 a training run at an arbitrary moment of its life (once its directory holds a run),
-# resume it, and compare its progress.csv with an uninterrupted run's (the wall-clock columns
-# Time and MsPerPlan aside): with checkpoints after each episode, and after every agent step
+# resume it, and compare its progress.csv with an uninterrupted run's (the clock columns Time,
+# MsPerPlan and CpuTime aside): with checkpoints after each episode, and after every agent step
 # (--checkpoint-seconds 0, so that the kill lands in the middle of an episode). Then SIGTERM:
 # the run checkpoints where it is, exits with 143, and resumes to the same rows.
 # Usage: kill_resume_test.sh CMBRL CONFIG WORK_DIR

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # One writer per run: 20 processes start the same new run at once. Exactly one trains it; each
 # other refuses with a clear message and touches nothing; the run then equals one made alone
-# (its rows, the wall-clock columns Time and MsPerPlan aside), and resumes.
+# (its rows, the clock columns Time, MsPerPlan and CpuTime aside), and resumes.
 # Usage: one_writer_test.sh CMBRL CONFIG WORK_DIR
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/progress_rows.sh"

@@ -1,8 +1,12 @@
-# Sourced by the command-line tests. A run's progress.csv without its wall-clock columns, Time (7)
-# and MsPerPlan (12): what two runs of one seed and config share row for row, however they were
-# stopped, resumed or scheduled.
+# Sourced by the command-line tests. A run's progress.csv without its clock columns, Time,
+# MsPerPlan and CpuTime, found by name in its header (any family): what two runs of one seed and
+# config share row for row, however they were stopped, resumed or scheduled.
 # Usage: deterministic_rows PROGRESS_CSV
-deterministic_rows() { cut -d, -f1-6,8-11,13- "$1"; }
+deterministic_rows() {
+  awk -F, 'NR == 1 { for (i = 1; i <= NF; ++i) drop[i] = ($i == "Time" || $i == "MsPerPlan" ||
+                                                          $i == "CpuTime") }
+           { out = ""; for (i = 1; i <= NF; ++i) if (!drop[i]) out = out $i ","; print out }' "$1"
+}
 
 # Trains CUT_DIR with the train arguments given, checkpointing after every step, kills it with
 # SIGKILL at its first checkpoint in the middle of an episode, resumes it, and fails (exit 1,

@@ -24,7 +24,7 @@ grep -q "task: python:my_env.DoubleIntegrator()" whole/config.yaml || { echo "no
 grep -q "path: \[$work\]" whole/config.yaml || { echo "no absolute python.path"; cat whole/config.yaml; exit 1; }
 grep -q '"python_functions":"env=my_env.DoubleIntegrator(), reward=my_env.reward"' whole/sessions.jsonl ||
   { echo "the session names no functions"; exit 1; }
-head -1 whole/progress.csv | grep -q ",EpRawCost$" || { echo "no raw cost column"; exit 1; }
+head -1 whole/progress.csv | grep -q ",EpRawCost,CpuTime$" || { echo "no raw cost column"; exit 1; }
 rows=$(($(wc -l < whole/progress.csv) - 1))
 [ "$rows" -ge 2 ] || { echo "expected episodes, got $rows rows"; exit 1; }
 # Killed in the middle of an episode (the env pickles), resumed: the same rows.

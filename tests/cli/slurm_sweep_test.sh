@@ -3,9 +3,10 @@
 # all configured inside WORK_DIR and stopped at the end), a tiny sweep submitted to it with
 # `cmbrl sweep --engine slurm --wait`, one task requeued and one cancelled while they train, and
 # the sweep submitted again; then a task warned that its time limit is near. Every run must
-# finish with the rows of the same sweep run locally (the wall-clock columns Time and MsPerPlan
-# aside), and the interrupted runs must have been resumed, not restarted. The sweep's folder has
-# spaces and non-ASCII letters in its name. Exits 77 (skipped), saying why, only where the daemons cannot start.
+# finish with the rows of the same sweep run locally (the clock columns Time, MsPerPlan and
+# CpuTime aside), and the interrupted runs must have been resumed, not restarted. The sweep's
+# folder has spaces and non-ASCII letters in its name. Exits 77 (skipped), saying why, only where
+# the daemons cannot start.
 # Usage: slurm_sweep_test.sh CMBRL CONFIG WORK_DIR
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/progress_rows.sh"

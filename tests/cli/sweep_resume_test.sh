@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # kill -9 a sweep while its runs train, start it again, and compare every run's progress.csv with
-# an uninterrupted sweep's (the wall-clock columns Time and MsPerPlan aside): no row may be
+# an uninterrupted sweep's (the clock columns Time, MsPerPlan and CpuTime aside): no row may be
 # missing or repeated. Also checks that the killed sweep left no training process behind and
 # that a second start skips what is finished, that runs at a time get CPUs of their own, and that
 # a second sweep of a folder being swept is refused.

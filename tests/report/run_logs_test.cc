@@ -57,7 +57,7 @@ TEST_F(ReportTest, AReportsLogsMakeItAgainWithoutTheRuns) {
 
   // A log that is not the first rows of the run of its name is another run: refused by name.
   const fs::path log = out / "run-logs" / "PointGoal1-cem-s0" / "progress.csv";
-  std::ofstream(log, std::ios::app) << "9,9,1,1,500,0,0,0,0,0,0,0,100,0,0,0\n";
+  std::ofstream(log, std::ios::app) << "9,9,1,1,500,0,0,0,0,0,0,0,100,0,0,0,0\n";
   EXPECT_THAT(testing::ErrorMessage([&] {
                 ReadSweeps({sweep_.string(), out.string()});
               }),
@@ -357,11 +357,12 @@ TEST_F(ReportTest, ValuesOutsideTheirDomainAreNamed) {
               HasSubstr("line 2: AverageEpCost is -3: expected a finite mean cost of 0 or more"));
 }
 
-// A run's Time column is its wall seconds over all its sessions: read per point, the last one
-// the run's time so far; a log without it (older runs) has none, and a bad one is named.
+// A run's Time column is its wall seconds over all its sessions, CpuTime its CPU seconds: read
+// per point, the last one the run's so far; a log without them (older runs) has none, and a bad
+// one is named.
 TEST_F(ReportTest, TheTimeColumnGivesTheRunsWallSeconds) {
   const fs::path progress = sweep_ / "timed-progress.csv";
-  const auto write = [&](std::vector<double> seconds) {
+  const auto write = [&](std::vector<double> seconds, double cpu_share = 1.5) {
     std::ofstream out(progress, std::ios::trunc);
     out << ProgressCsvHeader() << "\n";
     for (size_t i = 0; i < seconds.size(); ++i) {
@@ -371,6 +372,7 @@ TEST_F(ReportTest, TheTimeColumnGivesTheRunsWallSeconds) {
       row.steps = 100;
       row.total_env_interacts = 100 * (static_cast<std::int64_t>(i) + 1);
       row.time_seconds = seconds[i];
+      row.cpu_seconds = seconds[i] * cpu_share;
       out << ProgressCsvLine(row) << "\n";
     }
   };
@@ -380,24 +382,43 @@ TEST_F(ReportTest, TheTimeColumnGivesTheRunsWallSeconds) {
   ASSERT_EQ(run.episodes.size(), 2u);
   EXPECT_DOUBLE_EQ(run.episodes[0].elapsed_seconds, 12.5);
   EXPECT_DOUBLE_EQ(SecondsTaken(run), 130.25);
+  EXPECT_DOUBLE_EQ(run.episodes[0].cpu_seconds, 18.75);
+  EXPECT_DOUBLE_EQ(CpuSecondsTaken(run), 195.375);
   EXPECT_TRUE(std::isnan(SecondsTaken(RunRecord{})));
+  EXPECT_TRUE(std::isnan(CpuSecondsTaken(RunRecord{})));
   write({-1});
   EXPECT_THAT(testing::ErrorMessage([&] { ReadProgressEpisodes(progress.string()); }),
               HasSubstr("timed-progress.csv line 2: Time is -1.000: expected the run's wall "
                         "seconds so far (0 or more)"));
+  write({10}, -0.5);
+  EXPECT_THAT(testing::ErrorMessage([&] { ReadProgressEpisodes(progress.string()); }),
+              HasSubstr("timed-progress.csv line 2: CpuTime is -5.000: expected the run's CPU "
+                        "seconds so far (0 or more)"));
+  // A log begun before CpuTime was kept: its header ends at VaseSteps.
+  {
+    std::ofstream out(progress, std::ios::trunc);
+    out << FirstProgressFields(ProgressCsvHeader(), 16) << "\n"
+        << "1,1,0,0,100,0,7.5,0,0,0,0,0,100,0,0,0\n";
+  }
+  run.episodes = ReadProgressEpisodes(progress.string());
+  EXPECT_DOUBLE_EQ(SecondsTaken(run), 7.5);
+  EXPECT_TRUE(std::isnan(CpuSecondsTaken(run)));
 
   const fs::path epochs = sweep_ / "timed-epochs.csv";
-  std::ofstream(epochs) << "AverageEpRet,AverageEpCost,CumulativeCost,TotalEnvInteracts,Time\n"
-                        << "1,2,40,300,61.5\n";
+  std::ofstream(epochs)
+      << "AverageEpRet,AverageEpCost,CumulativeCost,TotalEnvInteracts,Time,CpuTime\n"
+      << "1,2,40,300,61.5,118.25\n";
   EXPECT_DOUBLE_EQ(ReadEpochLog(epochs.string()).at(0).elapsed_seconds, 61.5);
+  EXPECT_DOUBLE_EQ(ReadEpochLog(epochs.string()).at(0).cpu_seconds, 118.25);
   std::ofstream(epochs, std::ios::trunc)
       << "AverageEpRet,AverageEpCost,CumulativeCost,TotalEnvInteracts\n1,2,40,300\n";
   EXPECT_TRUE(std::isnan(ReadEpochLog(epochs.string()).at(0).elapsed_seconds));
+  EXPECT_TRUE(std::isnan(ReadEpochLog(epochs.string()).at(0).cpu_seconds));
 }
 
 TEST_F(ReportTest, BadProgressIsNamed) {
   const fs::path progress = sweep_ / "runs" / "PointGoal1-rce-s0" / "progress.csv";
-  std::ofstream(progress) << ProgressCsvHeader() << "\n1,1,oops,0,100,0,0,0,0,0,0,0,100,0,0,0\n";
+  std::ofstream(progress) << ProgressCsvHeader() << "\n1,1,oops,0,100,0,0,0,0,0,0,0,100,0,0,0,0\n";
   EXPECT_THAT(testing::ErrorMessage([&] { ReadProgressEpisodes(progress.string()); }),
               HasSubstr("progress.csv line 2: EpRet is 'oops': expected a number"));
   // In a sweep, the run's checkpoint no longer covers what progress.csv holds: refused by name.

@@ -115,6 +115,21 @@ TEST(TableMarkdownTest, ComputeGivesEachRunsMinutesAndTheCoreHours) {
   EXPECT_THAT(two_cores, HasSubstr("1 run took 16.4 core-hours; the longest, CarGoal1 CPO, seed "
                                    "0, 491 minutes."));
   EXPECT_THAT(two_cores, HasSubstr("| CarGoal1 | CPO | 0 | 491 | 491 | 491 |"));
+  EXPECT_THAT(two_cores, ::testing::Not(HasSubstr("CPU")));
+  // Runs that logged CpuTime: their CPU minutes beside, and their share of the core-hours; a cell
+  // whose runs did not log it has "-" there, and its core-hours are not in the share.
+  one.run_cpu_minutes = {736.8};
+  const std::string with_cpu = ComputeMarkdown({one, rce});
+  EXPECT_THAT(with_cpu, HasSubstr("| task | method | seeds | minutes per seed | median | longest "
+                                  "| CPU minutes per seed |\n|---|---|---|---|---|---|---|\n"));
+  EXPECT_THAT(with_cpu, HasSubstr("| CarGoal1 | CPO | 0 | 491 | 491 | 491 | 737 |\n"));
+  EXPECT_THAT(with_cpu, HasSubstr("| PointGoal2 | MPC-RCE | 0, 1, 2 | 30, 30, 30 | 30 | 30 | - |"));
+  EXPECT_THAT(with_cpu, HasSubstr("1 run used 12.3 CPU-hours, 75% of its core-hours; the rest is "
+                                  "time its cores"));
+  rce.run_cpu_minutes = {15.0, 15.0, 30.0};
+  EXPECT_THAT(ComputeMarkdown({one, rce}),
+              HasSubstr("the runs used 13.3 CPU-hours, 74% of their core-hours; the rest is time "
+                        "their cores"));
 }
 
 // A declared rule turns "Settings compared" into a decision per pair of settings, over all the

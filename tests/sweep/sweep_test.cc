@@ -180,7 +180,7 @@ TEST(SweepTest, ARestartWithOtherSettingsIsRefused) {
   fs::create_directories(runs[0].run_dir);
   std::ofstream(fs::path(runs[0].run_dir) / "config.yaml") << "training: {total_steps: 3000}\n";
   std::ofstream(fs::path(runs[0].run_dir) / "progress.csv")
-      << ProgressCsvHeader() << "\n1,1,0,0,3001,0,0,0,0,0,0,0,100,0,0,0\n";
+      << ProgressCsvHeader() << "\n1,1,0,0,3001,0,0,0,0,0,0,0,100,0,0,0,0\n";
   EXPECT_EQ(StatusOf(runs[0]), RunStatus::kFinished);  // by its own budget
   EXPECT_EQ(StatusOf(runs[0], 5000), RunStatus::kStarted);
   EXPECT_EQ(TrainArguments(runs[0], grid),
@@ -229,8 +229,8 @@ TEST(SweepTest, ProgressSaysTheStepsReachedAndTheBudget) {
   fs::create_directories(runs[1].run_dir);
   std::ofstream(fs::path(runs[1].run_dir) / "config.yaml") << "training: {total_steps: 3000}\n";
   std::ofstream(fs::path(runs[1].run_dir) / "progress.csv")
-      << ProgressCsvHeader() << "\n1,1,0,0,1000,0,0,0,0,0,0,0,1000,0,0,0\n"
-      << "1,2,0,0,2000,0,0,0,0,0,0,0,1000,0,0,0\n";
+      << ProgressCsvHeader() << "\n1,1,0,0,1000,0,0,0,0,0,0,0,1000,0,0,0,0\n"
+      << "1,2,0,0,2000,0,0,0,0,0,0,0,1000,0,0,0,0\n";
   const RunProgress started = ProgressOf(runs[1]);
   EXPECT_EQ(started.status, RunStatus::kStarted);
   EXPECT_EQ(started.steps, 2000);
@@ -246,7 +246,7 @@ TEST(SweepTest, ProgressSaysTheStepsReachedAndTheBudget) {
   // A checkpoint taken in the middle of an episode is ahead of the rows: its steps count, and
   // the run is not finished before its episode is, even past its budget.
   std::ofstream(fs::path(runs[1].run_dir) / "progress.csv")
-      << ProgressCsvHeader() << "\n1,1,0,0,1000,0,0,0,0,0,0,0,1000,0,0,0\n";
+      << ProgressCsvHeader() << "\n1,1,0,0,1000,0,0,0,0,0,0,0,1000,0,0,0,0\n";
   const auto no_files = [](const fs::path&, const fs::path&) {};
   WriteCheckpoint(RunDirectory(runs[1].run_dir), 1, 0.0, no_files, 1234);
   EXPECT_EQ(ProgressOf(runs[1]).steps, 1234);
@@ -265,7 +265,7 @@ void WriteRunLog(const fs::path& dir, int budget, int steps_reached) {
   std::ofstream progress(dir / "progress.csv");
   progress << ProgressCsvHeader() << "\n";
   for (int end = 1000, episode = 1; end <= steps_reached; end += 1000, ++episode) {
-    progress << "1," << episode << ",0,0," << end << ",0,0,0,0,0,0,0,1000,0,0,0\n";
+    progress << "1," << episode << ",0,0," << end << ",0,0,0,0,0,0,0,1000,0,0,0,0\n";
   }
 }
 

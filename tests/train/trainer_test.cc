@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 #include <iterator>
 #include <sstream>
+#include <thread>
 
 #include "cmbrl/core/files.h"
 #include "cmbrl/core/torch_util.h"
@@ -58,17 +59,22 @@ std::string TempRunDir(const std::string& name) {
   return dir;
 }
 
-// progress.csv without the Time and MsPerPlan columns (wall-clock figures).
+// progress.csv without the columns of clock figures, found by name in its header: Time,
+// MsPerPlan and CpuTime.
 std::vector<std::string> RowsWithoutTimes(const std::string& run_dir) {
   std::ifstream in(fs::path(run_dir) / "progress.csv");
   std::vector<std::string> rows;
+  std::vector<bool> dropped;
   std::string line;
   while (std::getline(in, line)) {
     std::vector<std::string> cells;
     std::stringstream stream(line);
     std::string cell;
-    for (int column = 0; std::getline(stream, cell, ','); ++column) {
-      if (column != 6 && column != 11) cells.push_back(cell);
+    for (size_t column = 0; std::getline(stream, cell, ','); ++column) {
+      if (rows.empty()) {
+        dropped.push_back(cell == "Time" || cell == "MsPerPlan" || cell == "CpuTime");
+      }
+      if (column >= dropped.size() || !dropped[column]) cells.push_back(cell);
     }
     rows.push_back(fmt::format("{}", fmt::join(cells, ",")));
   }
@@ -177,6 +183,35 @@ TEST(TrainerTest, SameSeedGivesTheSameRows) {
   Trainer::Start(TinyConfig("cem"), a)->Run();
   Trainer::Start(TinyConfig("cem"), b)->Run();
   EXPECT_EQ(RowsWithoutTimes(a), RowsWithoutTimes(b));
+}
+
+// CpuTime is the CPU time of the run's sessions: it rises row by row, carries on across a resume
+// from what the checkpoint recorded (the work a crash threw away not counted), and a process
+// cannot use more CPU seconds than its cores give it in the wall seconds of Time.
+TEST(TrainerTest, CpuTimeCountsTheCpuSecondsOfEverySession) {
+  const std::string dir = TempRunDir("cpu_time");
+  CrashAfterRows(TinyConfig("cem"), dir, 2);  // the checkpoint covers the first row
+  const nlohmann::json manifest =
+      nlohmann::json::parse(FileBytes(fs::path(dir) / "checkpoint" / "manifest.json"));
+  ASSERT_TRUE(manifest.contains("cpu_seconds"));
+  const double checkpointed = manifest.at("cpu_seconds").get<double>();
+  Trainer::Resume(dir)->Run();
+  const ProgressTable table = ProgressTable::Read(fs::path(dir) / "progress.csv");
+  ASSERT_GE(table.rows(), 4u);
+  const size_t cpu = table.Column("CpuTime", "the run's CPU seconds");
+  const size_t time = table.Column("Time", "the run's wall seconds");
+  EXPECT_EQ(cpu + 1, table.header().size());  // the last column
+  const double cores = std::max(1u, std::thread::hardware_concurrency());
+  for (size_t row = 0; row < table.rows(); ++row) {
+    const double seconds = table.Number(row, cpu);
+    EXPECT_GT(seconds, 0.0) << "row " << row;
+    if (row > 0) {
+      EXPECT_GE(seconds, table.Number(row - 1, cpu)) << "row " << row;
+      EXPECT_GE(seconds, checkpointed) << "row " << row;
+    }
+    EXPECT_LE(seconds, table.Number(row, time) * cores + 0.01) << "row " << row;
+  }
+  EXPECT_LE(table.Number(0, cpu), checkpointed);
 }
 
 TEST(TrainerTest, ResumingAfterACrashGivesTheSameRows) {
@@ -435,7 +470,7 @@ TEST(TrainerTest, ARunBegunWithFewerColumnsKeepsThemOnResume) {
 
   Trainer::Resume(old)->Run();
   std::vector<std::string> expected = RowsWithoutTimes(whole);
-  for (std::string& row : expected) row = FirstProgressFields(row, 12);  // 14 less Time and MsPerPlan
+  for (std::string& row : expected) row = FirstProgressFields(row, 12);  // 14 less two clocks
   EXPECT_EQ(RowsWithoutTimes(old), expected);
 
   // A log of some other kind is refused by name.
@@ -484,19 +519,7 @@ TEST(TrainerTest, ARunWhoseFirstCheckpointNeverCompletedStartsAgainAndSaysSo) {
   fs::remove_all(fs::path(cut) / "checkpoint");  // as if it had never been written
   std::ofstream(fs::path(cut) / "checkpoint.pending") << "pending\n";
   Trainer::Resume(cut)->Run();
-  const auto rows = [&](const std::string& dir) {  // without the clock columns
-    std::istringstream in(FileBytes(fs::path(dir) / "progress.csv"));
-    std::vector<std::string> kept;
-    for (std::string line; std::getline(in, line);) {
-      std::vector<std::string> fields;
-      std::istringstream cells(line);
-      for (std::string cell; std::getline(cells, cell, ',');) fields.push_back(cell);
-      fields[6] = fields[11] = "";  // Time, MsPerPlan
-      kept.push_back(fmt::format("{}", fmt::join(fields, ",")));
-    }
-    return kept;
-  };
-  EXPECT_EQ(rows(cut), rows(whole));
+  EXPECT_EQ(RowsWithoutTimes(cut), RowsWithoutTimes(whole));
   EXPECT_THAT(FileBytes(fs::path(cut) / "sessions.jsonl"),
               ::testing::HasSubstr("its first checkpoint was never completed"));
   EXPECT_FALSE(fs::exists(fs::path(cut) / "checkpoint.pending"));
@@ -654,13 +677,6 @@ policy_optimisation: {{steps_per_epoch: 300, policy_hidden: [16], value_hidden: 
                           "tiny model-free");
 }
 
-std::vector<std::string> EpochRowsWithoutTime(const std::string& run_dir) {
-  std::ifstream in(fs::path(run_dir) / "progress.csv");
-  std::vector<std::string> rows;
-  for (std::string line; std::getline(in, line);) rows.push_back(line.substr(0, line.rfind(',')));
-  return rows;
-}
-
 // A model-free session's wall time splits into the rollouts, the updates, the value fits and the
 // checkpoints, each measured; the epoch's own split (for benchmarks) lies inside it.
 TEST(TrainerTest, AModelFreeSessionsTimeIsSplitIntoItsParts) {
@@ -687,7 +703,7 @@ TEST(TrainerTest, ModelFreeLearnersResumeToTheSameRows) {
     const std::string whole = TempRunDir("mf_whole_" + algorithm);
     const std::string crashed = TempRunDir("mf_crashed_" + algorithm);
     Trainer::Start(TinyModelFree(algorithm), whole)->Run();
-    const std::vector<std::string> rows = EpochRowsWithoutTime(whole);
+    const std::vector<std::string> rows = RowsWithoutTimes(whole);
     ASSERT_EQ(rows.size(), 4u);  // header and three epochs of 300 steps
     EXPECT_EQ(rows[0].rfind("Epoch,AverageEpRet,AverageEpCost,EpLen", 0), 0u);
     struct Crash {};
@@ -700,7 +716,7 @@ TEST(TrainerTest, ModelFreeLearnersResumeToTheSameRows) {
     } catch (const Crash&) {
     }
     Trainer::Resume(crashed)->Run();
-    EXPECT_EQ(EpochRowsWithoutTime(crashed), rows);
+    EXPECT_EQ(RowsWithoutTimes(crashed), rows);
     // The networks, their optimisers' moments and the generator, byte for byte: the moments
     // are keyed by place, not by the tensors' addresses, which differ between the two runs.
     const auto bytes = [](const std::string& run) {
@@ -727,8 +743,8 @@ TEST(TrainerTest, ModelFreeRowsWithSeveralEnvironmentsDoNotDependOnThreads) {
   } catch (const Crash&) {
   }
   Trainer::Resume(b)->Run();
-  EXPECT_EQ(EpochRowsWithoutTime(a), EpochRowsWithoutTime(b));
-  EXPECT_EQ(EpochRowsWithoutTime(a).size(), 4u);
+  EXPECT_EQ(RowsWithoutTimes(a), RowsWithoutTimes(b));
+  EXPECT_EQ(RowsWithoutTimes(a).size(), 4u);
   config.policy_optimisation.envs = 7;  // 300 steps cannot be shared by 7
   EXPECT_THAT(ErrorMessage([&] { Trainer::Start(config, TempRunDir("mf_envs_bad")); }),
               ::testing::HasSubstr("steps_per_epoch is 300 and envs 7"));
@@ -751,7 +767,7 @@ TEST(TrainerTest, AModelFreeEpochStoppedInItsRolloutOrValueFitsResumesToTheSameR
       };
       // Half way through the second epoch's rollout.
       EXPECT_EQ(StopAt(Trainer::Start(config, stopped), 450), 450);
-      EXPECT_EQ(EpochRowsWithoutTime(stopped).size(), 2u);  // header and the first epoch
+      EXPECT_EQ(RowsWithoutTimes(stopped).size(), 2u);  // header and the first epoch
       EXPECT_EQ(open_epoch().at("updated"), false);
       EXPECT_EQ(open_epoch().at("rounds"), 150 / envs);
       EXPECT_EQ(nlohmann::json::parse(std::ifstream(checkpoint / "manifest.json")).at("steps_done"),
@@ -768,11 +784,11 @@ TEST(TrainerTest, AModelFreeEpochStoppedInItsRolloutOrValueFitsResumesToTheSameR
         resumed->Run(options);
         EXPECT_FALSE(resumed->learner().Finished());
       }
-      EXPECT_EQ(EpochRowsWithoutTime(stopped).size(), 2u);
+      EXPECT_EQ(RowsWithoutTimes(stopped).size(), 2u);
       EXPECT_EQ(open_epoch().at("updated"), true);
       EXPECT_EQ(open_epoch().at("fitted"), 2);
       Trainer::Resume(stopped)->Run();
-      EXPECT_EQ(EpochRowsWithoutTime(stopped), EpochRowsWithoutTime(whole));
+      EXPECT_EQ(RowsWithoutTimes(stopped), RowsWithoutTimes(whole));
       EXPECT_FALSE(fs::exists(checkpoint / "epoch.json"));  // the last checkpoint ends an epoch
     }
   }
@@ -866,7 +882,7 @@ TEST(TrainerTest, AModelFreeRunContinuesOnlyFromAWholeEpoch) {
   shorter.training.total_steps = 600;
   Trainer::Start(shorter, exact)->Run();
   Trainer::Resume(exact, 900)->Run();
-  EXPECT_EQ(EpochRowsWithoutTime(exact), EpochRowsWithoutTime(whole));
+  EXPECT_EQ(RowsWithoutTimes(exact), RowsWithoutTimes(whole));
   // Stopped in the rollout of an epoch: one the old budget cut cannot become whole; a whole one
   // goes on under the new budget.
   const std::string open_cut = TempRunDir("mf_budget_open_cut");
@@ -878,7 +894,7 @@ TEST(TrainerTest, AModelFreeRunContinuesOnlyFromAWholeEpoch) {
   shorter.training.total_steps = 600;
   StopAt(Trainer::Start(shorter, open_whole), 400);
   Trainer::Resume(open_whole, 900)->Run();
-  EXPECT_EQ(EpochRowsWithoutTime(open_whole), EpochRowsWithoutTime(whole));
+  EXPECT_EQ(RowsWithoutTimes(open_whole), RowsWithoutTimes(whole));
   // Stopped in the second epoch's value fits, its 600 steps taken: a budget of 600 ends it.
   const std::string in_fits = TempRunDir("mf_budget_in_fits");
   {
@@ -887,11 +903,11 @@ TEST(TrainerTest, AModelFreeRunContinuesOnlyFromAWholeEpoch) {
     options.stop_requested = [&] { return trainer->steps_done() == 600; };
     trainer->Run(options);
   }
-  EXPECT_EQ(EpochRowsWithoutTime(in_fits).size(), 2u);
+  EXPECT_EQ(RowsWithoutTimes(in_fits).size(), 2u);
   Trainer::Resume(in_fits, 600)->Run();
-  std::vector<std::string> two_epochs = EpochRowsWithoutTime(whole);
+  std::vector<std::string> two_epochs = RowsWithoutTimes(whole);
   two_epochs.pop_back();
-  EXPECT_EQ(EpochRowsWithoutTime(in_fits), two_epochs);
+  EXPECT_EQ(RowsWithoutTimes(in_fits), two_epochs);
   EXPECT_THAT(ErrorMessage([&] { Trainer::Resume(in_fits, 500); }),
               ::testing::HasSubstr("to 500 steps: it has done 600 already"));
 }

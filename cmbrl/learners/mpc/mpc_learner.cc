@@ -63,13 +63,22 @@ const std::vector<ProgressColumn<ProgressRow>>& MpcProgressColumns(bool raw_cost
       {kHazardStepsColumn, [](const R& r) { return std::to_string(r.hazard_steps); }},
       {kVaseStepsColumn, [](const R& r) { return std::to_string(r.vase_steps); }},
   };
+  // Added last, after EpRawCost where there is one.
+  static const ProgressColumn<ProgressRow> cpu_time = {
+      kCpuTimeColumn, [](const R& r) { return Fixed3(r.cpu_seconds); }};
+  static const std::vector<ProgressColumn<ProgressRow>> without_raw_cost = [] {
+    std::vector<ProgressColumn<ProgressRow>> all = columns;
+    all.push_back(cpu_time);
+    return all;
+  }();
   static const std::vector<ProgressColumn<ProgressRow>> with_raw_cost = [] {
     std::vector<ProgressColumn<ProgressRow>> all = columns;
     all.push_back(
         {kEpRawCostColumn, [](const R& r) { return ProgressNumber(r.episode_raw_cost); }});
+    all.push_back(cpu_time);
     return all;
   }();
-  return raw_cost ? with_raw_cost : columns;
+  return raw_cost ? with_raw_cost : without_raw_cost;
 }
 
 std::string ProgressCsvHeader(bool raw_cost) {
@@ -295,6 +304,7 @@ ProgressRow MpcLearner::FinishRow(ProgressRow row, double feasible, double milli
   row.feasible_fraction = feasible / row.steps;
   row.ms_per_plan = milliseconds / row.steps;
   row.time_seconds = context.elapsed_seconds();
+  row.cpu_seconds = context.cpu_seconds();
   return row;
 }
 

@@ -45,10 +45,12 @@ struct ProgressRow {
   int vase_steps = 0;
   // The environment's own costs summed (EpRawCost), where they need not be 0 or 1.
   double episode_raw_cost = 0.0;
+  double cpu_seconds = 0.0;  // CpuTime: the run's CPU seconds, across resumes
 };
 
 // The columns of an MPC run's progress.csv, the one definition of their names and formats;
-// `raw_cost`: with EpRawCost last, for an environment whose costs need not be 0 or 1.
+// `raw_cost`: with EpRawCost before CpuTime, the last, for an environment whose costs need not
+// be 0 or 1.
 const std::vector<ProgressColumn<ProgressRow>>& MpcProgressColumns(bool raw_cost = false);
 
 // The CSV header and one line (no newline) of progress.csv.

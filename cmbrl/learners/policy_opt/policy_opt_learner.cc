@@ -102,13 +102,22 @@ const std::vector<ProgressColumn<EpochRow>>& PolicyOptProgressColumns(bool raw_c
       {kTotalEnvInteractsColumn, [](const R& r) { return std::to_string(r.total_env_interacts); }},
       {kTimeColumn, [](const R& r) { return fmt::format("{:.3f}", r.time_seconds); }},
   };
+  // Added last, after CumulativeRawCost where there is one.
+  static const ProgressColumn<EpochRow> cpu_time = {
+      kCpuTimeColumn, [](const R& r) { return fmt::format("{:.3f}", r.cpu_seconds); }};
+  static const std::vector<ProgressColumn<EpochRow>> without_raw_cost = [] {
+    std::vector<ProgressColumn<EpochRow>> all = columns;
+    all.push_back(cpu_time);
+    return all;
+  }();
   static const std::vector<ProgressColumn<EpochRow>> with_raw_cost = [] {
     std::vector<ProgressColumn<EpochRow>> all = columns;
     all.push_back({kCumulativeRawCostColumn,
                    [](const R& r) { return ProgressNumber(r.cumulative_raw_cost); }});
+    all.push_back(cpu_time);
     return all;
   }();
-  return raw_cost ? with_raw_cost : columns;
+  return raw_cost ? with_raw_cost : without_raw_cost;
 }
 
 GaussianMeanPolicy::GaussianMeanPolicy(const GaussianPolicy& policy, BoxSpec action_spec)
@@ -495,6 +504,7 @@ LearnerStep PolicyOptLearner::Advance(const UnitContext& context) {
   }
   EpochRow& row = e.row;
   row.time_seconds = context.elapsed_seconds();
+  row.cpu_seconds = context.cpu_seconds();
   last_row_ = row;
   timings_ = {totals_.rollout - e.before.rollout, totals_.policy_update - e.before.policy_update,
               totals_.value_fits - e.before.value_fits};

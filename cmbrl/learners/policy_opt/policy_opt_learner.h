@@ -43,9 +43,11 @@ struct EpochRow {
   double entropy = 0.0;
   std::int64_t total_env_interacts = 0;
   double time_seconds = 0.0;
+  double cpu_seconds = 0.0;  // CpuTime: the run's CPU seconds, across resumes
 };
 
-// `raw_cost`: with CumulativeRawCost last, for an environment whose costs need not be 0 or 1.
+// `raw_cost`: with CumulativeRawCost before CpuTime, the last, for an environment whose costs
+// need not be 0 or 1.
 const std::vector<ProgressColumn<EpochRow>>& PolicyOptProgressColumns(bool raw_cost = false);
 
 // A trained Gaussian policy acting with its mean, clipped to the action box (for evaluation:

@@ -29,6 +29,7 @@ TEST(PolicyOptCheckpointTest, ThePolicyLoadedAloneActsAsTheLearnersPolicy) {
   PolicyOptLearner learner(config);
   UnitContext context;
   context.elapsed_seconds = [] { return 0.0; };
+  context.cpu_seconds = [] { return 0.0; };
   while (!learner.Finished()) learner.Advance(context);
   const std::filesystem::path folder = testing::TestTempPath("policy_opt_checkpoint");
   std::filesystem::create_directories(folder);

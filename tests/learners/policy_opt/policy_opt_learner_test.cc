@@ -34,6 +34,7 @@ TEST(PolicyOptLearnerTest, TheRowsDoNotDependOnLibTorchsThreadCount) {
     PolicyOptLearner learner(config);
     UnitContext context;
     context.elapsed_seconds = [] { return 0.0; };
+    context.cpu_seconds = [] { return 0.0; };
     std::vector<std::string> rows;
     while (!learner.Finished()) {
       const LearnerStep step = learner.Advance(context);
