@@ -606,7 +606,9 @@ std::string ComputeMarkdown(const std::vector<TableCell>& cells) {
         "and system time, over all sessions): {} used {:.1f} CPU-hours, {:.0f}% of {} "
         "core-hours; the rest is time {} cores stood idle or stopped, or (where the kernel "
         "accounts for it) the host gave to others.",
-        cpu_runs == runs ? std::string("the runs") : RunCount(static_cast<std::size_t>(cpu_runs)),
+        cpu_runs < runs ? RunCount(static_cast<std::size_t>(cpu_runs))
+        : runs == 1     ? std::string("the run")
+                        : std::string("the runs"),
         cpu_minutes / 60.0,
         cpu_runs_core_minutes > 0 ? 100.0 * cpu_minutes / cpu_runs_core_minutes : 0.0,
         cpu_runs == 1 ? "its" : "their", cpu_runs == 1 ? "its" : "their");

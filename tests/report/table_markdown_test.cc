@@ -126,6 +126,7 @@ TEST(TableMarkdownTest, ComputeGivesEachRunsMinutesAndTheCoreHours) {
   EXPECT_THAT(with_cpu, HasSubstr("| PointGoal2 | MPC-RCE | 0, 1, 2 | 30, 30, 30 | 30 | 30 | - |"));
   EXPECT_THAT(with_cpu, HasSubstr("1 run used 12.3 CPU-hours, 75% of its core-hours; the rest is "
                                   "time its cores"));
+  EXPECT_THAT(ComputeMarkdown({one}), HasSubstr("the run used 12.3 CPU-hours, 75% of its"));
   rce.run_cpu_minutes = {15.0, 15.0, 30.0};
   EXPECT_THAT(ComputeMarkdown({one, rce}),
               HasSubstr("the runs used 13.3 CPU-hours, 74% of their core-hours; the rest is time "
