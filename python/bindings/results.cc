@@ -29,7 +29,7 @@ py::dict RunAsDict(const RunRecord& run) {
   d["source"] = run.source.string();
   std::vector<std::int64_t> end_step;
   std::vector<std::int64_t> steps;
-  std::vector<double> episode_return, episode_cost, cumulative, feasible, elapsed;
+  std::vector<double> episode_return, episode_cost, cumulative, feasible, elapsed, cpu;
   for (const EpisodePoint& point : run.episodes) {
     end_step.push_back(point.end_step);
     steps.push_back(point.steps);
@@ -38,6 +38,7 @@ py::dict RunAsDict(const RunRecord& run) {
     cumulative.push_back(point.cumulative_violations);
     feasible.push_back(point.feasible_fraction);
     elapsed.push_back(point.elapsed_seconds);
+    cpu.push_back(point.cpu_seconds);
   }
   const auto n = static_cast<py::ssize_t>(run.episodes.size());
   d["end_step"] = Own<std::int64_t>(std::move(end_step), {n});
@@ -47,6 +48,7 @@ py::dict RunAsDict(const RunRecord& run) {
   d["cumulative_violations"] = Own(std::move(cumulative));
   d["feasible_fraction"] = Own(std::move(feasible));
   d["elapsed_seconds"] = Own(std::move(elapsed));
+  d["cpu_seconds"] = Own(std::move(cpu));
   return d;
 }
 

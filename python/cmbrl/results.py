@@ -25,8 +25,9 @@ def read_runs(dirs):
     seed, setting (an experiment's axis values, "" for none), epoch_log (True for a model-free
     run, whose points are epochs), source, and numpy arrays with one entry per episode (or
     epoch): end_step, steps, episode_return, episode_cost, cumulative_violations,
-    feasible_fraction and elapsed_seconds (the run's wall seconds over all its sessions), each
-    NaN where not logged.
+    feasible_fraction, elapsed_seconds (the run's wall seconds over all its sessions) and
+    cpu_seconds (the CPU seconds its process used over them, progress.csv's CpuTime), each NaN
+    where not logged.
     """
     return _cmbrl.read_runs(_paths(dirs, "dirs"))
 

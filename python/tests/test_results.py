@@ -1,11 +1,13 @@
 """Results in Python: read_runs gives the numbers `cmbrl report` counts, and report writes the
 same files as `cmbrl report --out`."""
 import csv
+import os
 
 import numpy as np
 import pytest
 
 import cmbrl
+from conftest import tiny_config
 
 
 def test_read_runs_gives_the_counts_of_the_committed_table(source_dir):
@@ -27,6 +29,16 @@ def test_read_runs_gives_the_counts_of_the_committed_table(source_dir):
     assert np.array_equal(np.cumsum(run["episode_cost"]), run["cumulative_violations"])
     # The run's wall seconds over its sessions: never falling, and within the grid's hour.
     assert np.all(np.diff(run["elapsed_seconds"]) >= 0) and 0 < run["elapsed_seconds"][-1] < 3600
+    assert np.all(np.isnan(run["cpu_seconds"]))  # logged before CpuTime was kept
+
+
+def test_read_runs_gives_the_cpu_seconds_of_a_run_that_logs_them(tmp_path):
+    cmbrl.train(config=tiny_config(200), out=tmp_path / "sweep" / "runs" / "tiny")
+    (run,) = cmbrl.read_runs(tmp_path / "sweep")
+    cpu, wall = run["cpu_seconds"], run["elapsed_seconds"]
+    assert len(cpu) == len(run["end_step"]) >= 2
+    assert np.all(cpu > 0) and np.all(np.diff(cpu) >= 0)
+    assert np.all(cpu <= wall * os.cpu_count() + 0.01)  # no more than its cores could give
 
 
 def model_free_report(source_dir):
