@@ -50,16 +50,31 @@ double InDomain(const ProgressTable& table, const std::string& file, size_t row,
   return value;
 }
 
-// A row's Time: the run's wall seconds so far, finite and not negative.
-double Seconds(const ProgressTable& table, const std::string& file, size_t row, size_t column) {
-  return InDomain(table, file, row, column, 0.0, std::numeric_limits<double>::infinity(),
-                  "the run's wall seconds so far (0 or more)");
+// The clock columns of a progress log (either family), where it has them: Time and CpuTime.
+struct ClockColumns {
+  std::optional<size_t> time, cpu_time;
+};
+
+ClockColumns FindClockColumns(const ProgressTable& table, const std::string& expected) {
+  ClockColumns clocks;
+  if (table.HasColumn(kTimeColumn)) clocks.time = table.Column(kTimeColumn, expected);
+  if (table.HasColumn(kCpuTimeColumn)) clocks.cpu_time = table.Column(kCpuTimeColumn, expected);
+  return clocks;
 }
 
-double CpuSeconds(const ProgressTable& table, const std::string& file, size_t row,
-                  size_t column) {
-  return InDomain(table, file, row, column, 0.0, std::numeric_limits<double>::infinity(),
-                  "the run's CPU seconds so far (0 or more)");
+// A row's wall and CPU seconds so far, each finite and not negative, into `point` (left NaN where
+// the log has no such column).
+void ReadClocks(const ProgressTable& table, const std::string& file, size_t row,
+                const ClockColumns& clocks, EpisodePoint& point) {
+  constexpr double kNoLimit = std::numeric_limits<double>::infinity();
+  if (clocks.time) {
+    point.elapsed_seconds = InDomain(table, file, row, *clocks.time, 0.0, kNoLimit,
+                                     "the run's wall seconds so far (0 or more)");
+  }
+  if (clocks.cpu_time) {
+    point.cpu_seconds = InDomain(table, file, row, *clocks.cpu_time, 0.0, kNoLimit,
+                                 "the run's CPU seconds so far (0 or more)");
+  }
 }
 
 // The same for a count of steps in an episode of `steps` steps: a whole number in [0, steps].
@@ -218,10 +233,7 @@ std::vector<EpisodePoint> ReadEpisodeColumns(const std::string& file, bool has_s
   const bool has_causes = table.HasColumn(kHazardStepsColumn) && table.HasColumn(kVaseStepsColumn);
   const size_t hazards = has_causes ? table.Column(kHazardStepsColumn, expected) : 0;
   const size_t vases = has_causes ? table.Column(kVaseStepsColumn, expected) : 0;
-  const bool has_time = table.HasColumn(kTimeColumn);
-  const size_t time = has_time ? table.Column(kTimeColumn, expected) : 0;
-  const bool has_cpu_time = table.HasColumn(kCpuTimeColumn);
-  const size_t cpu_time = has_cpu_time ? table.Column(kCpuTimeColumn, expected) : 0;
+  const ClockColumns clocks = FindClockColumns(table, expected);
   std::vector<EpisodePoint> episodes;
   for (size_t row = 0; row < table.rows(); ++row) {
     EpisodePoint point;
@@ -246,8 +258,7 @@ std::vector<EpisodePoint> ReadEpisodeColumns(const std::string& file, bool has_s
       point.hazard_steps = StepCount(table, file, row, hazards, point.steps);
       point.vase_steps = StepCount(table, file, row, vases, point.steps);
     }
-    if (has_time) point.elapsed_seconds = Seconds(table, file, row, time);
-    if (has_cpu_time) point.cpu_seconds = CpuSeconds(table, file, row, cpu_time);
+    ReadClocks(table, file, row, clocks, point);
     point.cumulative_violations =
         (episodes.empty() ? 0.0 : episodes.back().cumulative_violations) + point.episode_cost;
     episodes.push_back(point);
@@ -636,10 +647,7 @@ std::vector<EpisodePoint> ReadEpochLog(const std::string& file, std::optional<st
   const size_t cost = table.Column(kAverageEpCostColumn, expected);
   const size_t cumulative = table.Column(kCumulativeCostColumn, expected);
   const size_t total = table.Column(kTotalEnvInteractsColumn, expected);
-  const bool has_time = table.HasColumn(kTimeColumn);
-  const size_t time = has_time ? table.Column(kTimeColumn, expected) : 0;
-  const bool has_cpu_time = table.HasColumn(kCpuTimeColumn);
-  const size_t cpu_time = has_cpu_time ? table.Column(kCpuTimeColumn, expected) : 0;
+  const ClockColumns clocks = FindClockColumns(table, expected);
   std::vector<EpisodePoint> epochs;
   for (size_t row = 0; row < table.rows(); ++row) {
     EpisodePoint point;
@@ -659,8 +667,7 @@ std::vector<EpisodePoint> ReadEpochLog(const std::string& file, std::optional<st
     point.cumulative_violations =
         InDomain(table, file, row, cumulative, before, before + point.steps,
                  "a running count that rises by at most the epoch's steps");
-    if (has_time) point.elapsed_seconds = Seconds(table, file, row, time);
-    if (has_cpu_time) point.cpu_seconds = CpuSeconds(table, file, row, cpu_time);
+    ReadClocks(table, file, row, clocks, point);
     epochs.push_back(point);
   }
   return epochs;

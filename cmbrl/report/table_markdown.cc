@@ -601,6 +601,7 @@ std::string ComputeMarkdown(const std::vector<TableCell>& cells) {
                        "it gives a run)";
   std::string cpu;
   if (cpu_column) {
+    const char* whose = cpu_runs == 1 ? "its" : "their";
     cpu = fmt::format(
         " The CPU minutes are the processes' own (CpuTime at the last row: every thread's user "
         "and system time, over all sessions): {} used {:.1f} CPU-hours, {:.0f}% of {} "
@@ -611,7 +612,7 @@ std::string ComputeMarkdown(const std::vector<TableCell>& cells) {
                         : std::string("the runs"),
         cpu_minutes / 60.0,
         cpu_runs_core_minutes > 0 ? 100.0 * cpu_minutes / cpu_runs_core_minutes : 0.0,
-        cpu_runs == 1 ? "its" : "their", cpu_runs == 1 ? "its" : "their");
+        whose, whose);
   }
   return fmt::format(
       "Each run's wall time as made so far, in minutes: progress.csv's Time at its last row, "
