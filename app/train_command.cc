@@ -147,7 +147,9 @@ int RunTrain(const TrainArgs& args) {
                                           {"episodes_this_session", units},
                                           {"total_env_interacts", trainer->checkpointed_steps()},
                                           {"cost_this_session", total_cost},
-                                          {"seconds_this_session", split}};
+                                          {"seconds_this_session", split},
+                                          {"cpu_seconds_this_session",
+                                           trainer->CpuSecondsThisSession()}};
   std::cout << summary.dump() << std::endl;
   const int signal = stop_signal.load();
   if (signal != 0 && !trainer->learner().Finished()) {

@@ -49,6 +49,8 @@ std::string FirstProgressFields(const std::string& line, size_t count) {
   return line;
 }
 
+std::string ProgressClock(double value) { return fmt::format("{:.3f}", value); }
+
 std::string ProgressNumber(double value) {
   return std::isfinite(value) ? fmt::format("{}", value) : "nan";
 }

@@ -10,6 +10,8 @@
 #include <string>
 #include <vector>
 
+#include "cmbrl/run/progress_columns.h"
+
 namespace cmbrl {
 
 // A learner's progress column: its name and how a row's value is written.
@@ -19,11 +21,31 @@ struct ProgressColumn {
   std::function<std::string(const Row&)> value;
 };
 
+// A clock's reading as progress files write it (Time, MsPerPlan, CpuTime): 3 decimals.
+std::string ProgressClock(double value);
+
+// A family's whole column list, in order: `columns`, then the raw-cost column where the run's
+// environment has one (its costs need not be 0 or 1: the second form), then CpuTime, every
+// family's last. Columns are only ever added at the end (ProgressColumnsKept). `Row` has the
+// run's CPU seconds in `cpu_seconds`.
+template <typename Row>
+std::vector<ProgressColumn<Row>> FamilyColumns(std::vector<ProgressColumn<Row>> columns) {
+  columns.push_back({kCpuTimeColumn, [](const Row& r) { return ProgressClock(r.cpu_seconds); }});
+  return columns;
+}
+template <typename Row>
+std::vector<ProgressColumn<Row>> FamilyColumns(std::vector<ProgressColumn<Row>> columns,
+                                               ProgressColumn<Row> raw_cost) {
+  columns.push_back(std::move(raw_cost));
+  return FamilyColumns(std::move(columns));
+}
+
 // The header line (no newline) of a column list.
 template <typename Row>
 std::string ProgressHeader(const std::vector<ProgressColumn<Row>>& columns) {
   std::string line;
-  for (const ProgressColumn<Row>& column : columns) line += (line.empty() ? "" : ",") + std::string(column.name);
+  for (const ProgressColumn<Row>& column : columns)
+    line += (line.empty() ? "" : ",") + std::string(column.name);
   return line;
 }
 

@@ -219,4 +219,8 @@ std::vector<std::pair<std::string, double>> Trainer::TimeSplit() const {
   return split;
 }
 
+double Trainer::CpuSecondsThisSession() const {
+  return ProcessCpuSeconds() - state_->session_cpu_start;
+}
+
 }  // namespace cmbrl

@@ -84,6 +84,9 @@ class Trainer {
   // Where this process's wall time went since Start/Resume: the learner's parts, then
   // "checkpoints" and "other" (the rest of the session, progress rows included), in seconds.
   std::vector<std::pair<std::string, double>> TimeSplit() const;
+  // The CPU seconds this process used since Start/Resume (every thread's user and system time):
+  // this session's share of the rows' CpuTime.
+  double CpuSecondsThisSession() const;
 
  private:
   struct State;

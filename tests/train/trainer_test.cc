@@ -187,7 +187,8 @@ TEST(TrainerTest, SameSeedGivesTheSameRows) {
 
 // CpuTime is the CPU time of the run's sessions: it rises row by row, carries on across a resume
 // from what the checkpoint recorded (the work a crash threw away not counted), and a process
-// cannot use more CPU seconds than its cores give it in the wall seconds of Time.
+// cannot use more CPU seconds than its cores give it in the wall seconds of Time. The trainer
+// says what its own session used.
 TEST(TrainerTest, CpuTimeCountsTheCpuSecondsOfEverySession) {
   const std::string dir = TempRunDir("cpu_time");
   CrashAfterRows(TinyConfig("cem"), dir, 2);  // the checkpoint covers the first row
@@ -195,7 +196,8 @@ TEST(TrainerTest, CpuTimeCountsTheCpuSecondsOfEverySession) {
       nlohmann::json::parse(FileBytes(fs::path(dir) / "checkpoint" / "manifest.json"));
   ASSERT_TRUE(manifest.contains("cpu_seconds"));
   const double checkpointed = manifest.at("cpu_seconds").get<double>();
-  Trainer::Resume(dir)->Run();
+  const std::unique_ptr<Trainer> resumed = Trainer::Resume(dir);
+  resumed->Run();
   const ProgressTable table = ProgressTable::Read(fs::path(dir) / "progress.csv");
   ASSERT_GE(table.rows(), 4u);
   const size_t cpu = table.Column("CpuTime", "the run's CPU seconds");
@@ -214,6 +216,13 @@ TEST(TrainerTest, CpuTimeCountsTheCpuSecondsOfEverySession) {
     EXPECT_LE(seconds, table.Number(row, time) * cores + 0.01) << "row " << row;
   }
   EXPECT_LE(table.Number(0, cpu), checkpointed + rounding);
+  // The resumed session's own CPU seconds (cmbrl train's summary): what the last row added to
+  // the checkpoint's, and a little more for the work after it.
+  const double this_session = resumed->CpuSecondsThisSession();
+  const double last = table.Number(table.rows() - 1, cpu);
+  EXPECT_GT(this_session, 0.0);
+  EXPECT_GE(checkpointed + this_session, last - rounding);
+  EXPECT_LE(this_session, table.Number(table.rows() - 1, time) * cores + 0.01);
 }
 
 TEST(TrainerTest, ResumingAfterACrashGivesTheSameRows) {

@@ -37,8 +37,6 @@ constexpr const char* kOpenEpisodeFile = "episode.json";
 constexpr const char* kOpenEpisodeEnvFile = "episode_env.bin";
 constexpr const char* kPlannerCarriedFile = "planner_carried.pt";
 
-std::string Fixed3(double value) { return fmt::format("{:.3f}", value); }
-
 }  // namespace
 
 const std::vector<ProgressColumn<ProgressRow>>& MpcProgressColumns(bool raw_cost) {
@@ -50,34 +48,24 @@ const std::vector<ProgressColumn<ProgressRow>>& MpcProgressColumns(bool raw_cost
       {kEpCostColumn, [](const R& r) { return ProgressNumber(r.episode_cost); }},
       {kTotalEnvInteractsColumn, [](const R& r) { return std::to_string(r.total_env_interacts); }},
       {"PretrainInteracts", [](const R& r) { return std::to_string(r.pretrain_interacts); }},
-      {kTimeColumn, [](const R& r) { return Fixed3(r.time_seconds); }},
+      {kTimeColumn, [](const R& r) { return ProgressClock(r.time_seconds); }},
       {"DynamicsValMSE", [](const R& r) { return ProgressNumber(r.dynamics_validation_mse); }},
       {"ClassifierSafeAcc", [](const R& r) { return ProgressNumber(r.classifier_safe_accuracy); }},
       {"ClassifierUnsafeAcc",
        [](const R& r) { return ProgressNumber(r.classifier_unsafe_accuracy); }},
       {kFeasibleFractionColumn, [](const R& r) { return ProgressNumber(r.feasible_fraction); }},
-      {"MsPerPlan", [](const R& r) { return Fixed3(r.ms_per_plan); }},
+      {"MsPerPlan", [](const R& r) { return ProgressClock(r.ms_per_plan); }},
       {kStepsColumn, [](const R& r) { return std::to_string(r.steps); }},
       {"GoalsMet", [](const R& r) { return std::to_string(r.goals_met); }},
       // Added after the columns above: a run begun without them keeps its columns on resume.
       {kHazardStepsColumn, [](const R& r) { return std::to_string(r.hazard_steps); }},
       {kVaseStepsColumn, [](const R& r) { return std::to_string(r.vase_steps); }},
   };
-  // Added last, after EpRawCost where there is one.
-  static const ProgressColumn<ProgressRow> cpu_time = {
-      kCpuTimeColumn, [](const R& r) { return Fixed3(r.cpu_seconds); }};
-  static const std::vector<ProgressColumn<ProgressRow>> without_raw_cost = [] {
-    std::vector<ProgressColumn<ProgressRow>> all = columns;
-    all.push_back(cpu_time);
-    return all;
-  }();
-  static const std::vector<ProgressColumn<ProgressRow>> with_raw_cost = [] {
-    std::vector<ProgressColumn<ProgressRow>> all = columns;
-    all.push_back(
-        {kEpRawCostColumn, [](const R& r) { return ProgressNumber(r.episode_raw_cost); }});
-    all.push_back(cpu_time);
-    return all;
-  }();
+  static const std::vector<ProgressColumn<ProgressRow>> without_raw_cost = FamilyColumns(columns);
+  static const std::vector<ProgressColumn<ProgressRow>> with_raw_cost = FamilyColumns(
+      columns, ProgressColumn<ProgressRow>{kEpRawCostColumn, [](const R& r) {
+                                             return ProgressNumber(r.episode_raw_cost);
+                                           }});
   return raw_cost ? with_raw_cost : without_raw_cost;
 }
 
@@ -164,9 +152,8 @@ LearnerStep MpcLearner::Advance(const UnitContext& context) {
       step.models_changed = true;
     }
   }
-  step.summary = {last_row_.epoch,          total_steps_,
-                  budget(),                 last_row_.episode_return,
-                  last_row_.episode_cost,   last_row_.time_seconds};
+  step.summary = {last_row_.epoch,          total_steps_,           budget(),
+                  last_row_.episode_return, last_row_.episode_cost, last_row_.time_seconds};
   return step;
 }
 
@@ -190,8 +177,8 @@ void MpcLearner::CollectRandomData() {
       StepResult step = Timed(environment_seconds_, [&] { return env.Step(action); });
       ++pretrain_steps_;
       const bool end = step.terminated || step.truncated;
-      const bool kept = transitions_->Add(observation, action, step.observation,
-                                          step.info.goal_met, end, step.reward, step.terminated);
+      const bool kept = transitions_->Add(observation, action, step.observation, step.info.goal_met,
+                                          end, step.reward, step.terminated);
       stored += kept;
       AddLabel(step.observation, step.cost, kept);
       observation = std::move(step.observation);
@@ -308,8 +295,7 @@ ProgressRow MpcLearner::FinishRow(ProgressRow row, double feasible, double milli
   return row;
 }
 
-void MpcLearner::Save(const fs::path& folder, const fs::path& previous,
-                      bool models_changed) const {
+void MpcLearner::Save(const fs::path& folder, const fs::path& previous, bool models_changed) const {
   transitions_->Save((folder / kTransitionsFile).string());
   labeled_->Save((folder / kLabeledStatesFile).string());
   if (models_changed || previous.empty() || !fs::exists(previous / kEnsembleFile)) {
@@ -331,8 +317,7 @@ void MpcLearner::Save(const fs::path& folder, const fs::path& previous,
       if (linked) fs::copy_file(previous / name, folder / name);
     }
   }
-  SaveTensor(parts_.agent->planner().GeneratorState(),
-             (folder / kPlannerGeneratorFile).string());
+  SaveTensor(parts_.agent->planner().GeneratorState(), (folder / kPlannerGeneratorFile).string());
   const nlohmann::json state = {
       {"pretrained", pretrained_},
       {"pretrain_collected", pretrain_collected_},

@@ -20,8 +20,7 @@ namespace {
 // The constraint rule of a model-free algorithm (run/algorithms.h) as the update applies it.
 ConstraintHandling HandlingOf(const std::string& algorithm) {
   const AlgorithmEntry& entry = FindAlgorithm(algorithm);
-  Require(entry.family == &PolicyOptFamily(),
-          "algorithm '{}' is not a model-free one", algorithm);
+  Require(entry.family == &PolicyOptFamily(), "algorithm '{}' is not a model-free one", algorithm);
   switch (entry.constraint) {
     case ConstraintRule::kNone:
       return ConstraintHandling::kNone;
@@ -50,10 +49,9 @@ torch::Tensor Row(const std::vector<double>& values) {
 // then the value of the state it bootstraps from (`bootstrap_values` from the environment's
 // `bootstrap_offsets` on), or 0 after a terminal state.
 PathTargets EpochGae(const std::vector<EnvTrace>& traces, const std::vector<std::int64_t>& quota,
-                     const std::vector<double>& values,
-                     const std::vector<double>& bootstrap_values,
-                     const std::vector<std::int64_t>& bootstrap_offsets, bool of_cost,
-                     double gamma, double lambda) {
+                     const std::vector<double>& values, const std::vector<double>& bootstrap_values,
+                     const std::vector<std::int64_t>& bootstrap_offsets, bool of_cost, double gamma,
+                     double lambda) {
   PathTargets all;
   std::int64_t offset = 0;  // the environment's first row in the batch
   for (size_t k = 0; k < traces.size(); ++k) {
@@ -66,9 +64,9 @@ PathTargets EpochGae(const std::vector<EnvTrace>& traces, const std::vector<std:
       std::vector<double> path_values(values.begin() + offset + start,
                                       values.begin() + offset + end);
       path_values.push_back(row < 0 ? 0.0 : bootstrap_values[bootstrap_offsets[k] + row]);
-      const PathTargets path = GaeTargets(
-          std::vector<double>(signal.begin() + start, signal.begin() + end), path_values, gamma,
-          lambda);
+      const PathTargets path =
+          GaeTargets(std::vector<double>(signal.begin() + start, signal.begin() + end), path_values,
+                     gamma, lambda);
       all.advantages.insert(all.advantages.end(), path.advantages.begin(), path.advantages.end());
       all.returns.insert(all.returns.end(), path.returns.begin(), path.returns.end());
       start = end;
@@ -100,31 +98,20 @@ const std::vector<ProgressColumn<EpochRow>>& PolicyOptProgressColumns(bool raw_c
       {"LossVC", [](const R& r) { return ProgressNumber(r.loss_vc); }},
       {"Entropy", [](const R& r) { return ProgressNumber(r.entropy); }},
       {kTotalEnvInteractsColumn, [](const R& r) { return std::to_string(r.total_env_interacts); }},
-      {kTimeColumn, [](const R& r) { return fmt::format("{:.3f}", r.time_seconds); }},
+      {kTimeColumn, [](const R& r) { return ProgressClock(r.time_seconds); }},
   };
-  // Added last, after CumulativeRawCost where there is one.
-  static const ProgressColumn<EpochRow> cpu_time = {
-      kCpuTimeColumn, [](const R& r) { return fmt::format("{:.3f}", r.cpu_seconds); }};
-  static const std::vector<ProgressColumn<EpochRow>> without_raw_cost = [] {
-    std::vector<ProgressColumn<EpochRow>> all = columns;
-    all.push_back(cpu_time);
-    return all;
-  }();
-  static const std::vector<ProgressColumn<EpochRow>> with_raw_cost = [] {
-    std::vector<ProgressColumn<EpochRow>> all = columns;
-    all.push_back({kCumulativeRawCostColumn,
-                   [](const R& r) { return ProgressNumber(r.cumulative_raw_cost); }});
-    all.push_back(cpu_time);
-    return all;
-  }();
+  static const std::vector<ProgressColumn<EpochRow>> without_raw_cost = FamilyColumns(columns);
+  static const std::vector<ProgressColumn<EpochRow>> with_raw_cost = FamilyColumns(
+      columns, ProgressColumn<EpochRow>{kCumulativeRawCostColumn, [](const R& r) {
+                                          return ProgressNumber(r.cumulative_raw_cost);
+                                        }});
   return raw_cost ? with_raw_cost : without_raw_cost;
 }
 
 GaussianMeanPolicy::GaussianMeanPolicy(const GaussianPolicy& policy, BoxSpec action_spec)
     : policy_(policy), action_spec_(std::move(action_spec)) {}
 
-GaussianMeanPolicy::GaussianMeanPolicy(std::unique_ptr<GaussianPolicy> policy,
-                                       BoxSpec action_spec)
+GaussianMeanPolicy::GaussianMeanPolicy(std::unique_ptr<GaussianPolicy> policy, BoxSpec action_spec)
     : owned_(std::move(policy)), policy_(*owned_), action_spec_(std::move(action_spec)) {}
 
 GaussianMeanPolicy::~GaussianMeanPolicy() = default;
@@ -247,10 +234,9 @@ void PolicyOptLearner::BeginEpoch() {
 }
 
 bool PolicyOptLearner::OpenEpoch::RecordStep(int k, std::int64_t t, std::int64_t quota,
-                                              const float* observation, const float* action,
-                                              const VectorStep& step,
-                                              std::int64_t observation_dim,
-                                              std::int64_t action_dim) {
+                                             const float* observation, const float* action,
+                                             const VectorStep& step, std::int64_t observation_dim,
+                                             std::int64_t action_dim) {
   EnvTrace& trace = traces[k];
   trace.observations.insert(trace.observations.end(), observation, observation + observation_dim);
   trace.actions.insert(trace.actions.end(), action, action + action_dim);
@@ -371,8 +357,8 @@ PolicyOptLearner::Epoch PolicyOptLearner::Gather() {
   // GAE over each path, for the reward and for the cost.
   const auto targets = [&](bool of_cost) {
     return EpochGae(e.traces, quota, of_cost ? cost_values : values,
-                    of_cost ? bootstrap_cost_values : bootstrap_values, bootstrap_offsets,
-                    of_cost, o.gamma, o.lambda);
+                    of_cost ? bootstrap_cost_values : bootstrap_values, bootstrap_offsets, of_cost,
+                    o.gamma, o.lambda);
   };
   PathTargets reward = targets(false), cost = targets(true);
   NormaliseAdvantages(reward.advantages, /*scale=*/true);
@@ -437,8 +423,8 @@ void PolicyOptLearner::Update(Epoch& epoch) {
   row.loss_pi = update.loss_before;
   row.surrogate_cost = update.surrogate_cost_before;
   row.penalty = handling_ == ConstraintHandling::kLagrangian ? penalty_before
-                : handling_ == ConstraintHandling::kCpo       ? update.cpo_nu
-                                                              : 0.0;
+                : handling_ == ConstraintHandling::kCpo      ? update.cpo_nu
+                                                             : 0.0;
   row.entropy = policy_->Entropy();
   row.cumulative_cost = cumulative_cost_;
   row.cumulative_raw_cost = cumulative_raw_cost_;
@@ -512,12 +498,9 @@ LearnerStep PolicyOptLearner::Advance(const UnitContext& context) {
 
   LearnerStep step;
   step.row = ProgressLine(PolicyOptProgressColumns(raw_cost_column_), row);
-  step.summary = {row.epoch,
-                  total_steps_,
-                  budget(),
-                  row.average_episode_return,
-                  row.average_episode_cost,
-                  row.time_seconds};
+  step.summary = {
+      row.epoch,       total_steps_, budget(), row.average_episode_return, row.average_episode_cost,
+      row.time_seconds};
   return step;
 }
 
