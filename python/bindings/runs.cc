@@ -346,6 +346,10 @@ py::dict Train(const std::optional<std::vector<std::string>>& config_path,
   summary["run"] = run_dir;
   summary["steps"] = trainer->checkpointed_steps();
   summary["budget"] = trainer->learner().budget();
+  py::dict split;  // `cmbrl train`'s closing line's
+  for (const auto& [part, seconds] : trainer->TimeSplit()) split[py::str(part)] = seconds;
+  summary["seconds_this_session"] = split;
+  summary["cpu_seconds_this_session"] = trainer->CpuSecondsThisSession();
   return summary;
 }
 

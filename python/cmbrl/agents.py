@@ -129,7 +129,10 @@ def train(config=None, out=None, steps=None, seed=None, device=None, resume=None
     and load_run take the same env
     again. Its state is saved through pickle where it pickles (otherwise an episode under way at
     a checkpoint starts again on resume, and the run's sessions.jsonl says so).
-    Returns {"run", "steps", "budget"}.
+    Returns {"run", "steps", "budget", "seconds_this_session", "cpu_seconds_this_session"}: the
+    run directory, the steps its last checkpoint covers, its budget, and this call's wall seconds
+    by part (planning, environment, fits, checkpoints, other) and CPU seconds, as the last line
+    of `cmbrl train` gives them.
     """
     checkpoint_seconds = _as_number(checkpoint_seconds, "checkpoint_seconds", 0.0)
     config_path = config_text = None

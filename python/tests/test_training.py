@@ -1,5 +1,6 @@
 """Training from Python, resuming, and acting with a trained run's agent and models."""
 import csv
+import os
 
 import numpy as np
 import pytest
@@ -21,6 +22,13 @@ def test_train_resume_and_act(tmp_path, source_dir):
     seen = []
     summary = cmbrl.train(config=TINY, out=tmp_path / "run", steps=200, progress=seen.append)
     assert summary["steps"] >= 200 and summary["budget"] == 200
+    # Where the call's time went, as `cmbrl train`'s last line says: parts of its wall seconds,
+    # and its CPU seconds, which its cores bound.
+    split = summary["seconds_this_session"]
+    assert list(split) == ["planning", "environment", "dynamics_fits", "classifier_fits",
+                           "checkpoints", "other"]
+    assert all(seconds >= 0 for seconds in split.values()) and split["planning"] > 0
+    assert 0 < summary["cpu_seconds_this_session"] <= sum(split.values()) * os.cpu_count() + 0.01
     assert seen and seen[-1]["steps"] == summary["steps"]
     assert {"epoch", "episode_return", "episode_cost", "seconds"} <= set(seen[0])
     # Continued to 300 steps, the rows are those of a run made with 300 from the start (the
