@@ -45,7 +45,8 @@ struct Trainer::State {
            std::chrono::duration<double>(std::chrono::steady_clock::now() - session_start).count();
   }
 
-  double CpuSeconds() const { return cpu_before + (ProcessCpuSeconds() - session_cpu_start); }
+  double SessionCpuSeconds() const { return ProcessCpuSeconds() - session_cpu_start; }
+  double CpuSeconds() const { return cpu_before + SessionCpuSeconds(); }
 
   void AppendRow(const std::string& line) {
     AppendToFile(run.progress_file(),
@@ -219,8 +220,6 @@ std::vector<std::pair<std::string, double>> Trainer::TimeSplit() const {
   return split;
 }
 
-double Trainer::CpuSecondsThisSession() const {
-  return ProcessCpuSeconds() - state_->session_cpu_start;
-}
+double Trainer::CpuSecondsThisSession() const { return state_->SessionCpuSeconds(); }
 
 }  // namespace cmbrl
