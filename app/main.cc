@@ -23,7 +23,7 @@ int main(int argc, char** argv) {
 #endif
   CLI::App app{
       "cmbrl: constrained model-based reinforcement learning with the Robust "
-      "Cross-Entropy method on Safety Gym Goal tasks"};
+      "Cross-Entropy method, on Safety-Gymnasium's navigation tasks and your own environments"};
   app.set_version_flag("--version",
                        fmt::format("cmbrl {} ({})", cmbrl::CmbrlVersion(), cmbrl::CmbrlCommit()));
   app.require_subcommand(1);

@@ -116,15 +116,11 @@ int RunTrain(const TrainArgs& args) {
   const std::int64_t budget = trainer->learner().budget();
   const std::int64_t start_steps = trainer->steps_done();
   const auto session_start = std::chrono::steady_clock::now();
-  double total_cost = 0.0;
-  int units = 0;
   RunOptions options;
   options.checkpoint_seconds = args.checkpoint_seconds;
   options.stop_requested = [] { return stop_signal.load() != 0; };
   StopAtACheckpointOnSignals();
   options.on_unit = [&](const ProgressSummary& unit) {
-    ++units;
-    total_cost += unit.episode_cost;
     const double elapsed =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - session_start).count();
     const double rate = elapsed > 0 ? (unit.steps - start_steps) / elapsed : 0.0;
@@ -141,15 +137,15 @@ int RunTrain(const TrainArgs& args) {
   };
   trainer->Run(options);
   if (live) std::cerr << "\n";
+  const SessionSummary session = trainer->ThisSession();
   nlohmann::ordered_json split = nlohmann::ordered_json::object();
-  for (const auto& [part, seconds] : trainer->TimeSplit()) split[part] = seconds;
+  for (const auto& [part, seconds] : session.seconds) split[part] = seconds;
   const nlohmann::ordered_json summary = {{"run", run_dir},
-                                          {"episodes_this_session", units},
+                                          {"episodes_this_session", session.episodes},
                                           {"total_env_interacts", trainer->checkpointed_steps()},
-                                          {"cost_this_session", total_cost},
+                                          {"cost_this_session", session.cost},
                                           {"seconds_this_session", split},
-                                          {"cpu_seconds_this_session",
-                                           trainer->CpuSecondsThisSession()}};
+                                          {"cpu_seconds_this_session", session.cpu_seconds}};
   std::cout << summary.dump() << std::endl;
   const int signal = stop_signal.load();
   if (signal != 0 && !trainer->learner().Finished()) {
@@ -168,7 +164,10 @@ int RunTrain(const TrainArgs& args) {
 void AddTrainCommand(CLI::App& parent) {
   auto args = std::make_shared<TrainArgs>();
   CLI::App* command = parent.add_subcommand(
-      "train", "Train an MPC agent (RCE, CEM or random) with learned models; resumable");
+      "train",
+      "Train an agent (MPC with learned models: RCE, CEM, random, ...; or model-free: TRPO, CPO, "
+      "...); resumable; ends with one JSON line of what the session did (episodes, cost, wall "
+      "seconds by part, CPU seconds)");
   command
       ->add_option("--config", args->config,
                    "YAML config (see configs/); several are composed in order, later keys over "

@@ -22,6 +22,8 @@ struct ProgressSummary {
   double episode_return = 0.0;  // of the unit's episode(s)
   double episode_cost = 0.0;
   double seconds = 0.0;         // the run's training time when the unit ended
+  int episodes = 0;             // the episodes the unit ended
+  double episodes_cost = 0.0;   // their summed cost (steps with a violation)
 };
 
 // One unit of work done: the progress row it wrote (empty for work without a row, such as the

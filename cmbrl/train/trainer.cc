@@ -35,6 +35,8 @@ struct Trainer::State {
   std::vector<std::string> setup_changes;  // against the previous session (run_sessions.h)
   std::chrono::steady_clock::time_point session_start = std::chrono::steady_clock::now();
   double checkpoint_seconds = 0.0;  // this session's checkpoint writes
+  int session_episodes = 0;         // the episodes this session's units ended
+  double session_cost = 0.0;        // and their cost
   std::int64_t checkpointed_steps = 0;  // what the last checkpoint covers
   bool abandoned = false;  // a unit was given up without a checkpoint: the learner is spent
 
@@ -192,7 +194,11 @@ void Trainer::Run(const RunOptions& options) {
       s.abandoned = true;
       return;
     }
-    if (step.row) s.AppendRow(*step.row);
+    if (step.row) {
+      s.AppendRow(*step.row);
+      s.session_episodes += step.summary.episodes;
+      s.session_cost += step.summary.episodes_cost;
+    }
     if (step.row && options.on_unit) options.on_unit(step.summary);
     context.stop_requested();  // asked once more: a stop during the unit's end ends the run here
     const auto start = Clock::now();
@@ -221,5 +227,9 @@ std::vector<std::pair<std::string, double>> Trainer::TimeSplit() const {
 }
 
 double Trainer::CpuSecondsThisSession() const { return state_->SessionCpuSeconds(); }
+
+SessionSummary Trainer::ThisSession() const {
+  return {state_->session_episodes, state_->session_cost, TimeSplit(), CpuSecondsThisSession()};
+}
 
 }  // namespace cmbrl

@@ -42,6 +42,15 @@ struct RunOptions {
   std::function<bool()> stop_requested;
 };
 
+// What one session (one Start or Resume) did: `cmbrl train`'s closing line, `cmbrl.train`'s
+// result.
+struct SessionSummary {
+  int episodes = 0;    // the episodes its units ended (an MPC unit ends one, an epoch any number)
+  double cost = 0.0;   // their summed cost: steps with a violation
+  std::vector<std::pair<std::string, double>> seconds;  // TimeSplit
+  double cpu_seconds = 0.0;                              // CpuSecondsThisSession
+};
+
 class Trainer {
  public:
   // A new run: validates `config` and builds the learner before anything else, and leaves no
@@ -87,6 +96,8 @@ class Trainer {
   // The CPU seconds this process used since Start/Resume (every thread's user and system time):
   // this session's share of the rows' CpuTime.
   double CpuSecondsThisSession() const;
+  // All of it at once, with the episodes this session ended and their cost.
+  SessionSummary ThisSession() const;
 
  private:
   struct State;

@@ -346,10 +346,14 @@ py::dict Train(const std::optional<std::vector<std::string>>& config_path,
   summary["run"] = run_dir;
   summary["steps"] = trainer->checkpointed_steps();
   summary["budget"] = trainer->learner().budget();
-  py::dict split;  // `cmbrl train`'s closing line's
-  for (const auto& [part, seconds] : trainer->TimeSplit()) split[py::str(part)] = seconds;
+  // `cmbrl train`'s closing line's figures
+  const SessionSummary session = trainer->ThisSession();
+  summary["episodes_this_session"] = session.episodes;
+  summary["cost_this_session"] = session.cost;
+  py::dict split;
+  for (const auto& [part, seconds] : session.seconds) split[py::str(part)] = seconds;
   summary["seconds_this_session"] = split;
-  summary["cpu_seconds_this_session"] = trainer->CpuSecondsThisSession();
+  summary["cpu_seconds_this_session"] = session.cpu_seconds;
   return summary;
 }
 

@@ -129,10 +129,12 @@ def train(config=None, out=None, steps=None, seed=None, device=None, resume=None
     and load_run take the same env
     again. Its state is saved through pickle where it pickles (otherwise an episode under way at
     a checkpoint starts again on resume, and the run's sessions.jsonl says so).
-    Returns {"run", "steps", "budget", "seconds_this_session", "cpu_seconds_this_session"}: the
-    run directory, the steps its last checkpoint covers, its budget, and this call's wall seconds
-    by part (planning, environment, fits, checkpoints, other) and CPU seconds, as the last line
-    of `cmbrl train` gives them.
+    Returns {"run", "steps", "budget", "episodes_this_session", "cost_this_session",
+    "seconds_this_session", "cpu_seconds_this_session"}: the run directory, the steps its last
+    checkpoint covers, its budget, the episodes this call ended and their summed cost (steps
+    with a violation), and this call's wall seconds by part (an MPC run's planning, environment,
+    fits; a model-free run's rollout, policy updates, value fits; then checkpoints and other)
+    and CPU seconds, as the last line of `cmbrl train` gives them.
     """
     checkpoint_seconds = _as_number(checkpoint_seconds, "checkpoint_seconds", 0.0)
     config_path = config_text = None

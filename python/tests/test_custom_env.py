@@ -415,8 +415,18 @@ def test_a_model_free_learner_trains_on_copies_of_a_python_env_and_resumes(tmp_p
     config = {"algorithm": "cpo", "seed": 2, "training": {"total_steps": 600},
               "policy_optimisation": {"steps_per_epoch": 300, "envs": 2, "policy_hidden": [16],
                                       "value_hidden": [16], "value_iterations": 5}}
-    cmbrl.train(env=make, config=config, out=tmp_path / "run", steps=300)
+    first = cmbrl.train(env=make, config=config, out=tmp_path / "run", steps=300)
     assert len(made) == 2  # one per rollout env
+    # A model-free unit is an epoch of many episodes: the call counts the episodes its epoch
+    # ended (7 of 20 steps in each env's 150) and their violations (not those of the episodes
+    # the epoch's end cut), and splits its time by the learner's parts.
+    epoch = rows(tmp_path / "run")[0]
+    assert first["episodes_this_session"] == int(epoch["Episodes"]) == 2 * (150 // 20)
+    assert first["cost_this_session"] == round(
+        float(epoch["AverageEpCost"]) * int(epoch["Episodes"]))
+    assert 0 < first["cost_this_session"] <= float(epoch["CumulativeCost"])
+    assert list(first["seconds_this_session"]) == ["rollout", "policy_updates", "value_fits",
+                                                   "checkpoints", "other"]
     cmbrl.train(resume=tmp_path / "run", env=make, steps=600)
     cmbrl.train(env=functools.partial(Line, wall=0.0), config=config, out=tmp_path / "whole")
     assert rows(tmp_path / "run") == rows(tmp_path / "whole")

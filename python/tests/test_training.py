@@ -30,6 +30,11 @@ def test_train_resume_and_act(tmp_path, source_dir):
     assert all(seconds >= 0 for seconds in split.values()) and split["planning"] > 0
     assert 0 < summary["cpu_seconds_this_session"] <= sum(split.values()) * os.cpu_count() + 0.01
     assert seen and seen[-1]["steps"] == summary["steps"]
+    # An MPC unit is an episode: the call ended one per progress call, and their cost is the
+    # progress rows' EpCost.
+    assert summary["episodes_this_session"] == len(seen)
+    assert summary["cost_this_session"] == sum(d["episode_cost"] for d in seen)
+    assert summary["cost_this_session"] == sum(float(r["EpCost"]) for r in rows(tmp_path / "run"))
     assert {"epoch", "episode_return", "episode_cost", "seconds"} <= set(seen[0])
     # Continued to 300 steps, the rows are those of a run made with 300 from the start (the
     # YAML file of the same settings).
