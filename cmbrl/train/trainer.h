@@ -45,10 +45,10 @@ struct RunOptions {
 // What one session (one Start or Resume) did: `cmbrl train`'s closing line, `cmbrl.train`'s
 // result.
 struct SessionSummary {
-  int episodes = 0;    // the episodes its units ended (an MPC unit ends one, an epoch any number)
-  double cost = 0.0;   // their summed cost: steps with a violation
+  int episodes = 0;   // the episodes its units ended (an MPC unit ends one, an epoch any number)
+  double cost = 0.0;  // their summed cost: steps with a violation
   std::vector<std::pair<std::string, double>> seconds;  // TimeSplit
-  double cpu_seconds = 0.0;                              // CpuSecondsThisSession
+  double cpu_seconds = 0.0;                             // CpuSecondsThisSession
 };
 
 class Trainer {

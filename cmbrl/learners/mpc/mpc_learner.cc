@@ -153,8 +153,9 @@ LearnerStep MpcLearner::Advance(const UnitContext& context) {
     }
   }
   step.summary = {last_row_.epoch,          total_steps_,           budget(),
-                  last_row_.episode_return, last_row_.episode_cost, last_row_.time_seconds,
-                  1,                        last_row_.episode_cost};
+                  last_row_.episode_return, last_row_.episode_cost, last_row_.time_seconds};
+  step.summary.episodes = 1;
+  step.summary.episodes_cost = last_row_.episode_cost;
   return step;
 }
 

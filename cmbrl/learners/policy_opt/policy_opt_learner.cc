@@ -498,13 +498,14 @@ LearnerStep PolicyOptLearner::Advance(const UnitContext& context) {
 
   LearnerStep step;
   step.row = ProgressLine(PolicyOptProgressColumns(raw_cost_column_), row);
+  step.summary = {
+      row.epoch,       total_steps_, budget(), row.average_episode_return, row.average_episode_cost,
+      row.time_seconds};
+  step.summary.episodes = row.episodes;
   // The episodes' costs are counts of violating steps: their sum is the average times their
   // number, rounded back to the count. An epoch that ended none has no average (NaN).
-  const double episodes_cost =
+  step.summary.episodes_cost =
       row.episodes > 0 ? std::round(row.average_episode_cost * row.episodes) : 0.0;
-  step.summary = {row.epoch,         total_steps_,     budget(),
-                  row.average_episode_return, row.average_episode_cost, row.time_seconds,
-                  row.episodes,      episodes_cost};
   return step;
 }
 
