@@ -125,10 +125,15 @@ int RunTrain(const TrainArgs& args) {
         std::chrono::duration<double>(std::chrono::steady_clock::now() - session_start).count();
     const double rate = elapsed > 0 ? (unit.steps - start_steps) / elapsed : 0.0;
     const double left = rate > 0 ? (budget - unit.steps) / rate : 0.0;
-    const std::string line = fmt::format(
-        "[epoch {}] steps {}/{} | EpRet {:.2f} | EpCost {:.0f} | {:.1f} steps/s | {} left",
-        unit.epoch, unit.steps, budget, unit.episode_return, unit.episode_cost, rate,
-        Duration(std::max(0.0, left)));
+    // An MPC unit is one episode; a model-free epoch gives the means over the episodes it ended.
+    const std::string episodes =
+        unit.episodes == 1
+            ? fmt::format("EpRet {:.2f} | EpCost {:.0f}", unit.episode_return, unit.episode_cost)
+            : fmt::format("{} episodes | AverageEpRet {:.2f} | AverageEpCost {:.2f}",
+                          unit.episodes, unit.episode_return, unit.episode_cost);
+    const std::string line =
+        fmt::format("[epoch {}] steps {}/{} | {} | {:.1f} steps/s | {} left", unit.epoch,
+                    unit.steps, budget, episodes, rate, Duration(std::max(0.0, left)));
     if (live) {
       std::cerr << "\r" << line << "   " << std::flush;
     } else {

@@ -336,6 +336,7 @@ py::dict Train(const std::optional<std::vector<std::string>>& config_path,
       d["budget"] = unit.budget;
       d["episode_return"] = unit.episode_return;
       d["episode_cost"] = unit.episode_cost;
+      d["episodes"] = unit.episodes;
       d["seconds"] = unit.seconds;
       progress(d);  // a Python exception here stops training; the run resumes later
     };

@@ -96,7 +96,8 @@ def train(config=None, out=None, steps=None, seed=None, device=None, resume=None
     "quickstart"]), or a dict of
     the same keys. steps, seed and device override the config's. resume=RUN_DIR continues a stopped run instead (steps then gives a new budget).
     progress(summary) is called after each unit of work (an MPC episode or a model-free epoch)
-    with a dict of epoch, steps, budget, episode_return, episode_cost and seconds. An exception
+    with a dict of epoch, steps, budget, episode_return, episode_cost, episodes (those the unit
+    ended: a model-free epoch's return and cost are their means) and seconds. An exception
     it raises, or Ctrl-C (seen after the agent step or fit epoch under way in an MPC run, the
     rollout round or value-fit iteration in a model-free one), stops training at a checkpoint;
     the run resumes later from there.

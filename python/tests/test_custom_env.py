@@ -415,13 +415,16 @@ def test_a_model_free_learner_trains_on_copies_of_a_python_env_and_resumes(tmp_p
     config = {"algorithm": "cpo", "seed": 2, "training": {"total_steps": 600},
               "policy_optimisation": {"steps_per_epoch": 300, "envs": 2, "policy_hidden": [16],
                                       "value_hidden": [16], "value_iterations": 5}}
-    first = cmbrl.train(env=make, config=config, out=tmp_path / "run", steps=300)
+    seen = []
+    first = cmbrl.train(env=make, config=config, out=tmp_path / "run", steps=300,
+                        progress=seen.append)
     assert len(made) == 2  # one per rollout env
     # A model-free unit is an epoch of many episodes: the call counts the episodes its epoch
     # ended (7 of 20 steps in each env's 150) and their violations (not those of the episodes
     # the epoch's end cut), and splits its time by the learner's parts.
     epoch = rows(tmp_path / "run")[0]
     assert first["episodes_this_session"] == int(epoch["Episodes"]) == 2 * (150 // 20)
+    assert [d["episodes"] for d in seen] == [int(epoch["Episodes"])]
     assert first["cost_this_session"] == round(
         float(epoch["AverageEpCost"]) * int(epoch["Episodes"]))
     assert 0 < first["cost_this_session"] <= float(epoch["CumulativeCost"])

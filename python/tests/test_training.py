@@ -33,6 +33,7 @@ def test_train_resume_and_act(tmp_path, source_dir):
     # An MPC unit is an episode: the call ended one per progress call, and their cost is the
     # progress rows' EpCost.
     assert summary["episodes_this_session"] == len(seen)
+    assert all(d["episodes"] == 1 for d in seen)
     assert summary["cost_this_session"] == sum(d["episode_cost"] for d in seen)
     assert summary["cost_this_session"] == sum(float(r["EpCost"]) for r in rows(tmp_path / "run"))
     assert {"epoch", "episode_return", "episode_cost", "seconds"} <= set(seen[0])

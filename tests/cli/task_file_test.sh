@@ -46,4 +46,18 @@ refused joint "mujoco_task.reset_joints: the model has no joint named 'wrist'" '
 refused form "mujoco_task.reward is 'closeness': expected one of site-distance" 's/reward: site-distance/reward: closeness/'
 refused misspelt-form "mujoco_task.reward is 'site-distanse' (did you mean 'site-distance'?)" \
   's/reward: site-distance/reward: site-distanse/'
-echo "task file: trained, resumed after kill -9 to identical $rows rows, evaluated, 6 bad inputs named"
+# A model-free learner on the same task: each 300-step epoch ends three 100-step episodes, which
+# its log line and the session's closing line count (not one per epoch).
+cat > cpo.yaml <<YAML
+algorithm: cpo
+training: {total_steps: 600}
+policy_optimisation: {steps_per_epoch: 300, policy_hidden: [8], value_hidden: [8],
+                      value_iterations: 2}
+YAML
+"$cmbrl" train --config "$task" cpo.yaml --out cpo > cpo.json 2> cpo.log
+grep -q '\[epoch 2\] steps 600/600 | 3 episodes | AverageEpRet -\?[0-9.]* | AverageEpCost [0-9.]*' cpo.log \
+  || { echo "model-free log: $(cat cpo.log)"; exit 1; }
+grep -q '"episodes_this_session":6,"total_env_interacts":600,' cpo.json \
+  || { echo "model-free summary: $(cat cpo.json)"; exit 1; }
+echo "task file: trained, resumed after kill -9 to identical $rows rows, evaluated, 6 bad inputs" \
+  "named, its model-free session's 6 episodes counted"
