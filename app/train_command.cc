@@ -126,11 +126,14 @@ int RunTrain(const TrainArgs& args) {
     const double rate = elapsed > 0 ? (unit.steps - start_steps) / elapsed : 0.0;
     const double left = rate > 0 ? (budget - unit.steps) / rate : 0.0;
     // An MPC unit is one episode; a model-free epoch gives the means over the episodes it ended.
-    const std::string episodes =
-        unit.episodes == 1
-            ? fmt::format("EpRet {:.2f} | EpCost {:.0f}", unit.episode_return, unit.episode_cost)
-            : fmt::format("{} episodes | AverageEpRet {:.2f} | AverageEpCost {:.2f}",
-                          unit.episodes, unit.episode_return, unit.episode_cost);
+    std::string episodes = "no episode ended";
+    if (unit.episodes == 1) {
+      episodes =
+          fmt::format("EpRet {:.2f} | EpCost {:.0f}", unit.episode_return, unit.episode_cost);
+    } else if (unit.episodes > 1) {
+      episodes = fmt::format("{} episodes | AverageEpRet {:.2f} | AverageEpCost {:.2f}",
+                             unit.episodes, unit.episode_return, unit.episode_cost);
+    }
     const std::string line =
         fmt::format("[epoch {}] steps {}/{} | {} | {:.1f} steps/s | {} left", unit.epoch,
                     unit.steps, budget, episodes, rate, Duration(std::max(0.0, left)));
