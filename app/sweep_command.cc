@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <iostream>
 #include <map>
@@ -46,11 +47,13 @@ void PrintEvent(const SweepEvent& event) {
   std::cout << line.dump() << std::endl;
 }
 
-// `--status`: one line per run (its status, steps reached and budget), then the totals. Reads
+// `--status`: one line per run (its status, steps reached, budget and training seconds so far,
+// when it has begun), then the totals. Reads
 // the runs' folders only: no run is started, no file written.
 void PrintSweepStatus(const SweepGrid& grid, const std::string& sweep_dir) {
   std::map<std::string, int> counts{{"finished", 0}, {"started", 0}, {"new", 0}};
   std::int64_t steps = 0, budget = 0;
+  double seconds = 0.0;
   const std::vector<SweepRun> runs = PlanSweep(grid, sweep_dir);
   for (const SweepRun& run : runs) {
     const RunProgress progress = ProgressOf(run, grid.steps);
@@ -58,10 +61,12 @@ void PrintSweepStatus(const SweepGrid& grid, const std::string& sweep_dir) {
     ++counts[status];
     steps += std::min(progress.steps, progress.budget);
     budget += progress.budget;
+    seconds += progress.seconds.value_or(0.0);
     nlohmann::ordered_json line{{"run", run.name},
                                 {"status", status},
                                 {"steps", progress.steps},
                                 {"budget", progress.budget}};
+    if (progress.seconds) line["seconds"] = std::round(*progress.seconds * 10.0) / 10.0;
     if (progress.in_report) line["in_report"] = true;
     std::cout << line.dump() << std::endl;
   }
@@ -71,7 +76,8 @@ void PrintSweepStatus(const SweepGrid& grid, const std::string& sweep_dir) {
                                       {"started", counts["started"]},
                                       {"new", counts["new"]},
                                       {"steps", steps},
-                                      {"budget", budget}}
+                                      {"budget", budget},
+                                      {"seconds", std::round(seconds * 10.0) / 10.0}}
                    .dump()
             << std::endl;
 }

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -187,6 +188,9 @@ RunProgress ProgressOf(const SweepRun& run, std::optional<std::int64_t> budget) 
     return progress;
   }
   if (!episodes.empty()) progress.steps = episodes.back().end_step;
+  if (!episodes.empty() && std::isfinite(episodes.back().elapsed_seconds)) {
+    progress.seconds = episodes.back().elapsed_seconds;
+  }
   if (!episodes.empty() && progress.steps >= progress.budget) {
     progress.status = RunStatus::kFinished;
   }
@@ -203,6 +207,9 @@ RunProgress ProgressOf(const SweepRun& run, std::optional<std::int64_t> budget) 
       held = held || checkpoint.has_value();
       if (checkpoint && checkpoint->steps_done && *checkpoint->steps_done > progress.steps) {
         progress.steps = *checkpoint->steps_done;
+      }
+      if (checkpoint && checkpoint->elapsed_seconds > progress.seconds.value_or(0.0)) {
+        progress.seconds = checkpoint->elapsed_seconds;
       }
     } catch (const Error&) {
     }

@@ -76,6 +76,9 @@ struct RunProgress {
   RunStatus status = RunStatus::kNew;
   std::int64_t steps = 0;
   std::int64_t budget = 0;
+  // Its training time so far over all its sessions, as far as `steps` (the later of its last
+  // row's Time and its checkpoint's); absent before either, or when its log keeps no Time.
+  std::optional<double> seconds;
   // Read from the report's logs (reported_run_dir), the run being absent from run_dir. Such a
   // run short of its budget is kNew: its checkpoints stayed on the machine that made it.
   bool in_report = false;

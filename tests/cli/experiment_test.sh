@@ -28,8 +28,8 @@ cd "$work"
 "$cmbrl" sweep experiments/tiny --status > status-before.log
 grep -qF '{"run":"pointgoal1-rce-gamma=0.98-s0","status":"new","steps":0,"budget":120}' \
   status-before.log || { cat status-before.log; exit 1; }
-grep -qF '"runs":8,"finished":0,"started":0,"new":8,"steps":0,"budget":960}' status-before.log ||
-  { cat status-before.log; exit 1; }
+grep -qF '"runs":8,"finished":0,"started":0,"new":8,"steps":0,"budget":960,"seconds":0.0}' \
+  status-before.log || { cat status-before.log; exit 1; }
 [ ! -e experiments/tiny/runs/runs ] || { echo "--status started a run"; exit 1; }
 if "$cmbrl" sweep experiments/tiny --status --jobs 2 > /dev/null 2> status-jobs.err; then
   echo "--status with --jobs was accepted"; exit 1
@@ -37,8 +37,14 @@ fi
 grep -q -- "--jobs starts runs; --status starts none" status-jobs.err || { cat status-jobs.err; exit 1; }
 "$cmbrl" sweep experiments/tiny --jobs 2 > sweep.log
 "$cmbrl" sweep experiments/tiny --status > status-after.log
-grep -qF '"runs":8,"finished":8,"started":0,"new":0,"steps":960,"budget":960}' status-after.log ||
-  { cat status-after.log; exit 1; }
+grep -qE '"runs":8,"finished":8,"started":0,"new":0,"steps":960,"budget":960,"seconds":[0-9.]+}' \
+  status-after.log || { cat status-after.log; exit 1; }
+# Each run says how long it trained: its last row's Time, or its last checkpoint's, a moment on.
+time=$(tail -n 1 experiments/tiny/runs/runs/pointgoal1-rce-gamma=0.98-s0/progress.csv | cut -d, -f7)
+seconds=$(grep '"run":"pointgoal1-rce-gamma=0.98-s0"' status-after.log |
+  sed -n 's/.*"seconds":\([0-9.]*\)}$/\1/p')
+awk -v t="$time" -v s="$seconds" 'BEGIN { exit !(s != "" && s >= t - 0.05 && s < t + 5) }' ||
+  { echo "status seconds '$seconds' against the last row's Time $time"; cat status-after.log; exit 1; }
 runs=$(ls experiments/tiny/runs/runs | wc -l)
 [ "$runs" -eq 8 ] || { echo "expected 8 runs (2 methods x 2 gammas x 2 seeds), got $runs"; exit 1; }
 "$cmbrl" report experiments/tiny > /dev/null
@@ -58,7 +64,7 @@ diff -r -I '^Made by `cmbrl report' first-report experiments/tiny/report ||
   { echo "the report made again from its logs differs"; exit 1; }
 # A fresh clone (no runs/): the report's logs say every run is finished, so a sweep starts none.
 "$cmbrl" sweep experiments/tiny --status > status-clone.log
-grep -qF '{"run":"pointgoal1-rce-gamma=0.98-s0","status":"finished","steps":201,"budget":120,"in_report":true}' \
+grep -qE '\{"run":"pointgoal1-rce-gamma=0.98-s0","status":"finished","steps":201,"budget":120,"seconds":[0-9.]+,"in_report":true\}' \
   status-clone.log || { cat status-clone.log; exit 1; }
 "$cmbrl" sweep experiments/tiny --jobs 2 > sweep-clone.log
 [ "$(grep -c '"already finished (in the report)"' sweep-clone.log)" -eq 8 ] || { cat sweep-clone.log; exit 1; }

@@ -212,8 +212,9 @@ TEST(SweepTest, AModelFreeRunIsFinishedByItsEpochs) {
 }
 
 // How far each run has got, for `cmbrl sweep --status`: a new run's budget as the sweep would
-// compose its configs and overrides, a started run's steps from its progress and budget from its
-// config.yaml, and the grid's budget over both.
+// compose its configs and overrides, a started run's steps and training time from its progress
+// (or its checkpoint, when ahead) and budget from its config.yaml, and the grid's budget over
+// both.
 TEST(SweepTest, ProgressSaysTheStepsReachedAndTheBudget) {
   const std::string dir = testing::TestTempPath("sweep_progress");
   fs::remove_all(dir);
@@ -229,11 +230,13 @@ TEST(SweepTest, ProgressSaysTheStepsReachedAndTheBudget) {
   fs::create_directories(runs[1].run_dir);
   std::ofstream(fs::path(runs[1].run_dir) / "config.yaml") << "training: {total_steps: 3000}\n";
   std::ofstream(fs::path(runs[1].run_dir) / "progress.csv")
-      << ProgressCsvHeader() << "\n1,1,0,0,1000,0,0,0,0,0,0,0,1000,0,0,0,0\n"
-      << "1,2,0,0,2000,0,0,0,0,0,0,0,1000,0,0,0,0\n";
+      << ProgressCsvHeader() << "\n1,1,0,0,1000,0,30.5,0,0,0,0,0,1000,0,0,0,0\n"
+      << "1,2,0,0,2000,0,61.25,0,0,0,0,0,1000,0,0,0,0\n";
+  EXPECT_FALSE(fresh.seconds.has_value());
   const RunProgress started = ProgressOf(runs[1]);
   EXPECT_EQ(started.status, RunStatus::kStarted);
   EXPECT_EQ(started.steps, 2000);
+  EXPECT_EQ(started.seconds, 61.25);  // its last row's Time
   EXPECT_EQ(started.budget, 3000);  // its own config's, not the grid's override
   EXPECT_STREQ(RunStatusName(started.status), "started");
   const RunProgress done = ProgressOf(runs[1], 2000);
@@ -246,16 +249,18 @@ TEST(SweepTest, ProgressSaysTheStepsReachedAndTheBudget) {
   // A checkpoint taken in the middle of an episode is ahead of the rows: its steps count, and
   // the run is not finished before its episode is, even past its budget.
   std::ofstream(fs::path(runs[1].run_dir) / "progress.csv")
-      << ProgressCsvHeader() << "\n1,1,0,0,1000,0,0,0,0,0,0,0,1000,0,0,0,0\n";
+      << ProgressCsvHeader() << "\n1,1,0,0,1000,0,30.5,0,0,0,0,0,1000,0,0,0,0\n";
   const auto no_files = [](const fs::path&, const fs::path&) {};
-  WriteCheckpoint(RunDirectory(runs[1].run_dir), 1, 0.0, no_files, 1234);
+  WriteCheckpoint(RunDirectory(runs[1].run_dir), 1, 75.0, no_files, 1234);
   EXPECT_EQ(ProgressOf(runs[1]).steps, 1234);
+  EXPECT_EQ(ProgressOf(runs[1]).seconds, 75.0);  // the checkpoint's training time, ahead too
   EXPECT_EQ(ProgressOf(runs[1], 1200).status, RunStatus::kStarted);
   // A manifest without them (before v0.9), or behind the rows, leaves the rows' steps.
   WriteCheckpoint(RunDirectory(runs[1].run_dir), 1, 0.0, no_files);
   EXPECT_EQ(ProgressOf(runs[1]).steps, 1000);
   WriteCheckpoint(RunDirectory(runs[1].run_dir), 1, 0.0, no_files, 900);
   EXPECT_EQ(ProgressOf(runs[1]).steps, 1000);
+  EXPECT_EQ(ProgressOf(runs[1]).seconds, 30.5);
 }
 
 // A run's logs as a report keeps them (run-logs/<name>): config.yaml and progress.csv.
