@@ -53,18 +53,19 @@ void RunEval(const EvalArgs& args) {
   for (size_t k = 0; k < episodes.size(); ++k) {
     const EvaluatedEpisode& episode = episodes[k];
     const EpisodeRecord& r = episode.record;
-    nlohmann::ordered_json line = {{"run", args.run},
-                                   {"seed", args.options.seed},
-                                   {"episode", k},
-                                   {"return", r.episode_return},
-                                   {"cost", r.episode_cost},
-                                   {"steps", r.steps},
-                                   {"goals_met", r.goals_met},
-                                   {"hazard_steps", r.hazard_steps},
-                                   {"vase_steps", r.vase_steps},
-                                   {"mean_goal_distance", r.mean_goal_distance},
-                                   {"steps_near_goal", r.steps_near_goal},
-                                   {"ms_per_plan", episode.mean_ms_per_plan}};
+    nlohmann::ordered_json line = {{"run", args.run},        {"seed", args.options.seed},
+                                   {"episode", k},           {"return", r.episode_return},
+                                   {"cost", r.episode_cost}, {"steps", r.steps}};
+    // The navigation world's counts, for an environment that has one (a path of the robot): a
+    // declared or Python task has no goals, hazards or vases to count.
+    if (!r.path.empty()) {
+      line["goals_met"] = r.goals_met;
+      line["hazard_steps"] = r.hazard_steps;
+      line["vase_steps"] = r.vase_steps;
+      line["mean_goal_distance"] = r.mean_goal_distance;
+      line["steps_near_goal"] = r.steps_near_goal;
+    }
+    line["ms_per_plan"] = episode.mean_ms_per_plan;
     if (episode.mean_feasible_fraction) {
       line["feasible_fraction"] = *episode.mean_feasible_fraction;
       line["fallback_steps"] = *episode.fallback_step_fraction;

@@ -392,6 +392,13 @@ py::list Evaluate(const std::string& run_dir, int episodes, std::uint64_t seed,
                Field("cost", &EpisodeRecord::episode_cost), Field("steps", &EpisodeRecord::steps),
                Field("terminated", &EpisodeRecord::terminated),
                Field("truncated", &EpisodeRecord::truncated));
+    if (!r.path.empty()) {  // the navigation world's counts, as `cmbrl eval` gives them
+      d["goals_met"] = r.goals_met;
+      d["hazard_steps"] = r.hazard_steps;
+      d["vase_steps"] = r.vase_steps;
+      d["mean_goal_distance"] = r.mean_goal_distance;
+      d["steps_near_goal"] = r.steps_near_goal;
+    }
     d["ms_per_plan"] = episode.mean_ms_per_plan;
     if (episode.mean_feasible_fraction) {
       d["feasible_fraction"] = *episode.mean_feasible_fraction;

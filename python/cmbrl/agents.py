@@ -269,13 +269,15 @@ def evaluate(run_dir, episodes=1, seed=0, reseed_each_episode=False, overrides=N
              termination=None, env=None, render=None):
     """Episodes of a trained run's agent, as `cmbrl eval` runs them: a list of dicts of return,
     cost (violating steps), steps, terminated, truncated, ms_per_plan and, for MPC, the plans'
-    mean feasible fraction and the share of steps on RCE's fallback. seed seeds the environment
-    and the planner; reseed_each_episode resets episode k with seed + k. overrides, reward,
-    termination and env as load_run takes them (a run on a Python environment needs its env, unless
-    its config names it). render=DIR draws each episode into DIR/episode-<k>.png as `cmbrl eval
-    --render` does (the Goal world's arena with the plans, or a Python environment's own
-    rgb_array pictures: its factory is called with render_mode="rgb_array" where it takes one),
-    and each dict names its "picture"."""
+    mean feasible fraction and the share of steps on RCE's fallback; in the navigation world
+    (not a declared or Python task) also goals_met, hazard_steps, vase_steps (violating steps
+    in a hazard, at a vase), mean_goal_distance and steps_near_goal (within 1 m of the goal).
+    seed seeds the environment and the planner; reseed_each_episode resets episode k with
+    seed + k. overrides, reward, termination and env as load_run takes them (a run on a Python
+    environment needs its env, unless its config names it). render=DIR draws each episode into
+    DIR/episode-<k>.png as `cmbrl eval --render` does (the Goal world's arena with the plans,
+    or a Python environment's own rgb_array pictures: its factory is called with
+    render_mode="rgb_array" where it takes one), and each dict names its "picture"."""
     env_factory, env_name = _env_source(env)
     return _cmbrl.evaluate(_as_path(run_dir, "run_dir"), _as_int(episodes, "episodes", 1, 10**6),
                            _as_seed(seed), _as_flag(reseed_each_episode, "reseed_each_episode"),

@@ -439,6 +439,7 @@ def test_a_model_free_learner_trains_on_copies_of_a_python_env_and_resumes(tmp_p
     assert float(last["CumulativeRawCost"]) == 2.5 * float(last["CumulativeCost"])
     episodes = cmbrl.evaluate(tmp_path / "run", env=make, episodes=2)
     assert [e["steps"] for e in episodes] == [20, 20]
+    assert not any("goal" in key or "hazard" in key for key in episodes[0])  # no such world
 
 
 def test_the_custom_tasks_report_is_made_again_from_its_committed_logs(tmp_path, source_dir):

@@ -214,6 +214,23 @@ def test_a_config_dict_must_name_its_task_and_may_hold_numpy_numbers(tmp_path):
     assert result["steps"] >= 40
 
 
+def test_evaluate_gives_what_cmbrl_eval_gives(tmp_path, cmbrl_binary):
+    import json
+    import subprocess
+
+    cmbrl.train(config=tiny_config(100), out=tmp_path / "run")
+    [ours] = cmbrl.evaluate(tmp_path / "run", episodes=1, seed=1)
+    line = subprocess.run([cmbrl_binary, "eval", "--run", str(tmp_path / "run"), "--episodes", "1",
+                           "--seed", "1"], check=True, stdout=subprocess.PIPE, text=True).stdout
+    theirs = json.loads(line)
+    # The navigation world's counts beside the sums; the same episode (the clock aside).
+    counts = ["goals_met", "hazard_steps", "vase_steps", "mean_goal_distance", "steps_near_goal"]
+    shared = ["return", "cost", "steps", "feasible_fraction", "fallback_steps"] + counts
+    assert {key: ours[key] for key in shared} == {key: theirs[key] for key in shared}
+    assert ours["steps_near_goal"] >= ours["goals_met"]
+    assert ours["hazard_steps"] + ours["vase_steps"] >= ours["cost"]  # a violation is one or both
+
+
 def test_the_gymnasium_loop_example_runs(source_dir):
     import os
     import subprocess

@@ -24,7 +24,11 @@ rows=$(($(wc -l < whole/progress.csv) - 1))
 [ "$rows" -ge 2 ] || { echo "expected episodes, got $rows rows"; exit 1; }
 # Stopped within its first episode, resumed: the same rows.
 killed_mid_episode_resumes "$cmbrl" whole cut --config "$task" tiny.yaml
-"$cmbrl" eval --run whole --episodes 1 | grep -q '"steps":100' || { echo "eval gave no episode"; exit 1; }
+"$cmbrl" eval --run whole --episodes 1 > eval.jsonl
+grep -q '"steps":100' eval.jsonl || { echo "eval gave no episode"; exit 1; }
+# No goals, hazards or vases in this world: none counted as 0.
+! grep -q 'goal\|hazard\|vase' eval.jsonl ||
+  { echo "eval counts the Goal world's: $(cat eval.jsonl)"; exit 1; }
 if "$cmbrl" eval --run whole --render pictures 2> err.txt; then echo "render accepted"; exit 1; fi
 grep -q "task 'ArmReach' has neither" err.txt || { echo "render: $(cat err.txt)"; exit 1; }
 [ ! -e pictures ] || { echo "render made a folder"; exit 1; }
