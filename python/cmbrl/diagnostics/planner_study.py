@@ -67,7 +67,7 @@ def summarise(episodes_by_run):
         "per_100_steps": 100.0 * sum(per_run.values()) / steps,
         "heavy": sum(e["cost"] >= HEAVY for e in episodes),
         "return": statistics.mean(e["return"] for e in episodes),
-        "goals": statistics.mean(e["goals_met"] for e in episodes),
+        "goals": statistics.mean(e.get("goals_met", float("nan")) for e in episodes),
         # Where the steps went: inside hazards, and near the goal (cmbrl eval's steps_near_goal,
         # within 1 m of the goal pursued), and how far from it on average.
         "hazard_share": sum(e.get("hazard_steps", float("nan")) for e in episodes) / steps,
