@@ -134,9 +134,12 @@ int RunTrain(const TrainArgs& args) {
       episodes = fmt::format("{} episodes | AverageEpRet {:.2f} | AverageEpCost {:.2f}",
                              unit.episodes, unit.episode_return, unit.episode_cost);
     }
+    // A paper-size run takes seconds a step: its pace in seconds a step, not "0.0 steps/s".
+    const std::string pace = rate >= 1.0 || rate <= 0.0 ? fmt::format("{:.1f} steps/s", rate)
+                                                        : fmt::format("{:.1f} s/step", 1.0 / rate);
     const std::string line =
-        fmt::format("[epoch {}] steps {}/{} | {} | {:.1f} steps/s | {} left", unit.epoch,
-                    unit.steps, budget, episodes, rate, Duration(std::max(0.0, left)));
+        fmt::format("[epoch {}] steps {}/{} | {} | {} | {} left", unit.epoch, unit.steps, budget,
+                    episodes, pace, Duration(std::max(0.0, left)));
     if (live) {
       std::cerr << "\r" << line << "   " << std::flush;
     } else {
