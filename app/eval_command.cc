@@ -2,6 +2,7 @@
 // with the planner's predicted trajectories.
 #include <fmt/format.h>
 
+#include <cstdint>
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -12,6 +13,7 @@
 #include "cmbrl/core/check.h"
 #include "cmbrl/env/task_list.h"
 #include "cmbrl/eval/evaluation.h"
+#include "cmbrl/eval/rollout.h"
 #include "cmbrl/run/run_directory.h"
 #include "cmbrl/viz/scene_picture.h"
 
@@ -56,14 +58,12 @@ void RunEval(const EvalArgs& args) {
     nlohmann::ordered_json line = {{"run", args.run},        {"seed", args.options.seed},
                                    {"episode", k},           {"return", r.episode_return},
                                    {"cost", r.episode_cost}, {"steps", r.steps}};
-    // The navigation world's counts, for an environment that has one (a path of the robot): a
-    // declared or Python task has no goals, hazards or vases to count.
-    if (!r.path.empty()) {
-      line["goals_met"] = r.goals_met;
-      line["hazard_steps"] = r.hazard_steps;
-      line["vase_steps"] = r.vase_steps;
-      line["mean_goal_distance"] = r.mean_goal_distance;
-      line["steps_near_goal"] = r.steps_near_goal;
+    for (const NamedFigure& figure : NavigationFigures(r)) {
+      if (figure.is_count) {
+        line[figure.name] = static_cast<std::int64_t>(figure.value);
+      } else {
+        line[figure.name] = figure.value;
+      }
     }
     line["ms_per_plan"] = episode.mean_ms_per_plan;
     if (episode.mean_feasible_fraction) {

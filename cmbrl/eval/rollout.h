@@ -53,4 +53,14 @@ using AfterActHook = std::function<void(int step, const SceneState& scene)>;
 EpisodeRecord RunEpisode(Env& env, Policy& policy, std::optional<std::uint64_t> seed,
                          const AfterActHook& after_act = {}, int frame_every = 0);
 
+// An episode's counts in the navigation world, by the names `cmbrl eval` and cmbrl.evaluate give
+// them (goals_met, hazard_steps, vase_steps, mean_goal_distance, steps_near_goal); none for an
+// environment without a scene, which has no goals, hazards or vases to count.
+struct NamedFigure {
+  const char* name;
+  double value;
+  bool is_count;  // a whole number, written as one
+};
+std::vector<NamedFigure> NavigationFigures(const EpisodeRecord& record);
+
 }  // namespace cmbrl

@@ -21,6 +21,7 @@
 #include "cmbrl/env/task_list.h"
 #include "cmbrl/eval/evaluation.h"
 #include "cmbrl/eval/loaded_run.h"
+#include "cmbrl/eval/rollout.h"
 #include "cmbrl/learners/mpc/mpc_agent.h"
 #include "cmbrl/models/ensemble.h"
 #include "cmbrl/planning/reward_term.h"
@@ -392,12 +393,12 @@ py::list Evaluate(const std::string& run_dir, int episodes, std::uint64_t seed,
                Field("cost", &EpisodeRecord::episode_cost), Field("steps", &EpisodeRecord::steps),
                Field("terminated", &EpisodeRecord::terminated),
                Field("truncated", &EpisodeRecord::truncated));
-    if (!r.path.empty()) {  // the navigation world's counts, as `cmbrl eval` gives them
-      d["goals_met"] = r.goals_met;
-      d["hazard_steps"] = r.hazard_steps;
-      d["vase_steps"] = r.vase_steps;
-      d["mean_goal_distance"] = r.mean_goal_distance;
-      d["steps_near_goal"] = r.steps_near_goal;
+    for (const NamedFigure& figure : NavigationFigures(r)) {
+      if (figure.is_count) {
+        d[figure.name] = static_cast<std::int64_t>(figure.value);
+      } else {
+        d[figure.name] = figure.value;
+      }
     }
     d["ms_per_plan"] = episode.mean_ms_per_plan;
     if (episode.mean_feasible_fraction) {

@@ -3,6 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "cmbrl/env/registry.h"
 
@@ -68,6 +71,29 @@ TEST(RolloutTest, CountsHazardStepsAndTheDistanceToTheGoal) {
     ++checked;
   }
   EXPECT_GE(checked, 3);  // random walks rarely reach the goal
+}
+
+// What `cmbrl eval` and cmbrl.evaluate give of the navigation world: its counts by name where
+// the episode had a scene, nothing where it had none (a declared or Python task's).
+TEST(RolloutTest, NavigationFiguresOnlyWhereThereIsAScene) {
+  std::unique_ptr<Env> env = MakeEnv("PointGoal2", Variant::kPaper);
+  RandomPolicy policy(env->action_spec(), 3);
+  const EpisodeRecord record = RunEpisode(*env, policy, 3);
+  const std::vector<NamedFigure> figures = NavigationFigures(record);
+  ASSERT_EQ(figures.size(), 5u);
+  const std::vector<std::pair<std::string, double>> expected = {
+      {"goals_met", record.goals_met},
+      {"hazard_steps", record.hazard_steps},
+      {"vase_steps", record.vase_steps},
+      {"mean_goal_distance", record.mean_goal_distance},
+      {"steps_near_goal", record.steps_near_goal}};
+  for (size_t k = 0; k < figures.size(); ++k) {
+    EXPECT_EQ(figures[k].name, expected[k].first);
+    EXPECT_EQ(figures[k].value, expected[k].second);
+    EXPECT_EQ(figures[k].is_count, expected[k].first != "mean_goal_distance");
+  }
+  EXPECT_GT(figures[3].value, 0.0);
+  EXPECT_TRUE(NavigationFigures(EpisodeRecord()).empty());  // no path: no scene
 }
 
 }  // namespace
