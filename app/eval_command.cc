@@ -1,11 +1,11 @@
-// `cmbrl eval`: episodes of a trained run's MPC agent, one JSON line each, and top-down pictures
-// with the planner's predicted trajectories.
+// `cmbrl eval`: episodes of a trained run's agent (MPC or model-free), one JSON line each, and
+// top-down pictures (an MPC agent's with the planner's predicted trajectories).
 #include <fmt/format.h>
 
-#include <cstdint>
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <variant>
 
 #include "app/arguments.h"
 #include "app/commands.h"
@@ -59,11 +59,7 @@ void RunEval(const EvalArgs& args) {
                                    {"episode", k},           {"return", r.episode_return},
                                    {"cost", r.episode_cost}, {"steps", r.steps}};
     for (const NamedFigure& figure : NavigationFigures(r)) {
-      if (figure.is_count) {
-        line[figure.name] = static_cast<std::int64_t>(figure.value);
-      } else {
-        line[figure.name] = figure.value;
-      }
+      std::visit([&](auto value) { line[figure.name] = value; }, figure.value);
     }
     line["ms_per_plan"] = episode.mean_ms_per_plan;
     if (episode.mean_feasible_fraction) {

@@ -65,11 +65,11 @@ EpisodeRecord RunEpisode(Env& env, Policy& policy, std::optional<std::uint64_t> 
 
 std::vector<NamedFigure> NavigationFigures(const EpisodeRecord& record) {
   if (record.path.empty()) return {};  // no scene
-  return {{"goals_met", static_cast<double>(record.goals_met), true},
-          {"hazard_steps", static_cast<double>(record.hazard_steps), true},
-          {"vase_steps", static_cast<double>(record.vase_steps), true},
-          {"mean_goal_distance", record.mean_goal_distance, false},
-          {"steps_near_goal", static_cast<double>(record.steps_near_goal), true}};
+  return {{"goals_met", std::int64_t{record.goals_met}},
+          {"hazard_steps", std::int64_t{record.hazard_steps}},
+          {"vase_steps", std::int64_t{record.vase_steps}},
+          {"mean_goal_distance", record.mean_goal_distance},
+          {"steps_near_goal", std::int64_t{record.steps_near_goal}}};
 }
 
 }  // namespace cmbrl

@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <functional>
 #include <optional>
+#include <variant>
 #include <vector>
 
 #include "cmbrl/agent/policy.h"
@@ -58,8 +59,7 @@ EpisodeRecord RunEpisode(Env& env, Policy& policy, std::optional<std::uint64_t> 
 // environment without a scene, which has no goals, hazards or vases to count.
 struct NamedFigure {
   const char* name;
-  double value;
-  bool is_count;  // a whole number, written as one
+  std::variant<std::int64_t, double> value;  // a count, or a mean
 };
 std::vector<NamedFigure> NavigationFigures(const EpisodeRecord& record);
 

@@ -13,6 +13,7 @@
 #include <functional>
 #include <optional>
 #include <string>
+#include <variant>
 #include <vector>
 
 #include "cmbrl/config/config.h"
@@ -394,11 +395,7 @@ py::list Evaluate(const std::string& run_dir, int episodes, std::uint64_t seed,
                Field("terminated", &EpisodeRecord::terminated),
                Field("truncated", &EpisodeRecord::truncated));
     for (const NamedFigure& figure : NavigationFigures(r)) {
-      if (figure.is_count) {
-        d[figure.name] = static_cast<std::int64_t>(figure.value);
-      } else {
-        d[figure.name] = figure.value;
-      }
+      std::visit([&](auto value) { d[figure.name] = value; }, figure.value);
     }
     d["ms_per_plan"] = episode.mean_ms_per_plan;
     if (episode.mean_feasible_fraction) {
