@@ -48,8 +48,8 @@ void PrintEvent(const SweepEvent& event) {
 }
 
 // `--status`: one line per run (its status, steps reached, budget and training seconds so far,
-// when it has begun), then the totals. Reads
-// the runs' folders only: no run is started, no file written.
+// when it has begun), then the totals. Reads the runs' folders only: no run is started, no file
+// written.
 void PrintSweepStatus(const SweepGrid& grid, const std::string& sweep_dir) {
   std::map<std::string, int> counts{{"finished", 0}, {"started", 0}, {"new", 0}};
   std::int64_t steps = 0, budget = 0;
