@@ -21,6 +21,7 @@
 #include "cmbrl/core/check.h"
 #include "cmbrl/core/shell.h"
 #include "cmbrl/core/utc_time.h"
+#include "cmbrl/train/session_pace.h"
 #include "cmbrl/train/trainer.h"
 
 namespace cmbrl::app {
@@ -114,17 +115,18 @@ int RunTrain(const TrainArgs& args) {
   // with the time, so that a long run's log says how far it has got.
   const bool live = isatty(STDERR_FILENO) != 0;
   const std::int64_t budget = trainer->learner().budget();
-  const std::int64_t start_steps = trainer->steps_done();
+  SessionPace pace(budget, trainer->steps_done());
   const auto session_start = std::chrono::steady_clock::now();
   RunOptions options;
   options.checkpoint_seconds = args.checkpoint_seconds;
   options.stop_requested = [] { return stop_signal.load() != 0; };
   StopAtACheckpointOnSignals();
   options.on_unit = [&](const ProgressSummary& unit) {
-    const double elapsed =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - session_start).count();
-    const double rate = elapsed > 0 ? (unit.steps - start_steps) / elapsed : 0.0;
-    const double left = rate > 0 ? (budget - unit.steps) / rate : 0.0;
+    pace.UnitEnded(
+        unit.steps,
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - session_start).count());
+    const double rate = pace.steps_per_second();
+    const std::optional<double> left = pace.seconds_left();
     // An MPC unit is one episode; a model-free epoch gives the means over the episodes it ended.
     std::string episodes = "no episode ended";
     if (unit.episodes == 1) {
@@ -135,11 +137,11 @@ int RunTrain(const TrainArgs& args) {
                              unit.episodes, unit.episode_return, unit.episode_cost);
     }
     // A paper-size run takes seconds a step: its pace in seconds a step, not "0.0 steps/s".
-    const std::string pace = rate >= 1.0 || rate <= 0.0 ? fmt::format("{:.1f} steps/s", rate)
-                                                        : fmt::format("{:.1f} s/step", 1.0 / rate);
-    const std::string line =
-        fmt::format("[epoch {}] steps {}/{} | {} | {} | {} left", unit.epoch, unit.steps, budget,
-                    episodes, pace, Duration(std::max(0.0, left)));
+    const std::string speed = rate >= 1.0 || rate <= 0.0 ? fmt::format("{:.1f} steps/s", rate)
+                                                         : fmt::format("{:.1f} s/step", 1.0 / rate);
+    const std::string line = fmt::format(
+        "[epoch {}] steps {}/{} | {} | {} | {}", unit.epoch, unit.steps, budget, episodes, speed,
+        left ? Duration(*left) + " left" : "time left from the next line");
     if (live) {
       std::cerr << "\r" << line << "   " << std::flush;
     } else {
