@@ -114,6 +114,7 @@ int RunTrain(const TrainArgs& args) {
   // A live line on the terminal; in a file or a pipe (a sweep's log), one line per unit of work
   // with the time, so that a long run's log says how far it has got.
   const bool live = isatty(STDERR_FILENO) != 0;
+  size_t live_width = 0;  // the widest live line so far
   const std::int64_t budget = trainer->learner().budget();
   SessionPace pace(budget, trainer->steps_done());
   const auto session_start = std::chrono::steady_clock::now();
@@ -143,7 +144,9 @@ int RunTrain(const TrainArgs& args) {
         "[epoch {}] steps {}/{} | {} | {} | {}", unit.epoch, unit.steps, budget, episodes, speed,
         left ? Duration(*left) + " left" : "time left from the next line");
     if (live) {
-      std::cerr << "\r" << line << "   " << std::flush;
+      // Spaces over what a longer line before it left on the terminal.
+      live_width = std::max(live_width, line.size());
+      std::cerr << "\r" << line << std::string(live_width - line.size(), ' ') << std::flush;
     } else {
       std::cerr << UtcTimestamp() << " " << line << std::endl;
     }
