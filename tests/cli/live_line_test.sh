@@ -12,7 +12,11 @@ script -qec "$(cat "$work/command") > /dev/null" /dev/null > "$work/terminal"
 # The rewrites, in order: the text between carriage returns (the pty turns \n into \r\n).
 tr '\r' '\n' < "$work/terminal" | grep '\[epoch' > "$work/rewrites" || true
 rewrites=$(wc -l < "$work/rewrites")
-[ "$rewrites" -ge 3 ] || { echo "FAILED: $rewrites live lines, expected 3"; cat -A "$work/terminal"; exit 1; }
+if [ "$rewrites" -lt 3 ]; then
+  echo "FAILED: $rewrites live lines, expected 3"
+  cat -A "$work/terminal"
+  exit 1
+fi
 awk 'length($0) < widest { print "FAILED: line " NR " is " length($0) " wide, after one of " \
        widest ": " $0; bad = 1 } length($0) > widest { widest = length($0) } END { exit bad }' \
   "$work/rewrites"

@@ -26,7 +26,7 @@ TEST(SessionPaceTest, LaterUnitsLeaveOutWhatCameBeforeTheFirst) {
   EXPECT_DOUBLE_EQ(*pace.seconds_left(), (3000 - 205) / rate);  // about 2.2 hours, not 19
   // A model fit between two units is in the pace from then on.
   pace.UnitEnded(1000, 2770.7 + 795 * 2.8 + 900);
-  EXPECT_DOUBLE_EQ(pace.steps_per_second(), (1000 - 102) / (795 * 2.8 + 900 + 289.1));
+  EXPECT_NEAR(pace.steps_per_second(), (1000 - 102) / (795 * 2.8 + 900 + 289.1), 1e-12);
 }
 
 TEST(SessionPaceTest, AResumedSessionCountsFromItsOwnStart) {
