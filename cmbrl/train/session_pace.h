@@ -21,24 +21,28 @@ class SessionPace {
 
   // A unit ended `seconds` after the session began, with `steps` of the budget done.
   void UnitEnded(std::int64_t steps, double seconds) {
-    if (!first_) {
+    if (first_) {
+      last_ = Mark{steps, seconds};
+    } else {
       first_ = Mark{steps, seconds};
-      steps_per_second_ = seconds > 0 ? static_cast<double>(steps - start_steps_) / seconds : 0.0;
-      return;
     }
-    const double span = seconds - first_->seconds;
-    steps_per_second_ = span > 0 ? static_cast<double>(steps - first_->steps) / span : 0.0;
-    steps_ = steps;
-    second_seen_ = true;
   }
 
-  double steps_per_second() const { return steps_per_second_; }  // 0 until known
+  // 0 until a unit has ended, or while no step has been made since the first.
+  double steps_per_second() const {
+    if (!first_) return 0.0;
+    const Mark from = last_ ? *first_ : Mark{start_steps_, 0.0};
+    const Mark to = last_ ? *last_ : *first_;
+    const double span = to.seconds - from.seconds;
+    return span > 0 ? static_cast<double>(to.steps - from.steps) / span : 0.0;
+  }
 
   // The seconds to the budget at the pace since the first unit; none before a second unit,
   // or while no step has been made since the first.
   std::optional<double> seconds_left() const {
-    if (!second_seen_ || steps_per_second_ <= 0) return std::nullopt;
-    return steps_ >= budget_ ? 0.0 : static_cast<double>(budget_ - steps_) / steps_per_second_;
+    const double rate = steps_per_second();
+    if (!last_ || rate <= 0) return std::nullopt;
+    return last_->steps >= budget_ ? 0.0 : static_cast<double>(budget_ - last_->steps) / rate;
   }
 
  private:
@@ -48,10 +52,8 @@ class SessionPace {
   };
   std::int64_t budget_;
   std::int64_t start_steps_;
-  std::optional<Mark> first_;
-  std::int64_t steps_ = 0;
-  bool second_seen_ = false;
-  double steps_per_second_ = 0.0;
+  std::optional<Mark> first_;  // the session's first unit
+  std::optional<Mark> last_;   // its latest, once there is a second
 };
 
 }  // namespace cmbrl

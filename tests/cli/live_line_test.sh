@@ -7,8 +7,8 @@ set -euo pipefail
 cmbrl=$1; config=$2; work=$3
 rm -rf "$work"; mkdir -p "$work"
 command -v script > /dev/null || { echo "FAILED: no script(1) here (Debian's bsdutils)"; exit 1; }
-printf '%q ' "$cmbrl" train --config "$config" --steps 300 --out "$work/run" > "$work/command"
-script -qec "$(cat "$work/command") > /dev/null" /dev/null > "$work/terminal"
+command=$(printf '%q ' "$cmbrl" train --config "$config" --steps 300 --out "$work/run")
+script -qec "$command > /dev/null" /dev/null > "$work/terminal"
 # The rewrites, in order: the text between carriage returns (the pty turns \n into \r\n).
 tr '\r' '\n' < "$work/terminal" | grep '\[epoch' > "$work/rewrites" || true
 rewrites=$(wc -l < "$work/rewrites")
