@@ -2,6 +2,9 @@
 
 #include <cstdint>
 #include <memory>
+#include <sstream>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "cmbrl/core/check.h"
@@ -9,9 +12,23 @@
 namespace cmbrl {
 namespace {
 
-// The key of a parameter's state in an optimiser's state() map (LibTorch's own: the address).
-std::string StateKey(const torch::Tensor& parameter) {
-  return c10::guts::to_string(parameter.unsafeGetTensorImpl());
+// The key of a parameter's state in an optimiser's state() map: the address of its tensor, as
+// text in LibTorch 1.x and as the pointer itself in 2.x (the CUDA builds' LibTorch).
+using StateMapKey = std::decay_t<decltype(std::declval<torch::optim::Adam&>().state())>::key_type;
+
+template <typename Key>
+Key StateKeyAs(void* address) {
+  if constexpr (std::is_pointer_v<Key>) {
+    return address;
+  } else {
+    std::ostringstream text;  // LibTorch 1.x's own form (c10::guts::to_string)
+    text << address;
+    return text.str();
+  }
+}
+
+StateMapKey StateKey(const torch::Tensor& parameter) {
+  return StateKeyAs<StateMapKey>(parameter.unsafeGetTensorImpl());
 }
 
 }  // namespace
