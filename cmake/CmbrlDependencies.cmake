@@ -33,6 +33,27 @@ find_package(Torch REQUIRED)
 add_library(cmbrl_torch INTERFACE)
 target_link_libraries(cmbrl_torch INTERFACE ${TORCH_LIBRARIES})
 target_compile_options(cmbrl_torch INTERFACE ${TORCH_CXX_FLAGS})
+# PyTorch's LibTorch (the CUDA builds') exports its own copies of libstdc++'s std::filesystem
+# functions, and its remove_all calls through a null pointer: linked after it, `cmbrl train`
+# bound to them and died at its second checkpoint. The shared libstdc++ is therefore put first on
+# every link line, by its path, so that the linker resolves the standard library's functions
+# there (a plain `-lstdc++` put no libstdc++ first on the GPU machine's toolchain).
+# With Debian's LibTorch, which exports none, the program's bindings are the same.
+# tests/build/std_binding_test.cc checks it against a library that exports such copies.
+if(CMAKE_SYSTEM_NAME STREQUAL "Linux")
+  execute_process(COMMAND "${CMAKE_CXX_COMPILER}" -print-file-name=libstdc++.so.6
+                  OUTPUT_VARIABLE CMBRL_LIBSTDCXX OUTPUT_STRIP_TRAILING_WHITESPACE)
+  if(NOT IS_ABSOLUTE "${CMBRL_LIBSTDCXX}" OR NOT EXISTS "${CMBRL_LIBSTDCXX}")
+    unset(CMBRL_LIBSTDCXX)
+    find_library(CMBRL_LIBSTDCXX NAMES libstdc++.so.6)
+  endif()
+  if(CMBRL_LIBSTDCXX)
+    add_link_options("SHELL:-Wl,--push-state,--no-as-needed ${CMBRL_LIBSTDCXX} -Wl,--pop-state")
+  else()
+    message(WARNING "no shared libstdc++ (libstdc++.so.6) found to link first: with PyTorch's "
+                    "LibTorch, std::filesystem may bind to its copies and crash")
+  endif()
+endif()
 
 # oneDNN (Debian's libdnnl-dev): the fast CPU prediction backend (cmbrl/models/onednn_forward.h).
 # Optional: without it, or with -DCMBRL_WITH_ONEDNN=OFF (a PyTorch LibTorch that carries its own
