@@ -13,6 +13,8 @@
 #                                       on cuda for each config (default: the PointGoal1 paper
 #                                       presets and the quickstart), prints a table, then trains
 #                                       the quickstart for 300 steps there (train_smoke).
+#   bash scripts/gpu-bench.sh smoke     there: builds as `run` does, then only the training run
+#                                       (train_smoke), with cuda-gdb's stack if it fails.
 #   bash scripts/gpu-bench.sh paper [SECONDS]
 #                                       there: builds as `run` does, then trains PointGoal2 RCE
 #                                       at the paper's size for at most SECONDS (resumable).
@@ -85,6 +87,19 @@ build() {
     $(command -v ninja >/dev/null && echo -G Ninja)
   # Every error at once (-k 0): a newer LibTorch may break several files.
   cmake --build build-gpu --parallel "$(nproc)" -- $(command -v ninja >/dev/null && echo -k 0)
+  # The standard library's functions must bind to the system's libstdc++, not to the copies
+  # PyTorch's LibTorch exports (cmake/CmbrlDependencies.cmake): name any that bind into LibTorch.
+  local stray
+  stray=$(LD_BIND_NOW=1 LD_DEBUG=bindings build-gpu/bin/cmbrl --version 2>&1 |
+    grep 'binding file build-gpu/bin/cmbrl .* to .*libtorch' | grep -o 'symbol `_ZNSt[^'"'"']*' |
+    sort -u || true)
+  if [ -n "$stray" ]; then
+    echo "bin/cmbrl binds $(grep -c . <<<"$stray") standard-library symbols into LibTorch" \
+      "(its remove_all crashes the second checkpoint):" >&2
+    echo "$stray" >&2
+    exit 1
+  fi
+  echo "bin/cmbrl binds no standard-library symbol into LibTorch"
 }
 
 run() {
@@ -149,9 +164,12 @@ train_smoke() {
   echo "episodes logged: $(episodes_logged "$out"); its last checkpoint's $held" \
     "(the budget: 300)" >&2
   if command -v cuda-gdb >/dev/null; then
-    cuda-gdb -q -batch -ex run -ex bt -ex 'x/a $sp' -ex 'info symbol *(void**)$sp' \
-      --args "${run[@]}" --out "$out-gdb" 2>&1 | grep -v -E '^\[(New|Thread|Detaching)' |
-      tail -n 30 || true
+    # After a call to address 0 the return address is on top of the stack: popping it into the
+    # program counter puts the caller back, and the stack unwinds from there.
+    cuda-gdb -q -batch -ex run -ex bt -ex 'info registers rip rsp' -ex 'x/a $sp' \
+      -ex 'info symbol *(void**)$sp' -ex 'set $pc = *(void **)$sp' -ex 'set $sp = $sp + 8' \
+      -ex 'bt 40' --args "${run[@]}" --out "$out-gdb" 2>&1 |
+      grep -v -E '^\[(New|Thread|Detaching)' | tail -n 60 || true
   fi
   return 1
 }
@@ -184,7 +202,9 @@ paper() {
 
 case "${1:-}" in
   fetch) fetch ;;
+  build) build ;;
+  smoke) build; train_smoke "$device" ;;
   run) shift; run "$@" ;;
   paper) shift; paper "$@" ;;
-  *) echo "usage: bash scripts/gpu-bench.sh fetch | run [CONFIG...] | paper [SECONDS]" >&2; exit 2 ;;
+  *) echo "usage: bash scripts/gpu-bench.sh fetch | run [CONFIG...] | smoke | paper [SECONDS]" >&2; exit 2 ;;
 esac
