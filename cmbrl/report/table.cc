@@ -97,6 +97,17 @@ std::string WithinWidenedRange(const TableCell& cell) {
   return "yes";
 }
 
+std::string ReturnWithinWidenedRange(const TableCell& cell) {
+  if (cell.original_final_returns.empty()) return "";
+  const auto [low, high] =
+      std::minmax_element(cell.original_final_returns.begin(), cell.original_final_returns.end());
+  const double lower = *low - 0.3 * std::abs(*low);
+  const double upper = *high + 0.3 * std::abs(*high);
+  if (cell.return_mean > upper) return fmt::format("no: above {:.2f}", upper);
+  if (cell.return_mean < lower) return fmt::format("no: below {:.2f}", lower);
+  return "yes";
+}
+
 std::vector<TableCell> ViolationTable(const std::vector<RunRecord>& runs, std::int64_t window,
                                       const std::vector<RunRecord>& reference,
                                       const std::vector<std::string>& setting_order) {
@@ -191,7 +202,8 @@ std::string TableCsv(const std::vector<TableCell>& cells, std::int64_t window) {
       "task,planner,setting,window,seeds,mean,std,per_seed,paper,fewest_steps,return_mean,return_"
       "std,"
       "original_per_seed,original_mean,versus_original,original_return_mean,heavy_per_seed,"
-      "feasible_fraction,original_heavy_per_seed,reproduces,first_epoch_violations_per_seed,"
+      "feasible_fraction,original_heavy_per_seed,reproduces,return_reproduces,"
+      "first_epoch_violations_per_seed,"
       "first_epoch_return_per_seed,original_first_epoch_violations_per_seed,"
       "original_first_epoch_return_per_seed,hazard_steps_per_seed,vase_steps_per_seed,source\n";
   const auto first_epoch_columns = [](const std::vector<FirstEpoch>& epochs) {
@@ -205,8 +217,8 @@ std::string TableCsv(const std::vector<TableCell>& cells, std::int64_t window) {
   for (const TableCell& cell : cells) {
     const bool original = !cell.original_per_seed.empty();
     text += fmt::format(
-        "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n", cell.task,
-        cell.planner, cell.setting, window, cell.per_seed.size(), cell.mean, cell.std,
+        "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n",
+        cell.task, cell.planner, cell.setting, window, cell.per_seed.size(), cell.mean, cell.std,
         fmt::join(cell.per_seed, " "), cell.paper ? fmt::format("{}", *cell.paper) : "",
         cell.fewest_steps, cell.return_mean, cell.return_std,
         fmt::join(cell.original_per_seed, " "),
@@ -214,8 +226,9 @@ std::string TableCsv(const std::vector<TableCell>& cells, std::int64_t window) {
         original ? fmt::format("{}", Mean(cell.original_final_returns)) : "",
         fmt::join(cell.heavy_episodes, " "), ProgressNumber(Mean(cell.feasible_fractions)),
         fmt::join(cell.original_heavy_episodes, " "), WithinWidenedRange(cell),
-        first_epoch_columns(cell.first_epochs), first_epoch_columns(cell.original_first_epochs),
-        fmt::join(cell.hazard_steps, " "), fmt::join(cell.vase_steps, " "), cell.source);
+        ReturnWithinWidenedRange(cell), first_epoch_columns(cell.first_epochs),
+        first_epoch_columns(cell.original_first_epochs), fmt::join(cell.hazard_steps, " "),
+        fmt::join(cell.vase_steps, " "), cell.source);
   }
   return text;
 }

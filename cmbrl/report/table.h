@@ -71,6 +71,12 @@ std::string VersusOriginal(const TableCell& cell);
 // "no: below N"; "" without the original's logs.
 std::string WithinWidenedRange(const TableCell& cell);
 
+// The same test for the return of the last 10 episodes, at both ends for every method: the mean
+// return within the original's seeds' range widened by 30% of each end's size (0.7 x the lowest
+// to 1.3 x the highest where both are positive). "yes", "no: above N" or "no: below N"; "" without
+// the original's logs.
+std::string ReturnWithinWidenedRange(const TableCell& cell);
+
 // One cell per task, planner and setting present, tasks and planners in the registries' order,
 // then settings in `setting_order`'s order and the rest in natural order (numbers by value;
 // SettingsInOrder). Runs without a finished episode are left out. `reference`

@@ -56,7 +56,7 @@ TEST_F(ReportTest, TableOneHasTheExpectedNumbers) {
   EXPECT_THAT(markdown, HasSubstr("| CarGoal2 | 8.0 ± 0.0 (1) [96] | 2.0 ± 0.0 (1) [578] |"));
   const std::string csv = TableCsv(cells, 300);
   EXPECT_THAT(csv, HasSubstr("PointGoal1,cem,,300,2,16.5,2.1213203435596424,15 18,184.33,300,2,"
-                             "1.4142135623730951,,,,,0 0,0,,,,,,,0 0,0 0,\n"));
+                             "1.4142135623730951,,,,,0 0,0,,,,,,,,0 0,0 0,\n"));
   // Returns of the episodes begun in the window: rce 0,1,2 and 1,2,3; cem 0,1,2 and 2,3,4.
   EXPECT_EQ(cells[0].final_returns, (std::vector<double>{1, 2}));
   EXPECT_DOUBLE_EQ(cells[1].return_mean, 2.0);
@@ -231,9 +231,11 @@ TEST_F(ReportTest, CellsCompareWithTheOriginalsSeedsOverTheSameWindow) {
   EXPECT_TRUE(cells[1].original_per_seed.empty());  // no log for PointGoal1 CEM
   const std::string markdown = TableMarkdown(cells, 300);
   EXPECT_THAT(markdown, HasSubstr("| PointGoal1 | MPC-RCE | 2.0 (3, 1) | 2.5 (1, 4) | inside | "
-                                  "yes | 1.50 | 4.75 | 0, 0 | 0, 0 | 0.000 |"));
-  // No run here has finished a first epoch of 10 episodes: its four columns are empty.
-  EXPECT_THAT(TableCsv(cells, 300), HasSubstr(",1 4,2.5,inside,4.75,0 0,0,0 0,yes,,,,,0 0,0 0,\n"));
+                                  "yes | 1.50 | 4.75 | no: below 2.45 | 0, 0 | 0, 0 | 0.000 |"));
+  // The return: ours 1.5 below the original's 3.5 x 0.7. No run here has finished a first epoch
+  // of 10 episodes: its four columns are empty.
+  EXPECT_THAT(TableCsv(cells, 300),
+              HasSubstr(",1 4,2.5,inside,4.75,0 0,0,0 0,yes,no: below 2.45,,,,,0 0,0 0,\n"));
   EXPECT_THAT(OutcomeDifferences(cells, 300),
               ::testing::Contains("PointGoal1 MPC-RCE: 2.0 in the first 300 steps, the original "
                                   "2.5 (1, 4); ours is inside its seeds' range."));
@@ -270,6 +272,31 @@ TEST(ReportTableTest, ACellReproducesWithinTheOriginalsRangeWidenedByThirtyPerce
   EXPECT_EQ(WithinWidenedRange(cell), "yes");
   cell.original_per_seed.clear();
   EXPECT_EQ(WithinWidenedRange(cell), "");
+}
+
+// The return's test: the original's seeds' range widened by 30% of each end, both ends for every
+// method (experiments/paper-size's declared rule: 3.93 to 10.95 for PointGoal2 RCE).
+TEST(ReportTableTest, TheReturnReproducesWithinTheOriginalsRangeWidenedAtBothEnds) {
+  TableCell cell;
+  cell.planner = "rce";
+  cell.original_final_returns = {8.39, 5.61, 8.42};  // the original's PointGoal2 RCE, 3000 steps
+  cell.return_mean = 3.94;
+  EXPECT_EQ(ReturnWithinWidenedRange(cell), "yes");
+  cell.return_mean = 3.92;
+  EXPECT_EQ(ReturnWithinWidenedRange(cell), "no: below 3.93");
+  cell.return_mean = 10.94;
+  EXPECT_EQ(ReturnWithinWidenedRange(cell), "yes");
+  cell.return_mean = 10.96;
+  EXPECT_EQ(ReturnWithinWidenedRange(cell), "no: above 10.95");
+  // A negative return widens outwards too: -2 x 1.3 below, 1 x 1.3 above.
+  cell.planner = "cem";
+  cell.original_final_returns = {-2.0, 1.0};
+  cell.return_mean = -2.5;
+  EXPECT_EQ(ReturnWithinWidenedRange(cell), "yes");
+  cell.return_mean = -2.7;
+  EXPECT_EQ(ReturnWithinWidenedRange(cell), "no: below -2.60");
+  cell.original_final_returns.clear();
+  EXPECT_EQ(ReturnWithinWidenedRange(cell), "");
 }
 
 // Model-free runs in a sweep: epoch logs, grouped by algorithm, violations interpolated within
