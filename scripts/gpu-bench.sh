@@ -13,8 +13,10 @@
 #                                       on cuda for each config (default: the PointGoal1 paper
 #                                       presets and the quickstart), prints a table, then trains
 #                                       the quickstart for 300 steps there (train_smoke).
-#   bash scripts/gpu-bench.sh smoke     there: builds as `run` does, then only the training run
-#                                       (train_smoke), with cuda-gdb's stack if it fails.
+#   bash scripts/gpu-bench.sh build     there: builds as `run` does, and stops when the program
+#                                       binds a standard-library function into LibTorch.
+#   bash scripts/gpu-bench.sh smoke     there: builds, then only the training run (train_smoke),
+#                                       with cuda-gdb's stack if it fails.
 #   bash scripts/gpu-bench.sh paper [SECONDS]
 #                                       there: builds as `run` does, then trains PointGoal2 RCE
 #                                       at the paper's size for at most SECONDS (resumable).
@@ -206,5 +208,5 @@ case "${1:-}" in
   smoke) build; train_smoke "$device" ;;
   run) shift; run "$@" ;;
   paper) shift; paper "$@" ;;
-  *) echo "usage: bash scripts/gpu-bench.sh fetch | run [CONFIG...] | smoke | paper [SECONDS]" >&2; exit 2 ;;
+  *) echo "usage: bash scripts/gpu-bench.sh fetch | build | smoke | run [CONFIG...] | paper [SECONDS]" >&2; exit 2 ;;
 esac
