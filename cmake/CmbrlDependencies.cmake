@@ -40,7 +40,8 @@ target_compile_options(cmbrl_torch INTERFACE ${TORCH_CXX_FLAGS})
 # there (a plain `-lstdc++` put no libstdc++ first on the GPU machine's toolchain).
 # With Debian's LibTorch, which exports none, the program's bindings are the same.
 # tests/build/std_binding_test.cc checks it against a library that exports such copies.
-if(CMAKE_SYSTEM_NAME STREQUAL "Linux")
+# Only where the program uses libstdc++ (not clang with -stdlib=libc++).
+if(CMAKE_SYSTEM_NAME STREQUAL "Linux" AND NOT CMAKE_CXX_FLAGS MATCHES "-stdlib=libc\\+\\+")
   execute_process(COMMAND "${CMAKE_CXX_COMPILER}" -print-file-name=libstdc++.so.6
                   OUTPUT_VARIABLE CMBRL_LIBSTDCXX OUTPUT_STRIP_TRAILING_WHITESPACE)
   if(NOT IS_ABSOLUTE "${CMBRL_LIBSTDCXX}" OR NOT EXISTS "${CMBRL_LIBSTDCXX}")
