@@ -56,6 +56,31 @@ if(CMAKE_SYSTEM_NAME STREQUAL "Linux" AND NOT CMAKE_CXX_FLAGS MATCHES "-stdlib=l
   endif()
 endif()
 
+# cmbrl's own CUDA kernels (cmbrl/models/tree_kernel_cuda.cu: the classifier's trees in one
+# launch). Built only where LibTorch has CUDA and a CUDA compiler is found; elsewhere, and with
+# -DCMBRL_WITH_CUDA_KERNELS=OFF, a GPU runs the trees as LibTorch operations. The kernels link
+# the shared CUDA runtime, the one LibTorch loads. CMBRL_CUDA_ARCHITECTURES: the GPUs to compile
+# for ("native": those of the building machine, which needs one).
+option(CMBRL_WITH_CUDA_KERNELS "Build cmbrl's CUDA kernels where LibTorch has CUDA" ON)
+set(CMBRL_CUDA_ARCHITECTURES "native" CACHE STRING "CUDA architectures of cmbrl's kernels")
+set(CMBRL_HAVE_CUDA_KERNELS OFF)
+if(CMBRL_WITH_CUDA_KERNELS AND (TORCH_CUDA_LIBRARIES OR TARGET torch_cuda))
+  include(CheckLanguage)
+  check_language(CUDA)
+  if(CMAKE_CUDA_COMPILER)
+    if(NOT CMAKE_CUDA_HOST_COMPILER)
+      set(CMAKE_CUDA_HOST_COMPILER "${CMAKE_CXX_COMPILER}")
+    endif()
+    enable_language(CUDA)
+    find_package(CUDAToolkit REQUIRED)
+    set(CMBRL_HAVE_CUDA_KERNELS ON)
+    message(STATUS "cmbrl CUDA kernels: ${CMAKE_CUDA_COMPILER} for ${CMBRL_CUDA_ARCHITECTURES}")
+  else()
+    message(WARNING "LibTorch has CUDA but no CUDA compiler was found: the classifier's trees "
+                    "will run on the GPU as LibTorch operations, not as one kernel")
+  endif()
+endif()
+
 # oneDNN (Debian's libdnnl-dev): the fast CPU prediction backend (cmbrl/models/onednn_forward.h).
 # Optional: without it, or with -DCMBRL_WITH_ONEDNN=OFF (a PyTorch LibTorch that carries its own
 # copy), predictions run on LibTorch. Header and library directly: the package file would also

@@ -6,10 +6,11 @@
 
 #include <filesystem>
 
+#include "cmbrl/models/packed_trees.h"
 #include "cmbrl/models/tree_ensemble_tensor.h"
 #include "tests/error_message.h"
-#include "tests/temp_path.h"
 #include "tests/models/hazard_data.h"
+#include "tests/temp_path.h"
 
 namespace cmbrl {
 namespace {
@@ -102,8 +103,8 @@ TEST_F(XgbCostModelTest, EveryTreeKernelAndThreadCountGivesXgboostsBits) {
     for (const int threads : {1, 2, 0}) {
       std::vector<float> margins(rows);
       trees.Margins(states.data(), rows, margins.data(), threads, kernel);
-      EXPECT_EQ(margins, expected) << "kernel " << static_cast<int>(kernel) << ", threads "
-                                   << threads;
+      EXPECT_EQ(margins, expected)
+          << "kernel " << static_cast<int>(kernel) << ", threads " << threads;
     }
   }
   // One row alone (a block of 1) too.
@@ -129,6 +130,36 @@ TEST(XgbCostModelLargeTreesTest, TreesOfMoreThan32LeavesFallBackAndStillMatchXgb
   const int rows = 1000;
   const std::vector<float> states = RowsWithMissingValues(data.safe, rows);
   EXPECT_EQ(model.Margins(states.data(), rows), model.XgboostMargins(states.data(), rows));
+}
+
+// The CUDA kernel's walk (PackedRowMargin, compiled for the host here) on the packed nodes gives
+// XGBoost's margins bit for bit, missing values included: the kernel's arithmetic and the
+// packing are checked on any machine, the launch only on a GPU (below).
+TEST_F(XgbCostModelTest, PackedTreesWalkedRowByRowGiveXgboostsBits) {
+  const int rows = 2001;
+  const std::vector<float> states = RowsWithMissingValues(test_->safe, rows);
+  const std::vector<float> expected = model_->XgboostMargins(states.data(), rows);
+  const FlatTreeEnsemble& trees = model_->trees();
+  const std::vector<PackedNode> nodes = PackNodes(trees);
+  ASSERT_EQ(nodes.size(), trees.nodes().size());
+  for (int r = 0; r < rows; ++r) {
+    const float margin = PackedRowMargin(nodes.data(), trees.roots().data(), trees.num_trees(),
+                                         trees.base_margin(), states.data() + r * kHazardStateDim);
+    ASSERT_EQ(margin, expected[r]) << "row " << r;
+  }
+}
+
+TEST_F(XgbCostModelTest, TensorTreesNameStatesTheyCannotClassify) {
+  const TreeEnsembleTensors tensors(model_->trees(), torch::Device(torch::kCPU));
+  EXPECT_FALSE(tensors.uses_cuda_kernel());
+  const auto error = [&](const torch::Tensor& states) {
+    return ErrorMessage([&] { tensors.Margins(states); });
+  };
+  EXPECT_THAT(
+      error(torch::zeros({4, 3})),
+      ::testing::HasSubstr("states of shape [4, 3]: expected (rows, columns) with at least"));
+  EXPECT_THAT(error(torch::zeros({4, kHazardStateDim}, torch::kDouble)),
+              ::testing::HasSubstr("states must be float32 on cpu"));
 }
 
 TEST_F(XgbCostModelTest, TensorTreesAgreeWithTheFlatTrees) {
@@ -174,15 +205,23 @@ TEST_F(XgbCostModelTest, TensorTreesGiveTheSameMarginsInAnyChunking) {
   EXPECT_THROW(TreeEnsembleTensors(model_->trees(), cpu, -1), Error);
 }
 
+// On a GPU: the kernel (where built) gives XGBoost's bits, missing values included; the tensor
+// operations agree with the CPU's to the last bits of their sum.
 TEST_F(XgbCostModelTest, TensorTreesOnCudaAgreeWhenAvailable) {
   if (!torch::cuda::is_available()) GTEST_SKIP() << "this LibTorch has no CUDA or sees no GPU";
-  const int rows = 3000;
-  const torch::Tensor states =
-      torch::from_blob(test_->safe.data(), {rows, kHazardStateDim}).clone();
-  const TreeEnsembleTensors cpu(model_->trees(), torch::Device(torch::kCPU));
-  const TreeEnsembleTensors cuda(model_->trees(), torch::Device(torch::kCUDA));
-  EXPECT_LT((cpu.Margins(states) - cuda.Margins(states.cuda()).cpu()).abs().max().item<float>(),
-            1e-4f);
+  const int rows = 3001;
+  std::vector<float> missing = RowsWithMissingValues(test_->safe, rows);
+  const torch::Tensor states = torch::from_blob(missing.data(), {rows, kHazardStateDim}).clone();
+  const torch::Tensor expected = torch::tensor(model_->XgboostMargins(missing.data(), rows));
+  const torch::Device gpu(torch::kCUDA);
+  const TreeEnsembleTensors fastest(model_->trees(), gpu);
+  EXPECT_EQ(fastest.uses_cuda_kernel(), TreeEnsembleTensors::CudaKernelBuilt());
+  if (fastest.uses_cuda_kernel()) {
+    EXPECT_TRUE(torch::equal(fastest.Margins(states.cuda()).cpu(), expected));
+  }
+  const TreeEnsembleTensors ops(model_->trees(), gpu, 0, DeviceTreePath::kTensorOps);
+  EXPECT_FALSE(ops.uses_cuda_kernel());
+  EXPECT_LT((ops.Margins(states.cuda()).cpu() - expected).abs().max().item<float>(), 1e-4f);
 }
 
 // XGBoost's fit builds the same trees on any thread count: a run's classifier does not depend
@@ -223,10 +262,12 @@ TEST_F(XgbCostModelTest, AnInterruptedFitLeavesTheModelAsItWas) {
   model.Load(path);
   const std::vector<float> before = model.Margins(test_->unsafe.data(), 500);
   int rounds = 0;
-  const std::vector<float> flipped_safe(test_->unsafe.begin(), test_->unsafe.begin() + 100 * kHazardStateDim);
-  const std::vector<float> flipped_unsafe(test_->safe.begin(), test_->safe.begin() + 300 * kHazardStateDim);
-  const CostFitReport report = model.FitArrays(flipped_safe.data(), 100, flipped_unsafe.data(),
-                                               300, [&] { return ++rounds < 3; });
+  const std::vector<float> flipped_safe(test_->unsafe.begin(),
+                                        test_->unsafe.begin() + 100 * kHazardStateDim);
+  const std::vector<float> flipped_unsafe(test_->safe.begin(),
+                                          test_->safe.begin() + 300 * kHazardStateDim);
+  const CostFitReport report = model.FitArrays(flipped_safe.data(), 100, flipped_unsafe.data(), 300,
+                                               [&] { return ++rounds < 3; });
   EXPECT_TRUE(report.interrupted);
   EXPECT_EQ(rounds, 3);
   EXPECT_EQ(model.Margins(test_->unsafe.data(), 500), before);
