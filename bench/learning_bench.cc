@@ -24,6 +24,7 @@
 #include "cmbrl/models/ensemble.h"
 #include "cmbrl/models/fused_adam.h"
 #include "cmbrl/models/onednn_forward.h"
+#include "cmbrl/models/tree_ensemble_tensor.h"
 #include "cmbrl/models/xgboost_cost_model.h"
 
 namespace cmbrl::bench {
@@ -413,6 +414,32 @@ void RunPlanBench(const LearningBenchOptions& args, const FigureSink& emit) {
         Synchronize(device);
       });
 
+      // On a GPU: which path the trees took, and where it is the CUDA kernel, the tensor
+      // operations' time on the same states and whether the kernel gave the host's bits.
+      nlohmann::ordered_json classifier_paths;
+      if (!device.is_cpu() && classifier->trained()) {
+        const TreeEnsembleTensors fastest(classifier->trees(), device);
+        classifier_paths["classifier_path"] =
+            fastest.uses_cuda_kernel() ? "cuda kernel" : "tensor ops";
+        if (fastest.uses_cuda_kernel()) {
+          const TreeEnsembleTensors ops(classifier->trees(), device, 0, DeviceTreePath::kTensorOps);
+          const torch::Tensor rows = scored.reshape({-1, shape.state_dim});
+          classifier_paths["classifier_tensor_ops_ms"] =
+              1e3 * MedianSeconds(args.runs, [&] {
+                for (const std::int64_t samples : work.samples) {
+                  ops.Margins(scored.narrow(2, 0, samples).reshape({-1, shape.state_dim}));
+                }
+                Synchronize(device);
+              });
+          const torch::Tensor host_rows = rows.cpu().contiguous();
+          torch::Tensor host = torch::empty({host_rows.size(0)});
+          classifier->trees().Margins(host_rows.data_ptr<float>(), host_rows.size(0),
+                                      host.data_ptr<float>());
+          classifier_paths["classifier_kernel_equals_host"] =
+              torch::equal(fastest.Margins(rows).cpu(), host);
+        }
+      }
+
       nlohmann::ordered_json line = Figure("plan", "plan_step", config, step.seconds);
       line["planner"] = planner;
       line["precision"] = variants[p].precision;
@@ -430,6 +457,7 @@ void RunPlanBench(const LearningBenchOptions& args, const FigureSink& emit) {
       line["classified_states"] = work.total() * horizon * scored_members;
       line["dynamics_forward_ms"] = forward_seconds * 1e3;
       line["classifier_ms"] = classifier_seconds * 1e3;
+      line.update(classifier_paths);
       AddRate(line, flops, step);
       if (shape_ceiling) line["ceiling_candidates"] = shape_ceiling->candidates();
       if (p > 0) {

@@ -17,6 +17,12 @@
 #                                       binds a standard-library function into LibTorch.
 #   bash scripts/gpu-bench.sh smoke     there: builds, then only the training run (train_smoke),
 #                                       with cuda-gdb's stack if it fails.
+#   bash scripts/gpu-bench.sh plan [CONFIG]
+#                                       there: builds, then only `bench plan` for RCE, CEM and
+#                                       random (default: the PointGoal2 RCE paper preset); on CUDA
+#                                       its lines name the trees' path, the tensor operations'
+#                                       time beside the kernel's, and whether the kernel gave the
+#                                       host's bits.
 #   bash scripts/gpu-bench.sh paper [SECONDS]
 #                                       there: builds as `run` does, then trains PointGoal2 RCE
 #                                       at the paper's size for at most SECONDS (resumable).
@@ -207,6 +213,10 @@ case "${1:-}" in
   build) build ;;
   smoke) build; train_smoke "$device" ;;
   run) shift; run "$@" ;;
+  plan)
+    build
+    build-gpu/bin/cmbrl bench plan --config "${2:-configs/pointgoal2-rce.yaml}" --device "$device" \
+      --planners rce cem random --runs 10 ;;
   paper) shift; paper "$@" ;;
-  *) echo "usage: bash scripts/gpu-bench.sh fetch | build | smoke | run [CONFIG...] | paper [SECONDS]" >&2; exit 2 ;;
+  *) echo "usage: bash scripts/gpu-bench.sh fetch | build | smoke | run [CONFIG...] | plan [CONFIG] | paper [SECONDS]" >&2; exit 2 ;;
 esac
