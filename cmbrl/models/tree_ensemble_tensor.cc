@@ -1,7 +1,9 @@
 #include "cmbrl/models/tree_ensemble_tensor.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
+#include <limits>
 #include <vector>
 
 #include "cmbrl/core/check.h"
@@ -36,9 +38,7 @@ TreeEnsembleTensors::TreeEnsembleTensors(const FlatTreeEnsemble& trees, const to
   for (const TreeNode& node : nodes) {
     columns_needed_ = std::max<std::int64_t>(columns_needed_, node.feature + 1);
   }
-  const auto longs = torch::TensorOptions(torch::kLong);
-  std::vector<std::int64_t> roots(trees.roots().begin(), trees.roots().end());
-  roots_ = torch::tensor(roots, longs).to(device);
+  tree_count_ = trees.num_trees();
   uses_cuda_kernel_ = path == DeviceTreePath::kFastest && device.is_cuda() && CudaKernelBuilt();
   if (uses_cuda_kernel_) {
     const std::vector<PackedNode> packed = PackNodes(trees);
@@ -46,34 +46,63 @@ TreeEnsembleTensors::TreeEnsembleTensors(const FlatTreeEnsemble& trees, const to
     std::vector<std::int32_t> words(packed.size() * 4);
     if (!packed.empty()) std::memcpy(words.data(), packed.data(), words.size() * 4);
     packed_nodes_ = torch::tensor(words, torch::kInt).to(device);
-    roots32_ = roots_.to(torch::kInt);
+    roots32_ = torch::tensor(trees.roots(), torch::kInt).to(device);
     return;
   }
 
   if (chunk_nodes == 0)
     chunk_nodes = device.is_cpu() ? std::int64_t{1} << 21 : std::int64_t{1} << 25;
-  const auto tree_count = static_cast<std::int64_t>(trees.roots().size());
-  chunk_rows_ = std::max<std::int64_t>(1, chunk_nodes / std::max<std::int64_t>(1, tree_count));
-  std::vector<std::int64_t> feature(n), left(n), right(n);
-  std::vector<float> threshold(n), leaf_value(n);
-  std::vector<std::uint8_t> default_left(n);
-  for (std::int64_t i = 0; i < n; ++i) {
-    const TreeNode& node = nodes[i];
-    const bool leaf = node.feature < 0;
-    feature[i] = leaf ? 0 : node.feature;
-    threshold[i] = leaf ? 0.0f : node.value;
-    leaf_value[i] = leaf ? node.value : 0.0f;
-    left[i] = leaf ? i : node.left;
-    right[i] = leaf ? i : node.right;
-    default_left[i] = node.default_left;
+  chunk_rows_ = std::max<std::int64_t>(1, chunk_nodes / std::max<std::int64_t>(1, tree_count_));
+  const auto longs = torch::TensorOptions(torch::kLong);
+  std::vector<std::int64_t> roots(trees.roots().begin(), trees.roots().end());
+  // Breadth-first renumbering, tree by tree, so that a right child directly follows its left
+  // sibling: the next node is then first_child + (goes right), one addition.
+  std::vector<std::int32_t> order;  // new index -> FlatTreeEnsemble's
+  std::vector<std::int64_t> renumbered(n, -1);
+  order.reserve(n);
+  for (std::int64_t& root : roots) {
+    const size_t begin = order.size();
+    renumbered[root] = static_cast<std::int64_t>(order.size());
+    order.push_back(static_cast<std::int32_t>(root));
+    root = renumbered[root];
+    for (size_t k = begin; k < order.size(); ++k) {
+      const TreeNode& node = nodes[order[k]];
+      if (node.feature < 0) continue;
+      for (const std::int32_t child : {node.left, node.right}) {
+        renumbered[child] = static_cast<std::int64_t>(order.size());
+        order.push_back(child);
+      }
+    }
+  }
+  const std::int64_t count = static_cast<std::int64_t>(order.size());
+  std::vector<std::int64_t> column(count), first_child(count);
+  std::vector<float> threshold(count), leaf_value(count);
+  for (std::int64_t k = 0; k < count; ++k) {
+    const TreeNode& node = nodes[order[k]];
+    if (node.feature < 0) {
+      // A leaf stays a leaf: x >= NaN is false, so the walk adds 0 to its own index.
+      column[k] = 0;
+      threshold[k] = std::numeric_limits<float>::quiet_NaN();
+      first_child[k] = k;
+      leaf_value[k] = node.value;
+      continue;
+    }
+    Require(std::isfinite(node.value),
+            "tree tensors: node {} splits at {}: expected a finite threshold", order[k],
+            node.value);
+    // The row's value with NaN as -inf where NaN goes left, as +inf where it goes right (the
+    // second half of the widened row): one comparison then sends NaN the default way.
+    column[k] = node.feature + (node.default_left ? 0 : columns_needed_);
+    threshold[k] = node.value;
+    first_child[k] = renumbered[node.left];
+    leaf_value[k] = 0.0f;
   }
   const auto to_device = [&device](const torch::Tensor& t) { return t.to(device); };
-  feature_ = to_device(torch::tensor(feature, longs));
-  left_ = to_device(torch::tensor(left, longs));
-  right_ = to_device(torch::tensor(right, longs));
+  roots_ = to_device(torch::tensor(roots, longs));
+  column_ = to_device(torch::tensor(column, longs));
+  first_child_ = to_device(torch::tensor(first_child, longs));
   threshold_ = to_device(torch::tensor(threshold, torch::kFloat));
   leaf_value_ = to_device(torch::tensor(leaf_value, torch::kFloat));
-  default_left_ = to_device(torch::tensor(default_left, torch::kUInt8).to(torch::kBool));
 }
 
 torch::Tensor TreeEnsembleTensors::Margins(const torch::Tensor& states) const {
@@ -86,7 +115,7 @@ torch::Tensor TreeEnsembleTensors::Margins(const torch::Tensor& states) const {
           "the trees' largest feature index plus one",
           c10::str(states.sizes()), columns_needed_);
   const torch::NoGradGuard no_grad;
-  if (roots_.size(0) == 0) {
+  if (tree_count_ == 0) {
     return torch::full({states.size(0)}, base_margin_, states.options());
   }
   return uses_cuda_kernel_ ? KernelMargins(states) : TensorOpMargins(states);
@@ -114,21 +143,27 @@ torch::Tensor TreeEnsembleTensors::KernelMargins(const torch::Tensor& states) co
 
 torch::Tensor TreeEnsembleTensors::TensorOpMargins(const torch::Tensor& states) const {
   const std::int64_t rows = states.size(0);
-  const std::int64_t trees = roots_.size(0);
+  const std::int64_t trees = tree_count_;
+  const float infinity = std::numeric_limits<float>::infinity();
   torch::Tensor margins = torch::empty({rows}, states.options());
   const std::int64_t chunk = chunk_rows_;
   for (std::int64_t begin = 0; begin < rows; begin += chunk) {
-    const torch::Tensor x = states.slice(0, begin, std::min(rows, begin + chunk));  // (C, F)
+    // (C, 2 W): the tested columns with NaN as -inf, then with NaN as +inf (see column_).
+    const torch::Tensor x =
+        states.slice(0, begin, std::min(rows, begin + chunk)).narrow(1, 0, columns_needed_);
+    const torch::Tensor missing = torch::isnan(x);
+    const torch::Tensor widened =
+        torch::cat({x.masked_fill(missing, -infinity), x.masked_fill(missing, infinity)}, 1);
     torch::Tensor node = roots_.unsqueeze(0).expand({x.size(0), trees}).contiguous();
+    // Six operations a level, each over (C, T): the column, the value, the threshold, the
+    // comparison, the first child, the step.
     for (int level = 0; level < max_depth_; ++level) {
-      const torch::Tensor value = x.gather(1, feature_.index({node}));  // (C, T)
-      const torch::Tensor go_left = torch::where(torch::isnan(value), default_left_.index({node}),
-                                                 value < threshold_.index({node}));
-      node = torch::where(go_left, left_.index({node}), right_.index({node}));
+      const torch::Tensor value = widened.gather(1, column_.take(node));
+      node = first_child_.take(node) + (value >= threshold_.take(node));
     }
     // The tensor sum adds the leaves in another order than XGBoost's loop, which can move the
     // last bits of a margin; tree_ensemble_test bounds the difference.
-    margins.slice(0, begin, begin + x.size(0)) = leaf_value_.index({node}).sum(1) + base_margin_;
+    margins.slice(0, begin, begin + x.size(0)) = leaf_value_.take(node).sum(1) + base_margin_;
   }
   return margins;
 }

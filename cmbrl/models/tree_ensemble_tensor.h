@@ -20,7 +20,7 @@ class TreeEnsembleTensors {
  public:
   // chunk_nodes (kTensorOps) bounds the (rows, trees) node indices held at once (int64, a few
   // such tensors live at a time); 0 takes the device's default: 2^21 (16 MB) on a CPU, 2^25
-  // (256 MB) on a GPU, where every chunk costs about ten kernel launches a tree level and memory
+  // (256 MB) on a GPU, where every chunk costs six kernel launches a tree level and memory
   // is ample (the paper's 128,000 states a planning step by 400 trees: 2 chunks, not 25).
   TreeEnsembleTensors(const FlatTreeEnsemble& trees, const torch::Device& device,
                       std::int64_t chunk_nodes = 0, DeviceTreePath path = DeviceTreePath::kFastest);
@@ -29,9 +29,10 @@ class TreeEnsembleTensors {
   // float32, with no host synchronisation.
   // - The CUDA kernel: one thread a row walks every tree (PackedRowMargin); each margin equals
   //   FlatTreeEnsemble::Margin's bit for bit.
-  // - Tensor operations: all trees advance one level per step for max_depth steps (gathers and
-  //   selects); rows are processed in chunks of chunk_rows() to bound memory, and a row's margin
-  //   does not depend on the chunking. The leaves are summed in another order than the host's.
+  // - Tensor operations: all trees advance one level per step for max_depth steps, six
+  //   operations a level (gathers and a comparison); rows are processed in chunks of
+  //   chunk_rows() to bound memory, and a row's margin does not depend on the chunking. The
+  //   leaves are summed in another order than the host's.
   torch::Tensor Margins(const torch::Tensor& states) const;
 
   const torch::Device& device() const { return device_; }
@@ -48,13 +49,13 @@ class TreeEnsembleTensors {
   bool uses_cuda_kernel_ = false;
   torch::Tensor packed_nodes_;  // the kernel's: (nodes x 4) int32, PackNodes' layout
   torch::Tensor roots32_;       // the kernel's: (trees) int32
-  torch::Tensor feature_;       // (nodes) int64; 0 at leaves
-  torch::Tensor threshold_;     // (nodes) float32
-  torch::Tensor leaf_value_;    // (nodes) float32; 0 at inner nodes
-  torch::Tensor left_;          // (nodes) int64; itself at leaves
-  torch::Tensor right_;         // (nodes) int64; itself at leaves
-  torch::Tensor default_left_;  // (nodes) bool
-  torch::Tensor roots_;         // (trees) int64
+  // The tensor operations', nodes renumbered breadth-first (a right child follows its left):
+  torch::Tensor column_;       // (nodes) int64: the widened row's column a node tests; 0 at leaves
+  torch::Tensor threshold_;    // (nodes) float32; NaN at leaves
+  torch::Tensor first_child_;  // (nodes) int64: the left child; itself at leaves
+  torch::Tensor leaf_value_;   // (nodes) float32; 0 at inner nodes
+  torch::Tensor roots_;        // (trees) int64, in the path's own numbering
+  std::int64_t tree_count_ = 0;
   int max_depth_ = 0;
   std::int64_t columns_needed_ = 0;  // 1 + the largest feature a node tests
   float base_margin_ = 0.0f;

@@ -1,5 +1,6 @@
 #include "cmbrl/models/xgboost_cost_model.h"
 
+#include <ATen/record_function.h>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <torch/torch.h>
@@ -162,11 +163,15 @@ TEST_F(XgbCostModelTest, TensorTreesNameStatesTheyCannotClassify) {
               ::testing::HasSubstr("states must be float32 on cpu"));
 }
 
+// Missing values and infinities too: the tensor path sends NaN the default way by widening the
+// row (NaN as -inf, then as +inf), which must not move an infinite value.
 TEST_F(XgbCostModelTest, TensorTreesAgreeWithTheFlatTrees) {
   const int rows = 3000;
-  const std::vector<float> flat = model_->Margins(test_->safe.data(), rows);
-  const torch::Tensor states =
-      torch::from_blob(test_->safe.data(), {rows, kHazardStateDim}).clone();
+  std::vector<float> values = RowsWithMissingValues(test_->safe, rows);
+  for (int i = 3; i < rows; i += 11) values[i * kHazardStateDim + 5] = INFINITY;
+  for (int i = 5; i < rows; i += 13) values[i * kHazardStateDim + 2] = -INFINITY;
+  const std::vector<float> flat = model_->Margins(values.data(), rows);  // XGBoost refuses inf
+  const torch::Tensor states = torch::from_blob(values.data(), {rows, kHazardStateDim}).clone();
   const TreeEnsembleTensors tensors(model_->trees(), torch::Device(torch::kCPU));
   const torch::Tensor margins = tensors.Margins(states);
   const torch::Tensor expected = torch::tensor(flat);
@@ -177,12 +182,42 @@ TEST_F(XgbCostModelTest, TensorTreesAgreeWithTheFlatTrees) {
   EXPECT_TRUE(
       torch::equal((margins > 0).masked_select(clear), (expected > 0).masked_select(clear)));
   // PredictViolation keeps batch shapes: (2, 1500, S) -> (2, 1500).
-  const torch::Tensor violations = model_->PredictViolation(states.reshape({2, rows / 2, -1}));
+  const torch::Tensor clean = torch::from_blob(test_->safe.data(), {2, rows / 2, kHazardStateDim});
+  const torch::Tensor violations = model_->PredictViolation(clean);
   ASSERT_EQ(violations.sizes(), torch::IntArrayRef({2, rows / 2}));
   const std::vector<std::uint8_t> rows_result = model_->PredictRows(test_->safe.data(), rows);
   for (int i = 0; i < rows; ++i) {
     ASSERT_EQ(violations.reshape({-1})[i].item<float>(), rows_result[i]) << "row " << i;
   }
+}
+
+// The launches a GPU pays for: six operations per tree level (the column, the value, the
+// threshold, the comparison, the first child, the step), counted as LibTorch's top-level calls;
+// the first form took ten. Views and the per-chunk set-up add a few more.
+TEST_F(XgbCostModelTest, TensorTreesTakeSixOperationsATreeLevel) {
+  const int rows = 500;
+  const torch::Tensor states =
+      torch::from_blob(test_->safe.data(), {rows, kHazardStateDim}).clone();
+  const TreeEnsembleTensors tensors(model_->trees(), torch::Device(torch::kCPU));
+  ASSERT_EQ(tensors.chunk_rows() >= rows, true);
+  static thread_local int depth = 0;
+  static thread_local int calls = 0;
+  calls = 0;
+  const at::CallbackHandle handle = at::addThreadLocalCallback(
+      at::RecordFunctionCallback(
+          [](const at::RecordFunction&) -> std::unique_ptr<at::ObserverContext> {
+            if (depth++ == 0) ++calls;
+            return nullptr;
+          },
+          [](const at::RecordFunction&, at::ObserverContext*) { --depth; })
+          .scopes({at::RecordScope::FUNCTION}));
+  tensors.Margins(states);
+  at::removeCallback(handle);
+  const int levels = model_->trees().max_depth();
+  ASSERT_GE(levels, 4);
+  // Measured: 63 at depth 8 (48 in the levels); the ten-operation form made 90.
+  EXPECT_GE(calls, 6 * levels);
+  EXPECT_LE(calls, 6 * levels + 16);
 }
 
 // A row's margin is the same whatever the chunk it is classified in: a GPU's large chunks (few
