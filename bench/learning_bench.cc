@@ -416,7 +416,7 @@ void RunPlanBench(const LearningBenchOptions& args, const FigureSink& emit) {
 
       // On a GPU: which path the trees took, and where it is the CUDA kernel, the tensor
       // operations' time on the same states and whether the kernel gave the host's bits.
-      nlohmann::ordered_json classifier_paths;
+      nlohmann::ordered_json classifier_paths = nlohmann::ordered_json::object();
       if (!device.is_cpu() && classifier->trained()) {
         const TreeEnsembleTensors fastest(classifier->trees(), device);
         classifier_paths["classifier_path"] =
