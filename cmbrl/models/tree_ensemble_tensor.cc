@@ -33,33 +33,40 @@ TreeEnsembleTensors::TreeEnsembleTensors(const FlatTreeEnsemble& trees, const to
           "tree tensors: chunk_nodes is {}: expected 0 (the device's default) "
           "or a positive count",
           chunk_nodes);
-  const std::vector<TreeNode>& nodes = trees.nodes();
-  const std::int64_t n = static_cast<std::int64_t>(nodes.size());
-  for (const TreeNode& node : nodes) {
+  for (const TreeNode& node : trees.nodes()) {
     columns_needed_ = std::max<std::int64_t>(columns_needed_, node.feature + 1);
   }
   tree_count_ = trees.num_trees();
   uses_cuda_kernel_ = path == DeviceTreePath::kFastest && device.is_cuda() && CudaKernelBuilt();
   if (uses_cuda_kernel_) {
-    const std::vector<PackedNode> packed = PackNodes(trees);
-    // Bytes, not values: a node's float travels as its int32 bits.
-    std::vector<std::int32_t> words(packed.size() * 4);
-    if (!packed.empty()) std::memcpy(words.data(), packed.data(), words.size() * 4);
-    packed_nodes_ = torch::tensor(words, torch::kInt).to(device);
-    roots32_ = torch::tensor(trees.roots(), torch::kInt).to(device);
-    return;
+    BuildKernelTables(trees);
+  } else {
+    BuildTensorOpTables(trees, chunk_nodes);
   }
+}
 
+void TreeEnsembleTensors::BuildKernelTables(const FlatTreeEnsemble& trees) {
+  const std::vector<PackedNode> packed = PackNodes(trees);
+  // Bytes, not values: a node's float travels as its int32 bits.
+  std::vector<std::int32_t> words(packed.size() * 4);
+  if (!packed.empty()) std::memcpy(words.data(), packed.data(), words.size() * 4);
+  packed_nodes_ = torch::tensor(words, torch::kInt).to(device_);
+  roots32_ = torch::tensor(trees.roots(), torch::kInt).to(device_);
+}
+
+void TreeEnsembleTensors::BuildTensorOpTables(const FlatTreeEnsemble& trees,
+                                              std::int64_t chunk_nodes) {
   if (chunk_nodes == 0)
-    chunk_nodes = device.is_cpu() ? std::int64_t{1} << 21 : std::int64_t{1} << 25;
+    chunk_nodes = device_.is_cpu() ? std::int64_t{1} << 21 : std::int64_t{1} << 25;
   chunk_rows_ = std::max<std::int64_t>(1, chunk_nodes / std::max<std::int64_t>(1, tree_count_));
+  const std::vector<TreeNode>& nodes = trees.nodes();
   const auto longs = torch::TensorOptions(torch::kLong);
   std::vector<std::int64_t> roots(trees.roots().begin(), trees.roots().end());
   // Breadth-first renumbering, tree by tree, so that a right child directly follows its left
   // sibling: the next node is then first_child + (goes right), one addition.
   std::vector<std::int32_t> order;  // new index -> FlatTreeEnsemble's
-  std::vector<std::int64_t> renumbered(n, -1);
-  order.reserve(n);
+  std::vector<std::int64_t> renumbered(nodes.size(), -1);
+  order.reserve(nodes.size());
   for (std::int64_t& root : roots) {
     const size_t begin = order.size();
     renumbered[root] = static_cast<std::int64_t>(order.size());
@@ -97,7 +104,7 @@ TreeEnsembleTensors::TreeEnsembleTensors(const FlatTreeEnsemble& trees, const to
     first_child[k] = renumbered[node.left];
     leaf_value[k] = 0.0f;
   }
-  const auto to_device = [&device](const torch::Tensor& t) { return t.to(device); };
+  const auto to_device = [this](const torch::Tensor& t) { return t.to(device_); };
   roots_ = to_device(torch::tensor(roots, longs));
   column_ = to_device(torch::tensor(column, longs));
   first_child_ = to_device(torch::tensor(first_child, longs));

@@ -42,6 +42,8 @@ class TreeEnsembleTensors {
   static bool CudaKernelBuilt();
 
  private:
+  void BuildKernelTables(const FlatTreeEnsemble& trees);
+  void BuildTensorOpTables(const FlatTreeEnsemble& trees, std::int64_t chunk_nodes);
   torch::Tensor KernelMargins(const torch::Tensor& states) const;
   torch::Tensor TensorOpMargins(const torch::Tensor& states) const;
 
