@@ -23,6 +23,10 @@
 #                                       its lines name the trees' path, the tensor operations'
 #                                       time beside the kernel's, and whether the kernel gave the
 #                                       host's bits.
+#   bash scripts/gpu-bench.sh checks [SECONDS]
+#                                       there: one build, then smoke, plan and paper SECONDS
+#                                       (default 300) in turn, each run even if one before failed;
+#                                       logs to $OUT (the device tool's) or build-gpu/.
 #   bash scripts/gpu-bench.sh paper [SECONDS]
 #                                       there: builds as `run` does, then trains PointGoal2 RCE
 #                                       at the paper's size for at most SECONDS (resumable).
@@ -186,8 +190,14 @@ train_smoke() {
 # at the paper's preset, seed 0, the first 3000 agent steps, within SECONDS (default 420) of
 # training; stopped there by SIGTERM it checkpoints, and the same command resumes it while the
 # machine is kept. Its logs go to $OUT when the device tool gives one (else build-gpu/).
+# `bench plan` alone for RCE, CEM and random at CONFIG (default: the PointGoal2 RCE paper preset).
+plan_bench() {
+  build-gpu/bin/cmbrl bench plan --config "${1:-configs/pointgoal2-rce.yaml}" --device "$device" \
+    --planners rce cem random --runs 10
+}
+
 paper() {
-  build
+  [ "${built:-}" = yes ] || build
   if [ "$device" != cuda ]; then
     echo "paper: no GPU here (the CPU's runs are experiments/paper-size's)" >&2
     exit 2
@@ -213,10 +223,18 @@ case "${1:-}" in
   build) build ;;
   smoke) build; train_smoke "$device" ;;
   run) shift; run "$@" ;;
-  plan)
-    build
-    build-gpu/bin/cmbrl bench plan --config "${2:-configs/pointgoal2-rce.yaml}" --device "$device" \
-      --planners rce cem random --runs 10 ;;
+  plan) build; plan_bench "${2:-}" ;;
   paper) shift; paper "$@" ;;
-  *) echo "usage: bash scripts/gpu-bench.sh fetch | build | smoke | run [CONFIG...] | plan [CONFIG] | paper [SECONDS]" >&2; exit 2 ;;
+  checks)
+    # One build, then the training smoke, the plan bench and the paper run (SECONDS, default
+    # 300), each reported even when an earlier one failed; the logs go to $OUT when given.
+    build; built=yes; logs=${OUT:-build-gpu}; status=0
+    train_smoke "$device" > "$logs/smoke.log" 2>&1 || status=1
+    tail -n 3 "$logs/smoke.log"
+    plan_bench > "$logs/plan.jsonl" 2> "$logs/plan.err" || status=1
+    grep -o '"planner":"[a-z]*"\|"median_ms":[0-9.]*\|"classifier_[a-z_]*":[^,}]*' \
+      "$logs/plan.jsonl" | paste -sd' ' || true
+    paper "${2:-300}" || status=1
+    exit "$status" ;;
+  *) echo "usage: bash scripts/gpu-bench.sh fetch | build | smoke | run [CONFIG...] | plan [CONFIG] | paper [SECONDS] | checks [SECONDS]" >&2; exit 2 ;;
 esac
