@@ -96,12 +96,14 @@ build() {
   local configure=(cmake -S . -B build-gpu -DCMAKE_BUILD_TYPE=Release -DCMBRL_BUILD_TESTS=OFF
     -DCMBRL_BUILD_BENCHMARKS=OFF -DCMBRL_BUILD_PYTHON=OFF -DCMBRL_WARNINGS_AS_ERRORS=OFF
     "-DCMAKE_PREFIX_PATH=${torch_prefix:+$torch_prefix;}$prefix")
-  command -v ninja >/dev/null && configure+=(-G Ninja)
-  # Every error at once (-k 0): a newer LibTorch may break several files. If the build with
-  # cmbrl's own CUDA kernels fails (their first builds there), the errors stay above and the
-  # program is built again without them, so the lent minutes still measure the rest.
+  # With Ninja, every error at once (-k 0): a newer LibTorch may break several files. If the
+  # build with cmbrl's own CUDA kernels fails (their first builds there), the errors stay above
+  # and the program is built again without them, so the lent minutes still measure the rest.
   local keep_going=""
-  command -v ninja >/dev/null && keep_going="-k 0"
+  if command -v ninja >/dev/null; then
+    configure+=(-G Ninja)
+    keep_going="-k 0"
+  fi
   if ! { "${configure[@]}" -DCMBRL_WITH_CUDA_KERNELS=ON &&
          cmake --build build-gpu --parallel "$(nproc)" -- $keep_going; }; then
     echo "the build with cmbrl's CUDA kernels failed (errors above): building without them" >&2
@@ -195,16 +197,16 @@ train_smoke() {
   return 1
 }
 
-# One run of experiments/paper-size's protocol on the device (issue 56 item 4): PointGoal2 RCE
-# at the paper's preset, seed 0, the first 3000 agent steps, within SECONDS (default 420) of
-# training; stopped there by SIGTERM it checkpoints, and the same command resumes it while the
-# machine is kept. Its logs go to $OUT when the device tool gives one (else build-gpu/).
 # `bench plan` alone for RCE, CEM and random at CONFIG (default: the PointGoal2 RCE paper preset).
 plan_bench() {
   build-gpu/bin/cmbrl bench plan --config "${1:-configs/pointgoal2-rce.yaml}" --device "$device" \
     --planners rce cem random --runs 10
 }
 
+# One run of experiments/paper-size's protocol on the device (issue 56 item 4): PointGoal2 RCE
+# at the paper's preset, seed 0, the first 3000 agent steps, within SECONDS (default 420) of
+# training; stopped there by SIGTERM it checkpoints, and the same command resumes it while the
+# machine is kept. Its logs go to $OUT when the device tool gives one (else build-gpu/).
 paper() {
   [ "${built:-}" = yes ] || build
   if [ "$device" != cuda ]; then
