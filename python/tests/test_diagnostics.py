@@ -58,6 +58,14 @@ def test_the_summary_counts_per_run_and_per_100_steps():
     assert summary["goal_distance"] == pytest.approx(2.0)
 
 
+def test_the_violation_anatomy_splits_an_episode_into_its_runs_of_violations():
+    kinds = [None, "hole", "hole", None, None, "unforeseen", "hole", None, "hole"]
+    assert violation_anatomy.violation_runs(kinds) == [
+        ["hole", "hole"], ["unforeseen", "hole"], ["hole"]]
+    assert violation_anatomy.violation_runs([None, None]) == []
+    assert violation_anatomy.violation_runs(["hole"] * 6) == [["hole"] * 6]
+
+
 def test_model_size_parses_its_settings_and_fits_tiny_ensembles(capsys):
     assert model_size.parse_setting("d=8,8,delta") == ("d", [8, 8], True)
     assert model_size.parse_setting("a=16") == ("a", [16], False)
@@ -80,7 +88,8 @@ def test_the_planner_study_and_the_violation_anatomy_run_on_a_trained_run(
     lines = (out / "small" / "run.jsonl").read_text().splitlines()
     assert len(lines) == 1 and "cost" in json.loads(lines[0])
     violation_anatomy.main([str(run), "--episodes", "1"])
-    assert capsys.readouterr().out.strip()
+    anatomy = capsys.readouterr().out
+    assert "| hole |" in anatomy and "1 episodes" in anatomy
     goal_approach.main([str(run), str(run), "--episodes", "1", "--near", "100"])
     table = capsys.readouterr().out
     rows = [line for line in table.splitlines() if line.startswith("| run |")]

@@ -9,8 +9,9 @@ For every step whose agent step had a cost, with the run's final models (cmbrl.l
     (its plan came from the least-violating, infeasible elites);
   - foreseen, feasible: a member predicted the violation although the plan had enough feasible
     samples (the executed mean of the elites differs from each elite).
-Also: how long violations last once they start (consecutive violating steps) and the robot's
-speed at violating steps and at the others.
+Also: how long violations last once they start (consecutive violating steps), what kinds the
+steps of long runs (5 or more: a robot staying in a hazard) are, and the robot's speed at
+violating steps and at the others.
 
 Usage (Debian's python3, with python3-numpy):
        PYTHONPATH=build/python python3 -m cmbrl.diagnostics.violation_anatomy RUN_DIR [--episodes 8] [--seed 5]
@@ -27,6 +28,24 @@ import numpy as np
 from cmbrl.diagnostics.runs import load_mpc_run
 
 COST_TERMS = ("cost_hazards", "cost_vases_contact", "cost_vases_velocity")  # facts A3
+KINDS = ("hole", "unforeseen", "foreseen, fallback", "foreseen, feasible")
+LONG_RUN = 5  # consecutive violating steps from which a run counts as a stay
+
+
+def violation_runs(step_kinds):
+    """The runs of consecutive violating steps in one episode: [kind, or None for a step without a
+    cost, per step] -> [[kind of each step of the run], ...] in order."""
+    runs, current = [], []
+    for kind in step_kinds:
+        if kind is None:
+            if current:
+                runs.append(current)
+            current = []
+        else:
+            current.append(kind)
+    if current:
+        runs.append(current)
+    return runs
 
 
 def main(argv=None):
@@ -44,6 +63,7 @@ def main(argv=None):
     env = agent.make_env()
 
     kinds = collections.Counter()
+    long_kinds = collections.Counter()  # kinds of the steps in runs of LONG_RUN or more
     terms = collections.Counter()  # which cost terms made the violating steps (facts A3)
     steps = violations = 0
     dwell = []          # lengths of runs of consecutive violating steps
@@ -57,7 +77,7 @@ def main(argv=None):
         else:
             obs, _ = env.reset(seed=args.seed) if k == 0 else env.reset()
         agent.begin_episode()
-        run_length = 0
+        step_kinds = []
         cost_sum = 0
         episode_return = 0.0
         done = False
@@ -74,7 +94,6 @@ def main(argv=None):
             if cost > 0:
                 violations += 1
                 cost_sum += 1
-                run_length += 1
                 speeds_in.append(speed)
                 for term in COST_TERMS:
                     if info.get(term, 0.0) > 0:
@@ -88,21 +107,22 @@ def main(argv=None):
                         terms["hazard crossed between samples"] += 1
                 known = bool(agent.predict_violation(nxt[None, :])[0])
                 if not known:
-                    kinds["hole"] += 1
+                    step_kinds.append("hole")
                 elif not foreseen:
-                    kinds["unforeseen"] += 1
+                    step_kinds.append("unforeseen")
                 elif plan["infeasible_elite_fraction"] > 0:
-                    kinds["foreseen, fallback"] += 1
+                    step_kinds.append("foreseen, fallback")
                 else:
-                    kinds["foreseen, feasible"] += 1
+                    step_kinds.append("foreseen, feasible")
+                kinds[step_kinds[-1]] += 1
             else:
                 speeds_out.append(speed)
-                if run_length:
-                    dwell.append(run_length)
-                run_length = 0
+                step_kinds.append(None)
             obs = nxt
-        if run_length:
-            dwell.append(run_length)
+        for run in violation_runs(step_kinds):
+            dwell.append(len(run))
+            if len(run) >= LONG_RUN:
+                long_kinds.update(run)
         episode_costs.append(cost_sum)
         episode_returns.append(round(episode_return, 3))
 
@@ -110,7 +130,7 @@ def main(argv=None):
           f"(per episode: {episode_costs}; returns {episode_returns})"
           + (f", overrides {args.set}" if args.set else ""))
     print("| kind | steps | share |\n|---|---|---|")
-    for kind in ("hole", "unforeseen", "foreseen, fallback", "foreseen, feasible"):
+    for kind in KINDS:
         share = kinds[kind] / violations if violations else 0.0
         print(f"| {kind} | {kinds[kind]} | {share:.2f} |")
     print("cost terms at violating steps (a step may have several): "
@@ -120,7 +140,9 @@ def main(argv=None):
     if dwell:
         print(f"runs of consecutive violations: {len(dwell)}, median length "
               f"{statistics.median(dwell)}, longest {max(dwell)}, share of violating steps in "
-              f"runs of 5 or more {sum(d for d in dwell if d >= 5) / violations:.2f}")
+              f"runs of {LONG_RUN} or more {sum(long_kinds.values()) / violations:.2f}")
+        print(f"kinds of the steps in runs of {LONG_RUN} or more: "
+              + ", ".join(f"{kind} {long_kinds[kind]}" for kind in KINDS))
         print(f"robot speed (m/s): median {statistics.median(speeds_in):.3f} at violating steps, "
               f"{statistics.median(speeds_out):.3f} at the others")
 
