@@ -2,8 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <nlohmann/json.hpp>
 #include <functional>
+#include <nlohmann/json.hpp>
 #if defined(__x86_64__)
 #include <immintrin.h>
 #endif
@@ -27,7 +27,7 @@ const Json& Field(const Json& object, const char* key, const char* where) {
 
 // Depth of the subtree under `node` (a leaf has depth 0).
 int Depth(const std::vector<TreeNode>& nodes, std::int32_t node) {
-  if (nodes[node].feature < 0) return 0;
+  if (nodes[node].is_leaf()) return 0;
   return 1 + std::max(Depth(nodes, nodes[node].left), Depth(nodes, nodes[node].right));
 }
 
@@ -70,18 +70,21 @@ FlatTreeEnsemble FlatTreeEnsemble::FromXgboostJson(const std::string& text) {
                 default_left.size() == count,
             "XGBoost tree arrays differ in length");
     for (size_t i = 0; i < count; ++i) {
-      TreeNode node;
-      node.value = value[i].get<float>();
+      const std::int32_t index = offset + static_cast<std::int32_t>(i);
       const int l = left[i].get<int>();
-      if (l >= 0) {
-        node.feature = feature[i].get<std::int32_t>();
-        Require(node.feature < ensemble.num_features_, "XGBoost split on feature {} of {}",
-                node.feature, ensemble.num_features_);
-        node.left = offset + l;
-        node.right = offset + right[i].get<std::int32_t>();
-        node.default_left = default_left[i].get<int>() != 0;
+      if (l < 0) {
+        ensemble.nodes_.push_back(TreeNode::Leaf(index, value[i].get<float>()));
+        continue;
       }
-      ensemble.nodes_.push_back(node);
+      const std::int32_t split = feature[i].get<std::int32_t>();
+      Require(split >= 0 && split < ensemble.num_features_ && split < (1 << 30),
+              "XGBoost split on feature {} of {}", split, ensemble.num_features_);
+      const int r = right[i].get<int>();
+      Require(static_cast<size_t>(l) < count && r >= 0 && static_cast<size_t>(r) < count,
+              "XGBoost node {} of tree {} has children {} and {}: expected 0 to {}", i,
+              ensemble.roots_.size(), l, r, count - 1);
+      ensemble.nodes_.push_back(TreeNode::Split(split, default_left[i].get<int>() != 0,
+                                                value[i].get<float>(), offset + l, offset + r));
     }
     ensemble.roots_.push_back(offset);
     ensemble.max_depth_ = std::max(ensemble.max_depth_, Depth(ensemble.nodes_, offset));
@@ -98,7 +101,7 @@ void FlatTreeEnsemble::BuildBitvectorTrees() {
   std::function<std::pair<int, int>(std::int32_t, int)> number =
       [&](std::int32_t index, int next_leaf) -> std::pair<int, int> {
     const TreeNode& node = nodes_[index];
-    if (node.feature < 0) {
+    if (node.is_leaf()) {
       trees.leaf_value.push_back(node.value);
       return {next_leaf, next_leaf + 1};
     }
@@ -107,10 +110,10 @@ void FlatTreeEnsemble::BuildBitvectorTrees() {
     if (right.second <= kMaxLeaves) {
       std::uint32_t bits = ~0u;
       for (int leaf = left.first; leaf < left.second; ++leaf) bits &= ~(1u << leaf);
-      trees.feature.push_back(node.feature);
+      trees.feature.push_back(node.feature());
       trees.threshold.push_back(node.value);
       trees.bitvector.push_back(bits);
-      trees.default_left.push_back(node.default_left ? 1 : 0);
+      trees.default_left.push_back(node.default_left() ? 1 : 0);
     }
     return {left.first, right.second};
   };
@@ -124,18 +127,7 @@ void FlatTreeEnsemble::BuildBitvectorTrees() {
 }
 
 float FlatTreeEnsemble::Margin(const float* row) const {
-  float sum = base_margin_;
-  const TreeNode* nodes = nodes_.data();
-  for (const std::int32_t root : roots_) {
-    const TreeNode* node = nodes + root;
-    while (node->feature >= 0) {
-      const float x = row[node->feature];
-      const bool go_left = std::isnan(x) ? node->default_left : x < node->value;
-      node = nodes + (go_left ? node->left : node->right);
-    }
-    sum += node->value;
-  }
-  return sum;
+  return RowMargin(nodes_.data(), roots_.data(), num_trees(), base_margin_, row);
 }
 
 namespace {
@@ -270,9 +262,8 @@ __attribute__((target("avx2"))) void BlockAvx2(const BitvectorView& t, const flo
 
 }  // namespace
 
-
-void FlatTreeEnsemble::MarginsOfBlock(const float* rows, int count, float* columns,
-                                      BlockIsa isa, float* out) const {
+void FlatTreeEnsemble::MarginsOfBlock(const float* rows, int count, float* columns, BlockIsa isa,
+                                      float* out) const {
   const BitvectorTrees& trees = bitvector_trees_;
   const int features = num_features_;
   // Missing rows of a short block repeat row 0; their sums are dropped.

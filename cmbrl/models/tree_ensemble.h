@@ -7,17 +7,9 @@
 #include <string>
 #include <vector>
 
-namespace cmbrl {
+#include "cmbrl/models/tree_node.h"
 
-// One node. Inner nodes send x[feature] < threshold to `left`, anything else (NaN included) to
-// `right` or `left` per default_left; leaves have feature -1 and carry their value.
-struct TreeNode {
-  std::int32_t feature = -1;
-  float value = 0.0f;       // split threshold (inner) or leaf value (leaf)
-  std::int32_t left = -1;   // absolute node index
-  std::int32_t right = -1;  // absolute node index
-  bool default_left = false;
-};
+namespace cmbrl {
 
 // How Margins() evaluates the trees. Every kernel gives the same bits.
 enum class TreeKernel {
@@ -38,7 +30,7 @@ class FlatTreeEnsemble {
   // throws cmbrl::Error when it is not a binary:logistic gbtree model.
   static FlatTreeEnsemble FromXgboostJson(const std::string& json);
 
-  // Margin (log-odds) of one row of num_features() floats.
+  // Margin (log-odds) of one row of num_features() floats: RowMargin, the reference walk.
   float Margin(const float* row) const;
 
   // Margins of `rows` rows (row-major), written to `out`, on up to `threads` threads (0: one
@@ -61,21 +53,20 @@ class FlatTreeEnsemble {
   // leaves of its left subtree, so its bitvector has 0 there. A row's exit leaf is the lowest
   // bit left after AND-ing the bitvectors of every node that sends it right.
   struct BitvectorTrees {
-    bool usable = false;                       // every tree has at most 32 leaves
-    std::vector<std::int32_t> feature;         // per inner node, trees one after another
-    std::vector<float> threshold;              // per inner node
-    std::vector<std::uint32_t> bitvector;      // per inner node
-    std::vector<std::uint8_t> default_left;    // per inner node: NaN goes left
-    std::vector<std::int32_t> node_begin;      // per tree, plus the end
-    std::vector<std::int32_t> leaf_begin;      // per tree
-    std::vector<float> leaf_value;             // per leaf, left to right within a tree
+    bool usable = false;                     // every tree has at most 32 leaves
+    std::vector<std::int32_t> feature;       // per inner node, trees one after another
+    std::vector<float> threshold;            // per inner node
+    std::vector<std::uint32_t> bitvector;    // per inner node
+    std::vector<std::uint8_t> default_left;  // per inner node: NaN goes left
+    std::vector<std::int32_t> node_begin;    // per tree, plus the end
+    std::vector<std::int32_t> leaf_begin;    // per tree
+    std::vector<float> leaf_value;           // per leaf, left to right within a tree
   };
 
   void BuildBitvectorTrees();
   // Up to 16 rows; columns: scratch of num_features() x 16 floats.
   enum class BlockIsa { kPortable, kAvx2, kAvx512 };
-  void MarginsOfBlock(const float* rows, int count, float* columns, BlockIsa isa,
-                      float* out) const;
+  void MarginsOfBlock(const float* rows, int count, float* columns, BlockIsa isa, float* out) const;
 
   std::vector<TreeNode> nodes_;
   BitvectorTrees bitvector_trees_;

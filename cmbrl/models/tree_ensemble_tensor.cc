@@ -7,7 +7,6 @@
 #include <vector>
 
 #include "cmbrl/core/check.h"
-#include "cmbrl/models/packed_trees.h"
 
 #if defined(CMBRL_HAVE_CUDA_KERNELS)
 #include <c10/cuda/CUDAGuard.h>
@@ -34,7 +33,8 @@ TreeEnsembleTensors::TreeEnsembleTensors(const FlatTreeEnsemble& trees, const to
           "or a positive count",
           chunk_nodes);
   for (const TreeNode& node : trees.nodes()) {
-    columns_needed_ = std::max<std::int64_t>(columns_needed_, node.feature + 1);
+    if (!node.is_leaf())
+      columns_needed_ = std::max<std::int64_t>(columns_needed_, node.feature() + 1);
   }
   tree_count_ = trees.num_trees();
   uses_cuda_kernel_ = path == DeviceTreePath::kFastest && device.is_cuda() && CudaKernelBuilt();
@@ -46,10 +46,10 @@ TreeEnsembleTensors::TreeEnsembleTensors(const FlatTreeEnsemble& trees, const to
 }
 
 void TreeEnsembleTensors::BuildKernelTables(const FlatTreeEnsemble& trees) {
-  const std::vector<PackedNode> packed = PackNodes(trees);
+  const std::vector<TreeNode>& nodes = trees.nodes();
   // Bytes, not values: a node's float travels as its int32 bits.
-  std::vector<std::int32_t> words(packed.size() * 4);
-  if (!packed.empty()) std::memcpy(words.data(), packed.data(), words.size() * 4);
+  std::vector<std::int32_t> words(nodes.size() * 4);
+  if (!nodes.empty()) std::memcpy(words.data(), nodes.data(), words.size() * 4);
   packed_nodes_ = torch::tensor(words, torch::kInt).to(device_);
   roots32_ = torch::tensor(trees.roots(), torch::kInt).to(device_);
 }
@@ -74,7 +74,7 @@ void TreeEnsembleTensors::BuildTensorOpTables(const FlatTreeEnsemble& trees,
     root = renumbered[root];
     for (size_t k = begin; k < order.size(); ++k) {
       const TreeNode& node = nodes[order[k]];
-      if (node.feature < 0) continue;
+      if (node.is_leaf()) continue;
       for (const std::int32_t child : {node.left, node.right}) {
         renumbered[child] = static_cast<std::int64_t>(order.size());
         order.push_back(child);
@@ -86,7 +86,7 @@ void TreeEnsembleTensors::BuildTensorOpTables(const FlatTreeEnsemble& trees,
   std::vector<float> threshold(count), leaf_value(count);
   for (std::int64_t k = 0; k < count; ++k) {
     const TreeNode& node = nodes[order[k]];
-    if (node.feature < 0) {
+    if (node.is_leaf()) {
       // A leaf stays a leaf: x >= NaN is false, so the walk adds 0 to its own index.
       column[k] = 0;
       threshold[k] = std::numeric_limits<float>::quiet_NaN();
@@ -99,7 +99,7 @@ void TreeEnsembleTensors::BuildTensorOpTables(const FlatTreeEnsemble& trees,
             node.value);
     // The row's value with NaN as -inf where NaN goes left, as +inf where it goes right (the
     // second half of the widened row): one comparison then sends NaN the default way.
-    column[k] = node.feature + (node.default_left ? 0 : columns_needed_);
+    column[k] = node.feature() + (node.default_left() ? 0 : columns_needed_);
     threshold[k] = node.value;
     first_child[k] = renumbered[node.left];
     leaf_value[k] = 0.0f;
@@ -135,7 +135,7 @@ torch::Tensor TreeEnsembleTensors::KernelMargins(const torch::Tensor& states) co
   const torch::Tensor rows = states.contiguous();
   torch::Tensor margins = torch::empty({rows.size(0)}, rows.options());
   const char* error = cuda_trees::LaunchMargins(
-      reinterpret_cast<const PackedNode*>(packed_nodes_.data_ptr<std::int32_t>()),
+      reinterpret_cast<const TreeNode*>(packed_nodes_.data_ptr<std::int32_t>()),
       roots32_.data_ptr<std::int32_t>(), static_cast<int>(roots32_.size(0)), base_margin_,
       rows.data_ptr<float>(), rows.size(0), static_cast<int>(rows.size(1)),
       margins.data_ptr<float>(), c10::cuda::getCurrentCUDAStream().stream());

@@ -27,7 +27,7 @@ class TreeEnsembleTensors {
 
   // states (M, F) float32 on this device, F covering every feature a tree tests -> margins (M)
   // float32, with no host synchronisation.
-  // - The CUDA kernel: one thread a row walks every tree (PackedRowMargin); each margin equals
+  // - The CUDA kernel: one thread a row walks every tree (RowMargin); each margin equals
   //   FlatTreeEnsemble::Margin's bit for bit.
   // - Tensor operations: all trees advance one level per step for max_depth steps, six
   //   operations a level (gathers and a comparison); rows are processed in chunks of
@@ -49,8 +49,9 @@ class TreeEnsembleTensors {
 
   torch::Device device_;
   bool uses_cuda_kernel_ = false;
-  torch::Tensor packed_nodes_;  // the kernel's: (nodes x 4) int32, PackNodes' layout
-  torch::Tensor roots32_;       // the kernel's: (trees) int32
+  torch::Tensor
+      packed_nodes_;       // the kernel's: (nodes x 4) int32, FlatTreeEnsemble's TreeNode layout
+  torch::Tensor roots32_;  // the kernel's: (trees) int32
   // The tensor operations', nodes renumbered breadth-first (a right child follows its left):
   torch::Tensor column_;       // (nodes) int64: the widened row's column a node tests; 0 at leaves
   torch::Tensor threshold_;    // (nodes) float32; NaN at leaves

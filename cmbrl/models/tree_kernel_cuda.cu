@@ -9,18 +9,18 @@ constexpr int kThreadsPerBlock = 128;
 
 // One thread a row. The node table (about 150 KB at the paper's 400 trees of 12 leaves) stays
 // in the caches; a row's features are read where its nodes test them.
-__global__ void MarginsKernel(const PackedNode* __restrict__ nodes,
+__global__ void MarginsKernel(const TreeNode* __restrict__ nodes,
                               const std::int32_t* __restrict__ roots, int trees, float base_margin,
                               const float* __restrict__ rows, std::int64_t count, int features,
                               float* __restrict__ margins) {
   const std::int64_t r = static_cast<std::int64_t>(blockIdx.x) * blockDim.x + threadIdx.x;
   if (r >= count) return;
-  margins[r] = PackedRowMargin(nodes, roots, trees, base_margin, rows + r * features);
+  margins[r] = RowMargin(nodes, roots, trees, base_margin, rows + r * features);
 }
 
 }  // namespace
 
-const char* LaunchMargins(const PackedNode* nodes, const std::int32_t* roots, int trees,
+const char* LaunchMargins(const TreeNode* nodes, const std::int32_t* roots, int trees,
                           float base_margin, const float* rows, std::int64_t count, int features,
                           float* margins, void* stream) {
   if (count <= 0) return nullptr;

@@ -7,7 +7,6 @@
 
 #include <filesystem>
 
-#include "cmbrl/models/packed_trees.h"
 #include "cmbrl/models/tree_ensemble_tensor.h"
 #include "tests/error_message.h"
 #include "tests/models/hazard_data.h"
@@ -125,7 +124,7 @@ TEST(XgbCostModelLargeTreesTest, TreesOfMoreThan32LeavesFallBackAndStillMatchXgb
   const std::vector<std::int32_t>& roots = model.trees().roots();
   int first_tree_leaves = 0;
   for (std::int32_t node = roots[0]; node < roots[1]; ++node) {
-    first_tree_leaves += model.trees().nodes()[node].feature < 0;
+    first_tree_leaves += model.trees().nodes()[node].is_leaf();
   }
   ASSERT_GT(first_tree_leaves, 32) << "the test needs a tree too large for the bitvectors";
   const int rows = 1000;
@@ -133,20 +132,20 @@ TEST(XgbCostModelLargeTreesTest, TreesOfMoreThan32LeavesFallBackAndStillMatchXgb
   EXPECT_EQ(model.Margins(states.data(), rows), model.XgboostMargins(states.data(), rows));
 }
 
-// The CUDA kernel's walk (PackedRowMargin, compiled for the host here) on the packed nodes gives
-// XGBoost's margins bit for bit, missing values included: the kernel's arithmetic and the
-// packing are checked on any machine, the launch only on a GPU (below).
-TEST_F(XgbCostModelTest, PackedTreesWalkedRowByRowGiveXgboostsBits) {
+// The row walk (RowMargin: FlatTreeEnsemble's reference and the CUDA kernel's arithmetic,
+// compiled for the host here) on the nodes as the kernel receives them gives XGBoost's margins
+// bit for bit, missing values included: checked on any machine, the launch only on a GPU (below).
+TEST_F(XgbCostModelTest, TheRowWalkGivesXgboostsBits) {
   const int rows = 2001;
   const std::vector<float> states = RowsWithMissingValues(test_->safe, rows);
   const std::vector<float> expected = model_->XgboostMargins(states.data(), rows);
   const FlatTreeEnsemble& trees = model_->trees();
-  const std::vector<PackedNode> nodes = PackNodes(trees);
-  ASSERT_EQ(nodes.size(), trees.nodes().size());
   for (int r = 0; r < rows; ++r) {
-    const float margin = PackedRowMargin(nodes.data(), trees.roots().data(), trees.num_trees(),
-                                         trees.base_margin(), states.data() + r * kHazardStateDim);
+    const float* row = states.data() + r * kHazardStateDim;
+    const float margin = RowMargin(trees.nodes().data(), trees.roots().data(), trees.num_trees(),
+                                   trees.base_margin(), row);
     ASSERT_EQ(margin, expected[r]) << "row " << r;
+    ASSERT_EQ(trees.Margin(row), margin) << "row " << r;
   }
 }
 
