@@ -6,6 +6,10 @@
 #include <torch/torch.h>
 
 #include <filesystem>
+#include <limits>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "cmbrl/models/tree_ensemble_tensor.h"
 #include "tests/error_message.h"
@@ -354,6 +358,63 @@ TEST(XgbCostModelEdgeTest, BadInputsAreRefusedByName) {
   options.threshold = 1.0;
   EXPECT_THAT(ErrorMessage([&] { XgbCostModel(2, options, 1); }),
               ::testing::HasSubstr("threshold is 1"));
+}
+
+// A hand-written model of one tree: x[1] < 0.5 (NaN left) -> 0.25, else x[0] < -1 (NaN right)
+// -> -0.5 or 1.0; base_score 0.5 gives base margin 0.
+std::string OneTreeJson(const std::string& left, const std::string& right,
+                        const std::string& features) {
+  return R"({"learner": {"objective": {"name": "binary:logistic"},
+    "learner_model_param": {"num_feature": "2", "base_score": "5E-1"},
+    "gradient_booster": {"name": "gbtree", "model": {"trees": [{
+      "left_children": )" +
+         left + R"(, "right_children": )" + right + R"(, "split_indices": )" + features +
+         R"(, "split_conditions": [0.5, 0.25, -1.0, -0.5, 1.0],
+      "default_left": [1, 0, 0, 0, 0]}]}}}})";
+}
+
+TEST(FlatTreeEnsembleTest, AHandWrittenTreeIsWalkedAsWritten) {
+  const FlatTreeEnsemble trees = FlatTreeEnsemble::FromXgboostJson(
+      OneTreeJson("[1, -1, 3, -1, -1]", "[2, -1, 4, -1, -1]", "[1, 0, 0, 0, 0]"));
+  ASSERT_EQ(trees.num_trees(), 1);
+  EXPECT_EQ(trees.max_depth(), 2);
+  EXPECT_EQ(trees.base_margin(), 0.0f);
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  const std::vector<std::pair<std::vector<float>, float>> cases = {{{5.0f, 0.0f}, 0.25f},
+                                                                   {{5.0f, nan}, 0.25f},
+                                                                   {{-2.0f, 1.0f}, -0.5f},
+                                                                   {{0.0f, 1.0f}, 1.0f},
+                                                                   {{nan, 1.0f}, 1.0f}};
+  for (const auto& [row, margin] : cases) {
+    EXPECT_EQ(trees.Margin(row.data()), margin) << row[0] << ", " << row[1];
+    float out = 0.0f;
+    trees.Margins(row.data(), 1, &out);
+    EXPECT_EQ(out, margin) << row[0] << ", " << row[1];
+  }
+  const std::vector<TreeNode>& nodes = trees.nodes();
+  EXPECT_TRUE(nodes[1].is_leaf());
+  EXPECT_EQ(nodes[1].left, 1);  // a leaf points at itself
+  EXPECT_EQ(nodes[0].feature(), 1);
+  EXPECT_TRUE(nodes[0].default_left());
+  EXPECT_FALSE(nodes[2].default_left());
+}
+
+TEST(FlatTreeEnsembleTest, BadTreesAreRefusedByName) {
+  EXPECT_EQ(ErrorMessage([] {
+              FlatTreeEnsemble::FromXgboostJson(
+                  OneTreeJson("[1, -1, 3, -1, -1]", "[2, -1, 7, -1, -1]", "[1, 0, 0, 0, 0]"));
+            }),
+            "XGBoost node 2 of tree 0 has children 3 and 7: expected 0 to 4");
+  EXPECT_EQ(ErrorMessage([] {
+              FlatTreeEnsemble::FromXgboostJson(
+                  OneTreeJson("[1, -1, 3, -1, -1]", "[2, -1, 4, -1, -1]", "[1, 0, 2, 0, 0]"));
+            }),
+            "XGBoost split on feature 2 of 2");
+  EXPECT_THAT(ErrorMessage([] {
+                FlatTreeEnsemble::FromXgboostJson(
+                    OneTreeJson("[1, -1, 3, -1]", "[2, -1, 4, -1, -1]", "[1, 0, 0, 0, 0]"));
+              }),
+              ::testing::HasSubstr("XGBoost tree arrays differ in length"));
 }
 
 }  // namespace
