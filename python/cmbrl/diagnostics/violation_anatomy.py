@@ -114,12 +114,12 @@ def main(argv=None):
                     step_kinds.append("foreseen, fallback")
                 else:
                     step_kinds.append("foreseen, feasible")
-                kinds[step_kinds[-1]] += 1
             else:
                 speeds_out.append(speed)
                 step_kinds.append(None)
             obs = nxt
         for run in violation_runs(step_kinds):
+            kinds.update(run)
             dwell.append(len(run))
             if len(run) >= LONG_RUN:
                 long_kinds.update(run)
