@@ -25,10 +25,28 @@ const Json& Field(const Json& object, const char* key, const char* where) {
   return object.at(key);
 }
 
-// Depth of the subtree under `node` (a leaf has depth 0).
-int Depth(const std::vector<TreeNode>& nodes, std::int32_t node) {
-  if (nodes[node].is_leaf()) return 0;
-  return 1 + std::max(Depth(nodes, nodes[node].left), Depth(nodes, nodes[node].right));
+// Depth of tree `tree`, whose nodes are nodes[root, root + count) (a lone leaf has depth 0). Its
+// children must form a tree: a node reached twice from the root (a cycle, or a node with two
+// parents) is refused by name, so later walks and recursions end. Nodes not reached from the root
+// (XGBoost's pruned nodes) are allowed. An explicit stack: a deep tree cannot overflow the stack.
+int CheckedDepth(const std::vector<TreeNode>& nodes, std::int32_t root, size_t count, size_t tree) {
+  std::vector<char> reached(count, 0);
+  std::vector<std::pair<std::int32_t, int>> pending = {{root, 0}};
+  int depth = 0;
+  while (!pending.empty()) {
+    const auto [index, level] = pending.back();
+    pending.pop_back();
+    char& seen = reached[static_cast<size_t>(index - root)];
+    Require(!seen, "XGBoost tree {} reaches its node {} twice: expected a tree", tree,
+            index - root);
+    seen = 1;
+    depth = std::max(depth, level);
+    const TreeNode& node = nodes[static_cast<size_t>(index)];
+    if (node.is_leaf()) continue;
+    pending.emplace_back(node.left, level + 1);
+    pending.emplace_back(node.right, level + 1);
+  }
+  return depth;
 }
 
 }  // namespace
@@ -86,8 +104,10 @@ FlatTreeEnsemble FlatTreeEnsemble::FromXgboostJson(const std::string& text) {
       ensemble.nodes_.push_back(TreeNode::Split(split, default_left[i].get<int>() != 0,
                                                 value[i].get<float>(), offset + l, offset + r));
     }
+    Require(count > 0, "XGBoost tree {} has no nodes", ensemble.roots_.size());
+    ensemble.max_depth_ = std::max(
+        ensemble.max_depth_, CheckedDepth(ensemble.nodes_, offset, count, ensemble.roots_.size()));
     ensemble.roots_.push_back(offset);
-    ensemble.max_depth_ = std::max(ensemble.max_depth_, Depth(ensemble.nodes_, offset));
   }
   ensemble.BuildBitvectorTrees();
   return ensemble;

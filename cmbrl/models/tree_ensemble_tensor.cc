@@ -50,8 +50,8 @@ void TreeEnsembleTensors::BuildKernelTables(const FlatTreeEnsemble& trees) {
   // Bytes, not values: a node's float travels as its int32 bits.
   std::vector<std::int32_t> words(nodes.size() * 4);
   if (!nodes.empty()) std::memcpy(words.data(), nodes.data(), words.size() * 4);
-  packed_nodes_ = torch::tensor(words, torch::kInt).to(device_);
-  roots32_ = torch::tensor(trees.roots(), torch::kInt).to(device_);
+  kernel_nodes_ = torch::tensor(words, torch::kInt).to(device_);
+  kernel_roots_ = torch::tensor(trees.roots(), torch::kInt).to(device_);
 }
 
 void TreeEnsembleTensors::BuildTensorOpTables(const FlatTreeEnsemble& trees,
@@ -135,8 +135,8 @@ torch::Tensor TreeEnsembleTensors::KernelMargins(const torch::Tensor& states) co
   const torch::Tensor rows = states.contiguous();
   torch::Tensor margins = torch::empty({rows.size(0)}, rows.options());
   const char* error = cuda_trees::LaunchMargins(
-      reinterpret_cast<const TreeNode*>(packed_nodes_.data_ptr<std::int32_t>()),
-      roots32_.data_ptr<std::int32_t>(), static_cast<int>(roots32_.size(0)), base_margin_,
+      reinterpret_cast<const TreeNode*>(kernel_nodes_.data_ptr<std::int32_t>()),
+      kernel_roots_.data_ptr<std::int32_t>(), static_cast<int>(kernel_roots_.size(0)), base_margin_,
       rows.data_ptr<float>(), rows.size(0), static_cast<int>(rows.size(1)),
       margins.data_ptr<float>(), c10::cuda::getCurrentCUDAStream().stream());
   Require(error == nullptr, "the trees' CUDA kernel failed to launch on {}: {}", device_.str(),

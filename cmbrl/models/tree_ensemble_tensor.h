@@ -49,9 +49,9 @@ class TreeEnsembleTensors {
 
   torch::Device device_;
   bool uses_cuda_kernel_ = false;
-  torch::Tensor
-      packed_nodes_;       // the kernel's: (nodes x 4) int32, FlatTreeEnsemble's TreeNode layout
-  torch::Tensor roots32_;  // the kernel's: (trees) int32
+  // The kernel's: FlatTreeEnsemble's TreeNode bytes as (nodes x 4) int32, and its roots.
+  torch::Tensor kernel_nodes_;
+  torch::Tensor kernel_roots_;  // (trees) int32
   // The tensor operations', nodes renumbered breadth-first (a right child follows its left):
   torch::Tensor column_;       // (nodes) int64: the widened row's column a node tests; 0 at leaves
   torch::Tensor threshold_;    // (nodes) float32; NaN at leaves

@@ -415,6 +415,17 @@ TEST(FlatTreeEnsembleTest, BadTreesAreRefusedByName) {
                     OneTreeJson("[1, -1, 3, -1]", "[2, -1, 4, -1, -1]", "[1, 0, 0, 0, 0]"));
               }),
               ::testing::HasSubstr("XGBoost tree arrays differ in length"));
+  // In range, but not a tree: node 2's left child is the root (a cycle), or node 1 (two parents).
+  EXPECT_EQ(ErrorMessage([] {
+              FlatTreeEnsemble::FromXgboostJson(
+                  OneTreeJson("[1, -1, 0, -1, -1]", "[2, -1, 4, -1, -1]", "[1, 0, 0, 0, 0]"));
+            }),
+            "XGBoost tree 0 reaches its node 0 twice: expected a tree");
+  EXPECT_EQ(ErrorMessage([] {
+              FlatTreeEnsemble::FromXgboostJson(
+                  OneTreeJson("[1, -1, 1, -1, -1]", "[2, -1, 4, -1, -1]", "[1, 0, 0, 0, 0]"));
+            }),
+            "XGBoost tree 0 reaches its node 1 twice: expected a tree");
 }
 
 }  // namespace
