@@ -363,14 +363,16 @@ TEST(XgbCostModelEdgeTest, BadInputsAreRefusedByName) {
 // A hand-written model of one tree: x[1] < 0.5 (NaN left) -> 0.25, else x[0] < -1 (NaN right)
 // -> -0.5 or 1.0; base_score 0.5 gives base margin 0.
 std::string OneTreeJson(const std::string& left, const std::string& right,
-                        const std::string& features) {
+                        const std::string& features,
+                        const std::string& values = "[0.5, 0.25, -1.0, -0.5, 1.0]",
+                        const std::string& default_left = "[1, 0, 0, 0, 0]") {
   return R"({"learner": {"objective": {"name": "binary:logistic"},
     "learner_model_param": {"num_feature": "2", "base_score": "5E-1"},
     "gradient_booster": {"name": "gbtree", "model": {"trees": [{
       "left_children": )" +
          left + R"(, "right_children": )" + right + R"(, "split_indices": )" + features +
-         R"(, "split_conditions": [0.5, 0.25, -1.0, -0.5, 1.0],
-      "default_left": [1, 0, 0, 0, 0]}]}}}})";
+         R"(, "split_conditions": )" + values + R"(, "default_left": )" + default_left +
+         R"(}]}}}})";
 }
 
 TEST(FlatTreeEnsembleTest, AHandWrittenTreeIsWalkedAsWritten) {
@@ -400,32 +402,38 @@ TEST(FlatTreeEnsembleTest, AHandWrittenTreeIsWalkedAsWritten) {
 }
 
 TEST(FlatTreeEnsembleTest, BadTreesAreRefusedByName) {
+  struct BadTree {
+    const char* left;
+    const char* right;
+    const char* features;
+    const char* error;
+  };
+  const std::vector<BadTree> cases = {
+      {"[1, -1, 3, -1, -1]", "[2, -1, 7, -1, -1]", "[1, 0, 0, 0, 0]",
+       "XGBoost node 2 of tree 0 has children 3 and 7: expected 0 to 4"},
+      {"[1, -1, 3, -1, -1]", "[2, -1, 4, -1, -1]", "[1, 0, 2, 0, 0]",
+       "XGBoost split on feature 2 of 2"},
+      {"[1, -1, 3, -1]", "[2, -1, 4, -1, -1]", "[1, 0, 0, 0, 0]",
+       "XGBoost tree arrays differ in length"},
+      // In range, but not a tree: node 2's left child is the root (a cycle), or node 1 (two
+      // parents).
+      {"[1, -1, 0, -1, -1]", "[2, -1, 4, -1, -1]", "[1, 0, 0, 0, 0]",
+       "XGBoost tree 0 reaches its node 0 twice: expected a tree"},
+      {"[1, -1, 1, -1, -1]", "[2, -1, 4, -1, -1]", "[1, 0, 0, 0, 0]",
+       "XGBoost tree 0 reaches its node 1 twice: expected a tree"},
+  };
+  for (const BadTree& tree : cases) {
+    EXPECT_THAT(
+        ErrorMessage([&] {
+          FlatTreeEnsemble::FromXgboostJson(OneTreeJson(tree.left, tree.right, tree.features));
+        }),
+        ::testing::HasSubstr(tree.error))
+        << tree.left << " " << tree.right << " " << tree.features;
+  }
   EXPECT_EQ(ErrorMessage([] {
-              FlatTreeEnsemble::FromXgboostJson(
-                  OneTreeJson("[1, -1, 3, -1, -1]", "[2, -1, 7, -1, -1]", "[1, 0, 0, 0, 0]"));
+              FlatTreeEnsemble::FromXgboostJson(OneTreeJson("[]", "[]", "[]", "[]", "[]"));
             }),
-            "XGBoost node 2 of tree 0 has children 3 and 7: expected 0 to 4");
-  EXPECT_EQ(ErrorMessage([] {
-              FlatTreeEnsemble::FromXgboostJson(
-                  OneTreeJson("[1, -1, 3, -1, -1]", "[2, -1, 4, -1, -1]", "[1, 0, 2, 0, 0]"));
-            }),
-            "XGBoost split on feature 2 of 2");
-  EXPECT_THAT(ErrorMessage([] {
-                FlatTreeEnsemble::FromXgboostJson(
-                    OneTreeJson("[1, -1, 3, -1]", "[2, -1, 4, -1, -1]", "[1, 0, 0, 0, 0]"));
-              }),
-              ::testing::HasSubstr("XGBoost tree arrays differ in length"));
-  // In range, but not a tree: node 2's left child is the root (a cycle), or node 1 (two parents).
-  EXPECT_EQ(ErrorMessage([] {
-              FlatTreeEnsemble::FromXgboostJson(
-                  OneTreeJson("[1, -1, 0, -1, -1]", "[2, -1, 4, -1, -1]", "[1, 0, 0, 0, 0]"));
-            }),
-            "XGBoost tree 0 reaches its node 0 twice: expected a tree");
-  EXPECT_EQ(ErrorMessage([] {
-              FlatTreeEnsemble::FromXgboostJson(
-                  OneTreeJson("[1, -1, 1, -1, -1]", "[2, -1, 4, -1, -1]", "[1, 0, 0, 0, 0]"));
-            }),
-            "XGBoost tree 0 reaches its node 1 twice: expected a tree");
+            "XGBoost tree 0 has no nodes");
 }
 
 }  // namespace
