@@ -87,6 +87,7 @@ FlatTreeEnsemble FlatTreeEnsemble::FromXgboostJson(const std::string& text) {
     Require(right.size() == count && feature.size() == count && value.size() == count &&
                 default_left.size() == count,
             "XGBoost tree arrays differ in length");
+    Require(count > 0, "XGBoost tree {} has no nodes", ensemble.roots_.size());
     for (size_t i = 0; i < count; ++i) {
       const std::int32_t index = offset + static_cast<std::int32_t>(i);
       const int l = left[i].get<int>();
@@ -104,7 +105,6 @@ FlatTreeEnsemble FlatTreeEnsemble::FromXgboostJson(const std::string& text) {
       ensemble.nodes_.push_back(TreeNode::Split(split, default_left[i].get<int>() != 0,
                                                 value[i].get<float>(), offset + l, offset + r));
     }
-    Require(count > 0, "XGBoost tree {} has no nodes", ensemble.roots_.size());
     ensemble.max_depth_ = std::max(
         ensemble.max_depth_, CheckedDepth(ensemble.nodes_, offset, count, ensemble.roots_.size()));
     ensemble.roots_.push_back(offset);
